@@ -1,0 +1,27 @@
+// Data-parallel loops over index ranges.
+//
+// The loops are OpenMP with a static schedule. Every loop body in clothsim writes only to slots
+// owned by its index, and every reduction runs over fixed-size blocks summed in index order, so
+// results are bit-for-bit identical for any thread count (see docs/architecture.md).
+#pragma once
+
+#include <cstddef>
+
+namespace clothsim {
+
+// Resolves a requested thread count: 0 means "choose", which picks all hardware threads for
+// problems with at least `parallel_threshold` items and 1 otherwise (thread start-up costs more
+// than it saves on small sheets).
+int resolve_thread_count(int requested, std::size_t problem_size, std::size_t parallel_threshold = 4096);
+int hardware_thread_count();
+
+template <typename Body>
+void parallel_for(std::size_t count, int threads, Body&& body) {
+  const auto n = static_cast<long long>(count);
+#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+  for (long long i = 0; i < n; ++i) {
+    body(static_cast<std::size_t>(i));
+  }
+}
+
+}  // namespace clothsim

@@ -1,0 +1,82 @@
+// The force function: positions and velocities -> force on every particle.
+//
+// Each term has its own file with one accumulate entry and a matching energy function:
+//   connector_springs.cpp  connector (stretch) springs
+//   radial_springs.cpp     radial (angular) springs, adjacent and opposite
+//   external_forces.cpp    gravity and linear air drag
+// Spring terms write per-element forces into slots (one per element end), and gather_forces()
+// sums each particle's slots in a fixed order and adds the external forces. No two threads ever
+// add into the same value, so the result is bit-for-bit the same for any thread count; this costs
+// one extra pass over memory compared with scattered atomic adds, and keeps runs reproducible.
+// The per-element math itself is in element.h.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/vec3.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+// Bitmask of force terms; tests switch terms off to isolate physics.
+using ForceTerms = std::uint32_t;
+inline constexpr ForceTerms kGravity = 1u << 0;
+inline constexpr ForceTerms kConnectorSprings = 1u << 1;
+inline constexpr ForceTerms kAdjacentRadialSprings = 1u << 2;
+inline constexpr ForceTerms kOppositeRadialSprings = 1u << 3;
+inline constexpr ForceTerms kAirDrag = 1u << 4;
+inline constexpr ForceTerms kSpringDamping = 1u << 5;  // damping of connector and radial springs
+inline constexpr ForceTerms kAllForceTerms = (1u << 6) - 1;
+
+// Scratch memory for one force evaluation, sized by resize() for a model.
+struct ForceBuffers {
+  std::vector<Vec3> slot_force;     // [model.force_slot_count()], N
+  std::vector<double> element_power;  // [connectors + radials], damping power per element, W
+  std::vector<double> block_power;    // partial sums over fixed blocks of element_power
+  void resize(const ClothModel& model);
+};
+
+// Powers of the dissipative forces at the evaluated state (W, never positive).
+struct ForcePowers {
+  double damping = 0.0;  // spring damping
+  double drag = 0.0;     // air drag
+};
+
+// Computes the total force on every particle (anchored ones included) into `force`
+// [particle_count()]. `threads` >= 1.
+ForcePowers evaluate_forces(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                            ForceTerms terms, int threads, ForceBuffers& buffers, std::span<Vec3> force);
+
+// Per-term entries, used by evaluate_forces() and by tests.
+void accumulate_connector_springs(const ClothModel& model, std::span<const Vec3> position,
+                                  std::span<const Vec3> velocity, ForceTerms terms, int threads, ForceBuffers& buffers);
+void accumulate_radial_springs(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                               ForceTerms terms, int threads, ForceBuffers& buffers);
+void gather_forces(const ClothModel& model, std::span<const Vec3> velocity, ForceTerms terms, int threads,
+                   const ForceBuffers& buffers, std::span<Vec3> force);
+
+// Energies of a configuration, J.
+struct EnergyReport {
+  double kinetic = 0.0;
+  double gravitational = 0.0;  // -m g . x, zero at y = 0 for the default gravity
+  double connector = 0.0;
+  double radial_adjacent = 0.0;
+  double radial_opposite = 0.0;
+  double total() const { return kinetic + gravitational + connector + radial_adjacent + radial_opposite; }
+};
+
+double connector_energy(const ClothModel& model, std::span<const Vec3> position);
+// Adds the radial springs' energy into report.radial_adjacent and report.radial_opposite.
+void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report);
+double kinetic_energy(const ClothModel& model, std::span<const Vec3> velocity);
+double gravitational_energy(const ClothModel& model, std::span<const Vec3> position);
+
+// All energies of `state`, terms switched off in `terms` left at zero.
+EnergyReport compute_energy(const ClothModel& model, const ClothState& state, ForceTerms terms = kAllForceTerms);
+
+// Sums `values` over fixed blocks in index order: the same result for any thread count.
+double deterministic_sum(std::span<const double> values, int threads, std::vector<double>& block_sums);
+
+}  // namespace clothsim

@@ -1,0 +1,47 @@
+#include "integrators/integrator.h"
+
+#include <utility>
+
+#include "core/assert.h"
+#include "integrators/explicit_runge_kutta.h"
+#include "integrators/symplectic_euler.h"
+
+namespace clothsim {
+
+std::string_view to_string(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::rkf45:
+      return "rkf45";
+    case IntegratorKind::rk4:
+      return "rk4";
+    case IntegratorKind::symplectic_euler:
+      return "symplectic-euler";
+  }
+  return "unknown";
+}
+
+bool parse_integrator_kind(std::string_view text, IntegratorKind& kind) {
+  for (IntegratorKind candidate : {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler}) {
+    if (text == to_string(candidate)) {
+      kind = candidate;
+      return true;
+    }
+  }
+  return false;
+}
+
+std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const IntegratorSettings& settings,
+                                            const ForceOptions& force_options) {
+  CLOTHSIM_ASSERT(force_options.threads >= 1, "thread count is resolved before integrators are made");
+  switch (settings.kind) {
+    case IntegratorKind::rkf45:
+      return std::make_unique<AdaptiveRungeKutta>(model, settings, force_options, kFehlberg45);
+    case IntegratorKind::rk4:
+      return std::make_unique<FixedStepRungeKutta>(model, settings, force_options, kClassicRk4);
+    case IntegratorKind::symplectic_euler:
+      return std::make_unique<SymplecticEuler>(model, settings, force_options);
+  }
+  return nullptr;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,90 @@
+// One interface for every time integrator.
+//
+// An integrator advances a ClothState by one accepted step at a time, never past a limit given by
+// the caller (the next frame time), so that steps land exactly on frame times and discrete events
+// (tearing, plasticity, collisions) run between steps, never inside the stages of one.
+// Integrators own their scratch memory (allocated in the constructor): step() does not allocate.
+#pragma once
+
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "forces/forces.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+enum class IntegratorKind : std::uint8_t { rkf45, rk4, symplectic_euler };
+
+std::string_view to_string(IntegratorKind kind);
+// Parses "rkf45", "rk4", "symplectic-euler"; returns false for anything else.
+bool parse_integrator_kind(std::string_view text, IntegratorKind& kind);
+
+struct IntegratorSettings {
+  IntegratorKind kind = IntegratorKind::rkf45;
+  // RKF45 error control: a step is accepted when every free coordinate's error estimate e_i
+  // satisfies |e_i| <= absolute_tolerance + relative_tolerance * |y_i| (max norm).
+  double relative_tolerance = 1e-6;  // dimensionless
+  double absolute_tolerance = 1e-6;  // m for positions, m/s for velocities
+  // Fixed-step methods: the step. RKF45: the first trial step (0 picks one automatically).
+  double time_step = 1e-3;  // s
+  double min_step = 1e-10;  // s; RKF45 stops with a diagnosis if it needs a smaller step
+  double max_step = 0.1;    // s; upper bound on RKF45 steps
+  // Step-size controller (Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4).
+  double safety = 0.9;       // factor on the optimal step
+  double max_growth = 5.0;   // largest step increase per step
+  double max_shrink = 0.1;   // smallest step decrease factor after a rejection
+};
+
+// Counters for one run, reported in summary.json.
+struct IntegratorStats {
+  std::uint64_t accepted_steps = 0;
+  std::uint64_t rejected_steps = 0;
+  std::uint64_t force_evaluations = 0;
+  double smallest_step = std::numeric_limits<double>::infinity();  // s, accepted steps only
+  double largest_step = 0.0;                                       // s, accepted steps only
+  double last_step = 0.0;                                          // s
+};
+
+enum class StepStatus : std::uint8_t {
+  ok,
+  step_underflow,  // the error control asked for a step below min_step
+  non_finite,      // a fixed-step method produced NaN or infinity
+};
+
+struct StepOutcome {
+  StepStatus status = StepStatus::ok;
+  double step = 0.0;  // s, the step taken (or the one refused)
+  // The particle with the largest error (step_underflow) or the first non-finite value.
+  std::uint32_t particle = 0;
+  bool non_finite_error = false;  // step_underflow caused by non-finite stage values
+};
+
+struct ForceOptions {
+  ForceTerms terms = kAllForceTerms;
+  int threads = 1;  // resolved thread count (>= 1)
+};
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+  virtual IntegratorKind kind() const = 0;
+  // Advances `state` by one accepted step ending at or before t_limit (> state.time). The model
+  // must be the one the integrator was made for.
+  virtual StepOutcome step(ClothState& state, double t_limit) = 0;
+  const IntegratorStats& stats() const { return stats_; }
+  // Time spent in force evaluation, s (the rest of step() is integration).
+  double force_seconds() const { return force_seconds_; }
+
+ protected:
+  IntegratorStats stats_;
+  double force_seconds_ = 0.0;
+};
+
+std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const IntegratorSettings& settings,
+                                            const ForceOptions& force_options);
+
+}  // namespace clothsim

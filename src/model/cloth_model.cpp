@@ -1,0 +1,157 @@
+#include "model/cloth_model.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/assert.h"
+#include "core/error.h"
+
+namespace clothsim {
+namespace {
+
+constexpr std::uint32_t kNoConnector = std::numeric_limits<std::uint32_t>::max();
+
+// Directions around a particle in the lattice plane, counter-clockwise seen from +y:
+// east (+x, col+1), south (+z, row+1), west, north.
+constexpr std::array<std::array<int, 2>, 4> kDirections = {{{0, 1}, {1, 0}, {0, -1}, {-1, 0}}};
+
+void build_gather_table(ClothModel& model) {
+  const std::size_t n = model.particle_count();
+  std::vector<std::uint32_t> count(n + 1, 0);
+  const auto slot_owner = [&](std::size_t slot) -> std::uint32_t {
+    if (slot < model.radial_slot_base()) {
+      return model.connector_particles[slot / 2][slot % 2];
+    }
+    const std::size_t local = slot - model.radial_slot_base();
+    return model.radial_particles[local / 3][local % 3];
+  };
+  const std::size_t slots = model.force_slot_count();
+  for (std::size_t s = 0; s < slots; ++s) ++count[slot_owner(s) + 1];
+  for (std::size_t p = 0; p < n; ++p) count[p + 1] += count[p];
+  model.gather_offset = count;
+  model.gather_slot.assign(slots, 0);
+  std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
+  // Slots are visited in ascending order, so each particle's list is sorted: a fixed order of
+  // summation that does not depend on how the work is split between threads.
+  for (std::size_t s = 0; s < slots; ++s) model.gather_slot[cursor[slot_owner(s)]++] = static_cast<std::uint32_t>(s);
+}
+
+}  // namespace
+
+std::string ClothModel::describe_particle(std::size_t particle) const {
+  std::string text = "particle " + std::to_string(particle);
+  if (cols > 0 && particle < particle_count()) {
+    text += " (row " + std::to_string(particle / static_cast<std::size_t>(cols)) + ", col " +
+            std::to_string(particle % static_cast<std::size_t>(cols)) + ")";
+  }
+  return text;
+}
+
+ClothModel build_lattice(const LatticeDef& lattice, const Environment& environment,
+                         std::span<const Anchor> anchors, const std::string& source) {
+  if (lattice.rows < 1 || lattice.cols < 1 || lattice.rows * static_cast<long long>(lattice.cols) < 2) {
+    throw InputError(source, "lattice", "needs at least 2 particles (rows >= 1, cols >= 1)");
+  }
+  if (!(lattice.spacing > 0.0) || !(lattice.particle_mass > 0.0)) {
+    throw InputError(source, "lattice", "spacing and particle mass must be positive");
+  }
+
+  ClothModel model;
+  model.rows = lattice.rows;
+  model.cols = lattice.cols;
+  model.spacing = lattice.spacing;
+  model.environment = environment;
+
+  const int rows = lattice.rows;
+  const int cols = lattice.cols;
+  const std::size_t n = static_cast<std::size_t>(rows) * static_cast<std::size_t>(cols);
+  model.particle_mass.assign(n, lattice.particle_mass);
+  model.particle_inverse_mass.assign(n, 1.0 / lattice.particle_mass);
+  model.particle_anchor.assign(n, -1);
+  model.particle_rest_position.resize(n);
+  for (int i = 0; i < rows; ++i) {
+    for (int j = 0; j < cols; ++j) {
+      model.particle_rest_position[lattice_index(cols, i, j)] = {
+          (j - (cols - 1) / 2.0) * lattice.spacing, 0.0, (i - (rows - 1) / 2.0) * lattice.spacing};
+    }
+  }
+
+  // Connectors, particle by particle: east then south neighbour. neighbour_connector[p][d] is the
+  // connector from p in direction d, or kNoConnector at the border.
+  std::vector<std::array<std::uint32_t, 4>> neighbour_connector(n, {kNoConnector, kNoConnector, kNoConnector, kNoConnector});
+  const auto add_connector = [&](std::uint32_t a, std::uint32_t b, int direction_from_a) {
+    const auto index = static_cast<std::uint32_t>(model.connector_particles.size());
+    model.connector_particles.push_back({a, b});
+    model.connector_rest_length.push_back(lattice.spacing);
+    model.connector_stiffness.push_back(lattice.connector.stiffness);
+    model.connector_damping.push_back(lattice.connector.damping);
+    neighbour_connector[a][static_cast<std::size_t>(direction_from_a)] = index;
+    neighbour_connector[b][static_cast<std::size_t>((direction_from_a + 2) % 4)] = index;
+  };
+  for (int i = 0; i < rows; ++i) {
+    for (int j = 0; j < cols; ++j) {
+      const std::uint32_t p = lattice_index(cols, i, j);
+      if (j + 1 < cols) add_connector(p, lattice_index(cols, i, j + 1), 0);
+      if (i + 1 < rows) add_connector(p, lattice_index(cols, i + 1, j), 1);
+    }
+  }
+
+  // Radial springs at each particle: the 4 adjacent pairs (E,S), (S,W), (W,N), (N,E), then the
+  // 2 opposite pairs (E,W), (S,N), each where both connectors exist. An interior particle has
+  // 4 + 2, an edge particle 2 + 1, a corner 1 + 0, as in the paper.
+  const auto add_radial = [&](std::uint32_t centre, int d1, int d2, int row, int col, RadialKind kind) {
+    const std::uint32_t c1 = neighbour_connector[centre][static_cast<std::size_t>(d1)];
+    const std::uint32_t c2 = neighbour_connector[centre][static_cast<std::size_t>(d2)];
+    if (c1 == kNoConnector || c2 == kNoConnector) return;
+    const std::uint32_t b = lattice_index(cols, row + kDirections[static_cast<std::size_t>(d1)][0],
+                                          col + kDirections[static_cast<std::size_t>(d1)][1]);
+    const std::uint32_t c = lattice_index(cols, row + kDirections[static_cast<std::size_t>(d2)][0],
+                                          col + kDirections[static_cast<std::size_t>(d2)][1]);
+    const bool adjacent = kind == RadialKind::adjacent;
+    model.radial_particles.push_back({centre, b, c});
+    model.radial_connectors.push_back({c1, c2});
+    model.radial_kind.push_back(kind);
+    model.radial_rest_angle.push_back(adjacent ? lattice.adjacent_rest_angle : lattice.opposite_rest_angle);
+    model.radial_stiffness.push_back(adjacent ? lattice.adjacent.stiffness : lattice.opposite.stiffness);
+    model.radial_damping.push_back(adjacent ? lattice.adjacent.damping : lattice.opposite.damping);
+  };
+  for (int i = 0; i < rows; ++i) {
+    for (int j = 0; j < cols; ++j) {
+      const std::uint32_t p = lattice_index(cols, i, j);
+      for (int d = 0; d < 4; ++d) add_radial(p, d, (d + 1) % 4, i, j, RadialKind::adjacent);
+      add_radial(p, 0, 2, i, j, RadialKind::opposite);
+      add_radial(p, 1, 3, i, j, RadialKind::opposite);
+    }
+  }
+
+  for (const Anchor& anchor : anchors) {
+    if (anchor.particle >= n) {
+      throw InputError(source, "anchors", "particle index " + std::to_string(anchor.particle) +
+                                              " is outside the lattice [0, " + std::to_string(n - 1) + "]");
+    }
+    if (model.particle_anchor[anchor.particle] >= 0) {
+      throw InputError(source, "anchors", model.describe_particle(anchor.particle) + " is anchored twice");
+    }
+    model.particle_anchor[anchor.particle] = static_cast<std::int32_t>(model.anchors.size());
+    model.particle_inverse_mass[anchor.particle] = 0.0;
+    model.anchors.push_back(anchor);
+  }
+
+  build_gather_table(model);
+  CLOTHSIM_ASSERT(model.gather_offset.back() == model.force_slot_count(), "gather table covers every slot");
+  return model;
+}
+
+ClothState make_rest_state(const ClothModel& model) {
+  ClothState state;
+  state.position = model.particle_rest_position;
+  state.velocity.assign(model.particle_count(), Vec3{});
+  for (const Anchor& anchor : model.anchors) {
+    state.position[anchor.particle] = anchor.path.position(0.0);
+    state.velocity[anchor.particle] = anchor.path.velocity_at(0.0);
+  }
+  return state;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,87 @@
+// Scenes: everything needed to reproduce a run, read from a JSON file, from the paper's
+// 10-number argument vector, or from the built-in library.
+//
+// SceneSpec is plain data with in-class defaults. It is turned into a ClothModel and an initial
+// ClothState by build_model() and build_initial_state(). Parsing and validation report bad input
+// as InputError naming the file, the dotted field and the allowed range, and happen before any
+// output is created. docs/scene-format.md documents the format.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json_fwd.hpp>
+
+#include "integrators/integrator.h"
+#include "model/anchor.h"
+#include "model/cloth_model.h"
+#include "model/initial_conditions.h"
+
+namespace clothsim {
+
+// An anchored particle named by lattice coordinates. The path's origin defaults to the particle's
+// rest position unless `origin_given`.
+struct AnchorSpec {
+  int row = 0;
+  int col = 0;
+  AnchorPath path;
+  bool origin_given = false;
+};
+
+struct OutputSettings {
+  double duration = 20.0;        // simulated time to run, s; with until_rest, the upper limit
+  int fps = 60;                  // frames written per simulated second
+  bool until_rest = false;       // stop at the first frame whose kinetic energy is below rest_kinetic_energy
+  double rest_kinetic_energy = 1e-6;  // J
+};
+
+struct SceneSpec {
+  std::string name = "untitled";
+  std::string description;
+  LatticeDef lattice;
+  Environment environment;
+  std::vector<AnchorSpec> anchors;
+  InitialConditions initial;
+  IntegratorSettings integrator;
+  OutputSettings output;
+  int threads = 0;  // 0: choose from the lattice size (core/parallel.h)
+};
+
+// Reads and validates a scene file. Throws InputError naming `path`.
+SceneSpec load_scene_file(const std::string& path);
+// Parses and validates JSON text; `source` names it in messages.
+SceneSpec parse_scene(std::string_view json_text, const std::string& source);
+// The paper's argument vector "rows,cols,mass,k_adj,c_adj,k_opp,c_opp,k_conn,c_conn,length"
+// with the centre particle anchored at the origin (as in all the paper's runs).
+SceneSpec scene_from_paper_args(std::string_view text, const std::string& source);
+
+// Built-in scenes, looked up by name ("paper-fig4", ...).
+struct BuiltinScene {
+  std::string name;
+  std::string description;
+};
+std::vector<BuiltinScene> builtin_scenes();
+bool is_builtin_scene(std::string_view name);
+SceneSpec builtin_scene(std::string_view name);
+// A file path or a built-in name.
+SceneSpec load_scene(const std::string& file_or_name);
+
+// Named anchor sets: "center", "corners", "none".
+bool parse_anchor_preset(std::string_view text, const LatticeDef& lattice, std::vector<AnchorSpec>& anchors);
+
+// Sets one field by its dotted key ("lattice.rows", "output.fps", "integrator.method", ...) from
+// text, with the same validation as the scene file; `source` names the flag in messages.
+void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view value, const std::string& source);
+
+// Checks cross-field constraints (anchors inside the lattice, ...). Throws InputError.
+void validate_scene(const SceneSpec& spec, const std::string& source);
+
+// The complete scene as JSON in the file format; parse_scene(scene_to_json(s)) == s.
+nlohmann::json scene_to_json(const SceneSpec& spec);
+
+ClothModel build_model(const SceneSpec& spec);
+ClothState build_initial_state(const ClothModel& model, const SceneSpec& spec);
+
+}  // namespace clothsim
