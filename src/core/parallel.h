@@ -17,8 +17,13 @@ int hardware_thread_count();
 
 template <typename Body>
 void parallel_for(std::size_t count, int threads, Body&& body) {
+  if (threads <= 1) {
+    // A plain loop: even a serialised OpenMP region costs a runtime call per loop.
+    for (std::size_t i = 0; i < count; ++i) body(i);
+    return;
+  }
   const auto n = static_cast<long long>(count);
-#pragma omp parallel for schedule(static) num_threads(threads) if (threads > 1)
+#pragma omp parallel for schedule(static) num_threads(threads)
   for (long long i = 0; i < n; ++i) {
     body(static_cast<std::size_t>(i));
   }

@@ -1,0 +1,44 @@
+// Radial (angular) springs: one pass over the springs, each writing its three force slots
+// (centre, b, c). The centre's force is minus the sum of the other two, so the element exerts no
+// net force; it also exerts no net torque about the centre because both forces lie in the plane
+// of the connectors and are perpendicular to them (docs/model.md).
+#include "core/parallel.h"
+#include "forces/element.h"
+#include "forces/forces.h"
+
+namespace clothsim {
+
+void accumulate_radial_springs(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                               ForceTerms terms, int threads, ForceBuffers& buffers) {
+  const bool damped = (terms & kSpringDamping) != 0;
+  Vec3* slot = buffers.slot_force.data() + model.radial_slot_base();
+  double* power = buffers.element_power.data() + model.connector_count();
+  parallel_for(model.radial_count(), threads, [&](std::size_t r) {
+    const ForceTerms term =
+        model.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
+    if ((terms & term) == 0) {
+      slot[3 * r] = slot[3 * r + 1] = slot[3 * r + 2] = Vec3{};
+      power[r] = 0.0;
+      return;
+    }
+    const auto [centre, b, c] = model.radial_particles[r];
+    const element::RadialForce f = element::radial_force(
+        position[centre], position[b], position[c], velocity[centre], velocity[b], velocity[c],
+        model.radial_rest_angle[r], model.radial_stiffness[r], damped ? model.radial_damping[r] : 0.0);
+    slot[3 * r] = -(f.force_on_b + f.force_on_c);
+    slot[3 * r + 1] = f.force_on_b;
+    slot[3 * r + 2] = f.force_on_c;
+    power[r] = f.damping_power;
+  });
+}
+
+void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report) {
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const auto [centre, b, c] = model.radial_particles[r];
+    const double energy = element::radial_energy(position[centre], position[b], position[c],
+                                                 model.radial_rest_angle[r], model.radial_stiffness[r]);
+    (model.radial_kind[r] == RadialKind::adjacent ? report.radial_adjacent : report.radial_opposite) += energy;
+  }
+}
+
+}  // namespace clothsim

@@ -1,0 +1,252 @@
+#include "integrators/explicit_runge_kutta.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/assert.h"
+#include "core/parallel.h"
+#include "core/timer.h"
+
+namespace clothsim {
+namespace {
+
+// Particles per block of the parallel error-norm reduction; fixed so the result never depends
+// on the thread count.
+constexpr std::size_t kErrorBlock = 1024;
+
+// Exponents of the PI step-size controller for an error estimate of order 5 (the embedded
+// 4th-order solution's local error): Hairer, Norsett and Wanner's DOPRI5 values, beta = 0.04,
+// alpha = 1/5 - 0.75 beta.
+constexpr double kControllerBeta = 0.04;
+constexpr double kControllerAlpha = 0.2 - 0.75 * kControllerBeta;
+
+}  // namespace
+
+ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const IntegratorSettings& settings,
+                                       const ForceOptions& options, const ButcherTableau& tableau)
+    : model_(model), settings_(settings), tableau_(tableau), dynamics_(model, options) {
+  const std::size_t n = model.particle_count();
+  for (StateDerivative& rate : stage_rate_) rate.resize(n);
+  stage_position_.resize(n);
+  stage_velocity_.resize(n);
+  trial_.position.resize(n);
+  trial_.velocity.resize(n);
+}
+
+void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
+  const std::size_t n = model_.particle_count();
+  for (int i = 0; i < tableau_.stages; ++i) {
+    const auto& a = tableau_.coefficients[static_cast<std::size_t>(i)];
+    // Stage state y_i = y + h sum_{j<i} a_ij k_j. Written as one loop per particle so that each
+    // particle's stage values come from one pass over the earlier stage rates.
+    parallel_for(n, dynamics_.threads(), [&](std::size_t p) {
+      Vec3 x = state.position[p];
+      Vec3 v = state.velocity[p];
+      for (int j = 0; j < i; ++j) {
+        const double ha = h * a[static_cast<std::size_t>(j)];
+        if (ha == 0.0) continue;
+        x += ha * stage_rate_[static_cast<std::size_t>(j)].position_rate[p];
+        v += ha * stage_rate_[static_cast<std::size_t>(j)].velocity_rate[p];
+      }
+      stage_position_[p] = x;
+      stage_velocity_[p] = v;
+    });
+    const double stage_time = state.time + tableau_.nodes[static_cast<std::size_t>(i)] * h;
+    dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
+    dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[static_cast<std::size_t>(i)]);
+  }
+  stats_.force_evaluations = dynamics_.evaluations();
+  force_seconds_ = dynamics_.seconds();
+}
+
+void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::array<double, kMaxStages>& weights,
+                                 ClothState& out) {
+  const int stages = tableau_.stages;
+  parallel_for(model_.particle_count(), dynamics_.threads(), [&](std::size_t p) {
+    Vec3 x = state.position[p];
+    Vec3 v = state.velocity[p];
+    for (int i = 0; i < stages; ++i) {
+      const double hb = h * weights[static_cast<std::size_t>(i)];
+      if (hb == 0.0) continue;
+      x += hb * stage_rate_[static_cast<std::size_t>(i)].position_rate[p];
+      v += hb * stage_rate_[static_cast<std::size_t>(i)].velocity_rate[p];
+    }
+    out.position[p] = x;
+    out.velocity[p] = v;
+  });
+  out.damping_work = state.damping_work;
+  out.drag_work = state.drag_work;
+  out.anchor_work = state.anchor_work;
+  for (int i = 0; i < stages; ++i) {
+    const double hb = h * weights[static_cast<std::size_t>(i)];
+    const StateDerivative& rate = stage_rate_[static_cast<std::size_t>(i)];
+    out.damping_work += hb * rate.damping_power;
+    out.drag_work += hb * rate.drag_power;
+    out.anchor_work += hb * rate.anchor_power;
+  }
+}
+
+void ExplicitRungeKutta::accept(ClothState& state, double h, double t) {
+  // Swap rather than copy: trial_ keeps the old buffers as scratch for the next step.
+  std::swap(state.position, trial_.position);
+  std::swap(state.velocity, trial_.velocity);
+  state.damping_work = trial_.damping_work;
+  state.drag_work = trial_.drag_work;
+  state.anchor_work = trial_.anchor_work;
+  state.time = t;
+  dynamics_.constrain(t, state.position, state.velocity);
+  ++stats_.accepted_steps;
+  stats_.smallest_step = std::min(stats_.smallest_step, h);
+  stats_.largest_step = std::max(stats_.largest_step, h);
+  stats_.last_step = h;
+}
+
+StepOutcome FixedStepRungeKutta::step(ClothState& state, double t_limit) {
+  CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
+  bool clipped = false;
+  const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
+  compute_stages(state, h);
+  combine(state, h, tableau_.weights, trial_);
+  for (std::size_t p = 0; p < model_.particle_count(); ++p) {
+    if (!is_finite(trial_.position[p]) || !is_finite(trial_.velocity[p])) {
+      return {StepStatus::non_finite, h, static_cast<std::uint32_t>(p), true};
+    }
+  }
+  accept(state, h, clipped ? t_limit : state.time + h);
+  return {StepStatus::ok, h, 0, false};
+}
+
+AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const IntegratorSettings& settings,
+                                       const ForceOptions& options, const ButcherTableau& tableau)
+    : ExplicitRungeKutta(model, settings, options, tableau) {
+  CLOTHSIM_ASSERT(tableau.embedded_order > 0, "an adaptive method needs an embedded error estimate");
+  const std::size_t blocks = (model.particle_count() + kErrorBlock - 1) / kErrorBlock;
+  block_error_.resize(blocks);
+  block_worst_.resize(blocks);
+}
+
+AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& state, double h) {
+  std::array<double, kMaxStages> difference{};
+  for (int i = 0; i < tableau_.stages; ++i) {
+    const auto k = static_cast<std::size_t>(i);
+    difference[k] = h * (tableau_.weights[k] - tableau_.embedded_weights[k]);
+  }
+  const double atol = settings_.absolute_tolerance;
+  const double rtol = settings_.relative_tolerance;
+  const std::size_t n = model_.particle_count();
+  parallel_for(block_error_.size(), dynamics_.threads(), [&](std::size_t block) {
+    double worst = 0.0;
+    std::uint32_t worst_particle = static_cast<std::uint32_t>(block * kErrorBlock);
+    const std::size_t end = std::min(n, (block + 1) * kErrorBlock);
+    for (std::size_t p = block * kErrorBlock; p < end; ++p) {
+      if (model_.is_anchored(p)) continue;
+      Vec3 ex;
+      Vec3 ev;
+      for (int i = 0; i < tableau_.stages; ++i) {
+        const double d = difference[static_cast<std::size_t>(i)];
+        if (d == 0.0) continue;
+        ex += d * stage_rate_[static_cast<std::size_t>(i)].position_rate[p];
+        ev += d * stage_rate_[static_cast<std::size_t>(i)].velocity_rate[p];
+      }
+      double particle_error = 0.0;
+      for (int axis = 0; axis < 3; ++axis) {
+        const double sx = atol + rtol * std::max(std::abs(state.position[p][axis]), std::abs(trial_.position[p][axis]));
+        const double sv = atol + rtol * std::max(std::abs(state.velocity[p][axis]), std::abs(trial_.velocity[p][axis]));
+        particle_error = std::max({particle_error, std::abs(ex[axis]) / sx, std::abs(ev[axis]) / sv});
+        if (!std::isfinite(ex[axis]) || !std::isfinite(ev[axis]) || !std::isfinite(trial_.position[p][axis]) ||
+            !std::isfinite(trial_.velocity[p][axis])) {
+          particle_error = std::numeric_limits<double>::quiet_NaN();
+        }
+      }
+      // NaN compares false: test for it explicitly so it wins over every finite error.
+      if (std::isnan(particle_error) || particle_error > worst) {
+        worst = particle_error;
+        worst_particle = static_cast<std::uint32_t>(p);
+        if (std::isnan(particle_error)) break;
+      }
+    }
+    block_error_[block] = worst;
+    block_worst_[block] = worst_particle;
+  });
+  ErrorNorm norm;
+  for (std::size_t block = 0; block < block_error_.size(); ++block) {
+    if (std::isnan(block_error_[block]) || block_error_[block] > norm.value) {
+      norm.value = block_error_[block];
+      norm.particle = block_worst_[block];
+      if (std::isnan(norm.value)) break;
+    }
+  }
+  return norm;
+}
+
+// Initial step after Hairer, Norsett and Wanner (Solving ODEs I, sec. II.4, first half): a step
+// whose Euler increment is 1% of the state's own scale. Their refinement with a second-derivative
+// estimate costs another evaluation; the controller corrects a misjudged first step within a few
+// steps anyway.
+double AdaptiveRungeKutta::initial_step(const ClothState& state, double t_limit) {
+  if (settings_.time_step > 0.0) return settings_.time_step;
+  StateDerivative& rate = stage_rate_[0];
+  dynamics_.evaluate(state.time, state.position, state.velocity, rate);
+  stats_.force_evaluations = dynamics_.evaluations();
+  double d0 = 0.0;
+  double d1 = 0.0;
+  for (std::size_t p = 0; p < model_.particle_count(); ++p) {
+    if (model_.is_anchored(p)) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double sx = settings_.absolute_tolerance + settings_.relative_tolerance * std::abs(state.position[p][axis]);
+      const double sv = settings_.absolute_tolerance + settings_.relative_tolerance * std::abs(state.velocity[p][axis]);
+      d0 = std::max({d0, std::abs(state.position[p][axis]) / sx, std::abs(state.velocity[p][axis]) / sv});
+      d1 = std::max({d1, std::abs(rate.position_rate[p][axis]) / sx, std::abs(rate.velocity_rate[p][axis]) / sv});
+    }
+  }
+  double h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+  h = std::min({h, settings_.max_step, t_limit - state.time});
+  return std::max(h, settings_.min_step);
+}
+
+StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
+  CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
+  if (proposed_step_ <= 0.0) proposed_step_ = initial_step(state, t_limit);
+  bool rejected_before = false;
+  for (;;) {
+    bool clipped = false;
+    const double h = clip_step(state.time, std::min(proposed_step_, settings_.max_step), t_limit, clipped);
+    if (h < settings_.min_step && !clipped) {
+      return {StepStatus::step_underflow, h, 0, false};
+    }
+    compute_stages(state, h);
+    combine(state, h, tableau_.weights, trial_);
+    const ErrorNorm error = error_norm(state, h);
+
+    if (std::isnan(error.value) || error.value > 1.0) {
+      // Reject: shrink by the optimal factor for this error, never by more than max_shrink.
+      ++stats_.rejected_steps;
+      const double factor = std::isnan(error.value)
+                                ? settings_.max_shrink
+                                : std::max(settings_.max_shrink, settings_.safety * std::pow(error.value, -0.2));
+      proposed_step_ = h * std::min(1.0, factor);
+      rejected_before = true;
+      if (proposed_step_ < settings_.min_step) {
+        return {StepStatus::step_underflow, proposed_step_, error.particle, std::isnan(error.value)};
+      }
+      continue;
+    }
+
+    // Accept, and propose the next step with the PI controller. After a rejection the step may
+    // not grow (Hairer's rule), which stops a rejection cycle at the stability limit.
+    const double bounded_error = std::max(error.value, 1e-10);
+    double factor = settings_.safety * std::pow(bounded_error, -kControllerAlpha) *
+                    std::pow(previous_error_, kControllerBeta);
+    factor = std::clamp(factor, settings_.max_shrink, settings_.max_growth);
+    if (rejected_before) factor = std::min(factor, 1.0);
+    previous_error_ = std::max(error.value, 1e-4);
+    const double next = h * factor;
+    // A step clipped to land on t_limit says little about the step the dynamics allow: keep the
+    // larger of the old proposal and the new one.
+    proposed_step_ = clipped ? std::max(next, proposed_step_) : next;
+    accept(state, h, clipped ? t_limit : state.time + h);
+    return {StepStatus::ok, h, 0, false};
+  }
+}
+
+}  // namespace clothsim

@@ -1,0 +1,55 @@
+// The ODE right-hand side: y = (x, v, W) -> y' = (v, f(x, v) / m, P), for every integrator.
+//
+// Anchored particles are not integrated: before a stage is evaluated, constrain() puts them at
+// their path's exact position and velocity for the stage time, and their derivative is the path's
+// velocity and acceleration. W are the three work integrals of ClothState and P their rates
+// (damping, drag and anchor power), integrated alongside the motion to the integrator's order.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "forces/forces.h"
+#include "integrators/integrator.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+struct StateDerivative {
+  std::vector<Vec3> position_rate;  // [particle_count()], m/s
+  std::vector<Vec3> velocity_rate;  // [particle_count()], m/s^2
+  double damping_power = 0.0;       // W
+  double drag_power = 0.0;          // W
+  double anchor_power = 0.0;        // W, power the anchors put into the sheet
+  void resize(std::size_t particles);
+};
+
+class ClothDynamics {
+ public:
+  ClothDynamics(const ClothModel& model, const ForceOptions& options);
+
+  // Puts anchored particles at their path's position and velocity at `time`.
+  void constrain(double time, std::span<Vec3> position, std::span<Vec3> velocity) const;
+  // y' at (time, position, velocity). Anchored particles must already be constrained.
+  void evaluate(double time, std::span<const Vec3> position, std::span<const Vec3> velocity, StateDerivative& out);
+
+  const ClothModel& model() const { return model_; }
+  int threads() const { return options_.threads; }
+  std::uint64_t evaluations() const { return evaluations_; }
+  double seconds() const { return seconds_; }
+
+ private:
+  const ClothModel& model_;
+  ForceOptions options_;
+  ForceBuffers buffers_;
+  std::vector<Vec3> force_;  // [particle_count()], N
+  std::uint64_t evaluations_ = 0;
+  double seconds_ = 0.0;
+};
+
+// Shortens a step so that it lands exactly on t_limit instead of stopping a rounding error short
+// of it. Returns the step; sets `clipped` when the step ends at t_limit.
+double clip_step(double time, double step, double t_limit, bool& clipped);
+
+}  // namespace clothsim
