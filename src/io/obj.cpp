@@ -1,0 +1,144 @@
+// Lattice triangulation, vertex normals and the OBJ writer; the conventions are in obj.h.
+//
+// The file is written straight to `path` through stdio with fprintf: OBJ is text, one short line
+// per element, and a 1000 x 1000 sheet (5M lines) takes about a second. Errors are collected
+// with ferror/fclose at the end rather than checked per line (stdio's error flag is sticky); the
+// message quotes errno as left by the failing call, which is the reason in practice (ENOSPC).
+#include "io/obj.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+#include <stdexcept>
+
+#include "core/assert.h"
+
+namespace clothsim {
+namespace {
+
+struct FileCloser {
+  void operator()(std::FILE* file) const { std::fclose(file); }
+};
+
+std::runtime_error io_error(const std::string& path, const std::string& what, int error_number) {
+  std::string text = path + ": " + what;
+  if (error_number != 0) text += std::string(": ") + std::strerror(error_number);
+  return std::runtime_error(text);
+}
+
+// Writes `text` as OBJ comment lines, one per line of text.
+void write_comment(std::FILE* file, std::string_view text) {
+  while (true) {
+    const std::size_t end = text.find('\n');
+    const std::string_view line = text.substr(0, end);
+    std::fprintf(file, "# %.*s\n", static_cast<int>(line.size()), line.data());
+    if (end == std::string_view::npos) break;
+    text.remove_prefix(end + 1);
+  }
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> lattice_triangles(const ClothModel& model) {
+  CLOTHSIM_ASSERT(model.rows >= 1 && model.cols >= 1 &&
+                      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == model.particle_count(),
+                  "the model is a rows x cols lattice");
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  if (model.rows < 2 || model.cols < 2) return triangles;
+  triangles.reserve(2 * static_cast<std::size_t>(model.rows - 1) * static_cast<std::size_t>(model.cols - 1));
+  const int cols = model.cols;
+  for (int i = 0; i + 1 < model.rows; ++i) {
+    for (int j = 0; j + 1 < cols; ++j) {
+      const std::uint32_t top_left = lattice_index(cols, i, j);
+      const std::uint32_t top_right = lattice_index(cols, i, j + 1);
+      const std::uint32_t bottom_left = lattice_index(cols, i + 1, j);
+      const std::uint32_t bottom_right = lattice_index(cols, i + 1, j + 1);
+      // At rest: cross(+z L, +x L) = +y L^2 for the first, likewise for the second (obj.h).
+      triangles.push_back({top_left, bottom_left, top_right});
+      triangles.push_back({top_right, bottom_left, bottom_right});
+    }
+  }
+  return triangles;
+}
+
+std::vector<Vec3> vertex_normals(const ClothModel& model, std::span<const Vec3> position,
+                                 std::span<const std::array<std::uint32_t, 3>> triangles) {
+  const std::size_t n = model.particle_count();
+  CLOTHSIM_ASSERT(position.size() == n, "one position per particle");
+  std::vector<Vec3> normal(n, Vec3{});
+  for (const auto& triangle : triangles) {
+    CLOTHSIM_ASSERT(triangle[0] < n && triangle[1] < n && triangle[2] < n, "triangle indices name particles");
+    const Vec3& a = position[triangle[0]];
+    // |cross| = 2 * area, so summing unnormalised cross products weights each face by its area.
+    const Vec3 area_normal = cross(position[triangle[1]] - a, position[triangle[2]] - a);
+    for (const std::uint32_t corner : triangle) normal[corner] += area_normal;
+  }
+  for (Vec3& vertex_normal : normal) {
+    const double length = norm(vertex_normal);
+    // length is 0 with no incident area, and inf/NaN for non-finite positions (or a squared
+    // norm beyond 1e308): fall back to the rest normal rather than hand out NaNs.
+    if (length > 0.0 && std::isfinite(length)) {
+      vertex_normal = vertex_normal / length;
+    } else {
+      vertex_normal = Vec3{0.0, 1.0, 0.0};
+    }
+  }
+  return normal;
+}
+
+void write_obj(const std::string& path, const ClothModel& model, std::span<const Vec3> position,
+               std::string_view comment) {
+  const std::size_t n = model.particle_count();
+  if (position.size() != n) {
+    throw io_error(path, "write_obj: " + std::to_string(position.size()) + " positions for a model of " +
+                             std::to_string(n) + " particles", 0);
+  }
+  const std::vector<std::array<std::uint32_t, 3>> triangles = lattice_triangles(model);
+
+  std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "w"));
+  if (file == nullptr) throw io_error(path, "cannot create file", errno);
+  std::FILE* out = file.get();
+  errno = 0;
+
+  std::fprintf(out, "# clothsim sheet: %d x %d particles (rows x cols), spacing %.9g m, positions in m\n",
+               model.rows, model.cols, model.spacing);
+  if (!comment.empty()) write_comment(out, comment);
+  std::fprintf(out, "o clothsim_sheet\n");
+  for (const Vec3& p : position) std::fprintf(out, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+  // Texture coordinates span [0, 1] across the lattice; a 1-wide axis maps to 0.
+  const double u_step = model.cols > 1 ? 1.0 / (model.cols - 1) : 0.0;
+  const double v_step = model.rows > 1 ? 1.0 / (model.rows - 1) : 0.0;
+  for (int i = 0; i < model.rows; ++i) {
+    for (int j = 0; j < model.cols; ++j) std::fprintf(out, "vt %.9g %.9g\n", j * u_step, i * v_step);
+  }
+
+  if (triangles.empty()) {
+    // A 1-wide lattice is a chain of particles: a polyline through them in index order.
+    std::fprintf(out, "l");
+    for (std::size_t p = 1; p <= n; ++p) std::fprintf(out, " %zu/%zu", p, p);
+    std::fprintf(out, "\n");
+  } else {
+    for (const Vec3& normal : vertex_normals(model, position, triangles)) {
+      std::fprintf(out, "vn %.9g %.9g %.9g\n", normal.x, normal.y, normal.z);
+    }
+    std::fprintf(out, "s 1\n");
+    for (const auto& triangle : triangles) {
+      // OBJ indices are 1-based; v, vt and vn share the particle's index.
+      const std::uint32_t a = triangle[0] + 1;
+      const std::uint32_t b = triangle[1] + 1;
+      const std::uint32_t c = triangle[2] + 1;
+      std::fprintf(out, "f %u/%u/%u %u/%u/%u %u/%u/%u\n", a, a, a, b, b, b, c, c, c);
+    }
+  }
+
+  const bool write_failed = std::ferror(out) != 0;
+  const int write_error = errno;
+  errno = 0;
+  const bool closed = std::fclose(file.release()) == 0;
+  if (write_failed) throw io_error(path, "write failed", write_error);
+  if (!closed) throw io_error(path, "close failed", errno);
+}
+
+}  // namespace clothsim

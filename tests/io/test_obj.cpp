@@ -1,0 +1,332 @@
+// Tests of io/obj: the lattice triangulation and its winding, vertex normals, and the OBJ file
+// read back line by line (counts, index ranges, values), including flipped and 1-wide sheets.
+#include "io/obj.h"
+
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace clothsim {
+namespace {
+
+std::string scratch_path(const std::string& name) {
+  const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
+  std::filesystem::create_directories(directory);
+  return (directory / name).string();
+}
+
+template <class Action>
+std::string thrown_message(Action&& action) {
+  try {
+    std::forward<Action>(action)();
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  return "<no exception thrown>";
+}
+
+testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return testing::AssertionSuccess();
+  return testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+ClothModel make_sheet(int rows, int cols, double spacing = 0.5) {
+  return build_lattice(LatticeDef{.rows = rows, .cols = cols, .spacing = spacing}, Environment{}, {});
+}
+
+// Rotation by 180 degrees about x: turns the sheet upside down (y -> -y, z -> -z).
+Vec3 flip(const Vec3& p) { return {p.x, -p.y, -p.z}; }
+
+// The rest lattice with a smooth bump: y = 0.3 L cos(x) cos(z), normals everywhere near +y.
+std::vector<Vec3> bumped_positions(const ClothModel& model) {
+  std::vector<Vec3> position = model.particle_rest_position;
+  for (Vec3& p : position) p.y = 0.3 * model.spacing * std::cos(p.x) * std::cos(p.z);
+  return position;
+}
+
+// An OBJ file read back: one entry per line of each kind; indices as written (1-based).
+struct ObjFile {
+  std::vector<std::string> comments;  // text after "# "
+  std::vector<std::string> objects;   // o names
+  std::vector<std::string> smoothing; // s arguments
+  std::vector<Vec3> vertices;
+  std::vector<std::array<double, 2>> texture_coordinates;
+  std::vector<Vec3> normals;
+  std::vector<std::array<std::array<long, 3>, 3>> faces;  // [corner][v, vt, vn]
+  std::vector<std::vector<std::array<long, 2>>> lines;    // [point][v, vt]
+  std::vector<std::string> unknown;                       // any other line
+};
+
+ObjFile read_obj(const std::string& path) {
+  ObjFile obj;
+  std::ifstream in(path);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::istringstream fields(line);
+    std::string kind;
+    fields >> kind;
+    if (kind == "#") {
+      obj.comments.push_back(line.size() > 2 ? line.substr(2) : "");
+    } else if (kind == "o") {
+      obj.objects.emplace_back();
+      fields >> obj.objects.back();
+    } else if (kind == "s") {
+      obj.smoothing.emplace_back();
+      fields >> obj.smoothing.back();
+    } else if (kind == "v" || kind == "vn") {
+      Vec3 value;
+      fields >> value.x >> value.y >> value.z;
+      (kind == "v" ? obj.vertices : obj.normals).push_back(value);
+    } else if (kind == "vt") {
+      std::array<double, 2> value{};
+      fields >> value[0] >> value[1];
+      obj.texture_coordinates.push_back(value);
+    } else if (kind == "f") {
+      std::array<std::array<long, 3>, 3> face{};
+      char slash = 0;
+      for (auto& corner : face) fields >> corner[0] >> slash >> corner[1] >> slash >> corner[2];
+      if (fields.fail()) obj.unknown.push_back("unparsed: " + line);
+      obj.faces.push_back(face);
+      std::string extra;
+      if (fields >> extra) obj.unknown.push_back("not a triangle: " + line);
+      continue;
+    } else if (kind == "l") {
+      std::vector<std::array<long, 2>> points;
+      std::array<long, 2> point{};
+      char slash = 0;
+      while (fields >> point[0] >> slash >> point[1]) points.push_back(point);
+      obj.lines.push_back(points);
+    } else {
+      obj.unknown.push_back(line);
+    }
+    if (fields.fail() && kind != "#" && kind != "l") obj.unknown.push_back("unparsed: " + line);
+  }
+  return obj;
+}
+
+Vec3 face_normal(const std::vector<Vec3>& position, const std::array<std::uint32_t, 3>& triangle) {
+  return cross(position[triangle[1]] - position[triangle[0]], position[triangle[2]] - position[triangle[0]]);
+}
+
+void expect_near(const Vec3& actual, const Vec3& expected, double tolerance) {
+  EXPECT_NEAR(actual.x, expected.x, tolerance);
+  EXPECT_NEAR(actual.y, expected.y, tolerance);
+  EXPECT_NEAR(actual.z, expected.z, tolerance);
+}
+
+// --- Triangulation and normals ---
+
+TEST(LatticeTriangles, CoverTheSheetWoundTowardsPlusY) {
+  const ClothModel model = make_sheet(3, 4, 0.5);
+  const auto triangles = lattice_triangles(model);
+  ASSERT_EQ(triangles.size(), 2U * 2U * 3U);
+  std::vector<int> uses(model.particle_count(), 0);
+  double total_area = 0.0;
+  for (const auto& triangle : triangles) {
+    for (const std::uint32_t corner : triangle) {
+      ASSERT_LT(corner, model.particle_count());
+      ++uses[corner];
+    }
+    const Vec3 normal = face_normal(model.particle_rest_position, triangle);
+    // cross(+z L, +x L) = +y L^2: area L^2 / 2, pointing up.
+    expect_near(normal, {0.0, 0.25, 0.0}, 1e-15);
+    total_area += 0.5 * norm(normal);
+  }
+  EXPECT_NEAR(total_area, 2 * 3 * 0.25, 1e-14);
+  for (std::size_t p = 0; p < uses.size(); ++p) EXPECT_GT(uses[p], 0) << model.describe_particle(p);
+  // First quad: (0,0) -> (1,0) -> (0,1), then (0,1) -> (1,0) -> (1,1).
+  EXPECT_EQ(triangles[0], (std::array<std::uint32_t, 3>{0, 4, 1}));
+  EXPECT_EQ(triangles[1], (std::array<std::uint32_t, 3>{1, 4, 5}));
+}
+
+TEST(LatticeTriangles, OneWideLatticesHaveNone) {
+  EXPECT_TRUE(lattice_triangles(make_sheet(1, 5)).empty());
+  EXPECT_TRUE(lattice_triangles(make_sheet(5, 1)).empty());
+}
+
+TEST(VertexNormals, UnitAndUpOnARestAndABumpedSheet) {
+  const ClothModel model = make_sheet(6, 7, 0.5);
+  const auto triangles = lattice_triangles(model);
+  for (const Vec3& normal : vertex_normals(model, model.particle_rest_position, triangles)) {
+    expect_near(normal, {0.0, 1.0, 0.0}, 1e-15);
+  }
+  const std::vector<Vec3> bumped = bumped_positions(model);
+  const std::vector<Vec3> normals = vertex_normals(model, bumped, triangles);
+  for (std::size_t p = 0; p < normals.size(); ++p) {
+    EXPECT_NEAR(norm(normals[p]), 1.0, 1e-14) << model.describe_particle(p);
+    EXPECT_GT(normals[p].y, 0.9) << model.describe_particle(p);
+  }
+  // A tent over a 3 x 3 lattice is symmetric under a half-turn about y, and so is the mesh (the
+  // half-turn maps each quad's diagonal to a diagonal): the apex normal is exactly +y.
+  const ClothModel small = make_sheet(3, 3, 1.0);
+  std::vector<Vec3> tent = small.particle_rest_position;
+  tent[4].y = 0.5;
+  expect_near(vertex_normals(small, tent, lattice_triangles(small))[4], {0.0, 1.0, 0.0}, 1e-15);
+}
+
+TEST(VertexNormals, WeightFacesByArea) {
+  // Particle 1 of a 2 x 3 lattice touches triangles (0,3,1), (1,3,4) and (1,4,2). Stretching the
+  // second column and tilting particle 2 gives the faces different areas and normals.
+  const ClothModel model = make_sheet(2, 3, 1.0);
+  std::vector<Vec3> position = model.particle_rest_position;
+  position[2] = {4.0, 1.0, -0.5};
+  position[5] = {4.0, 0.0, 0.5};
+  const auto triangles = lattice_triangles(model);
+  Vec3 weighted;
+  Vec3 unweighted;
+  for (const auto& triangle : triangles) {
+    if (triangle[0] != 1 && triangle[1] != 1 && triangle[2] != 1) continue;
+    const Vec3 area_normal = face_normal(position, triangle);
+    weighted += area_normal;
+    unweighted += area_normal / norm(area_normal);
+  }
+  weighted = weighted / norm(weighted);
+  unweighted = unweighted / norm(unweighted);
+  ASSERT_GT(norm(weighted - unweighted), 1e-3) << "the test must tell the two weightings apart";
+  expect_near(vertex_normals(model, position, triangles)[1], weighted, 1e-15);
+}
+
+TEST(VertexNormals, FlippedSheetPointsDown) {
+  const ClothModel model = make_sheet(4, 5, 0.5);
+  const auto triangles = lattice_triangles(model);
+  std::vector<Vec3> flipped_rest;
+  for (const Vec3& p : model.particle_rest_position) flipped_rest.push_back(flip(p));
+  for (const Vec3& normal : vertex_normals(model, flipped_rest, triangles)) expect_near(normal, {0.0, -1.0, 0.0}, 1e-15);
+
+  // Normals turn with the sheet: the flipped bump's normals are the flipped normals.
+  const std::vector<Vec3> bumped = bumped_positions(model);
+  std::vector<Vec3> flipped_bump;
+  for (const Vec3& p : bumped) flipped_bump.push_back(flip(p));
+  const std::vector<Vec3> up = vertex_normals(model, bumped, triangles);
+  const std::vector<Vec3> down = vertex_normals(model, flipped_bump, triangles);
+  for (std::size_t p = 0; p < up.size(); ++p) expect_near(down[p], flip(up[p]), 1e-14);
+}
+
+TEST(VertexNormals, DegenerateAndNonFiniteFallBackToPlusY) {
+  const ClothModel model = make_sheet(3, 3);
+  const auto triangles = lattice_triangles(model);
+  const std::vector<Vec3> collapsed(model.particle_count(), Vec3{1.0, 2.0, 3.0});
+  for (const Vec3& normal : vertex_normals(model, collapsed, triangles)) EXPECT_EQ(normal, (Vec3{0.0, 1.0, 0.0}));
+  std::vector<Vec3> broken = model.particle_rest_position;
+  broken[0].x = std::numeric_limits<double>::quiet_NaN();
+  const std::vector<Vec3> normals = vertex_normals(model, broken, triangles);
+  for (const Vec3& normal : normals) EXPECT_TRUE(is_finite(normal));
+  EXPECT_EQ(normals[0], (Vec3{0.0, 1.0, 0.0}));
+  expect_near(normals[8], {0.0, 1.0, 0.0}, 1e-15);  // far corner: no NaN face touches it
+}
+
+// --- The file ---
+
+TEST(WriteObj, RestSheetReadsBack) {
+  constexpr int rows = 3;
+  constexpr int cols = 4;
+  const ClothModel model = make_sheet(rows, cols, 0.5);
+  const std::string path = scratch_path("rest_sheet.obj");
+  write_obj(path, model, model.particle_rest_position, "scene: test\nframe 0, t = 0 s");
+  const ObjFile obj = read_obj(path);
+
+  EXPECT_TRUE(obj.unknown.empty()) << obj.unknown.front();
+  ASSERT_GE(obj.comments.size(), 3U);
+  EXPECT_TRUE(contains(obj.comments[0], "clothsim"));
+  EXPECT_EQ(obj.comments[1], "scene: test");
+  EXPECT_EQ(obj.comments[2], "frame 0, t = 0 s");
+  EXPECT_EQ(obj.objects, (std::vector<std::string>{"clothsim_sheet"}));
+  EXPECT_EQ(obj.smoothing, (std::vector<std::string>{"1"}));
+
+  const std::size_t n = model.particle_count();
+  ASSERT_EQ(obj.vertices.size(), n);
+  ASSERT_EQ(obj.texture_coordinates.size(), n);
+  ASSERT_EQ(obj.normals.size(), n);
+  ASSERT_EQ(obj.faces.size(), 2U * (rows - 1) * (cols - 1));
+  EXPECT_TRUE(obj.lines.empty());
+
+  for (std::size_t p = 0; p < n; ++p) {
+    expect_near(obj.vertices[p], model.particle_rest_position[p], 1e-9);
+    const auto row = static_cast<double>(p / cols);
+    const auto col = static_cast<double>(p % cols);
+    EXPECT_NEAR(obj.texture_coordinates[p][0], col / (cols - 1), 1e-9);
+    EXPECT_NEAR(obj.texture_coordinates[p][1], row / (rows - 1), 1e-9);
+    EXPECT_NEAR(norm(obj.normals[p]), 1.0, 1e-8);
+    expect_near(obj.normals[p], {0.0, 1.0, 0.0}, 1e-9);
+  }
+  for (const auto& face : obj.faces) {
+    std::array<std::uint32_t, 3> triangle{};
+    for (std::size_t corner = 0; corner < 3; ++corner) {
+      const long index = face[corner][0];
+      ASSERT_GE(index, 1);
+      ASSERT_LE(index, static_cast<long>(n));
+      EXPECT_EQ(face[corner][1], index) << "vt index";
+      EXPECT_EQ(face[corner][2], index) << "vn index";
+      triangle[corner] = static_cast<std::uint32_t>(index - 1);
+    }
+    EXPECT_GT(face_normal(obj.vertices, triangle).y, 0.0) << "faces wind counter-clockwise seen from +y";
+  }
+}
+
+TEST(WriteObj, FlippedSheetHasDownwardNormalsAndFaces) {
+  const ClothModel model = make_sheet(3, 4, 0.5);
+  std::vector<Vec3> flipped;
+  for (const Vec3& p : model.particle_rest_position) flipped.push_back(flip(p));
+  const std::string path = scratch_path("flipped_sheet.obj");
+  write_obj(path, model, flipped);
+  const ObjFile obj = read_obj(path);
+  ASSERT_EQ(obj.normals.size(), model.particle_count());
+  for (const Vec3& normal : obj.normals) expect_near(normal, {0.0, -1.0, 0.0}, 1e-9);
+  ASSERT_EQ(obj.faces.size(), 12U);
+  for (const auto& face : obj.faces) {
+    const std::array<std::uint32_t, 3> triangle = {static_cast<std::uint32_t>(face[0][0] - 1),
+                                                   static_cast<std::uint32_t>(face[1][0] - 1),
+                                                   static_cast<std::uint32_t>(face[2][0] - 1)};
+    EXPECT_LT(face_normal(obj.vertices, triangle).y, 0.0);
+  }
+}
+
+TEST(WriteObj, OneWideLatticeIsAPolyline) {
+  for (const auto& [rows, cols] : {std::pair{1, 4}, std::pair{4, 1}}) {
+    const ClothModel model = make_sheet(rows, cols);
+    const std::string path = scratch_path("strip_" + std::to_string(rows) + "x" + std::to_string(cols) + ".obj");
+    write_obj(path, model, model.particle_rest_position);
+    const ObjFile obj = read_obj(path);
+    EXPECT_TRUE(obj.unknown.empty()) << obj.unknown.front();
+    EXPECT_EQ(obj.vertices.size(), 4U);
+    EXPECT_EQ(obj.texture_coordinates.size(), 4U);
+    EXPECT_TRUE(obj.faces.empty());
+    EXPECT_TRUE(obj.normals.empty());
+    ASSERT_EQ(obj.lines.size(), 1U);
+    ASSERT_EQ(obj.lines[0].size(), 4U);
+    for (std::size_t k = 0; k < 4; ++k) {
+      EXPECT_EQ(obj.lines[0][k][0], static_cast<long>(k + 1));
+      EXPECT_EQ(obj.lines[0][k][1], static_cast<long>(k + 1));
+      for (const double coordinate : obj.texture_coordinates[k]) {
+        EXPECT_TRUE(coordinate >= 0.0 && coordinate <= 1.0) << coordinate;
+      }
+    }
+  }
+}
+
+TEST(WriteObj, ErrorsNameThePath) {
+  const ClothModel model = make_sheet(2, 2);
+  const std::string missing = scratch_path("no_such_directory/sheet.obj");
+  const std::string message = thrown_message([&] { write_obj(missing, model, model.particle_rest_position); });
+  EXPECT_TRUE(contains(message, missing));
+  EXPECT_TRUE(contains(message, "No such file or directory"));
+
+  const std::string path = scratch_path("short.obj");
+  const std::vector<Vec3> too_few(3);
+  const std::string short_message = thrown_message([&] { write_obj(path, model, too_few); });
+  EXPECT_TRUE(contains(short_message, path));
+  EXPECT_TRUE(contains(short_message, "3 positions"));
+}
+
+}  // namespace
+}  // namespace clothsim
