@@ -258,11 +258,15 @@ NpyWriter::NpyWriter(std::string path, std::size_t items, std::size_t components
   file_ = std::fopen(path_.c_str(), "wb");
   if (file_ == nullptr) throw io_error(path_, "cannot create file", errno);
   std::setvbuf(file_, nullptr, _IOFBF, kWriteBufferBytes);
-  try {
-    write_header();
-  } catch (...) {
+  // The provisional header (0 frames) goes into the buffer with the first frames; a full disk
+  // shows at the first flush of the buffer.
+  const std::array<std::size_t, 3> shape = {0, items_, components_};
+  const std::string header = make_header(shape, header_bytes_);
+  errno = 0;
+  if (std::fwrite(header.data(), 1, header.size(), file_) != header.size()) {
+    const int error_number = errno;
     std::fclose(std::exchange(file_, nullptr));
-    throw;
+    throw io_error(path_, "cannot write the header", error_number);
   }
 }
 

@@ -360,6 +360,31 @@ TEST(NpyWriter, UncreatableFileThrowsWithPathAndReason) {
   EXPECT_TRUE(contains(message, "No such file or directory"));
 }
 
+// /dev/full accepts open() and fails every write with ENOSPC: the full-disk case.
+TEST(NpyWriter, WriteFailuresAreReported) {
+  if (!std::filesystem::exists("/dev/full")) GTEST_SKIP() << "needs /dev/full";
+  const std::string path = "/dev/full";
+  NpyWriter writer(path, 1000);
+  // Frames go into a stdio buffer first; the failure shows once it is flushed.
+  const std::string message = thrown_message([&] {
+    for (std::size_t frame = 0; frame < 1000; ++frame) writer.append(test_frame(0, 1000));
+  });
+  EXPECT_TRUE(contains(message, path));
+  EXPECT_TRUE(contains(message, "No space left on device"));
+  EXPECT_TRUE(contains(thrown_message([&] { writer.append(test_frame(0, 1000)); }), "earlier write failure"));
+  EXPECT_TRUE(contains(thrown_message([&] { writer.close(); }), "No space left on device"));
+  EXPECT_NO_THROW(writer.close());
+
+  EXPECT_NO_THROW({
+    NpyWriter unclosed(path, 2);
+    unclosed.append(test_frame(0, 2));
+  }) << "the destructor swallows the close failure";
+
+  const std::vector<double> data(4, 1.0);
+  const std::vector<std::size_t> shape = {4};
+  EXPECT_TRUE(contains(thrown_message([&] { write_npy(path, data, shape); }), "No space left on device"));
+}
+
 // --- Whole arrays ---
 
 TEST(WriteNpy, RoundTripsAnyShape) {

@@ -252,10 +252,10 @@ TEST(WriteObj, RestSheetReadsBack) {
 
   for (std::size_t p = 0; p < n; ++p) {
     expect_near(obj.vertices[p], model.particle_rest_position[p], 1e-9);
-    const auto row = static_cast<double>(p / cols);
-    const auto col = static_cast<double>(p % cols);
-    EXPECT_NEAR(obj.texture_coordinates[p][0], col / (cols - 1), 1e-9);
-    EXPECT_NEAR(obj.texture_coordinates[p][1], row / (rows - 1), 1e-9);
+    const std::size_t row = p / cols;
+    const std::size_t col = p % cols;
+    EXPECT_NEAR(obj.texture_coordinates[p][0], static_cast<double>(col) / (cols - 1), 1e-9);
+    EXPECT_NEAR(obj.texture_coordinates[p][1], static_cast<double>(row) / (rows - 1), 1e-9);
     EXPECT_NEAR(norm(obj.normals[p]), 1.0, 1e-8);
     expect_near(obj.normals[p], {0.0, 1.0, 0.0}, 1e-9);
   }
@@ -320,6 +320,11 @@ TEST(WriteObj, ErrorsNameThePath) {
   const std::string message = thrown_message([&] { write_obj(missing, model, model.particle_rest_position); });
   EXPECT_TRUE(contains(message, missing));
   EXPECT_TRUE(contains(message, "No such file or directory"));
+
+  if (std::filesystem::exists("/dev/full")) {  // fails every write with ENOSPC: a full disk
+    EXPECT_TRUE(contains(thrown_message([&] { write_obj("/dev/full", model, model.particle_rest_position); }),
+                         "/dev/full: close failed: No space left on device"));
+  }
 
   const std::string path = scratch_path("short.obj");
   const std::vector<Vec3> too_few(3);
