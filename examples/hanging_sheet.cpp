@@ -22,7 +22,7 @@ int main() {
   sheet.spacing = 1.0;                   // m
 
   const std::uint32_t centre = lattice_index(sheet.cols, sheet.rows / 2, sheet.cols / 2);
-  const Anchor anchor{centre, AnchorPath{}};  // fixed at the origin, where the centre particle starts
+  const Anchor anchor{centre, AnchorPath::fixed_at({0, 0, 0})};  // where the centre particle starts
   ClothModel model = build_lattice(sheet, Environment{}, {&anchor, 1});
   ClothState state = make_rest_state(model);
 

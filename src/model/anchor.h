@@ -25,6 +25,13 @@ struct AnchorPath {
   double frequency = 0.0;  // sinusoid: Hz
   double phase = 0.0;      // sinusoid: rad
 
+  // A path that stays at `origin`.
+  static AnchorPath fixed_at(const Vec3& origin) {
+    AnchorPath path;
+    path.origin = origin;
+    return path;
+  }
+
   Vec3 position(double t) const;
   Vec3 velocity_at(double t) const;
   Vec3 acceleration(double t) const;

@@ -1,0 +1,143 @@
+// Lattice topology and layout as the paper and docs/model.md define them.
+#include "model/cloth_model.h"
+
+#include <gtest/gtest.h>
+
+#include <numbers>
+
+#include "core/error.h"
+#include "model/initial_conditions.h"
+
+namespace clothsim {
+namespace {
+
+LatticeDef lattice(int rows, int cols) {
+  LatticeDef def;
+  def.rows = rows;
+  def.cols = cols;
+  def.spacing = 0.5;
+  return def;
+}
+
+TEST(Lattice, ParticlePositionsAndIndices) {
+  const ClothModel model = build_lattice(lattice(3, 4), Environment{}, {});
+  ASSERT_EQ(model.particle_count(), 12u);
+  // Particle (i, j) has index i*cols + j and starts at ((j-(cols-1)/2) L, 0, (i-(rows-1)/2) L).
+  EXPECT_EQ(model.particle_rest_position[lattice_index(4, 0, 0)], (Vec3{-0.75, 0, -0.5}));
+  EXPECT_EQ(model.particle_rest_position[lattice_index(4, 2, 3)], (Vec3{0.75, 0, 0.5}));
+  EXPECT_EQ(model.particle_rest_position[lattice_index(4, 1, 2)], (Vec3{0.25, 0, 0}));
+  EXPECT_EQ(model.describe_particle(6), "particle 6 (row 1, col 2)");
+}
+
+TEST(Lattice, SpringCountsFollowThePapersRule) {
+  for (auto [rows, cols] : {std::pair{2, 2}, {3, 3}, {5, 8}, {21, 21}, {1, 5}}) {
+    const ClothModel model = build_lattice(lattice(rows, cols), Environment{}, {});
+    EXPECT_EQ(model.connector_count(), static_cast<std::size_t>(rows * (cols - 1) + cols * (rows - 1)));
+    // Per particle: 4 adjacent + 2 opposite inside, 2 + 1 on an edge, 1 + 0 at a corner.
+    std::size_t adjacent = 0, opposite = 0;
+    for (int i = 0; i < rows; ++i) {
+      for (int j = 0; j < cols; ++j) {
+        const int horizontal = (j > 0) + (j + 1 < cols);
+        const int vertical = (i > 0) + (i + 1 < rows);
+        adjacent += static_cast<std::size_t>(horizontal * vertical);
+        opposite += static_cast<std::size_t>((horizontal == 2) + (vertical == 2));
+      }
+    }
+    std::size_t counted_adjacent = 0;
+    for (RadialKind kind : model.radial_kind) counted_adjacent += kind == RadialKind::adjacent;
+    EXPECT_EQ(counted_adjacent, adjacent) << rows << "x" << cols;
+    EXPECT_EQ(model.radial_count() - counted_adjacent, opposite) << rows << "x" << cols;
+  }
+}
+
+TEST(Lattice, RadialSpringsJoinConnectorsOfTheirCentreAtTheRestAngle) {
+  const ClothModel model = build_lattice(lattice(4, 5), Environment{}, {});
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const auto [centre, b, c] = model.radial_particles[r];
+    const auto [c1, c2] = model.radial_connectors[r];
+    const auto touches = [&](std::uint32_t connector, std::uint32_t p, std::uint32_t q) {
+      const auto [x, y] = model.connector_particles[connector];
+      return (x == p && y == q) || (x == q && y == p);
+    };
+    EXPECT_TRUE(touches(c1, centre, b));
+    EXPECT_TRUE(touches(c2, centre, c));
+    const Vec3 eb = model.particle_rest_position[b] - model.particle_rest_position[centre];
+    const Vec3 ec = model.particle_rest_position[c] - model.particle_rest_position[centre];
+    const double angle = std::atan2(norm(cross(eb, ec)), dot(eb, ec));
+    EXPECT_NEAR(angle, model.radial_rest_angle[r], 1e-15);
+  }
+}
+
+TEST(Lattice, GatherTableListsEachSlotOnceInAscendingOrder) {
+  const ClothModel model = build_lattice(lattice(5, 6), Environment{}, {});
+  std::vector<int> seen(model.force_slot_count(), 0);
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    for (std::uint32_t k = model.gather_offset[p]; k < model.gather_offset[p + 1]; ++k) {
+      ++seen[model.gather_slot[k]];
+      if (k > model.gather_offset[p]) {
+        EXPECT_LT(model.gather_slot[k - 1], model.gather_slot[k]);
+      }
+    }
+  }
+  for (int count : seen) EXPECT_EQ(count, 1);
+}
+
+TEST(Lattice, AnchorsAreValidated) {
+  const Anchor outside{100, {}};
+  EXPECT_THROW(build_lattice(lattice(3, 3), Environment{}, {&outside, 1}), InputError);
+  const Anchor twice[2] = {{4, {}}, {4, {}}};
+  EXPECT_THROW(build_lattice(lattice(3, 3), Environment{}, twice), InputError);
+  const Anchor centre{4, {}};
+  const ClothModel model = build_lattice(lattice(3, 3), Environment{}, {&centre, 1});
+  EXPECT_TRUE(model.is_anchored(4));
+  EXPECT_EQ(model.particle_inverse_mass[4], 0.0);
+  EXPECT_FALSE(model.is_anchored(3));
+}
+
+TEST(AnchorPath, VelocityAndAccelerationAreDerivativesOfPosition) {
+  AnchorPath path;
+  path.kind = AnchorPathKind::sinusoid;
+  path.origin = {1, 2, 3};
+  path.amplitude = {0.5, -0.2, 0.1};
+  path.frequency = 1.7;
+  path.phase = 0.4;
+  EXPECT_EQ(path.position(0.0), path.origin);
+  // Central differences err by about h^2/6 omega^3 |A| (1e-8 here) on velocity and
+  // h^2/6 omega^4 |A| (1e-7) on acceleration.
+  const double h = 1e-5;
+  for (double t : {0.0, 0.3, 1.1}) {
+    const Vec3 v = (path.position(t + h) - path.position(t - h)) / (2 * h);
+    const Vec3 a = (path.velocity_at(t + h) - path.velocity_at(t - h)) / (2 * h);
+    EXPECT_NEAR(norm(v - path.velocity_at(t)), 0.0, 5e-8);
+    EXPECT_NEAR(norm(a - path.acceleration(t)), 0.0, 5e-7);
+  }
+  path.kind = AnchorPathKind::linear;
+  path.velocity = {0, 1, 0};
+  EXPECT_EQ(path.position(2.0), (Vec3{1, 4, 3}));
+}
+
+TEST(InitialConditions, SpinAndPerturbationAreReproducible) {
+  const Anchor corner{0, AnchorPath::fixed_at({-0.5, 0.0, -0.5})};  // particle 0 where it starts
+  const ClothModel model = build_lattice(lattice(3, 3), Environment{}, {&corner, 1});
+  InitialConditions initial;
+  initial.angular_velocity = {0, 2, 0};
+  ClothState spun = make_rest_state(model);
+  apply_initial_conditions(model, initial, spun);
+  // v = omega x r about the centre (particle 4 at the origin): particle 5 at (0.5, 0, 0) moves
+  // along -z.
+  EXPECT_EQ(spun.velocity[5], (Vec3{0, 0, -1}));
+  EXPECT_EQ(spun.velocity[0], Vec3{});  // anchored: keeps its path velocity
+
+  initial.position_noise = 0.01;
+  initial.seed = 42;
+  ClothState a = make_rest_state(model), b = make_rest_state(model);
+  apply_initial_conditions(model, initial, a);
+  apply_initial_conditions(model, initial, b);
+  EXPECT_EQ(a.position, b.position);
+  EXPECT_NE(a.position[1], model.particle_rest_position[1]);
+  EXPECT_LE(std::abs(a.position[1].y), 0.01);
+  EXPECT_EQ(a.position[0], model.particle_rest_position[0]);
+}
+
+}  // namespace
+}  // namespace clothsim

@@ -1,0 +1,37 @@
+// Small helpers shared by the tests: deterministic random vectors and finite differences.
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "core/vec3.h"
+
+namespace clothsim::testing {
+
+// Deterministic uniform numbers for test configurations (SplitMix64).
+class TestRandom {
+ public:
+  explicit TestRandom(std::uint64_t seed) : state_(seed) {}
+  double uniform(double lo, double hi) {
+    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
+    z ^= z >> 31;
+    return lo + (hi - lo) * static_cast<double>(z >> 11) * 0x1.0p-53;
+  }
+  Vec3 vector(double lo, double hi) { return {uniform(lo, hi), uniform(lo, hi), uniform(lo, hi)}; }
+
+ private:
+  std::uint64_t state_;
+};
+
+// Central-difference gradient of a scalar function of one point: (f(x + h e_k) - f(x - h e_k)) / 2h.
+inline Vec3 numerical_gradient(const std::function<double(const Vec3&)>& f, const Vec3& x, double h) {
+  Vec3 g;
+  g.x = (f(x + Vec3{h, 0, 0}) - f(x - Vec3{h, 0, 0})) / (2 * h);
+  g.y = (f(x + Vec3{0, h, 0}) - f(x - Vec3{0, h, 0})) / (2 * h);
+  g.z = (f(x + Vec3{0, 0, h}) - f(x - Vec3{0, 0, h})) / (2 * h);
+  return g;
+}
+
+}  // namespace clothsim::testing
