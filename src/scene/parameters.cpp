@@ -1,0 +1,246 @@
+#include "scene/parameters.h"
+
+#include <array>
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+namespace clothsim {
+namespace {
+
+constexpr ValueRange kCountRange = closed_range(1.0, 4096.0);       // lattice rows and columns
+constexpr ValueRange kSpringRange = closed_range(0.0, 1e9);         // stiffness and damping
+constexpr ValueRange kRestAngleRange = closed_range(0.0, 180.0);    // degrees
+
+// The table. Accessors are captureless lambdas (converted to function pointers); setters receive
+// values already checked against the range, so the casts to int cannot overflow.
+constexpr std::array kScalarParameters = {
+    // Lattice.
+    ScalarParameter{"lattice.rows", ParameterType::integer, "", kCountRange,
+                    "particles along z (the paper's vertical points)",
+                    [](const SceneSpec& s) { return double(s.lattice.rows); },
+                    [](SceneSpec& s, double v) { s.lattice.rows = static_cast<int>(v); }},
+    ScalarParameter{"lattice.cols", ParameterType::integer, "", kCountRange,
+                    "particles along x (the paper's horizontal points)",
+                    [](const SceneSpec& s) { return double(s.lattice.cols); },
+                    [](SceneSpec& s, double v) { s.lattice.cols = static_cast<int>(v); }},
+    ScalarParameter{"lattice.spacing", ParameterType::real, "m", left_open_range(0.0, 1000.0),
+                    "connector rest length L (distance between neighbouring particles)",
+                    [](const SceneSpec& s) { return s.lattice.spacing; },
+                    [](SceneSpec& s, double v) { s.lattice.spacing = v; }},
+    ScalarParameter{"lattice.particle_mass", ParameterType::real, "kg", left_open_range(0.0, 1e6),
+                    "mass of every particle",
+                    [](const SceneSpec& s) { return s.lattice.particle_mass; },
+                    [](SceneSpec& s, double v) { s.lattice.particle_mass = v; }},
+    // Springs.
+    ScalarParameter{"springs.connector.stiffness", ParameterType::real, "N/m", kSpringRange,
+                    "stiffness k of the connector springs between 4-neighbours",
+                    [](const SceneSpec& s) { return s.lattice.connector.stiffness; },
+                    [](SceneSpec& s, double v) { s.lattice.connector.stiffness = v; }},
+    ScalarParameter{"springs.connector.damping", ParameterType::real, "N s/m", kSpringRange,
+                    "damping c of the connector springs",
+                    [](const SceneSpec& s) { return s.lattice.connector.damping; },
+                    [](SceneSpec& s, double v) { s.lattice.connector.damping = v; }},
+    ScalarParameter{"springs.adjacent.stiffness", ParameterType::real, "N m/rad", kSpringRange,
+                    "stiffness k of the radial springs between adjacent (perpendicular) connectors",
+                    [](const SceneSpec& s) { return s.lattice.adjacent.stiffness; },
+                    [](SceneSpec& s, double v) { s.lattice.adjacent.stiffness = v; }},
+    ScalarParameter{"springs.adjacent.damping", ParameterType::real, "N m s/rad", kSpringRange,
+                    "damping c of the adjacent radial springs",
+                    [](const SceneSpec& s) { return s.lattice.adjacent.damping; },
+                    [](SceneSpec& s, double v) { s.lattice.adjacent.damping = v; }},
+    ScalarParameter{"springs.adjacent.rest_angle_deg", ParameterType::real, "deg", kRestAngleRange,
+                    "rest angle of the adjacent radial springs",
+                    [](const SceneSpec& s) { return radians_to_degrees(s.lattice.adjacent_rest_angle); },
+                    [](SceneSpec& s, double v) { s.lattice.adjacent_rest_angle = degrees_to_radians(v); }},
+    ScalarParameter{"springs.opposite.stiffness", ParameterType::real, "N m/rad", kSpringRange,
+                    "stiffness k of the radial springs between opposite (collinear) connectors",
+                    [](const SceneSpec& s) { return s.lattice.opposite.stiffness; },
+                    [](SceneSpec& s, double v) { s.lattice.opposite.stiffness = v; }},
+    ScalarParameter{"springs.opposite.damping", ParameterType::real, "N m s/rad", kSpringRange,
+                    "damping c of the opposite radial springs",
+                    [](const SceneSpec& s) { return s.lattice.opposite.damping; },
+                    [](SceneSpec& s, double v) { s.lattice.opposite.damping = v; }},
+    ScalarParameter{"springs.opposite.rest_angle_deg", ParameterType::real, "deg", kRestAngleRange,
+                    "rest angle of the opposite radial springs",
+                    [](const SceneSpec& s) { return radians_to_degrees(s.lattice.opposite_rest_angle); },
+                    [](SceneSpec& s, double v) { s.lattice.opposite_rest_angle = degrees_to_radians(v); }},
+    // Environment.
+    ScalarParameter{"environment.air_drag", ParameterType::real, "kg/s", closed_range(0.0, 1e6),
+                    "linear air drag per particle: f = -air_drag v",
+                    [](const SceneSpec& s) { return s.environment.air_drag; },
+                    [](SceneSpec& s, double v) { s.environment.air_drag = v; }},
+    // Initial conditions.
+    ScalarParameter{"initial.position_noise", ParameterType::real, "m", closed_range(0.0, 1000.0),
+                    "each free coordinate moved by a uniform random value in [-a, a]",
+                    [](const SceneSpec& s) { return s.initial.position_noise; },
+                    [](SceneSpec& s, double v) { s.initial.position_noise = v; }},
+    ScalarParameter{"initial.velocity_noise", ParameterType::real, "m/s", closed_range(0.0, 1e4),
+                    "each free velocity component changed by a uniform random value in [-a, a]",
+                    [](const SceneSpec& s) { return s.initial.velocity_noise; },
+                    [](SceneSpec& s, double v) { s.initial.velocity_noise = v; }},
+    ScalarParameter{"initial.seed", ParameterType::integer, "", closed_range(0.0, kLargestExactInteger),
+                    "seed of the random perturbation; the same seed gives the same sheet",
+                    [](const SceneSpec& s) { return static_cast<double>(s.initial.seed); },
+                    [](SceneSpec& s, double v) { s.initial.seed = static_cast<std::uint64_t>(v); }},
+    // Integrator.
+    ScalarParameter{"integrator.relative_tolerance", ParameterType::real, "", closed_range(1e-14, 1.0),
+                    "RKF45: relative error allowed per step and coordinate",
+                    [](const SceneSpec& s) { return s.integrator.relative_tolerance; },
+                    [](SceneSpec& s, double v) { s.integrator.relative_tolerance = v; }},
+    ScalarParameter{"integrator.absolute_tolerance", ParameterType::real, "m, m/s", left_open_range(0.0, 1000.0),
+                    "RKF45: absolute error allowed per step (m for positions, m/s for velocities)",
+                    [](const SceneSpec& s) { return s.integrator.absolute_tolerance; },
+                    [](SceneSpec& s, double v) { s.integrator.absolute_tolerance = v; }},
+    ScalarParameter{"integrator.time_step", ParameterType::real, "s", left_open_range(0.0, 10.0),
+                    "fixed-step methods: the step; RKF45: the first trial step",
+                    [](const SceneSpec& s) { return s.integrator.time_step; },
+                    [](SceneSpec& s, double v) { s.integrator.time_step = v; }},
+    ScalarParameter{"integrator.min_step", ParameterType::real, "s", left_open_range(0.0, 1.0),
+                    "RKF45: smallest step; needing a smaller one stops the run with a diagnosis",
+                    [](const SceneSpec& s) { return s.integrator.min_step; },
+                    [](SceneSpec& s, double v) { s.integrator.min_step = v; }},
+    ScalarParameter{"integrator.max_step", ParameterType::real, "s", left_open_range(0.0, 1000.0),
+                    "RKF45: largest step",
+                    [](const SceneSpec& s) { return s.integrator.max_step; },
+                    [](SceneSpec& s, double v) { s.integrator.max_step = v; }},
+    ScalarParameter{"integrator.safety", ParameterType::real, "", left_open_range(0.0, 1.0),
+                    "RKF45: safety factor on the optimal step",
+                    [](const SceneSpec& s) { return s.integrator.safety; },
+                    [](SceneSpec& s, double v) { s.integrator.safety = v; }},
+    ScalarParameter{"integrator.max_growth", ParameterType::real, "", closed_range(1.0, 100.0),
+                    "RKF45: largest step increase factor per step",
+                    [](const SceneSpec& s) { return s.integrator.max_growth; },
+                    [](SceneSpec& s, double v) { s.integrator.max_growth = v; }},
+    ScalarParameter{"integrator.max_shrink", ParameterType::real, "", left_open_range(0.0, 1.0),
+                    "RKF45: smallest step decrease factor after a rejected step",
+                    [](const SceneSpec& s) { return s.integrator.max_shrink; },
+                    [](SceneSpec& s, double v) { s.integrator.max_shrink = v; }},
+    // Output.
+    ScalarParameter{"output.duration", ParameterType::real, "s", left_open_range(0.0, 1e7),
+                    "simulated time to run; with until_rest, the upper limit",
+                    [](const SceneSpec& s) { return s.output.duration; },
+                    [](SceneSpec& s, double v) { s.output.duration = v; }},
+    ScalarParameter{"output.fps", ParameterType::integer, "1/s", closed_range(1.0, 10000.0),
+                    "frames written per simulated second",
+                    [](const SceneSpec& s) { return double(s.output.fps); },
+                    [](SceneSpec& s, double v) { s.output.fps = static_cast<int>(v); }},
+    ScalarParameter{"output.until_rest", ParameterType::boolean, "", closed_range(0.0, 1.0),
+                    "stop at the first frame whose kinetic energy is below rest_kinetic_energy",
+                    [](const SceneSpec& s) { return s.output.until_rest ? 1.0 : 0.0; },
+                    [](SceneSpec& s, double v) { s.output.until_rest = v != 0.0; }},
+    ScalarParameter{"output.rest_kinetic_energy", ParameterType::real, "J", left_open_range(0.0, 1e12),
+                    "kinetic energy below which the sheet counts as at rest",
+                    [](const SceneSpec& s) { return s.output.rest_kinetic_energy; },
+                    [](SceneSpec& s, double v) { s.output.rest_kinetic_energy = v; }},
+    // Execution.
+    ScalarParameter{"threads", ParameterType::integer, "", closed_range(0.0, 1024.0),
+                    "worker threads; 0 chooses from the lattice size",
+                    [](const SceneSpec& s) { return double(s.threads); },
+                    [](SceneSpec& s, double v) { s.threads = static_cast<int>(v); }},
+};
+
+constexpr std::array kVectorParameters = {
+    VectorParameter{"environment.gravity", "m/s^2", closed_range(-1000.0, 1000.0),
+                    "gravitational acceleration (y is up)",
+                    [](const SceneSpec& s) { return s.environment.gravity; },
+                    [](SceneSpec& s, const Vec3& v) { s.environment.gravity = v; }},
+    VectorParameter{"initial.velocity", "m/s", closed_range(-1e4, 1e4),
+                    "uniform initial velocity of every free particle",
+                    [](const SceneSpec& s) { return s.initial.velocity; },
+                    [](SceneSpec& s, const Vec3& v) { s.initial.velocity = v; }},
+    VectorParameter{"initial.angular_velocity", "rad/s", closed_range(-1e4, 1e4),
+                    "initial rigid spin about the lattice centre (axis times rate)",
+                    [](const SceneSpec& s) { return s.initial.angular_velocity; },
+                    [](SceneSpec& s, const Vec3& v) { s.initial.angular_velocity = v; }},
+};
+
+constexpr std::array<std::string_view, 5> kSpecialKeys = {"name", "description", "paper_args", "anchors",
+                                                          "integrator.method"};
+
+// "1e+09" -> "1e9", "1e-06" -> "1e-6".
+std::string compact_exponent(std::string text) {
+  const std::size_t e = text.find('e');
+  if (e == std::string::npos) return text;
+  std::string mantissa = text.substr(0, e);
+  std::string exponent = text.substr(e + 1);
+  const bool negative = !exponent.empty() && exponent[0] == '-';
+  if (!exponent.empty() && (exponent[0] == '-' || exponent[0] == '+')) exponent.erase(0, 1);
+  while (exponent.size() > 1 && exponent[0] == '0') exponent.erase(0, 1);
+  return mantissa + "e" + (negative ? "-" : "") + exponent;
+}
+
+}  // namespace
+
+bool ValueRange::contains(double value) const {
+  if (!std::isfinite(value)) return false;
+  const bool above_min = min_inclusive ? value >= min : value > min;
+  const bool below_max = max_inclusive ? value <= max : value < max;
+  return above_min && below_max;
+}
+
+std::span<const ScalarParameter> scalar_parameters() { return kScalarParameters; }
+std::span<const VectorParameter> vector_parameters() { return kVectorParameters; }
+std::span<const std::string_view> special_keys() { return kSpecialKeys; }
+
+const ScalarParameter* find_scalar_parameter(std::string_view key) {
+  for (const ScalarParameter& parameter : kScalarParameters) {
+    if (parameter.key == key) return &parameter;
+  }
+  return nullptr;
+}
+
+const VectorParameter* find_vector_parameter(std::string_view key) {
+  for (const VectorParameter& parameter : kVectorParameters) {
+    if (parameter.key == key) return &parameter;
+  }
+  return nullptr;
+}
+
+std::span<const std::string_view> all_scene_keys() {
+  static const std::vector<std::string_view> keys = [] {
+    std::vector<std::string_view> list;
+    for (const ScalarParameter& parameter : kScalarParameters) list.push_back(parameter.key);
+    for (const VectorParameter& parameter : kVectorParameters) list.push_back(parameter.key);
+    for (std::string_view key : kSpecialKeys) list.push_back(key);
+    return list;
+  }();
+  return keys;
+}
+
+std::string format_number(double value) {
+  if (value == 0.0) return "0";  // also turns -0 into 0
+  std::array<char, 64> buffer{};
+  const auto [end, error] = std::to_chars(buffer.data(), buffer.data() + buffer.size(), value);
+  if (error != std::errc()) return "?";
+  return compact_exponent(std::string(buffer.data(), end));
+}
+
+std::string describe_range(const ValueRange& range) {
+  return std::string(range.min_inclusive ? "[" : "(") + format_number(range.min) + ", " +
+         format_number(range.max) + (range.max_inclusive ? "]" : ")");
+}
+
+std::string describe_allowed(ParameterType type, const ValueRange& range) {
+  switch (type) {
+    case ParameterType::boolean:
+      return "a boolean (true or false)";
+    case ParameterType::integer:
+      return "an integer in " + describe_range(range);
+    case ParameterType::real:
+      break;
+  }
+  return "a number in " + describe_range(range);
+}
+
+bool is_allowed(ParameterType type, const ValueRange& range, double value) {
+  if (!range.contains(value)) return false;
+  if (type == ParameterType::integer || type == ParameterType::boolean) return std::floor(value) == value;
+  return true;
+}
+
+double degrees_to_radians(double degrees) { return degrees / 180.0 * std::numbers::pi; }
+double radians_to_degrees(double radians) { return radians / std::numbers::pi * 180.0; }
+
+}  // namespace clothsim

@@ -68,11 +68,16 @@ SceneSpec builtin_scene(std::string_view name);
 // A file path or a built-in name.
 SceneSpec load_scene(const std::string& file_or_name);
 
-// Named anchor sets: "center", "corners", "none".
+// Named anchor sets: "center", "corners", "none"; also "edge-corners" ((0, 0) and (0, cols-1)).
+// Replaces `anchors` and returns true, or returns false for an unknown name.
 bool parse_anchor_preset(std::string_view text, const LatticeDef& lattice, std::vector<AnchorSpec>& anchors);
 
 // Sets one field by its dotted key ("lattice.rows", "output.fps", "integrator.method", ...) from
 // text, with the same validation as the scene file; `source` names the flag in messages.
+// Vectors are written "x,y,z", booleans "true"/"false", "anchors" takes a preset name or a JSON
+// list, "paper_args" the ten numbers. Only the field itself is checked: call validate_scene()
+// after the last one (cross-field rules). An anchor preset is resolved against the lattice as it
+// is when the preset is set, so set lattice.rows and lattice.cols first.
 void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view value, const std::string& source);
 
 // Checks cross-field constraints (anchors inside the lattice, ...). Throws InputError.
@@ -80,6 +85,13 @@ void validate_scene(const SceneSpec& spec, const std::string& source);
 
 // The complete scene as JSON in the file format; parse_scene(scene_to_json(s)) == s.
 nlohmann::json scene_to_json(const SceneSpec& spec);
+
+// Rest position of particle (row, col) in the flat lattice, m: ((col - (cols-1)/2) L, 0,
+// (row - (rows-1)/2) L), the same value build_lattice() gives it.
+Vec3 lattice_rest_position(const LatticeDef& lattice, int row, int col);
+// The scene's anchors as the model takes them: particle index row*cols + col, and the path's
+// origin set to the rest position where the scene did not give one.
+std::vector<Anchor> resolve_anchors(const SceneSpec& spec);
 
 ClothModel build_model(const SceneSpec& spec);
 ClothState build_initial_state(const ClothModel& model, const SceneSpec& spec);

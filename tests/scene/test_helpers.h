@@ -1,0 +1,68 @@
+// Helpers shared by the scene tests.
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <initializer_list>
+#include <string>
+#include <string_view>
+
+#include "core/error.h"
+#include "scene/parameters.h"
+#include "scene/scene.h"
+
+namespace clothsim::testing {
+
+// Runs `action`, which must throw an InputError whose message contains every piece.
+template <typename Action>
+void expect_input_error(Action action, std::initializer_list<std::string_view> pieces) {
+  try {
+    action();
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    for (std::string_view piece : pieces) {
+      EXPECT_NE(message.find(piece), std::string::npos) << "message: " << message << "\nmissing: " << piece;
+    }
+    return;
+  }
+  ADD_FAILURE() << "no InputError thrown";
+}
+
+inline void expect_same_vector(const Vec3& a, const Vec3& b, const std::string& what) {
+  EXPECT_EQ(a.x, b.x) << what;
+  EXPECT_EQ(a.y, b.y) << what;
+  EXPECT_EQ(a.z, b.z) << what;
+}
+
+// Field-for-field equality of two scenes: every registry parameter, vector and hand-parsed field.
+// Rest angles are compared in radians, bit for bit.
+inline void expect_same_scene(const SceneSpec& a, const SceneSpec& b) {
+  EXPECT_EQ(a.name, b.name);
+  EXPECT_EQ(a.description, b.description);
+  for (const ScalarParameter& parameter : scalar_parameters()) {
+    EXPECT_EQ(parameter.get(a), parameter.get(b)) << parameter.key;
+  }
+  for (const VectorParameter& parameter : vector_parameters()) {
+    expect_same_vector(parameter.get(a), parameter.get(b), std::string(parameter.key));
+  }
+  EXPECT_EQ(a.lattice.adjacent_rest_angle, b.lattice.adjacent_rest_angle);
+  EXPECT_EQ(a.lattice.opposite_rest_angle, b.lattice.opposite_rest_angle);
+  EXPECT_EQ(a.integrator.kind, b.integrator.kind);
+  ASSERT_EQ(a.anchors.size(), b.anchors.size());
+  for (std::size_t i = 0; i < a.anchors.size(); ++i) {
+    const AnchorSpec& x = a.anchors[i];
+    const AnchorSpec& y = b.anchors[i];
+    const std::string what = "anchors[" + std::to_string(i) + "]";
+    EXPECT_EQ(x.row, y.row) << what;
+    EXPECT_EQ(x.col, y.col) << what;
+    EXPECT_EQ(x.origin_given, y.origin_given) << what;
+    EXPECT_EQ(x.path.kind, y.path.kind) << what;
+    expect_same_vector(x.path.origin, y.path.origin, what + ".origin");
+    expect_same_vector(x.path.velocity, y.path.velocity, what + ".velocity");
+    expect_same_vector(x.path.amplitude, y.path.amplitude, what + ".amplitude");
+    EXPECT_EQ(x.path.frequency, y.path.frequency) << what;
+    EXPECT_EQ(x.path.phase, y.path.phase) << what;
+  }
+}
+
+}  // namespace clothsim::testing
