@@ -66,6 +66,18 @@ std::string shorten(std::string text) {
 
 std::string quoted(std::string_view text) { return "\"" + shorten(std::string(text)) + "\""; }
 
+// "a, b, c".
+template <typename Names>
+std::string join_names(const Names& names) {
+  std::string text;
+  for (const auto& name : names) text += (text.empty() ? "" : ", ") + std::string(name);
+  return text;
+}
+
+bool contains_name(const std::vector<std::string>& names, std::string_view name) {
+  return std::find(names.begin(), names.end(), name) != names.end();
+}
+
 // How a JSON value is quoted after "got": `0`, `2.5`, `string "sixty"`, `boolean true`.
 std::string describe_json(const json& value) {
   switch (value.type()) {
@@ -131,15 +143,15 @@ std::optional<std::string> nearest(std::string_view name, const std::vector<std:
 // "unknown field (did you mean 'lattice.cols'?)". `allowed` are the leaf names valid at this level
 // and `prefix` their parent key. A name that exists elsewhere in the scene ("fps" at the top
 // level) gets the full key of that place as its suggestion.
-std::string unknown_field_reason(std::string_view name, std::string_view prefix, const std::vector<std::string>& allowed) {
+std::string unknown_field_reason(std::string_view name, std::string_view prefix,
+                                 const std::vector<std::string>& allowed) {
   if (const std::optional<std::string> match = nearest(name, allowed)) {
     return "unknown field (did you mean '" + join_key(prefix, *match) + "'?)";
   }
   for (std::string_view key : all_scene_keys()) {
     if (last_component(key) == name) return "unknown field (did you mean '" + std::string(key) + "'?)";
   }
-  std::string list;
-  for (const std::string& candidate : allowed) list += (list.empty() ? "" : ", ") + candidate;
+  const std::string list = join_names(allowed);
   return prefix.empty() ? "unknown field (known fields: " + list + ")"
                         : "unknown field (known fields in '" + std::string(prefix) + "': " + list + ")";
 }
@@ -153,7 +165,7 @@ std::vector<std::string> child_names(std::string_view prefix) {
       key.remove_prefix(prefix.size() + 1);
     }
     const std::string name(key.substr(0, key.find('.')));
-    if (std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+    if (!contains_name(names, name)) names.push_back(name);
   }
   return names;
 }
@@ -169,7 +181,7 @@ bool is_group(std::string_view key) {
 void check_keys(const json& object, const std::vector<std::string>& allowed, const std::string& prefix,
                 const std::string& source) {
   for (const auto& member : object.items()) {
-    if (std::find(allowed.begin(), allowed.end(), member.key()) == allowed.end()) {
+    if (!contains_name(allowed, member.key())) {
       fail(source, join_key(prefix, member.key()), unknown_field_reason(member.key(), prefix, allowed));
     }
   }
@@ -226,11 +238,8 @@ std::string read_string(const json& value, const std::string& source, const std:
 }
 
 std::string method_choices() {
-  std::string text;
-  for (IntegratorKind kind : {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler}) {
-    text += (text.empty() ? "" : ", ") + std::string(to_string(kind));
-  }
-  return text;
+  return join_names(std::array{to_string(IntegratorKind::rkf45), to_string(IntegratorKind::rk4),
+                               to_string(IntegratorKind::symplectic_euler)});
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -306,12 +315,9 @@ Vec3 read_text_vector(std::string_view text, const ValueRange& range, const std:
 
 constexpr std::array<std::string_view, 4> kAnchorPresets = {"center", "corners", "edge-corners", "none"};
 
-std::string preset_choices() {
-  std::string text;
-  for (std::string_view preset : kAnchorPresets) text += (text.empty() ? "" : ", ") + std::string(preset);
-  return text;
-}
+std::string preset_choices() { return join_names(kAnchorPresets); }
 
+// Indexed by AnchorPathKind.
 constexpr std::array<std::string_view, 3> kPathKindNames = {"fixed", "linear", "sinusoid"};
 
 std::string_view path_kind_name(AnchorPathKind kind) { return kPathKindNames[static_cast<std::size_t>(kind)]; }
@@ -344,32 +350,29 @@ AnchorPath read_path(const json& value, const std::string& source, const std::st
   if (!value.is_object()) fail(source, field, "must be an object, got " + describe_json(value));
   AnchorPath path;
   path.kind = read_path_kind(value, source, field);
+  // A key of another path type is an error rather than ignored: "amplitude" on a fixed path means
+  // the author expected the anchor to move.
+  check_keys(value, {"type", "velocity", "amplitude", "frequency", "phase"}, field, source);
   const std::vector<std::string> allowed = path_keys(path.kind);
-  const std::vector<std::string> any_kind = {"type", "velocity", "amplitude", "frequency", "phase"};
+  const std::string kind(path_kind_name(path.kind));
   for (const auto& member : value.items()) {
-    const std::string& name = member.key();
-    if (std::find(any_kind.begin(), any_kind.end(), name) == any_kind.end()) {
-      fail(source, join_key(field, name), unknown_field_reason(name, field, any_kind));
-    }
-    if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
-      const std::string owner = name == "velocity" ? "linear" : "sinusoid";
-      fail(source, join_key(field, name),
-           "belongs to a " + owner + " path, not a " + std::string(path_kind_name(path.kind)) +
-               " one (keys of a " + std::string(path_kind_name(path.kind)) + " path: " +
-               [&] {
-                 std::string list;
-                 for (const std::string& key : allowed) list += (list.empty() ? "" : ", ") + key;
-                 return list;
-               }() + ")");
-    }
+    if (contains_name(allowed, member.key())) continue;
+    const std::string owner = member.key() == "velocity" ? "linear" : "sinusoid";
+    fail(source, join_key(field, member.key()), "belongs to a " + owner + " path, not a " + kind + " one (keys of a " +
+                                                    kind + " path: " + join_names(allowed) + ")");
   }
-  if (value.contains("velocity")) path.velocity = read_vector(value["velocity"], kAnchorComponentRange, source, field + ".velocity");
-  if (value.contains("amplitude")) path.amplitude = read_vector(value["amplitude"], kAnchorComponentRange, source, field + ".amplitude");
+  if (value.contains("velocity")) {
+    path.velocity = read_vector(value.at("velocity"), kAnchorComponentRange, source, field + ".velocity");
+  }
+  if (value.contains("amplitude")) {
+    path.amplitude = read_vector(value.at("amplitude"), kAnchorComponentRange, source, field + ".amplitude");
+  }
   if (value.contains("frequency")) {
-    path.frequency = read_value(value["frequency"], ParameterType::real, kAnchorFrequencyRange, source, field + ".frequency");
+    path.frequency =
+        read_value(value.at("frequency"), ParameterType::real, kAnchorFrequencyRange, source, field + ".frequency");
   }
   if (value.contains("phase")) {
-    path.phase = read_value(value["phase"], ParameterType::real, kAnchorPhaseRange, source, field + ".phase");
+    path.phase = read_value(value.at("phase"), ParameterType::real, kAnchorPhaseRange, source, field + ".phase");
   }
   return path;
 }
@@ -379,31 +382,33 @@ int read_index(const json& value, int count, const std::string& source, const st
   return static_cast<int>(read_value(value, ParameterType::integer, closed_range(0.0, count - 1.0), source, field));
 }
 
-AnchorSpec read_anchor(const json& value, const LatticeDef& lattice, const std::string& source, const std::string& field) {
-  if (!value.is_object()) fail(source, field, "must be an object {\"row\": ..., \"col\": ...}, got " + describe_json(value));
+AnchorSpec read_anchor(const json& value, const LatticeDef& lattice, const std::string& source,
+                       const std::string& field) {
+  if (!value.is_object()) {
+    fail(source, field, "must be an object {\"row\": ..., \"col\": ...}, got " + describe_json(value));
+  }
   check_keys(value, {"row", "col", "origin", "path"}, field, source);
   AnchorSpec anchor;
-  if (value.contains("row")) anchor.row = read_index(value["row"], lattice.rows, source, field + ".row");
-  if (value.contains("col")) anchor.col = read_index(value["col"], lattice.cols, source, field + ".col");
-  if (value.contains("path")) anchor.path = read_path(value["path"], source, field + ".path");
+  if (value.contains("row")) anchor.row = read_index(value.at("row"), lattice.rows, source, field + ".row");
+  if (value.contains("col")) anchor.col = read_index(value.at("col"), lattice.cols, source, field + ".col");
+  if (value.contains("path")) anchor.path = read_path(value.at("path"), source, field + ".path");
   if (value.contains("origin")) {
-    anchor.path.origin = read_vector(value["origin"], kAnchorComponentRange, source, field + ".origin");
+    anchor.path.origin = read_vector(value.at("origin"), kAnchorComponentRange, source, field + ".origin");
     anchor.origin_given = true;
   }
   return anchor;
 }
 
 std::vector<AnchorSpec> read_anchors(const json& value, const LatticeDef& lattice, const std::string& source) {
+  const std::string allowed = "must be one of " + preset_choices() + " or a list of anchors, got ";
   std::vector<AnchorSpec> anchors;
   if (value.is_string()) {
     if (!parse_anchor_preset(value.get<std::string>(), lattice, anchors)) {
-      fail(source, "anchors", "must be one of " + preset_choices() + " or a list of anchors, got " + describe_choice(value));
+      fail(source, "anchors", allowed + describe_choice(value));
     }
     return anchors;
   }
-  if (!value.is_array()) {
-    fail(source, "anchors", "must be one of " + preset_choices() + " or a list of anchors, got " + describe_choice(value));
-  }
+  if (!value.is_array()) fail(source, "anchors", allowed + describe_choice(value));
   for (std::size_t i = 0; i < value.size(); ++i) {
     anchors.push_back(read_anchor(value[i], lattice, source, "anchors[" + std::to_string(i) + "]"));
   }
@@ -479,9 +484,9 @@ std::string paper_argument_field(std::size_t i) {
 }
 
 std::string paper_argument_count_reason(std::size_t count) {
-  std::string names;
-  for (const PaperArgument& argument : kPaperArguments) names += (names.empty() ? "" : ", ") + std::string(argument.name);
-  return "must be exactly 10 numbers (" + names + "), got " + std::to_string(count);
+  std::vector<std::string_view> names;
+  for (const PaperArgument& argument : kPaperArguments) names.push_back(argument.name);
+  return "must be exactly 10 numbers (" + join_names(names) + "), got " + std::to_string(count);
 }
 
 // Sets the ten fields (values already checked) and anchors the centre particle, as in every run
@@ -575,10 +580,11 @@ class DuplicateKeyCheck {
 // "line 3, column 7" of the character at 1-based offset `byte` (nlohmann's parse_error::byte, the
 // position of the last character read).
 std::string line_and_column(std::string_view text, std::size_t byte) {
-  const std::size_t position = std::min(byte == 0 ? 0 : byte - 1, text.size());
-  const std::size_t line = 1 + static_cast<std::size_t>(std::count(text.begin(), text.begin() + static_cast<std::ptrdiff_t>(position), '\n'));
-  const std::size_t line_start = text.rfind('\n', position == 0 ? 0 : position - 1);
-  const std::size_t column = line_start == std::string_view::npos || position == 0 ? position + 1 : position - line_start;
+  const std::size_t offset = std::min(byte > 0 ? byte - 1 : 0, text.size());  // 0-based
+  const std::string_view before = text.substr(0, offset);
+  const auto line = 1 + static_cast<std::size_t>(std::count(before.begin(), before.end(), '\n'));
+  const std::size_t line_start = before.rfind('\n');  // npos on the first line
+  const std::size_t column = line_start == std::string_view::npos ? offset + 1 : offset - line_start;
   return "line " + std::to_string(line) + ", column " + std::to_string(column);
 }
 
@@ -626,7 +632,7 @@ void SceneReader::read_object(const json& object, const std::string& prefix) {
       fail(source, join_key(prefix, member.key()),
            "dotted keys are for --set; in a file, nest objects: {\"lattice\": {\"rows\": 21}}");
     }
-    if (std::find(allowed.begin(), allowed.end(), member.key()) == allowed.end()) {
+    if (!contains_name(allowed, member.key())) {
       fail(source, join_key(prefix, member.key()), unknown_field_reason(member.key(), prefix, allowed));
     }
     read_member(join_key(prefix, member.key()), member.value());
@@ -748,9 +754,9 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
       fail(source, field, "must be one of " + preset_choices() + " or a JSON list of anchors, got " + quoted(value));
     }
   } else if (is_group(key)) {
-    std::string fields;
-    for (const std::string& name : child_names(key)) fields += (fields.empty() ? "" : ", ") + join_key(key, name);
-    fail(source, field, "is a group of fields; set one of: " + fields);
+    std::vector<std::string> fields;
+    for (const std::string& name : child_names(key)) fields.push_back(join_key(key, name));
+    fail(source, field, "is a group of fields; set one of: " + join_names(fields));
   } else {
     std::vector<std::string> keys(all_scene_keys().begin(), all_scene_keys().end());
     fail(source, field, unknown_field_reason(key, "", keys));
@@ -770,7 +776,8 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     for (int axis = 0; axis < 3; ++axis) {
       if (!parameter.component_range.contains(value[axis])) {
         fail(source, std::string(parameter.key) + "[" + std::to_string(axis) + "]",
-             "must be a number in " + describe_range(parameter.component_range) + ", got " + format_number(value[axis]));
+             "must be a number in " + describe_range(parameter.component_range) + ", got " +
+                 format_number(value[axis]));
       }
     }
   }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -242,11 +243,9 @@ TEST(SceneToJson, WritesEveryKey) {
   const nlohmann::json written = scene_to_json(scene_with_every_path_kind());
   for (std::string_view key : all_scene_keys()) {
     if (key == "paper_args") continue;  // written in the lattice + springs form
-    EXPECT_TRUE(written.contains(nlohmann::json::json_pointer("/" + [&] {
-      std::string pointer(key);
-      for (char& c : pointer) c = c == '.' ? '/' : c;
-      return pointer;
-    }()))) << key;
+    std::string pointer = "/" + std::string(key);  // "lattice.rows" -> "/lattice/rows"
+    std::replace(pointer.begin(), pointer.end(), '.', '/');
+    EXPECT_TRUE(written.contains(nlohmann::json::json_pointer(pointer))) << key;
   }
   EXPECT_FALSE(written.contains("paper_args"));
   EXPECT_EQ(written["anchors"][0]["path"]["type"], "fixed");
@@ -279,7 +278,8 @@ TEST_P(MalformedSceneTest, ThrowsInputErrorNamingFieldAndRange) {
     EXPECT_EQ(error.source(), "scene.json");
     EXPECT_TRUE(message.starts_with("scene.json: ")) << message;
     for (std::string_view piece : scene.pieces) {
-      EXPECT_NE(message.find(piece), std::string::npos) << scene.what << "\nmessage: " << message << "\nmissing: " << piece;
+      EXPECT_NE(message.find(piece), std::string::npos)
+          << scene.what << "\nmessage: " << message << "\nmissing: " << piece;
     }
     return;
   }
@@ -304,7 +304,8 @@ const MalformedScene kMalformedScenes[] = {
     {"unknown nested key", R"({"springs": {"opposite": {"stifness": 5}}})",
      {"field 'springs.opposite.stifness'", "did you mean 'springs.opposite.stiffness'"}},
     {"unknown key without a close match", R"({"output": {"video": true}})",
-     {"field 'output.video'", "unknown field", "known fields in 'output': duration, fps, until_rest, rest_kinetic_energy"}},
+     {"field 'output.video'", "unknown field",
+      "known fields in 'output': duration, fps, until_rest, rest_kinetic_energy"}},
     {"key in the wrong group", R"({"fps": 30})", {"field 'fps'", "did you mean 'output.fps'"}},
     {"unknown top-level key", R"({"lattise": {}})", {"field 'lattise'", "did you mean 'lattice'"}},
     {"dotted key in a file", R"({"lattice.rows": 5})", {"field 'lattice.rows'", "nest objects"}},
@@ -347,7 +348,8 @@ const MalformedScene kMalformedScenes[] = {
     {"unknown preset", R"({"anchors": "middle"})",
      {"field 'anchors'", "one of center, corners, edge-corners, none or a list of anchors", "got \"middle\""}},
     {"sinusoid key on a fixed path", R"({"anchors": [{"path": {"type": "fixed", "amplitude": [0, 1, 0]}}]})",
-     {"field 'anchors[0].path.amplitude'", "belongs to a sinusoid path, not a fixed one", "keys of a fixed path: type"}},
+     {"field 'anchors[0].path.amplitude'", "belongs to a sinusoid path, not a fixed one",
+      "keys of a fixed path: type"}},
     {"velocity on a sinusoid path", R"({"anchors": [{"path": {"type": "sinusoid", "velocity": [0, 1, 0]}}]})",
      {"field 'anchors[0].path.velocity'", "belongs to a linear path"}},
     {"unknown path type", R"({"anchors": [{"path": {"type": "circle"}}]})",
@@ -481,23 +483,29 @@ TEST(SetSceneField, Errors) {
   const auto set = [&](std::string_view key, std::string_view value, const std::string& source) {
     return [&spec, key, value, source] { set_scene_field(spec, key, value, source); };
   };
-  expect_input_error(set("output.fps", "sixty", "--fps"), {"--fps: field 'output.fps': must be a number, got \"sixty\""});
-  expect_input_error(set("output.fps", "0", "--fps"), {"--fps: field 'output.fps': must be an integer in [1, 10000], got \"0\""});
+  expect_input_error(set("output.fps", "sixty", "--fps"),
+                     {"--fps: field 'output.fps': must be a number, got \"sixty\""});
+  expect_input_error(set("output.fps", "0", "--fps"),
+                     {"--fps: field 'output.fps': must be an integer in [1, 10000], got \"0\""});
   expect_input_error(set("lattice.rows", "2.5", "--set lattice.rows=2.5"),
                      {"--set lattice.rows=2.5: field 'lattice.rows'", "an integer in [1, 4096]", "\"2.5\""});
   expect_input_error(set("lattice.spacing", "nan", "--set"), {"field 'lattice.spacing'", "(0, 1000]", "\"nan\""});
   expect_input_error(set("lattice.spacing", "inf", "--set"), {"field 'lattice.spacing'", "(0, 1000]", "\"inf\""});
   expect_input_error(set("output.duration", "1e400", "--duration"), {"field 'output.duration'", "(0, 1e7]"});
   expect_input_error(set("output.duration", "", "--duration"), {"field 'output.duration'", "must be a number"});
-  expect_input_error(set("output.duration", "5s", "--duration"), {"field 'output.duration'", "must be a number, got \"5s\""});
-  expect_input_error(set("output.until_rest", "yes", "--set"), {"field 'output.until_rest'", "a boolean (true or false)"});
+  expect_input_error(set("output.duration", "5s", "--duration"),
+                     {"field 'output.duration'", "must be a number, got \"5s\""});
+  expect_input_error(set("output.until_rest", "yes", "--set"),
+                     {"field 'output.until_rest'", "a boolean (true or false)"});
   expect_input_error(set("environment.gravity", "0,-9.81", "--gravity"),
                      {"--gravity: field 'environment.gravity'", "3 numbers x,y,z"});
   expect_input_error(set("environment.gravity", "0,-9.81,nan", "--gravity"),
                      {"field 'environment.gravity[2]'", "[-1000, 1000]"});
   expect_input_error(set("integrator.method", "euler", "--method"),
-                     {"--method: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, got \"euler\""});
-  expect_input_error(set("anchors", "middle", "--anchors"), {"--anchors: field 'anchors'", "center, corners, edge-corners, none"});
+                     {"--method: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, "
+                      "got \"euler\""});
+  expect_input_error(set("anchors", "middle", "--anchors"),
+                     {"--anchors: field 'anchors'", "center, corners, edge-corners, none"});
   expect_input_error(set("anchors", "[{\"row\": 99}]", "--anchors"), {"--anchors: field 'anchors[0].row'", "[0, 20]"});
   expect_input_error(set("anchors", "[{\"row\": ", "--anchors"), {"--anchors: line 1, column", "JSON syntax error"});
   expect_input_error(set("output.fsp", "30", "--set output.fsp=30"),
@@ -572,7 +580,8 @@ TEST(BuildModel, LatticeRestPositionMatchesTheModel) {
   const ClothModel model = build_lattice(lattice, Environment{}, {});
   for (int row = 0; row < lattice.rows; ++row) {
     for (int col = 0; col < lattice.cols; ++col) {
-      EXPECT_EQ(lattice_rest_position(lattice, row, col), model.particle_rest_position[lattice_index(lattice.cols, row, col)]);
+      EXPECT_EQ(lattice_rest_position(lattice, row, col),
+                model.particle_rest_position[lattice_index(lattice.cols, row, col)]);
     }
   }
 }
