@@ -30,9 +30,10 @@
 // B = 0 and the force tends smoothly to -k w_b/|e_b| -> 0 as the sheet straightens: no division
 // by a tiny sine. Otherwise B != 0 and E has a cone point there: the force keeps its magnitude
 // k |theta - theta0| / |e_b| while its direction p_b depends on how the configuration is
-// approached. Below sin theta = kSingularSine the direction is numerically meaningless, and the
-// element returns the minimum-norm element of the (Clarke) subgradient, which is zero for the
-// B p_b part, and no damping (dtheta/dt is undefined there too).
+// approached. Below sin theta = kSingularSine the positions no longer define that direction, and
+// the element takes it from the motion instead: the plane into which the relative velocities
+// open the configuration (resolve_singular_directions), which makes the force the one-sided limit
+// along the trajectory. Damping uses the same directions. docs/model.md discusses the choice.
 #pragma once
 
 #include <cmath>
@@ -85,15 +86,20 @@ inline double x_over_sin(double x, double sine) {
 // Angle between two connectors and the gradient of that angle.
 struct RadialGeometry {
   double angle = 0.0;        // theta in [0, pi], rad
+  Vec3 unit_b, unit_c;       // u_b = e_b / |e_b|, u_c = e_c / |e_c|
   Vec3 w_b, w_c;             // n x u_b and u_c x n, of length sin(theta)
-  Vec3 gradient_b;           // dtheta/dx_b = -p_b / |e_b|, 1/m (zero where singular)
-  Vec3 gradient_c;           // dtheta/dx_c, 1/m (zero where singular)
+  Vec3 direction_b;          // p_b: unit, perpendicular to e_b in the plane, towards e_c (zero if undefined)
+  Vec3 direction_c;          // p_c: likewise for e_c, towards e_b
   double length_b = 0.0;     // |e_b|, m
   double length_c = 0.0;     // |e_c|, m
   double sine = 0.0;         // sin(theta)
   bool obtuse = false;       // theta > pi/2
   double delta = 0.0;        // pi - theta, accurate near pi; computed only when obtuse
-  bool singular = false;     // sin(theta) below kSingularSine, or a zero-length connector
+  bool singular = false;     // sin(theta) below kSingularSine: p_b and p_c not defined by positions
+  bool degenerate = false;   // a zero-length connector: no angle at all
+
+  Vec3 gradient_b() const { return -(1.0 / length_b) * direction_b; }  // dtheta/dx_b, 1/m
+  Vec3 gradient_c() const { return -(1.0 / length_c) * direction_c; }  // dtheta/dx_c, 1/m
 };
 
 inline RadialGeometry radial_geometry(const Vec3& xa, const Vec3& xb, const Vec3& xc) {
@@ -103,28 +109,50 @@ inline RadialGeometry radial_geometry(const Vec3& xa, const Vec3& xb, const Vec3
   g.length_b = norm(eb);
   g.length_c = norm(ec);
   if (!(g.length_b > 0.0) || !(g.length_c > 0.0)) {
-    g.singular = true;
+    g.degenerate = g.singular = true;
     return g;
   }
-  const Vec3 ub = eb / g.length_b;
-  const Vec3 uc = ec / g.length_c;
-  const Vec3 n = cross(ub, uc);
-  const double cosine = dot(ub, uc);
+  g.unit_b = eb / g.length_b;
+  g.unit_c = ec / g.length_c;
+  const Vec3 n = cross(g.unit_b, g.unit_c);
+  const double cosine = dot(g.unit_b, g.unit_c);
   g.sine = norm(n);
   g.angle = std::atan2(g.sine, cosine);
+  g.obtuse = cosine < 0.0;
   // pi - theta straight from the geometry: subtracting from pi would lose the digits that
   // matter near a straight configuration.
-  g.obtuse = cosine < 0.0;
   if (g.obtuse) g.delta = std::atan2(g.sine, -cosine);
-  g.w_b = cross(n, ub);
-  g.w_c = cross(uc, n);
-  if (g.sine < kSingularSine) {
-    g.singular = true;
-    return g;
+  g.w_b = cross(n, g.unit_b);
+  g.w_c = cross(g.unit_c, n);
+  g.singular = g.sine < kSingularSine;
+  if (!g.singular) {
+    g.direction_b = g.w_b / g.sine;
+    g.direction_c = g.w_c / g.sine;
   }
-  g.gradient_b = -(1.0 / (g.sine * g.length_b)) * g.w_b;
-  g.gradient_c = -(1.0 / (g.sine * g.length_c)) * g.w_c;
   return g;
+}
+
+// At an exactly straight or folded configuration the plane of the two connectors, and with it
+// p_b and p_c, is not defined by the positions. The motion defines it: the configuration opens
+// into the plane its relative velocities point to, and taking p_b, p_c from there gives the
+// one-sided limit of the force along the trajectory. The force is then continuous in time
+// through the singular point (a flat sheet started with any velocity, for instance), which the
+// error control of an adaptive integrator needs. With no transverse relative motion the
+// directions stay zero (the minimum-norm subgradient).
+inline void resolve_singular_directions(RadialGeometry& g, const Vec3& va, const Vec3& vb, const Vec3& vc) {
+  if (!g.singular || g.degenerate) return;
+  // Rates of change of the unit vectors u_b and u_c, 1/s.
+  const Vec3 rb = vb - va;
+  const Vec3 rc = vc - va;
+  const Vec3 turn_b = (rb - dot(rb, g.unit_b) * g.unit_b) / g.length_b;
+  const Vec3 turn_c = (rc - dot(rc, g.unit_c) * g.unit_c) / g.length_c;
+  // Straight (u_c = -u_b): the bend grows along turn_b + turn_c, and p_b = p_c point that way.
+  // Folded (u_c = u_b): the angle opens along turn_c - turn_b; p_b points that way, p_c opposite.
+  const Vec3 opening = g.obtuse ? turn_b + turn_c : turn_c - turn_b;
+  const double rate = norm(opening);
+  if (!(rate > 0.0)) return;
+  g.direction_b = opening / rate;
+  g.direction_c = g.obtuse ? g.direction_b : -g.direction_b;
 }
 
 struct RadialForce {
@@ -136,7 +164,7 @@ struct RadialForce {
 // The elastic force k (theta - theta0) p_j / |e_j| on b and c, evaluated without dividing by a
 // small sine (see the file comment).
 inline void add_radial_elastic_force(const RadialGeometry& g, double rest_angle, double stiffness, RadialForce& out) {
-  if (g.length_b <= 0.0 || g.length_c <= 0.0) return;
+  if (g.degenerate) return;
   double smooth = 0.0;    // A: multiplies w
   double constant = 0.0;  // B: multiplies p = w / sin(theta)
   if (!g.obtuse) {
@@ -146,26 +174,23 @@ inline void add_radial_elastic_force(const RadialGeometry& g, double rest_angle,
     smooth = -x_over_sin(g.delta, g.sine);
     constant = std::numbers::pi - rest_angle;
   }
-  Vec3 direction_b = smooth * g.w_b;
-  Vec3 direction_c = smooth * g.w_c;
-  if (constant != 0.0 && !g.singular) {
-    direction_b += (constant / g.sine) * g.w_b;
-    direction_c += (constant / g.sine) * g.w_c;
-  }
-  out.force_on_b += (stiffness / g.length_b) * direction_b;
-  out.force_on_c += (stiffness / g.length_c) * direction_c;
+  out.force_on_b += (stiffness / g.length_b) * (smooth * g.w_b + constant * g.direction_b);
+  out.force_on_c += (stiffness / g.length_c) * (smooth * g.w_c + constant * g.direction_c);
 }
 
 inline RadialForce radial_force(const Vec3& xa, const Vec3& xb, const Vec3& xc, const Vec3& va, const Vec3& vb,
                                 const Vec3& vc, double rest_angle, double stiffness, double damping) {
-  const RadialGeometry g = radial_geometry(xa, xb, xc);
+  RadialGeometry g = radial_geometry(xa, xb, xc);
+  resolve_singular_directions(g, va, vb, vc);
   RadialForce out;
   add_radial_elastic_force(g, rest_angle, stiffness, out);
-  if (damping != 0.0 && !g.singular) {
-    const double angle_rate = dot(g.gradient_b, vb - va) + dot(g.gradient_c, vc - va);
+  if (damping != 0.0 && !g.degenerate) {
+    const Vec3 gradient_b = g.gradient_b();
+    const Vec3 gradient_c = g.gradient_c();
+    const double angle_rate = dot(gradient_b, vb - va) + dot(gradient_c, vc - va);
     const double damping_torque = -damping * angle_rate;
-    out.force_on_b += damping_torque * g.gradient_b;
-    out.force_on_c += damping_torque * g.gradient_c;
+    out.force_on_b += damping_torque * gradient_b;
+    out.force_on_c += damping_torque * gradient_c;
     out.damping_power = damping_torque * angle_rate;
   }
   return out;
