@@ -1,0 +1,361 @@
+// The run output folder; the layout and the no-half-written-output rule are in run_writer.h.
+//
+// Every failure to write becomes an OutputError carrying the system's message (which names the
+// path), so the tools can tell "cannot write" (exit 3) from bad input (exit 2) and from a failed
+// simulation (exit 1).
+#include "io/run_writer.h"
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <limits>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "core/assert.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "io/obj.h"
+
+namespace clothsim {
+namespace {
+
+using nlohmann::json;
+// summary.json keeps its keys in the order written: version and status first, details after.
+using ordered_json = nlohmann::ordered_json;
+namespace fs = std::filesystem;
+
+// Turns the exception in flight into an OutputError that says what was being done.
+[[noreturn]] void rethrow_as_output_error(const char* doing) {
+  try {
+    throw;
+  } catch (const OutputError&) {
+    throw;
+  } catch (const std::exception& error) {
+    std::string message = doing;
+    message += ": ";
+    message += error.what();
+    throw OutputError(message);
+  }
+}
+
+// A folder written by a previous clothsim run: it holds a summary.json object with the
+// "clothsim_version" key.
+bool is_clothsim_folder(const fs::path& folder) {
+  std::error_code error;
+  if (!fs::is_directory(folder, error)) return false;
+  std::ifstream in(folder / RunWriter::kSummaryFile);
+  if (!in) return false;
+  const json summary = json::parse(in, nullptr, /*allow_exceptions=*/false);
+  return summary.is_object() && summary.contains("clothsim_version");
+}
+
+void write_text_file(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+  out.close();
+  if (!out) {
+    std::string message = path.string();
+    message += ": cannot write file";
+    if (errno != 0) {
+      message += ": ";
+      message += std::strerror(errno);
+    }
+    throw OutputError(message);
+  }
+}
+
+ordered_json energy_json(const EnergyBalance& balance, double time) {
+  const EnergyReport& e = balance.energy;
+  return ordered_json{{"time", time},
+              {"kinetic", e.kinetic},
+              {"gravitational", e.gravitational},
+              {"connector", e.connector},
+              {"radial_adjacent", e.radial_adjacent},
+              {"radial_opposite", e.radial_opposite},
+              {"total", e.total()},
+              {"damping_work", balance.damping_work},
+              {"drag_work", balance.drag_work},
+              {"anchor_work", balance.anchor_work},
+              {"balance_error", balance.error()}};
+}
+
+// A finite number, or null (JSON has no infinity; nlohmann would write null anyway, this says so).
+ordered_json number_or_null(double value) {
+  return std::isfinite(value) ? ordered_json(value) : ordered_json(nullptr);
+}
+
+}  // namespace
+
+std::string_view to_string(RunStatus status) {
+  switch (status) {
+    case RunStatus::completed:
+      return "completed";
+    case RunStatus::at_rest:
+      return "at_rest";
+    case RunStatus::failed:
+      return "failed";
+    case RunStatus::interrupted:
+      return "interrupted";
+  }
+  return "unknown";
+}
+
+RunWriter::RunWriter(fs::path out, RunInfo info, const std::string& source) : info_(std::move(info)) {
+  // "runs/a/" names the folder "runs/a"; ".", ".." and "/" name no new folder.
+  fs::path path = out.lexically_normal();
+  if (!path.empty() && !path.has_filename()) path = path.parent_path();
+  const fs::path name = path.filename();
+  if (path.empty() || name.empty() || name == "." || name == ".." || path == path.root_path()) {
+    std::string reason = "must name an output folder, got \"";
+    reason += out.string();
+    reason += "\"";
+    throw InputError(source, "", reason);
+  }
+  out_ = path;
+  std::string partial_name = name.string();
+  partial_name += ".partial-";
+  partial_name += std::to_string(static_cast<long long>(::getpid()));
+  partial_ = out_.parent_path() / partial_name;
+
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(out_, error);
+  if (fs::exists(status)) {
+    if (!is_clothsim_folder(out_)) {
+      std::string reason = out_.string();
+      reason += " exists and is not a clothsim output folder; choose another path";
+      throw InputError(source, "", reason);
+    }
+    replace_existing_ = true;
+  }
+}
+
+RunWriter::~RunWriter() {
+  if (!finished_) discard();
+}
+
+void RunWriter::close_files() {
+  if (positions_) positions_->close();
+  if (velocities_) velocities_->close();
+  if (energy_file_ != nullptr) {
+    const bool failed = std::ferror(energy_file_) != 0;
+    const int close_result = std::fclose(energy_file_);
+    energy_file_ = nullptr;
+    if (failed || close_result != 0) {
+      std::string message = (partial_ / kEnergyFile).string();
+      message += ": cannot write file: ";
+      message += std::strerror(errno);
+      throw OutputError(message);
+    }
+  }
+}
+
+void RunWriter::discard() noexcept {
+  try {
+    positions_.reset();  // closes without reporting errors
+    velocities_.reset();
+    if (energy_file_ != nullptr) std::fclose(energy_file_);
+    energy_file_ = nullptr;
+  } catch (...) {
+    // Nothing to report from a destructor; the folder is removed below either way.
+  }
+  if (begun_) {
+    std::error_code error;
+    fs::remove_all(partial_, error);
+  }
+}
+
+void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
+  CLOTHSIM_ASSERT(!begun_, "begin() is called once");
+  ScopedTimer timer(output_seconds_);
+  try {
+    if (out_.has_parent_path()) fs::create_directories(out_.parent_path());
+    // A stale partial folder of a crashed run that had our process id.
+    fs::remove_all(partial_);
+    fs::create_directory(partial_);
+    begun_ = true;
+
+    scene_ = scene;
+    write_text_file(partial_ / kSceneFile, scene_to_json(scene).dump(2) + "\n");
+
+    const std::size_t particles = simulation.model().particle_count();
+    positions_.emplace((partial_ / kPositionsFile).string(), particles);
+    velocities_.emplace((partial_ / kVelocitiesFile).string(), particles);
+
+    const fs::path energy_path = partial_ / kEnergyFile;
+    energy_file_ = std::fopen(energy_path.c_str(), "wb");
+    if (energy_file_ == nullptr) {
+      std::string message = energy_path.string();
+      message += ": cannot create file: ";
+      message += std::strerror(errno);
+      throw OutputError(message);
+    }
+    std::fprintf(energy_file_, "%.*s\n", static_cast<int>(kEnergyColumns.size()), kEnergyColumns.data());
+  } catch (...) {
+    rethrow_as_output_error("cannot create the output folder");
+  }
+  initial_energy_ = simulation.energy_balance();
+  last_position_.reserve(simulation.model().particle_count());
+}
+
+void RunWriter::write_frame(const Simulation& simulation) {
+  CLOTHSIM_ASSERT(begun_ && !finished_, "write_frame() between begin() and finish()");
+  ScopedTimer timer(output_seconds_);
+  const ClothState& state = simulation.state();
+  const EnergyBalance balance = simulation.energy_balance();
+  const EnergyReport& e = balance.energy;
+  const IntegratorStats& stats = simulation.integrator_stats();
+  try {
+    positions_->append(state.position);
+    velocities_->append(state.velocity);
+  } catch (...) {
+    rethrow_as_output_error("cannot write a frame");
+  }
+  const int written = std::fprintf(
+      energy_file_, "%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%llu,%llu\n", frames_,
+      state.time, e.kinetic, e.gravitational, e.connector, e.radial_adjacent, e.radial_opposite, e.total(),
+      balance.damping_work, balance.drag_work, balance.anchor_work, balance.error(),
+      static_cast<unsigned long long>(stats.accepted_steps), static_cast<unsigned long long>(stats.rejected_steps));
+  if (written < 0) {
+    std::string message = (partial_ / kEnergyFile).string();
+    message += ": cannot write file: ";
+    message += std::strerror(errno);
+    throw OutputError(message);
+  }
+  last_position_.assign(state.position.begin(), state.position.end());
+  last_energy_ = balance;
+  last_time_ = state.time;
+  ++frames_;
+}
+
+void RunWriter::finish(const Simulation& simulation, RunStatus status, double wall_seconds) {
+  CLOTHSIM_ASSERT(begun_ && !finished_, "finish() once, after begin()");
+  {
+    ScopedTimer timer(output_seconds_);
+    try {
+      close_files();
+      const ClothModel& model = simulation.model();
+      if (frames_ > 0) {
+        std::string comment = "scene ";
+        comment += scene_.name;
+        comment += ", frame ";
+        comment += std::to_string(frames_ - 1);
+        comment += " at t = ";
+        comment += std::to_string(last_time_);
+        comment += " s";
+        write_obj((partial_ / kFinalMeshFile).string(), model, last_position_, comment);
+      }
+    } catch (...) {
+      rethrow_as_output_error("cannot finish the output folder");
+    }
+  }
+
+  const ClothModel& model = simulation.model();
+  const IntegratorStats& stats = simulation.integrator_stats();
+  const StepProfile& profile = simulation.profile();
+  ordered_json summary;
+  summary["clothsim_version"] = info_.version;
+  summary["command_line"] = info_.command_line;
+  summary["status"] = std::string(to_string(status));
+  if (status == RunStatus::failed && simulation.failure()) {
+    const Diagnosis& diagnosis = *simulation.failure();
+    summary["diagnosis"] = ordered_json{{"time", diagnosis.time},
+                                {"step", diagnosis.step},
+                                {"element", diagnosis.element},
+                                {"message", diagnosis.message}};
+  }
+  summary["scene"] = ordered_json(scene_to_json(scene_));
+  summary["lattice"] = ordered_json{{"rows", model.rows},
+                            {"cols", model.cols},
+                            {"particles", model.particle_count()},
+                            {"connectors", model.connector_count()},
+                            {"radial_springs", model.radial_count()},
+                            {"anchors", model.anchor_count()}};
+  summary["frames"] = frames_;
+  summary["fps"] = scene_.output.fps;
+  summary["simulated_time"] = last_time_;
+  const IntegratorSettings& settings = simulation.settings().integrator;
+  summary["integrator"] = ordered_json{
+      {"method", std::string(to_string(settings.kind))},
+      {"relative_tolerance", settings.relative_tolerance},
+      {"absolute_tolerance", settings.absolute_tolerance},
+      {"time_step", settings.time_step},
+      {"accepted_steps", stats.accepted_steps},
+      {"rejected_steps", stats.rejected_steps},
+      {"force_evaluations", stats.force_evaluations},
+      {"smallest_step", stats.accepted_steps > 0 ? number_or_null(stats.smallest_step) : ordered_json(nullptr)},
+      {"largest_step", stats.accepted_steps > 0 ? number_or_null(stats.largest_step) : ordered_json(nullptr)},
+      {"steps_per_simulated_second",
+       last_time_ > 0.0 ? number_or_null(static_cast<double>(stats.accepted_steps) / last_time_)
+                        : ordered_json(nullptr)}};
+  summary["energy"] = ordered_json{{"initial", energy_json(initial_energy_, 0.0)},
+                                   {"final", energy_json(last_energy_, last_time_)}};
+  summary["timings"] = ordered_json{{"wall_seconds", wall_seconds},
+                            {"forces", profile.forces},
+                            {"integration", profile.integration},
+                            {"checks", profile.checks},
+                            {"output", output_seconds_},
+                            {"realtime_factor", wall_seconds > 0.0 ? number_or_null(last_time_ / wall_seconds)
+                                                                   : ordered_json(nullptr)}};
+  summary["threads"] = simulation.threads();
+  const std::size_t particles = model.particle_count();
+  const ordered_json shape = ordered_json::array({frames_, particles, 3});
+  summary["files"] = ordered_json{
+      {std::string(kPositionsFile), ordered_json{{"shape", shape}, {"dtype", "float64"}, {"unit", "m"}}},
+      {std::string(kVelocitiesFile), ordered_json{{"shape", shape}, {"dtype", "float64"}, {"unit", "m/s"}}},
+      {std::string(kEnergyFile), ordered_json{{"rows", frames_}}},
+      {std::string(kFinalMeshFile),
+       ordered_json{{"frame", frames_ > 0 ? ordered_json(frames_ - 1) : ordered_json(nullptr)}}},
+      {std::string(kSceneFile), ordered_json::object()}};
+
+  ScopedTimer timer(output_seconds_);
+  try {
+    write_text_file(partial_ / kSummaryFile, summary.dump(2) + "\n");
+    install();
+  } catch (...) {
+    rethrow_as_output_error("cannot finish the output folder");
+  }
+  finished_ = true;
+}
+
+// Renames the partial folder to `out`, replacing a previous run there.
+void RunWriter::install() {
+  std::error_code error;
+  if (!fs::exists(fs::symlink_status(out_, error))) {
+    fs::rename(partial_, out_);
+    return;
+  }
+  // Checked again: the folder may have changed while the simulation ran.
+  if (!is_clothsim_folder(out_)) {
+    std::string message = out_.string();
+    message += " appeared during the run and is not a clothsim output folder; not replacing it";
+    throw OutputError(message);
+  }
+#ifdef RENAME_EXCHANGE
+  // One atomic swap; the partial name then holds the previous run, which we delete.
+  if (::renameat2(AT_FDCWD, partial_.c_str(), AT_FDCWD, out_.c_str(), RENAME_EXCHANGE) == 0) {
+    fs::remove_all(partial_, error);
+    return;
+  }
+  if (errno != EINVAL && errno != ENOSYS && errno != ENOTSUP) {
+    throw fs::filesystem_error("cannot replace the previous run", partial_, out_,
+                               std::error_code(errno, std::generic_category()));
+  }
+#endif
+  // No atomic exchange on this system or file system: move the old run aside first.
+  std::string old_name = out_.filename().string();
+  old_name += ".old-";
+  old_name += std::to_string(static_cast<long long>(::getpid()));
+  const fs::path old = out_.parent_path() / old_name;
+  fs::remove_all(old);
+  fs::rename(out_, old);
+  fs::rename(partial_, out_);
+  fs::remove_all(old, error);
+}
+
+}  // namespace clothsim

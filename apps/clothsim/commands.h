@@ -1,0 +1,15 @@
+// The subcommands of the clothsim tool, one file each, all of the same shape (cli_support.h).
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "cli_support.h"
+
+namespace clothsim::cli {
+
+Subcommand add_run_command(CLI::App& parent, const Invocation& invocation);  // run_command.cpp
+Subcommand add_validate_command(CLI::App& parent);                          // validate_command.cpp
+Subcommand add_scenes_command(CLI::App& parent);                            // catalog_commands.cpp
+Subcommand add_params_command(CLI::App& parent);                            // catalog_commands.cpp
+
+}  // namespace clothsim::cli

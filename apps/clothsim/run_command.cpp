@@ -1,0 +1,347 @@
+// `clothsim run`: load a scene, apply the flags, check the output folder, then simulate frame by
+// frame and stream each frame to the output folder.
+//
+// Everything that can be wrong with the input is checked before anything is created: the scene,
+// every flag (through set_scene_field, so a flag's message matches the scene file's), the
+// cross-field rules (validate_scene), the model build and the output folder (RunWriter's
+// constructor). Only then does the run start; from there on a failure is a simulation failure
+// (exit 1, output kept) or an output error (exit 3), never bad input.
+//
+// Frame k is the state at time k / fps, k = 0 .. round(duration * fps); Simulation::advance_to
+// lands exactly on it. SIGINT sets a flag that the frame loop reads after each frame, so an
+// interrupted run still ends with a complete, well-formed folder; a second SIGINT kills the
+// process the default way (the partial folder is then left behind, named <out>.partial-<pid>).
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+
+#include "commands.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "forces/forces.h"
+#include "io/run_writer.h"
+#include "progress_bar.h"
+#include "scene/parameters.h"
+#include "sim/simulation.h"
+
+namespace clothsim::cli {
+namespace {
+
+// With --until-rest and no --duration, the run may go on this long before it gives up waiting.
+constexpr double kUntilRestDurationCap = 3600.0;  // s
+
+volatile std::sig_atomic_t g_interrupted = 0;
+
+void on_interrupt(int /*signal*/) {
+  g_interrupted = 1;
+  std::signal(SIGINT, SIG_DFL);  // a second Ctrl-C ends the process at once
+}
+
+// Catches SIGINT for its lifetime.
+class InterruptGuard {
+ public:
+  InterruptGuard() {
+    g_interrupted = 0;
+    previous_ = std::signal(SIGINT, on_interrupt);
+  }
+  ~InterruptGuard() { std::signal(SIGINT, previous_ == SIG_ERR ? SIG_DFL : previous_); }
+  InterruptGuard(const InterruptGuard&) = delete;
+  InterruptGuard& operator=(const InterruptGuard&) = delete;
+  bool interrupted() const { return g_interrupted != 0; }
+
+ private:
+  void (*previous_)(int) = SIG_DFL;
+};
+
+// The flags that each set one scene field, by its registry key. Their messages come from
+// set_scene_field with the flag as the source: "--fps: field 'output.fps': must be ...".
+struct FieldFlag {
+  std::string_view flag;
+  std::string_view key;
+  std::string_view value_name;
+  std::string_view what;  // help text; the allowed range is appended from the registry
+};
+
+constexpr std::array<FieldFlag, 10> kFieldFlags = {{
+    {"--duration", "output.duration", "SECONDS", "simulated time to run"},
+    {"--fps", "output.fps", "N", "frames written per simulated second"},
+    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4 or symplectic-euler"},
+    {"--rtol", "integrator.relative_tolerance", "X", "RKF45 relative error tolerance"},
+    {"--atol", "integrator.absolute_tolerance", "X", "RKF45 absolute error tolerance (m, m/s)"},
+    {"--time-step", "integrator.time_step", "SECONDS", "step of rk4 and symplectic-euler; first trial step of rkf45"},
+    {"--gravity", "environment.gravity", "X,Y,Z", "gravitational acceleration, m/s^2"},
+    {"--anchor", "anchors", "PRESET", "anchored particles: center, corners, edge-corners or none"},
+    {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size"},
+    {"--rest-energy", "output.rest_kinetic_energy", "JOULES", "kinetic energy below which --until-rest stops"},
+}};
+
+constexpr std::size_t kDurationFlag = 0;
+
+std::string field_flag_help(const FieldFlag& flag) {
+  std::string text(flag.what);
+  text += " (";
+  text += flag.key;
+  if (const ScalarParameter* parameter = find_scalar_parameter(flag.key)) {
+    text += ": ";
+    text += describe_allowed(parameter->type, parameter->range);
+  } else if (const VectorParameter* vector = find_vector_parameter(flag.key)) {
+    text += ": each in ";
+    text += describe_range(vector->component_range);
+  }
+  text += ")";
+  return text;
+}
+
+struct RunOptions {
+  CLI::App* app = nullptr;
+  std::string scene;       // file or built-in name
+  std::string paper_args;  // the paper's ten numbers
+  std::array<std::string, kFieldFlags.size()> field_values;
+  std::vector<std::string> assignments;  // --set KEY=VALUE, in order
+  std::string out;
+  bool until_rest = false;
+  bool quiet = false;
+  bool no_progress = false;
+
+  bool given(std::string_view flag) const { return app->count(std::string(flag)) > 0; }
+};
+
+// The scene with every flag applied and checked. Throws InputError.
+SceneSpec make_scene(const RunOptions& options) {
+  const bool has_scene = options.given("SCENE");
+  const bool has_paper_args = options.given("--paper-args");
+  if (has_scene == has_paper_args) {
+    throw InputError("run", "",
+                     has_scene ? "give either SCENE or --paper-args, not both"
+                               : "needs a SCENE (a scene file or a built-in name, see 'clothsim scenes') or "
+                                 "--paper-args ROWS,COLS,MASS,K_ADJ,C_ADJ,K_OPP,C_OPP,K_CONN,C_CONN,LENGTH");
+  }
+  std::string source = has_scene ? options.scene : "--paper-args";
+  SceneSpec spec = has_scene ? load_scene(options.scene) : scene_from_paper_args(options.paper_args, source);
+
+  bool overridden = false;
+  for (const std::string& assignment : options.assignments) {
+    const std::size_t equals = assignment.find('=');
+    if (equals == std::string::npos || equals == 0) {
+      std::string reason = "expects KEY=VALUE (list the keys with 'clothsim params'), got \"";
+      reason += assignment;
+      reason += "\"";
+      throw InputError("--set", "", reason);
+    }
+    const std::string_view text = assignment;
+    set_scene_field(spec, text.substr(0, equals), text.substr(equals + 1), "--set");
+    overridden = true;
+  }
+  for (std::size_t i = 0; i < kFieldFlags.size(); ++i) {
+    const FieldFlag& flag = kFieldFlags[i];
+    if (!options.given(flag.flag)) continue;
+    set_scene_field(spec, flag.key, options.field_values[i], std::string(flag.flag));
+    overridden = true;
+  }
+  if (options.until_rest) {
+    spec.output.until_rest = true;
+    if (!options.given(kFieldFlags[kDurationFlag].flag)) {
+      spec.output.duration = std::max(spec.output.duration, kUntilRestDurationCap);
+    }
+    overridden = true;
+  }
+  if (overridden) source += " with the command-line flags";
+  validate_scene(spec, source);
+  return spec;
+}
+
+// out/<scene name>, with characters that do not belong in a folder name replaced.
+std::string default_output_folder(const SceneSpec& spec) {
+  std::string name;
+  for (char c : spec.name) {
+    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
+                      c == '_' || c == '.';
+    name += safe ? c : '_';
+  }
+  if (name.empty() || name.find_first_not_of('.') == std::string::npos) name = "run";
+  std::string folder = "out/";
+  folder += name;
+  return folder;
+}
+
+std::string format_energy(double joules) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g J", joules);
+  return buffer;
+}
+
+void print_summary(const SceneSpec& spec, const Simulation& simulation, const RunWriter& writer, RunStatus status,
+                   double wall_seconds) {
+  const IntegratorStats& stats = simulation.integrator_stats();
+  const IntegratorSettings& integrator = spec.integrator;
+  const double simulated = writer.last_time();
+
+  std::printf("scene        %s\n", spec.name.c_str());
+  std::printf("lattice      %s\n", describe_lattice(simulation.model()).c_str());
+  std::string method(to_string(integrator.kind));
+  if (integrator.kind == IntegratorKind::rkf45) {
+    method += " (rtol ";
+    method += format_number(integrator.relative_tolerance);
+    method += ", atol ";
+    method += format_number(integrator.absolute_tolerance);
+    method += ")";
+  } else {
+    method += " (step ";
+    method += format_number(integrator.time_step);
+    method += " s)";
+  }
+  method += ", ";
+  method += count_noun(static_cast<std::uint64_t>(simulation.threads()), "thread", "threads");
+  std::printf("integrator   %s\n", method.c_str());
+  std::printf("status       %s\n", std::string(to_string(status)).c_str());
+  std::printf("time         %s s simulated in %s wall, %.3gx real time\n", format_number_short(simulated).c_str(),
+              format_duration(wall_seconds).c_str(), wall_seconds > 0.0 ? simulated / wall_seconds : 0.0);
+  std::printf("steps        %llu accepted, %llu rejected", static_cast<unsigned long long>(stats.accepted_steps),
+              static_cast<unsigned long long>(stats.rejected_steps));
+  if (stats.accepted_steps > 0) {
+    std::printf("; step %.3g .. %.3g s", stats.smallest_step, stats.largest_step);
+  }
+  std::printf("; %llu force evaluations\n", static_cast<unsigned long long>(stats.force_evaluations));
+  const EnergyBalance& initial = writer.initial_energy();
+  const EnergyBalance& final = writer.last_energy();
+  std::printf("energy       initial %s, final %s (kinetic %s); balance error %s\n",
+              format_energy(initial.energy.total()).c_str(), format_energy(final.energy.total()).c_str(),
+              format_energy(final.energy.kinetic).c_str(), format_energy(final.error()).c_str());
+  std::printf("output       %s/: %zu frames in %.*s and %.*s [%zu, %zu, 3]; %.*s, %.*s, %.*s, %.*s\n",
+              writer.out().c_str(), writer.frames(), static_cast<int>(RunWriter::kPositionsFile.size()),
+              RunWriter::kPositionsFile.data(), static_cast<int>(RunWriter::kVelocitiesFile.size()),
+              RunWriter::kVelocitiesFile.data(), writer.frames(), simulation.model().particle_count(),
+              static_cast<int>(RunWriter::kEnergyFile.size()), RunWriter::kEnergyFile.data(),
+              static_cast<int>(RunWriter::kSummaryFile.size()), RunWriter::kSummaryFile.data(),
+              static_cast<int>(RunWriter::kFinalMeshFile.size()), RunWriter::kFinalMeshFile.data(),
+              static_cast<int>(RunWriter::kSceneFile.size()), RunWriter::kSceneFile.data());
+  std::fflush(stdout);
+}
+
+int run(const RunOptions& options, const Invocation& invocation) {
+  // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
+  //    anything exists on disk.
+  const SceneSpec spec = make_scene(options);
+  ClothModel model = build_model(spec);
+  ClothState initial = build_initial_state(model, spec);
+  const std::string out = options.given("--out") ? options.out : default_output_folder(spec);
+  RunWriter writer(out, RunInfo{CLOTHSIM_VERSION, invocation.command_line});
+
+  // 2. The run.
+  SimulationSettings settings;
+  settings.integrator = spec.integrator;
+  settings.threads = spec.threads;
+  const Stopwatch wall;
+  Simulation simulation(std::move(model), std::move(initial), settings);
+  const InterruptGuard interrupt;
+  writer.begin(spec, simulation);
+  writer.write_frame(simulation);
+
+  const int fps = spec.output.fps;
+  const auto last_frame = static_cast<std::uint64_t>(std::llround(spec.output.duration * fps));
+  ProgressBar progress(!options.quiet && !options.no_progress, static_cast<double>(last_frame) / fps);
+  RunStatus status = RunStatus::completed;
+  for (std::uint64_t frame = 1; frame <= last_frame; ++frame) {
+    if (interrupt.interrupted()) {
+      status = RunStatus::interrupted;
+      break;
+    }
+    if (!simulation.advance_to(static_cast<double>(frame) / fps)) {
+      status = RunStatus::failed;
+      break;
+    }
+    writer.write_frame(simulation);
+    progress.update(simulation.state().time, simulation.integrator_stats().accepted_steps);
+    if (spec.output.until_rest &&
+        kinetic_energy(simulation.model(), simulation.state().velocity) < spec.output.rest_kinetic_energy) {
+      status = RunStatus::at_rest;
+      break;
+    }
+  }
+  progress.clear();
+  const double wall_seconds = wall.seconds();
+  writer.finish(simulation, status, wall_seconds);
+
+  // 3. Report.
+  if (!options.quiet) print_summary(spec, simulation, writer, status, wall_seconds);
+  if (status == RunStatus::failed) {
+    std::string message = "simulation failed ";
+    message += simulation.failure() ? simulation.failure()->message : std::string("without a diagnosis");
+    print_error(message);
+    std::fprintf(stderr, "clothsim: the %zu frames up to t = %s s are kept in %s (status \"failed\")\n",
+                 writer.frames(), format_number_short(writer.last_time()).c_str(), writer.out().c_str());
+    return kExitSimulationFailed;
+  }
+  if (status == RunStatus::interrupted) {
+    std::fprintf(stderr, "clothsim: interrupted at t = %s s; %zu frames kept in %s (status \"interrupted\")\n",
+                 format_number_short(writer.last_time()).c_str(), writer.frames(), writer.out().c_str());
+    return kExitInterrupted;
+  }
+  return kExitSuccess;
+}
+
+std::string run_footer() {
+  std::string text = wrap_text(
+      "Flags override the scene's values. --set KEY=VALUE sets any scene parameter ('clothsim params' lists "
+      "them); the --set values apply first, in order, then the named flags. Every value is checked before "
+      "anything is written.",
+      100, 0);
+  text += "\n\n";
+  text += wrap_text(
+      "The output folder (default out/<scene name>) holds positions.npy and velocities.npy (float64 [frames, "
+      "particles, 3]; frame k at t = k/fps, frame 0 the initial state), energy.csv, summary.json, final.obj and "
+      "scene.json (run it to reproduce the run). It is written as <out>.partial-<pid> and renamed into place at "
+      "the end; an existing <out> is replaced only if a clothsim run wrote it.",
+      100, 0);
+  text +=
+      "\n\n"
+      "Examples:\n"
+      "  clothsim run paper-fig4\n"
+      "  clothsim run --paper-args 21,21,1,4,1,1400,200,80,5,1 --duration 10 --out out/fig4\n"
+      "  clothsim run my-scene.json --integrator rk4 --time-step 1e-3 --fps 30\n"
+      "  clothsim run paper-fig5 --until-rest --rest-energy 1e-4\n"
+      "  clothsim run paper-fig5 --set springs.adjacent.stiffness=400 --set environment.air_drag=0.1\n"
+      "  clothsim run out/paper-fig4/scene.json --out out/paper-fig4-again   # reproduce a run\n"
+      "\n";
+  text += exit_code_help();
+  return text;
+}
+
+}  // namespace
+
+Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
+  auto options = std::make_shared<RunOptions>();
+  CLI::App* app = parent.add_subcommand("run", "Simulate a scene and write its output folder");
+  options->app = app;
+  app->add_option("SCENE", options->scene, "scene file (JSON) or built-in scene name (see 'clothsim scenes')")
+      ->type_name("");
+  app->add_option("--paper-args", options->paper_args,
+                  "instead of SCENE, the paper's 10 numbers: rows,cols,mass,k_adj,c_adj,k_opp,c_opp,k_conn,"
+                  "c_conn,length")
+      ->type_name("N,N,...");
+  for (std::size_t i = 0; i < kFieldFlags.size(); ++i) {
+    const FieldFlag& flag = kFieldFlags[i];
+    app->add_option(std::string(flag.flag), options->field_values[i], field_flag_help(flag))
+        ->type_name(std::string(flag.value_name))
+        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  }
+  app->add_option("--set", options->assignments, "set any scene parameter by its key (repeatable)")
+      ->type_name("KEY=VALUE")
+      ->expected(1)
+      ->allow_extra_args(false)
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  app->add_flag("--until-rest", options->until_rest,
+                "stop at the first frame whose kinetic energy is below --rest-energy; without --duration, "
+                "run at most max(scene duration, 3600 s)");
+  app->add_option("--out", options->out, "output folder (default out/<scene name>)")
+      ->type_name("DIR")
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+  app->add_flag("--quiet", options->quiet, "print nothing but errors");
+  app->add_flag("--no-progress", options->no_progress, "no progress bar (it is shown only on a terminal anyway)");
+  app->footer(run_footer());
+  return {app, [options, invocation] { return run(*options, invocation); }};
+}
+
+}  // namespace clothsim::cli

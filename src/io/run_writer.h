@@ -1,0 +1,146 @@
+// The output folder of one run, written so that no half-written output is ever seen at its path.
+//
+// A run's folder holds (docs/cli.md has the columns and keys):
+//   positions.npy    float64 [frames, particles, 3], m; frame 0 is the initial state
+//   velocities.npy   float64 [frames, particles, 3], m/s
+//   energy.csv       one row per frame: energies, works, balance error, step counts (%.17g)
+//   summary.json     version, command line, status, diagnosis, scene, counts, statistics, timings
+//   final.obj        the sheet at the last frame written
+//   scene.json       the scene as run; `clothsim run <folder>/scene.json` reproduces the run
+//
+// Everything is written into a sibling folder `<out>.partial-<pid>` and renamed to `<out>` by
+// finish(), so that a reader sees either the previous folder or the complete new one. On Linux the
+// replacement of an existing folder is one renameat2(RENAME_EXCHANGE); elsewhere the old folder is
+// first renamed aside. A run that dies with an exception before finish() leaves nothing behind:
+// the destructor removes the partial folder. A failed *simulation* is not such a death: the tool
+// still calls finish() with status "failed", and the frames up to the last good one are kept.
+//
+// Frames are streamed to disk as they come (NpyWriter), never held in memory: a trajectory of a
+// large sheet does not fit. Only the last frame's positions are kept, for final.obj.
+//
+// Rejected alternatives: writing straight into `<out>` (an interrupted or failed run leaves a mix
+// of old and new files), and deleting an existing `<out>` up front (a typo in --out could delete
+// an unrelated folder; we replace only folders that a clothsim run wrote, recognised by the
+// "clothsim_version" key of their summary.json).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "core/vec3.h"
+#include "io/npy.h"
+#include "scene/scene.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+
+// How a run ended, written to summary.json as "completed", "at_rest", "failed", "interrupted".
+enum class RunStatus : std::uint8_t {
+  completed,    // every frame up to the duration was written
+  at_rest,      // stopped early: a frame's kinetic energy fell below output.rest_kinetic_energy
+  failed,       // the simulation stopped with a diagnosis; frames up to the last good one are kept
+  interrupted,  // stopped by the user (SIGINT) after a complete frame
+};
+
+std::string_view to_string(RunStatus status);
+
+// The output could not be written (disk full, permission denied, a path component that is a
+// file). The tools map it to their "output error" exit code, distinct from bad input.
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// What the writer records about the program that made the run.
+struct RunInfo {
+  std::string version;       // summary.json "clothsim_version"; its presence marks a clothsim folder
+  std::string command_line;  // summary.json "command_line", as the user typed it
+};
+
+class RunWriter {
+ public:
+  // Names of the files in a finished folder, in the order they are described above.
+  static constexpr std::string_view kPositionsFile = "positions.npy";
+  static constexpr std::string_view kVelocitiesFile = "velocities.npy";
+  static constexpr std::string_view kEnergyFile = "energy.csv";
+  static constexpr std::string_view kSummaryFile = "summary.json";
+  static constexpr std::string_view kFinalMeshFile = "final.obj";
+  static constexpr std::string_view kSceneFile = "scene.json";
+
+  // The header line of energy.csv.
+  static constexpr std::string_view kEnergyColumns =
+      "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
+      "anchor_work,balance_error,accepted_steps,rejected_steps";
+
+  // Checks that `out` may receive the run and creates nothing: `out` must not exist, or be a
+  // folder holding a summary.json with a "clothsim_version" key (a previous run, which finish()
+  // replaces). Otherwise throws InputError naming `source` (the flag that gave the path). Call it
+  // before the simulation starts, so that bad input never costs a run.
+  explicit RunWriter(std::filesystem::path out, RunInfo info, const std::string& source = "--out");
+  // Removes the partial folder unless finish() ran; never throws.
+  ~RunWriter();
+
+  RunWriter(const RunWriter&) = delete;
+  RunWriter& operator=(const RunWriter&) = delete;
+
+  // Creates the partial folder (and `out`'s parent folders), writes scene.json, and opens the
+  // streamed files. The simulation must be at its initial state: its energies are the "initial"
+  // ones of summary.json. Throws OutputError.
+  void begin(const SceneSpec& scene, const Simulation& simulation);
+
+  // Appends the simulation's current state as the next frame (frame 0 first: the initial state).
+  // Throws OutputError.
+  void write_frame(const Simulation& simulation);
+
+  // Writes final.obj (the last frame) and summary.json, closes every file and renames the
+  // folder to `out`, replacing a previous run there. `wall_seconds` is the run's wall time
+  // (summary.json "timings"). A failed simulation's diagnosis comes from simulation.failure().
+  // Throws OutputError; the partial folder is then removed.
+  void finish(const Simulation& simulation, RunStatus status, double wall_seconds);
+
+  const std::filesystem::path& out() const { return out_; }
+  const std::filesystem::path& partial() const { return partial_; }
+  std::size_t frames() const { return frames_; }
+  // Energies at begin() and at the last frame written, and that frame's time (s).
+  const EnergyBalance& initial_energy() const { return initial_energy_; }
+  const EnergyBalance& last_energy() const { return last_energy_; }
+  double last_time() const { return last_time_; }
+  // Wall time spent writing output so far, s.
+  double output_seconds() const { return output_seconds_; }
+  // True when `out` held a previous run that finish() replaces (or replaced).
+  bool replaces_previous_run() const { return replace_existing_; }
+
+ private:
+  void close_files();
+  void install();
+  void discard() noexcept;
+
+  std::filesystem::path out_;
+  std::filesystem::path partial_;  // `<out>.partial-<pid>`
+  RunInfo info_;
+  bool replace_existing_ = false;
+  bool begun_ = false;
+  bool finished_ = false;
+
+  std::optional<NpyWriter> positions_;
+  std::optional<NpyWriter> velocities_;
+  std::FILE* energy_file_ = nullptr;
+
+  SceneSpec scene_;                  // the scene as run, for summary.json
+  EnergyBalance initial_energy_;
+  EnergyBalance last_energy_;        // of the last frame written
+  double last_time_ = 0.0;           // s, of the last frame written
+  std::vector<Vec3> last_position_;  // [particles], m, of the last frame written
+  std::size_t frames_ = 0;
+  double output_seconds_ = 0.0;
+};
+
+}  // namespace clothsim
