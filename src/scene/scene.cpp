@@ -28,6 +28,7 @@
 #include <cstdio>
 #include <cstring>
 #include <limits>
+#include <map>
 #include <optional>
 #include <set>
 #include <string>
@@ -701,10 +702,13 @@ SceneSpec load_scene_file(const std::string& path) {
 }
 
 SceneSpec scene_from_paper_args(std::string_view text, const std::string& source) {
+  const std::array<double, 10> values = read_text_paper_arguments(text, source);
   SceneSpec spec;
-  apply_paper_arguments(spec, read_text_paper_arguments(text, source));
+  apply_paper_arguments(spec, values);
+  std::vector<std::string> numbers;
+  for (double value : values) numbers.push_back(format_number(value));
   spec.name = "paper-args";
-  spec.description = "The paper's argument vector [" + std::string(trim(text)) + "], centre particle anchored.";
+  spec.description = "The paper's argument vector [" + join_names(numbers) + "], centre particle anchored.";
   validate_scene(spec, source);
   return spec;
 }
@@ -795,18 +799,19 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     fail(source, "integrator.min_step", "must be <= integrator.time_step (" + format_number(integrator.time_step) +
                                             "), got " + format_number(integrator.min_step));
   }
-  // Anchors: inside the lattice, each particle at most once.
-  std::vector<int> anchored_by(static_cast<std::size_t>(lattice.rows) * static_cast<std::size_t>(lattice.cols), -1);
+  // Anchors: inside the lattice, each particle at most once. A map over the anchors, not an array
+  // over the particles: a 4096 x 4096 lattice would need 64 MiB to check two anchors.
+  std::map<std::uint32_t, std::size_t> anchor_of_particle;
   for (std::size_t i = 0; i < spec.anchors.size(); ++i) {
     const AnchorSpec& anchor = spec.anchors[i];
     const std::string field = "anchors[" + std::to_string(i) + "]";
     validate_anchor(anchor, lattice, source, field);
-    int& owner = anchored_by[lattice_index(lattice.cols, anchor.row, anchor.col)];
-    if (owner >= 0) {
+    const std::uint32_t particle = lattice_index(lattice.cols, anchor.row, anchor.col);
+    const auto [previous, inserted] = anchor_of_particle.emplace(particle, i);
+    if (!inserted) {
       fail(source, field, "particle (row " + std::to_string(anchor.row) + ", col " + std::to_string(anchor.col) +
-                              ") is anchored twice (also by anchors[" + std::to_string(owner) + "])");
+                              ") is anchored twice (also by anchors[" + std::to_string(previous->second) + "])");
     }
-    owner = static_cast<int>(i);
   }
 }
 

@@ -175,6 +175,10 @@ TEST(PaperArgs, TextMapsOntoEveryField) {
   // Spaces and brackets are fine too.
   expect_distinct_paper_fields(scene_from_paper_args("[7, 9, 2.5, 3, 0.5, 1300, 150, 81, 6, 1.5]", "--paper"));
   expect_distinct_paper_fields(scene_from_paper_args("7 9 2.5 3 0.5 1300 150 81 6 1.5", "--paper"));
+  const SceneSpec spec = scene_from_paper_args("[21,21, 1,4,1,1400,200,80,5,1]", "--paper");
+  EXPECT_EQ(spec.name, "paper-args");
+  EXPECT_EQ(spec.description,
+            "The paper's argument vector [21, 21, 1, 4, 1, 1400, 200, 80, 5, 1], centre particle anchored.");
 }
 
 TEST(PaperArgs, JsonMapsOntoEveryField) {
