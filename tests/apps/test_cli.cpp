@@ -1,0 +1,562 @@
+// End-to-end tests of the clothsim tool: each test runs the real executable (CLOTHSIM_EXE) in its
+// own fresh folder, capturing stdout, stderr and the exit code, and then reads what it wrote with
+// the library's own readers, with nlohmann::json and with numpy.
+//
+// What they pin down (docs/cli.md):
+//   - bad input exits 2 with "clothsim: error: " and a message naming the flag or field and what
+//     is allowed, and leaves nothing behind (no output folder, no .partial folder);
+//   - a run writes every file with the documented shapes, frame 0 is the rest lattice, the
+//     anchor stays put, and scene.json reproduces positions.npy bit for bit;
+//   - --until-rest, a blow-up (exit 1, diagnosis, finite frames kept), SIGINT (exit 130),
+//     replacing a previous run, an unwritable output (exit 3);
+//   - validate, scenes, params and every --help.
+//
+// The numpy check runs the real numpy.load and must not skip: scripts/install-deps.sh installs
+// python3-numpy, and a missing numpy fails with a message saying how to fix it.
+#include <fcntl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <csignal>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "io/npy.h"
+
+namespace clothsim {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+// The paper's material on a 5 x 5 lattice, centre particle (index 12) anchored at the origin.
+constexpr const char* kSmallPaperArgs = "5,5,1,4,1,1400,200,80,5,1";
+constexpr std::size_t kSmallParticles = 25;
+constexpr std::size_t kSmallCentre = 12;
+
+struct Result {
+  int exit_code = -1;  // 128 + signal number if the process was killed by a signal
+  std::string out;
+  std::string err;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out << text;
+}
+
+// Starts clothsim with `args` in folder `cwd`, stdout and stderr going to files in `capture`
+// (outside `cwd`, so they do not count as output). Returns the child's process id.
+pid_t spawn_clothsim(const fs::path& cwd, const std::vector<std::string>& args, const fs::path& capture) {
+  const std::string out_path = (capture / "stdout.txt").string();
+  const std::string err_path = (capture / "stderr.txt").string();
+  std::vector<std::string> words = {CLOTHSIM_EXE};
+  words.insert(words.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& word : words) argv.push_back(word.data());
+  argv.push_back(nullptr);
+  std::fflush(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    if (out < 0 || err < 0 || ::chdir(cwd.c_str()) != 0) ::_exit(126);
+    ::dup2(out, STDOUT_FILENO);
+    ::dup2(err, STDERR_FILENO);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+Result wait_clothsim(pid_t pid, const fs::path& capture) {
+  Result result;
+  int status = 0;
+  if (pid > 0 && ::waitpid(pid, &status, 0) == pid) {
+    if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+    if (WIFSIGNALED(status)) result.exit_code = 128 + WTERMSIG(status);
+  }
+  result.out = read_text(capture / "stdout.txt");
+  result.err = read_text(capture / "stderr.txt");
+  return result;
+}
+
+// Every path under `folder`, relative to it.
+std::set<std::string> entries(const fs::path& folder) {
+  std::set<std::string> names;
+  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(folder)) {
+    names.insert(fs::relative(entry.path(), folder).string());
+  }
+  return names;
+}
+
+::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "missing '" << part << "' in:\n" << text;
+}
+
+std::string describe(const Result& result) {
+  std::ostringstream text;
+  text << "exit code " << result.exit_code << "\n--- stdout\n" << result.out << "--- stderr\n" << result.err;
+  return text.str();
+}
+
+// energy.csv as numbers: rows[frame][column]; the header line is checked separately.
+struct Csv {
+  std::string header;
+  std::vector<std::vector<double>> rows;
+};
+
+Csv read_csv(const fs::path& path) {
+  Csv csv;
+  std::istringstream lines(read_text(path));
+  std::getline(lines, csv.header);
+  std::string line;
+  while (std::getline(lines, line)) {
+    std::vector<double> row;
+    std::istringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) row.push_back(std::strtod(cell.c_str(), nullptr));
+    csv.rows.push_back(row);
+  }
+  return csv;
+}
+
+constexpr std::size_t kKineticColumn = 2;
+
+// A Python interpreter that imports numpy: $CLOTHSIM_PYTHON if set, else the first of python3
+// (PATH) and /usr/bin/python3 that does. PATH's python3 may be a pyenv or venv interpreter
+// without numpy even when Debian's python3-numpy is installed for /usr/bin/python3.
+std::string python_with_numpy() {
+  std::vector<std::string> candidates;
+  if (const char* chosen = std::getenv("CLOTHSIM_PYTHON"); chosen != nullptr && *chosen != '\0') {
+    candidates.emplace_back(chosen);
+  }
+  candidates.emplace_back("python3");
+  candidates.emplace_back("/usr/bin/python3");
+  for (const std::string& candidate : candidates) {
+    const std::string probe = candidate + " -c \"import numpy\" >/dev/null 2>&1";
+    if (std::system(probe.c_str()) == 0) return candidate;
+  }
+  return {};
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = info->test_suite_name();
+    name += '.';
+    name += info->name();
+    for (char& c : name) {
+      if (c == '/') c = '_';
+    }
+    root_ = fs::path(CLOTHSIM_TEST_TMPDIR) / "cli" / name;
+    fs::remove_all(root_);
+    work_ = root_ / "work";
+    fs::create_directories(work_);
+  }
+
+  Result clothsim(const std::vector<std::string>& args) const {
+    return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
+  }
+
+  // A small run of the paper's material into `out` (relative to the work folder).
+  Result small_run(const std::string& out, std::vector<std::string> extra = {}) const {
+    std::vector<std::string> args = {"run", "--paper-args", kSmallPaperArgs, "--out", out, "--no-progress"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    return clothsim(args);
+  }
+
+  json summary(const std::string& out) const { return json::parse(read_text(work_ / out / "summary.json")); }
+
+  fs::path root_;  // this test's folder: capture files
+  fs::path work_;  // the tool's working folder: only what the tool writes
+};
+
+// ---------------------------------------------------------------------------------------------
+// Bad input: exit 2, a message naming the flag or field and what is allowed, nothing written.
+
+struct BadInputCase {
+  std::string name;
+  std::vector<std::string> args;
+  std::vector<std::string> pieces;  // the error message contains each
+  std::string scene_file;           // written to scene.json before the run, unless empty
+};
+
+std::vector<std::string> small(std::vector<std::string> flags) {
+  std::vector<std::string> args = {"run", "--paper-args", kSmallPaperArgs};
+  args.insert(args.end(), flags.begin(), flags.end());
+  return args;
+}
+
+const std::vector<BadInputCase> kBadInputCases = {
+    {"FpsZero", small({"--fps", "0"}), {"--fps", "output.fps", "[1, 10000]", "got \"0\""}, ""},
+    {"FpsNotANumber", small({"--fps", "abc"}), {"--fps", "output.fps", "number", "abc"}, ""},
+    {"DurationNegative", small({"--duration", "-1"}), {"--duration", "output.duration", "(0, 1e7]"}, ""},
+    {"IntegratorUnknown", small({"--integrator", "euler"}),
+     {"--integrator", "integrator.method", "rkf45", "symplectic-euler", "euler"}, ""},
+    {"RtolZero", small({"--rtol", "0"}), {"--rtol", "integrator.relative_tolerance", "[1e-14, 1]"}, ""},
+    {"AtolZero", small({"--atol", "0"}), {"--atol", "integrator.absolute_tolerance", "(0, 1000]"}, ""},
+    {"TimeStepTooLarge", small({"--time-step", "100"}), {"--time-step", "integrator.time_step", "(0, 10]"}, ""},
+    {"GravityTwoComponents", small({"--gravity", "1,2"}), {"--gravity", "environment.gravity", "3 numbers"}, ""},
+    {"ThreadsNegative", small({"--threads", "-3"}), {"--threads", "threads", "[0, 1024]"}, ""},
+    {"AnchorUnknown", small({"--anchor", "top"}), {"--anchor", "center", "edge-corners", "top"}, ""},
+    {"RestEnergyZero", small({"--until-rest", "--rest-energy", "0"}),
+     {"--rest-energy", "output.rest_kinetic_energy", "(0, 1e12]"}, ""},
+    {"SetRowsZero", small({"--set", "lattice.rows=0"}), {"--set", "lattice.rows", "[1, 4096]"}, ""},
+    {"SetUnknownKey", small({"--set", "nosuch.key=1"}), {"--set", "nosuch.key", "unknown field"}, ""},
+    {"SetWithoutEquals", small({"--set", "lattice.rows"}), {"--set", "KEY=VALUE"}, ""},
+    {"SetCrossFieldRule", small({"--set", "integrator.min_step=0.5"}),
+     {"integrator.min_step", "must be <= integrator.", "got 0.5"}, ""},
+    {"PaperArgsNineNumbers", {"run", "--paper-args", "5,5,1,4,1,1400,200,80,5"},
+     {"--paper-args", "paper_args", "exactly 10 numbers", "got 9"}, ""},
+    {"PaperArgsNegativeMass", {"run", "--paper-args", "5,5,-1,4,1,1400,200,80,5,1"},
+     {"--paper-args", "mass", "(0, 1e6]"}, ""},
+    {"SceneAndPaperArgs", {"run", "paper-fig5", "--paper-args", kSmallPaperArgs}, {"SCENE", "--paper-args", "not both"},
+     ""},
+    {"NoScene", {"run"}, {"SCENE", "--paper-args"}, ""},
+    {"SceneFileTypo", {"run", "scene.json"}, {"scene.json", "lattice.rowz", "lattice.rows"},
+     R"({"lattice": {"rowz": 5, "cols": 5}})"},
+    {"SceneFileSyntaxError", {"run", "scene.json"}, {"scene.json", "line 1", "syntax error"},
+     R"({"lattice": {"rows": 5,}})"},
+    {"SceneFileValueOutOfRange", {"run", "scene.json"}, {"scene.json", "output.fps", "[1, 10000]"},
+     R"({"output": {"fps": 0}})"},
+    {"SceneFileMissing", {"run", "nosuch.json"}, {"nosuch.json", "cannot read"}, ""},
+    {"BuiltinNameMistyped", {"run", "paper-fig7"}, {"paper-fig7", "paper-fig4"}, ""},
+    {"UnknownFlag", small({"--bogus"}), {"--bogus"}, ""},
+    {"MissingValue", small({"--fps"}), {"--fps"}, ""},
+    {"OutIsForeignFolder", small({"--out", "taken"}), {"--out", "taken", "not a clothsim output folder"}, ""},
+    {"OutIsFile", small({"--out", "notes.txt"}), {"--out", "notes.txt", "not a clothsim output folder"}, ""},
+};
+
+// Names the case in gtest's output instead of dumping its bytes.
+void PrintTo(const BadInputCase& input, std::ostream* out) { *out << input.name; }
+
+class BadInputTest : public CliTest, public ::testing::WithParamInterface<BadInputCase> {};
+
+TEST_P(BadInputTest, ExitsTwoNamingTheProblemAndWritesNothing) {
+  const BadInputCase& input = GetParam();
+  if (!input.scene_file.empty()) write_text(work_ / "scene.json", input.scene_file);
+  // A folder the tool must not touch, and a plain file.
+  fs::create_directories(work_ / "taken");
+  write_text(work_ / "taken" / "notes.txt", "not a clothsim run\n");
+  write_text(work_ / "notes.txt", "a file\n");
+  const std::set<std::string> before = entries(work_);
+
+  const Result result = clothsim(input.args);
+
+  EXPECT_EQ(result.exit_code, 2) << describe(result);
+  EXPECT_TRUE(contains(result.err, "clothsim: error: "));
+  for (const std::string& piece : input.pieces) EXPECT_TRUE(contains(result.err, piece));
+  EXPECT_EQ(entries(work_), before) << "bad input must not create files or folders";
+  EXPECT_EQ(read_text(work_ / "taken" / "notes.txt"), "not a clothsim run\n");
+  EXPECT_TRUE(result.out.empty()) << describe(result);
+}
+
+INSTANTIATE_TEST_SUITE_P(Cli, BadInputTest, ::testing::ValuesIn(kBadInputCases),
+                         [](const ::testing::TestParamInfo<BadInputCase>& case_info) { return case_info.param.name; });
+
+// ---------------------------------------------------------------------------------------------
+// A run and its output folder.
+
+TEST_F(CliTest, SmallRunWritesEveryFile) {
+  const Result result = small_run("run", {"--duration", "0.5", "--fps", "20"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_TRUE(contains(result.out, "completed"));
+  EXPECT_TRUE(contains(result.out, "5x5 lattice, 25 particles"));
+
+  // Exactly the documented files, and no partial folder left next to them.
+  const std::set<std::string> expected = {"run",           "run/positions.npy", "run/velocities.npy",
+                                          "run/energy.csv", "run/summary.json",  "run/final.obj",
+                                          "run/scene.json"};
+  EXPECT_EQ(entries(work_), expected);
+
+  const NpyArray positions = read_npy((work_ / "run" / "positions.npy").string());
+  ASSERT_EQ(positions.shape, (std::vector<std::size_t>{11, kSmallParticles, 3}));
+  const NpyArray velocities = read_npy((work_ / "run" / "velocities.npy").string());
+  ASSERT_EQ(velocities.shape, (std::vector<std::size_t>{11, kSmallParticles, 3}));
+  // Frame 0 is the rest lattice: particle (i, j) at ((j - 2) L, 0, (i - 2) L), L = 1 m, at rest.
+  for (std::size_t p = 0; p < kSmallParticles; ++p) {
+    const double row = static_cast<double>(p / 5);
+    const double col = static_cast<double>(p % 5);
+    EXPECT_EQ(positions.data[3 * p + 0], col - 2.0) << "particle " << p;
+    EXPECT_EQ(positions.data[3 * p + 1], 0.0) << "particle " << p;
+    EXPECT_EQ(positions.data[3 * p + 2], row - 2.0) << "particle " << p;
+    for (std::size_t axis = 0; axis < 3; ++axis) EXPECT_EQ(velocities.data[3 * p + axis], 0.0);
+  }
+  // The anchored centre stays at the origin; the sheet around it falls.
+  for (std::size_t frame = 0; frame < 11; ++frame) {
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      EXPECT_EQ(positions.data[(frame * kSmallParticles + kSmallCentre) * 3 + axis], 0.0) << "frame " << frame;
+    }
+  }
+  EXPECT_LT(positions.data[(10 * kSmallParticles + 0) * 3 + 1], -0.01) << "corner particle 0 has fallen";
+
+  const Csv energy = read_csv(work_ / "run" / "energy.csv");
+  EXPECT_EQ(energy.header,
+            "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
+            "anchor_work,balance_error,accepted_steps,rejected_steps");
+  ASSERT_EQ(energy.rows.size(), 11u);
+  for (std::size_t frame = 0; frame < energy.rows.size(); ++frame) {
+    const std::vector<double>& row = energy.rows[frame];
+    ASSERT_EQ(row.size(), 14u) << "frame " << frame;
+    EXPECT_EQ(row[0], static_cast<double>(frame));
+    EXPECT_EQ(row[1], static_cast<double>(frame) / 20.0) << "frame k at t = k / fps, exactly";
+    EXPECT_LT(std::abs(row[11]), 1e-4) << "energy balance error, frame " << frame;
+  }
+
+  const json run = summary("run");
+  EXPECT_TRUE(run.contains("clothsim_version"));
+  EXPECT_EQ(run["status"], "completed");
+  EXPECT_EQ(run["frames"], 11);
+  EXPECT_EQ(run["lattice"]["particles"], 25);
+  EXPECT_EQ(run["lattice"]["connectors"], 40);
+  EXPECT_EQ(run["lattice"]["anchors"], 1);
+  EXPECT_EQ(run["simulated_time"], 0.5);
+  EXPECT_EQ(run["integrator"]["method"], "rkf45");
+  EXPECT_GT(run["integrator"]["accepted_steps"].get<int>(), 0);
+  EXPECT_FALSE(run.contains("diagnosis"));
+  EXPECT_EQ(run["scene"]["output"]["fps"], 20);
+  EXPECT_TRUE(contains(run["command_line"].get<std::string>(), "--paper-args"));
+  for (const char* key : {"wall_seconds", "forces", "integration", "checks", "output", "realtime_factor"}) {
+    EXPECT_TRUE(run["timings"].contains(key)) << key;
+  }
+  for (const char* key : {"kinetic", "gravitational", "connector", "radial_adjacent", "radial_opposite", "total",
+                          "damping_work", "drag_work", "anchor_work", "balance_error"}) {
+    EXPECT_TRUE(run["energy"]["final"].contains(key)) << key;
+  }
+  EXPECT_EQ(run["energy"]["final"]["kinetic"].get<double>(), energy.rows.back()[kKineticColumn]);
+
+  const std::string mesh = read_text(work_ / "run" / "final.obj");
+  std::size_t vertices = 0;
+  std::istringstream lines(mesh);
+  for (std::string line; std::getline(lines, line);) vertices += line.starts_with("v ") ? 1 : 0;
+  EXPECT_EQ(vertices, kSmallParticles);
+}
+
+TEST_F(CliTest, SceneJsonReproducesTheRunBitForBit) {
+  ASSERT_EQ(small_run("first", {"--duration", "0.5", "--fps", "20", "--set", "initial.position_noise=0.01"}).exit_code,
+            0);
+  const Result again = clothsim({"run", "first/scene.json", "--out", "second", "--quiet"});
+  ASSERT_EQ(again.exit_code, 0) << describe(again);
+  EXPECT_TRUE(again.out.empty()) << "--quiet prints nothing";
+  EXPECT_EQ(read_text(work_ / "first" / "positions.npy"), read_text(work_ / "second" / "positions.npy"));
+  EXPECT_EQ(read_text(work_ / "first" / "velocities.npy"), read_text(work_ / "second" / "velocities.npy"));
+  EXPECT_EQ(read_text(work_ / "first" / "scene.json"), read_text(work_ / "second" / "scene.json"));
+}
+
+TEST_F(CliTest, NumpyOpensPositions) {
+  ASSERT_EQ(small_run("run", {"--duration", "0.5", "--fps", "20"}).exit_code, 0);
+  const std::string python = python_with_numpy();
+  ASSERT_FALSE(python.empty())
+      << "no Python interpreter with numpy found (tried $CLOTHSIM_PYTHON, python3, /usr/bin/python3): run "
+         "scripts/install-deps.sh, which installs python3-numpy, or set CLOTHSIM_PYTHON to a python with numpy";
+  ::setenv("NPY_PATH", (work_ / "run" / "positions.npy").c_str(), 1);
+  const std::string command =
+      python +
+      " -c \"import os, numpy; a = numpy.load(os.environ['NPY_PATH']); "
+      "assert a.shape == (11, 25, 3), a.shape; assert a.dtype == numpy.float64, a.dtype; "
+      "assert numpy.all(a[:, 12, :] == 0.0); print('numpy ok')\" 2>&1";
+  std::FILE* pipe = ::popen(command.c_str(), "r");
+  ASSERT_NE(pipe, nullptr);
+  std::string output;
+  char buffer[1024];
+  for (std::size_t got; (got = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) output.append(buffer, got);
+  EXPECT_EQ(::pclose(pipe), 0) << output;
+  EXPECT_TRUE(contains(output, "numpy ok"));
+}
+
+TEST_F(CliTest, UntilRestStopsAtTheFirstFrameBelowTheThreshold) {
+  constexpr double kThreshold = 1e-3;  // J
+  const Result result = small_run("rest", {"--until-rest", "--rest-energy", "0.001", "--fps", "10"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  const json run = summary("rest");
+  EXPECT_EQ(run["status"], "at_rest");
+  // Without --duration the cap is max(scene duration, 3600 s); the sheet settles long before.
+  EXPECT_EQ(run["scene"]["output"]["duration"], 3600.0);
+  EXPECT_EQ(run["scene"]["output"]["until_rest"], true);
+  const Csv energy = read_csv(work_ / "rest" / "energy.csv");
+  ASSERT_GE(energy.rows.size(), 3u);
+  EXPECT_LT(energy.rows.size(), 36001u) << "stopped early";
+  EXPECT_EQ(run["frames"], energy.rows.size());
+  EXPECT_LT(energy.rows.back()[kKineticColumn], kThreshold);
+  for (std::size_t frame = 1; frame + 1 < energy.rows.size(); ++frame) {
+    EXPECT_GE(energy.rows[frame][kKineticColumn], kThreshold) << "an earlier frame was already at rest: " << frame;
+  }
+}
+
+TEST_F(CliTest, BlowUpExitsOneWithDiagnosisAndKeepsFiniteFrames) {
+  const Result result = small_run(
+      "blow", {"--integrator", "symplectic-euler", "--time-step", "0.5", "--duration", "5", "--fps", "2"});
+  ASSERT_EQ(result.exit_code, 1) << describe(result);
+  EXPECT_TRUE(contains(result.err, "clothsim: error: simulation failed"));
+  EXPECT_TRUE(contains(result.err, "t = "));
+  EXPECT_TRUE(contains(result.err, "step "));
+  EXPECT_TRUE(result.err.find("particle") != std::string::npos || result.err.find("connector") != std::string::npos)
+      << result.err;
+
+  const std::set<std::string> names = entries(work_);
+  for (const std::string& name : names) EXPECT_EQ(name.find(".partial-"), std::string::npos) << name;
+
+  const json run = summary("blow");
+  EXPECT_EQ(run["status"], "failed");
+  ASSERT_TRUE(run.contains("diagnosis"));
+  for (const char* key : {"time", "step", "element", "message"}) EXPECT_TRUE(run["diagnosis"].contains(key)) << key;
+  const std::string element = run["diagnosis"]["element"].get<std::string>();
+  EXPECT_TRUE(element.find("particle") != std::string::npos || element.find("connector") != std::string::npos);
+
+  const NpyArray positions = read_npy((work_ / "blow" / "positions.npy").string());
+  ASSERT_EQ(positions.shape.size(), 3u);
+  EXPECT_GE(positions.shape[0], 1u);
+  EXPECT_LT(positions.shape[0], 11u) << "frames only up to the last good one";
+  EXPECT_EQ(run["frames"], positions.shape[0]);
+  for (double value : positions.data) ASSERT_TRUE(std::isfinite(value));
+  const NpyArray velocities = read_npy((work_ / "blow" / "velocities.npy").string());
+  for (double value : velocities.data) ASSERT_TRUE(std::isfinite(value));
+  EXPECT_EQ(read_csv(work_ / "blow" / "energy.csv").rows.size(), positions.shape[0]);
+}
+
+TEST_F(CliTest, RerunReplacesThePreviousRun) {
+  ASSERT_EQ(small_run("same", {"--duration", "0.2", "--fps", "20"}).exit_code, 0);
+  EXPECT_EQ(summary("same")["frames"], 5);
+  // Bad input aimed at a previous run leaves it as it was.
+  const Result bad = small_run("same", {"--fps", "0"});
+  EXPECT_EQ(bad.exit_code, 2) << describe(bad);
+  EXPECT_EQ(summary("same")["frames"], 5);
+
+  const Result again = small_run("same", {"--duration", "0.5", "--fps", "20"});
+  ASSERT_EQ(again.exit_code, 0) << describe(again);
+  EXPECT_EQ(summary("same")["frames"], 11);
+  EXPECT_EQ(read_npy((work_ / "same" / "positions.npy").string()).shape[0], 11u);
+  // Nothing but the new folder: no partial or old copy left beside it.
+  std::set<std::string> top;
+  for (const fs::directory_entry& entry : fs::directory_iterator(work_)) top.insert(entry.path().filename());
+  EXPECT_EQ(top, (std::set<std::string>{"same"}));
+}
+
+TEST_F(CliTest, DefaultOutputFolderIsNamedAfterTheScene) {
+  const Result result =
+      clothsim({"run", "--paper-args", kSmallPaperArgs, "--duration", "0.1", "--fps", "10", "--no-progress"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_TRUE(fs::exists(work_ / "out" / "paper-args" / "summary.json"));
+}
+
+TEST_F(CliTest, UnwritableOutputExitsThree) {
+  write_text(work_ / "blocker", "a file where a folder should be\n");
+  const std::set<std::string> before = entries(work_);
+  const Result result = small_run("blocker/run", {"--duration", "0.1"});
+  EXPECT_EQ(result.exit_code, 3) << describe(result);
+  EXPECT_TRUE(contains(result.err, "clothsim: error: "));
+  EXPECT_TRUE(contains(result.err, "blocker"));
+  EXPECT_EQ(entries(work_), before);
+}
+
+TEST_F(CliTest, InterruptFinishesTheFolderAndExits130) {
+  const pid_t pid = spawn_clothsim(
+      work_, {"run", "--paper-args", kSmallPaperArgs, "--duration", "100000", "--out", "long", "--no-progress"},
+      root_);
+  ASSERT_GT(pid, 0);
+  // Wait until the run is under way (its partial folder holds frames), then interrupt it.
+  const fs::path partial = work_ / ("long.partial-" + std::to_string(pid));
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  const auto frames_written = [&] {
+    std::error_code error;
+    const std::uintmax_t size = fs::file_size(partial / "energy.csv", error);
+    return !error && size > 1000;
+  };
+  while (!frames_written() && std::chrono::steady_clock::now() < deadline) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  ASSERT_TRUE(frames_written()) << "the run did not start writing frames within 60 s";
+  ::kill(pid, SIGINT);
+  const Result result = wait_clothsim(pid, root_);
+  ASSERT_EQ(result.exit_code, 130) << describe(result);
+  EXPECT_TRUE(contains(result.err, "interrupted"));
+  EXPECT_FALSE(fs::exists(partial));
+  const json run = summary("long");
+  EXPECT_EQ(run["status"], "interrupted");
+  const NpyArray positions = read_npy((work_ / "long" / "positions.npy").string());
+  EXPECT_EQ(run["frames"], positions.shape[0]);
+  EXPECT_GE(positions.shape[0], 2u);
+}
+
+// ---------------------------------------------------------------------------------------------
+// validate, scenes, params, help.
+
+TEST_F(CliTest, ValidateReportsEachScene) {
+  write_text(work_ / "good.json", R"({"name": "good", "paper_args": [5, 5, 1, 4, 1, 1400, 200, 80, 5, 1]})");
+  write_text(work_ / "bad.json", R"({"lattice": {"rows": 0}})");
+  const Result good = clothsim({"validate", "good.json", "paper-fig4"});
+  EXPECT_EQ(good.exit_code, 0) << describe(good);
+  EXPECT_TRUE(contains(good.out, "ok  good.json: 5x5 lattice, 25 particles, 40 connectors"));
+  EXPECT_TRUE(contains(good.out, "ok  paper-fig4: 21x21 lattice, 441 particles, 840 connectors"));
+  EXPECT_TRUE(contains(good.out, "1 anchor, rkf45, 20 s at 60 fps"));
+
+  const Result bad = clothsim({"validate", "good.json", "bad.json"});
+  EXPECT_EQ(bad.exit_code, 2) << describe(bad);
+  EXPECT_TRUE(contains(bad.out, "ok  good.json"));
+  EXPECT_TRUE(contains(bad.err, "clothsim: error: bad.json: field 'lattice.rows'"));
+  EXPECT_TRUE(contains(bad.err, "[1, 4096]"));
+}
+
+TEST_F(CliTest, ScenesListsTheBuiltins) {
+  const Result result = clothsim({"scenes"});
+  EXPECT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_TRUE(contains(result.out, "paper-fig4"));
+  EXPECT_TRUE(contains(result.out, "Figure 4"));
+}
+
+TEST_F(CliTest, ParamsListsTheRegistry) {
+  const Result result = clothsim({"params"});
+  EXPECT_EQ(result.exit_code, 0) << describe(result);
+  for (const char* piece : {"lattice.rows", "[1, 4096]", "springs.opposite.damping", "N m s/rad", "environment.gravity",
+                            "integrator.method", "output.fps"}) {
+    EXPECT_TRUE(contains(result.out, piece));
+  }
+}
+
+TEST_F(CliTest, EveryHelpEndsWithExamples) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"--help"}, {"run", "--help"}, {"validate", "--help"}, {"scenes", "--help"}, {"params", "--help"}}) {
+    const Result result = clothsim(args);
+    EXPECT_EQ(result.exit_code, 0) << args[0] << "\n" << describe(result);
+    EXPECT_TRUE(contains(result.out, "Examples"));
+  }
+  const Result main_help = clothsim({"--help"});
+  EXPECT_TRUE(contains(main_help.out, "Exit codes"));
+  EXPECT_TRUE(contains(main_help.out, "130"));
+  const Result version = clothsim({"--version"});
+  EXPECT_EQ(version.exit_code, 0);
+  EXPECT_TRUE(contains(version.out, "clothsim "));
+  EXPECT_TRUE(entries(work_).empty());
+}
+
+TEST_F(CliTest, NoSubcommandIsBadInput) {
+  const Result result = clothsim({});
+  EXPECT_EQ(result.exit_code, 2) << describe(result);
+  EXPECT_TRUE(contains(result.err, "clothsim: error: "));
+}
+
+}  // namespace
+}  // namespace clothsim
