@@ -66,6 +66,7 @@ struct StepOutcome {
 struct ForceOptions {
   ForceTerms terms = kAllForceTerms;
   int threads = 1;  // resolved thread count (>= 1)
+  ForceKernel kernel = ForceKernel::automatic;
 };
 
 class Integrator {

@@ -29,7 +29,7 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   CLOTHSIM_ASSERT(state_.position.size() == model_->particle_count(), "state matches the model");
   CLOTHSIM_ASSERT(state_.velocity.size() == model_->particle_count(), "state matches the model");
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
-  integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_});
+  integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_, settings.kernel});
   initial_energy_ = energy().total() - (state_.damping_work + state_.drag_work + state_.anchor_work);
   check_state();
 }

@@ -24,6 +24,7 @@ struct SimulationSettings {
   IntegratorSettings integrator;
   int threads = 0;  // 0: choose from the lattice size
   ForceTerms terms = kAllForceTerms;
+  ForceKernel kernel = ForceKernel::automatic;  // which force implementation (forces.h)
   // A connector longer than this many times its rest length means the integration has blown up.
   double explosion_stretch = 1000.0;
 };
