@@ -28,6 +28,7 @@ enum Array : std::size_t {
   kToWestX, kToWestY, kToWestZ,
   kToNorthX, kToNorthY, kToNorthZ,
   kPower,  // damping power of everything owned by the particle (2 connectors, 6 radials), W
+  kSingular,  // > 0 where one of the particle's radial springs is singular
   kArrayCount
 };
 
@@ -256,13 +257,19 @@ CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& 
   // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
   const Arrays s = arrays;
   const Coefficients k = coefficients;
-  int singular = 0;
+  double* __restrict singular = s[kSingular];
+  int any_singular = 0;
 #pragma GCC ivdep
-  for (std::size_t p = begin; p < end; ++p) singular |= radial_particle<false>(s, k, p, cols) > 0.0 ? 1 : 0;
-  if (singular != 0) {
-    // A straight or folded spring in this row (a flat sheet, at the start of most runs): redo the
-    // row with the bending plane taken from the motion where it is undefined.
-    for (std::size_t p = begin; p < end; ++p) radial_particle<true>(s, k, p, cols);
+  for (std::size_t p = begin; p < end; ++p) {
+    singular[p] = radial_particle<false>(s, k, p, cols);
+    any_singular |= singular[p] > 0.0 ? 1 : 0;
+  }
+  if (any_singular != 0) {
+    // A straight or folded spring (a flat sheet, at the start of most runs; a symmetry line):
+    // redo that particle with the bending plane taken from the motion where it is undefined.
+    for (std::size_t p = begin; p < end; ++p) {
+      if (singular[p] > 0.0) radial_particle<true>(s, k, p, cols);
+    }
   }
 }
 

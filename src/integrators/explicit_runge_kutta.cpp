@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <span>
 
 #include "core/assert.h"
 #include "core/parallel.h"
@@ -13,6 +14,55 @@ namespace {
 // Particles per block of the parallel error-norm reduction; fixed so the result never depends
 // on the thread count.
 constexpr std::size_t kErrorBlock = 1024;
+
+// Doubles per block of the parallel linear combinations.
+constexpr std::size_t kCombinationBlock = 4096;
+
+// out[k] = base[k] + c[0] in[0][k] + c[1] in[1][k] + ..., summed left to right, for k in
+// [begin, end) of flat double arrays (a Vec3 array is 3n doubles). The number of terms is a
+// template parameter so that the term loop unrolls and the loop over k vectorises.
+template <int kTerms>
+void combination_block(double* __restrict out, const double* __restrict base, const double* const* in,
+                       const double* c, std::size_t begin, std::size_t end) {
+  const double* __restrict term[kTerms > 0 ? kTerms : 1];
+  double coefficient[kTerms > 0 ? kTerms : 1];
+  for (int t = 0; t < kTerms; ++t) {
+    term[t] = in[t];
+    coefficient[t] = c[t];
+  }
+#pragma GCC ivdep
+  for (std::size_t k = begin; k < end; ++k) {
+    double sum = base[k];
+    for (int t = 0; t < kTerms; ++t) sum += coefficient[t] * term[t][k];
+    out[k] = sum;
+  }
+}
+
+// Linear combination of Vec3 arrays: out = base + sum_t c[t] in[t], over `particles` entries.
+// The same sums, in the same order, as adding c[t] * in[t][p] to a Vec3 term by term, so the
+// result is independent of the blocking and of the thread count.
+void linear_combination(std::span<Vec3> out, std::span<const Vec3> base, const std::array<const Vec3*, kMaxStages>& in,
+                        const std::array<double, kMaxStages>& c, int terms, int threads) {
+  const std::size_t size = 3 * base.size();
+  double* out_data = &out.data()->x;
+  const double* base_data = &base.data()->x;
+  std::array<const double*, kMaxStages> flat{};
+  for (int t = 0; t < terms; ++t) flat[static_cast<std::size_t>(t)] = &in[static_cast<std::size_t>(t)]->x;
+  const std::size_t blocks = (size + kCombinationBlock - 1) / kCombinationBlock;
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    const std::size_t begin = block * kCombinationBlock;
+    const std::size_t end = std::min(size, begin + kCombinationBlock);
+    switch (terms) {
+      case 0: combination_block<0>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 1: combination_block<1>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 2: combination_block<2>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 3: combination_block<3>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 4: combination_block<4>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 5: combination_block<5>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      default: combination_block<6>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+    }
+  });
+}
 
 // Exponents of the PI step-size controller for an error estimate of order 5 (the embedded
 // 4th-order solution's local error): Hairer, Norsett and Wanner's DOPRI5 values, beta = 0.04,
@@ -34,25 +84,28 @@ ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const Integrator
 }
 
 void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
-  const std::size_t n = model_.particle_count();
   for (int i = 0; i < tableau_.stages; ++i) {
     const auto& a = tableau_.coefficients[static_cast<std::size_t>(i)];
-    // Stage state y_i = y + h sum_{j<i} a_ij k_j. Written as one loop per particle so that each
-    // particle's stage values come from one pass over the earlier stage rates.
-    parallel_for(n, dynamics_.threads(), [&](std::size_t p) {
-      Vec3 x = state.position[p];
-      Vec3 v = state.velocity[p];
+    // Stage state y_i = y + h sum_{j<i} a_ij k_j, over the stages with a non-zero coefficient.
+    const double stage_time = state.time + tableau_.nodes[static_cast<std::size_t>(i)] * h;
+    {
+      ScopedTimer timer(stage_sum_seconds_);
+      std::array<double, kMaxStages> coefficient{};
+      std::array<const Vec3*, kMaxStages> position_rate{};
+      std::array<const Vec3*, kMaxStages> velocity_rate{};
+      int terms = 0;
       for (int j = 0; j < i; ++j) {
         const double ha = h * a[static_cast<std::size_t>(j)];
         if (ha == 0.0) continue;
-        x += ha * stage_rate_[static_cast<std::size_t>(j)].position_rate[p];
-        v += ha * stage_rate_[static_cast<std::size_t>(j)].velocity_rate[p];
+        const auto t = static_cast<std::size_t>(terms++);
+        coefficient[t] = ha;
+        position_rate[t] = stage_rate_[static_cast<std::size_t>(j)].position_rate.data();
+        velocity_rate[t] = stage_rate_[static_cast<std::size_t>(j)].velocity_rate.data();
       }
-      stage_position_[p] = x;
-      stage_velocity_[p] = v;
-    });
-    const double stage_time = state.time + tableau_.nodes[static_cast<std::size_t>(i)] * h;
-    dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
+      linear_combination(stage_position_, state.position, position_rate, coefficient, terms, dynamics_.threads());
+      linear_combination(stage_velocity_, state.velocity, velocity_rate, coefficient, terms, dynamics_.threads());
+      dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
+    }
     dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[static_cast<std::size_t>(i)]);
   }
   stats_.force_evaluations = dynamics_.evaluations();
@@ -61,19 +114,22 @@ void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
 
 void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::array<double, kMaxStages>& weights,
                                  ClothState& out) {
+  ScopedTimer timer(solution_seconds_);
   const int stages = tableau_.stages;
-  parallel_for(model_.particle_count(), dynamics_.threads(), [&](std::size_t p) {
-    Vec3 x = state.position[p];
-    Vec3 v = state.velocity[p];
-    for (int i = 0; i < stages; ++i) {
-      const double hb = h * weights[static_cast<std::size_t>(i)];
-      if (hb == 0.0) continue;
-      x += hb * stage_rate_[static_cast<std::size_t>(i)].position_rate[p];
-      v += hb * stage_rate_[static_cast<std::size_t>(i)].velocity_rate[p];
-    }
-    out.position[p] = x;
-    out.velocity[p] = v;
-  });
+  std::array<double, kMaxStages> coefficient{};
+  std::array<const Vec3*, kMaxStages> position_rate{};
+  std::array<const Vec3*, kMaxStages> velocity_rate{};
+  int terms = 0;
+  for (int i = 0; i < stages; ++i) {
+    const double hb = h * weights[static_cast<std::size_t>(i)];
+    if (hb == 0.0) continue;
+    const auto t = static_cast<std::size_t>(terms++);
+    coefficient[t] = hb;
+    position_rate[t] = stage_rate_[static_cast<std::size_t>(i)].position_rate.data();
+    velocity_rate[t] = stage_rate_[static_cast<std::size_t>(i)].velocity_rate.data();
+  }
+  linear_combination(out.position, state.position, position_rate, coefficient, terms, dynamics_.threads());
+  linear_combination(out.velocity, state.velocity, velocity_rate, coefficient, terms, dynamics_.threads());
   out.damping_work = state.damping_work;
   out.drag_work = state.drag_work;
   out.anchor_work = state.anchor_work;
@@ -84,6 +140,20 @@ void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::a
     out.drag_work += hb * rate.drag_power;
     out.anchor_work += hb * rate.anchor_power;
   }
+}
+
+std::vector<PhaseTime> ExplicitRungeKutta::phase_times() const {
+  std::vector<PhaseTime> phases = {{"stage sums", stage_sum_seconds_}, {"solution update", solution_seconds_}};
+  if (tableau_.embedded_order > 0 && kind() == IntegratorKind::rkf45) phases.push_back({"error control", error_seconds_});
+  return phases;
+}
+
+std::size_t ExplicitRungeKutta::workspace_bytes() const {
+  std::size_t bytes = dynamics_.bytes();
+  for (const StateDerivative& rate : stage_rate_) bytes += rate.bytes();
+  bytes += (stage_position_.capacity() + stage_velocity_.capacity()) * sizeof(Vec3);
+  bytes += (trial_.position.capacity() + trial_.velocity.capacity()) * sizeof(Vec3);
+  return bytes;
 }
 
 void ExplicitRungeKutta::accept(ClothState& state, double h, double t) {
@@ -126,6 +196,7 @@ AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const Integrator
 }
 
 AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& state, double h) {
+  ScopedTimer timer(error_seconds_);
   std::array<double, kMaxStages> difference{};
   for (int i = 0; i < tableau_.stages; ++i) {
     const auto k = static_cast<std::size_t>(i);

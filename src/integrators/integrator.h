@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "forces/forces.h"
 #include "model/cloth_model.h"
@@ -69,6 +70,12 @@ struct ForceOptions {
   ForceKernel kernel = ForceKernel::automatic;
 };
 
+// Wall time of one named sub-phase of step() besides force evaluation, s.
+struct PhaseTime {
+  std::string_view name;  // "stage sums", "error control", ...
+  double seconds = 0.0;
+};
+
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -79,6 +86,11 @@ class Integrator {
   const IntegratorStats& stats() const { return stats_; }
   // Time spent in force evaluation, s (the rest of step() is integration).
   double force_seconds() const { return force_seconds_; }
+  // The timed sub-phases of the integration (the part of step() outside force evaluation), for
+  // the run profile; an integrator lists only the phases it has. Called once per report.
+  virtual std::vector<PhaseTime> phase_times() const { return {}; }
+  // Bytes of scratch memory the integrator holds: stage arrays, force buffers, and so on.
+  virtual std::size_t workspace_bytes() const { return 0; }
 
  protected:
   IntegratorStats stats_;
