@@ -39,7 +39,7 @@ int main(int argc, char** argv) {
   app.get_formatter()->column_width(34);
   app.footer(main_footer());
   const std::array commands = {add_run_command(app, invocation), add_validate_command(app), add_scenes_command(app),
-                               add_params_command(app)};
+                               add_params_command(app), add_bench_command(app)};
 
   try {
     app.parse(argc, argv);

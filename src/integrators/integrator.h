@@ -21,6 +21,9 @@ namespace clothsim {
 enum class IntegratorKind : std::uint8_t { rkf45, rk4, symplectic_euler };
 
 std::string_view to_string(IntegratorKind kind);
+// Every kind, in enum order: the values to_string() names (so a new kind appears here, in the
+// benchmark suite for instance, as soon as to_string() knows it).
+std::vector<IntegratorKind> all_integrator_kinds();
 // Parses "rkf45", "rk4", "symplectic-euler"; returns false for anything else.
 bool parse_integrator_kind(std::string_view text, IntegratorKind& kind);
 
