@@ -20,6 +20,7 @@ std::string main_footer() {
       "  clothsim run my-scene.json --until-rest --out out/mine\n"
       "  clothsim validate my-scene.json\n"
       "  clothsim params | grep stiffness                  # keys for --set\n"
+      "  clothsim bench --quick                            # throughput on this machine\n"
       "  clothsim run --help                               # every flag of a subcommand\n"
       "\n";
   text += clothsim::cli::exit_code_help();
