@@ -63,7 +63,7 @@ struct Coefficients {
 // One radial spring between the connectors centre->b and centre->c, from their unit vectors and
 // inverse lengths (0: no such connector) and the relative velocities v_b - v_a, v_c - v_a.
 // The formulas are those of element::radial_force, rearranged to multiply by 1/length and
-// 1/sin(theta) once; with kResolveSingular false a singular spring (sin(theta) <
+// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p; with kResolveSingular false a singular spring (sin(theta) <
 // kSingularSine) gives garbage and sets `singular`, and the caller recomputes it with
 // kResolveSingular true, which takes the bending plane from the motion like
 // element::resolve_singular_directions.
@@ -75,30 +75,19 @@ struct RadialResult {
 };
 
 template <bool kResolveSingular>
-[[gnu::always_inline]] inline RadialResult radial_spring(const Vec3& ub, double inverse_b, const Vec3& uc, double inverse_c, const Vec3& rb,
-                                  const Vec3& rc, double stiffness, double damping, double rest_angle) {
+[[gnu::always_inline]] inline RadialResult radial_spring(const Vec3& ub, double inverse_b, const Vec3& uc,
+                                                         double inverse_c, const Vec3& rb, const Vec3& rc,
+                                                         double stiffness, double damping, double rest_angle) {
   const bool exists = std::min(inverse_b, inverse_c) > 0.0;
   const Vec3 n = cross(ub, uc);
   const double cosine = dot(ub, uc);
   const double sine = std::sqrt(dot(n, n));
-  const Vec3 wb = cross(n, ub);
-  const Vec3 wc = cross(uc, n);
+  const Vec3 wb = cross(n, ub);  // sin(theta) p_b
+  const Vec3 wc = cross(uc, n);  // sin(theta) p_c
   const double inverse_sine = 1.0 / sine;
-  Vec3 pb = inverse_sine * wb;
-  Vec3 pc = inverse_sine * wc;
   const bool obtuse = cosine < 0.0;
   RadialResult out;
   out.singular = exists ? element::kSingularSine - sine : -1.0;
-  if constexpr (kResolveSingular) {
-    if (out.singular > 0.0) {
-      const Vec3 turn_b = inverse_b * (rb - dot(rb, ub) * ub);
-      const Vec3 turn_c = inverse_c * (rc - dot(rc, uc) * uc);
-      const Vec3 opening = obtuse ? turn_b + turn_c : turn_c - turn_b;
-      const double rate = norm(opening);
-      pb = rate > 0.0 ? opening / rate : Vec3{};
-      pc = obtuse ? pb : -pb;
-    }
-  }
   // theta (acute) or pi - theta (obtuse), and (that angle) / sin(theta) without cancellation.
   const double angle = vector_math::atan2_first_quadrant(sine, std::abs(cosine));
   const double angle2 = angle * angle;
@@ -108,14 +97,37 @@ template <bool kResolveSingular>
   const double constant = obtuse ? std::numbers::pi - rest_angle : -rest_angle;
   const double kb = stiffness * inverse_b;
   const double kc = stiffness * inverse_c;
-  Vec3 fb = kb * (smooth * wb + constant * pb);
-  Vec3 fc = kc * (smooth * wc + constant * pc);
-  const Vec3 gb = -inverse_b * pb;  // dtheta/dx_b
-  const Vec3 gc = -inverse_c * pc;
-  const double angle_rate = dot(gb, rb) + dot(gc, rc);
-  const double torque = -damping * angle_rate;
-  fb += torque * gb;
-  fc += torque * gc;
+  Vec3 fb;
+  Vec3 fc;
+  double angle_rate = 0.0;
+  double torque = 0.0;
+  if (!kResolveSingular || !(out.singular > 0.0)) {
+    // p = w / sin(theta) is parallel to w, so every force along p is a multiple of w:
+    //   f_b = [k/l_b (A + B / sin) + torque (-1/(l_b sin))] w_b,  dtheta/dx_b = -w_b / (l_b sin).
+    const double gradient_b = -inverse_b * inverse_sine;
+    const double gradient_c = -inverse_c * inverse_sine;
+    angle_rate = gradient_b * dot(wb, rb) + gradient_c * dot(wc, rc);
+    torque = -damping * angle_rate;
+    const double elastic = smooth + constant * inverse_sine;
+    fb = (kb * elastic + torque * gradient_b) * wb;
+    fc = (kc * elastic + torque * gradient_c) * wc;
+  } else {
+    // Singular: the bending plane from the motion (element::resolve_singular_directions).
+    const Vec3 turn_b = inverse_b * (rb - dot(rb, ub) * ub);
+    const Vec3 turn_c = inverse_c * (rc - dot(rc, uc) * uc);
+    const Vec3 opening = obtuse ? turn_b + turn_c : turn_c - turn_b;
+    const double rate = norm(opening);
+    const Vec3 pb = rate > 0.0 ? opening / rate : Vec3{};
+    const Vec3 pc = obtuse ? pb : -pb;
+    fb = kb * (smooth * wb + constant * pb);
+    fc = kc * (smooth * wc + constant * pc);
+    const Vec3 gb = -inverse_b * pb;  // dtheta/dx_b
+    const Vec3 gc = -inverse_c * pc;
+    angle_rate = dot(gb, rb) + dot(gc, rc);
+    torque = -damping * angle_rate;
+    fb += torque * gb;
+    fc += torque * gc;
+  }
   out.on_b = {exists ? fb.x : 0.0, exists ? fb.y : 0.0, exists ? fb.z : 0.0};
   out.on_c = {exists ? fc.x : 0.0, exists ? fc.y : 0.0, exists ? fc.z : 0.0};
   out.power = exists ? torque * angle_rate : 0.0;
