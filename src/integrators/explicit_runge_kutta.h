@@ -79,8 +79,7 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
 
   double proposed_step_ = 0.0;  // 0 until the first step
   double previous_error_ = 1e-4;
-  std::vector<double> block_error_;          // per-block maxima of the error norm
-  std::vector<std::uint32_t> block_worst_;   // their particles
+  std::vector<double> block_error_;  // per-block maxima of the error norm
 };
 
 }  // namespace clothsim
