@@ -11,5 +11,6 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation);  // 
 Subcommand add_validate_command(CLI::App& parent);                          // validate_command.cpp
 Subcommand add_scenes_command(CLI::App& parent);                            // catalog_commands.cpp
 Subcommand add_params_command(CLI::App& parent);                            // catalog_commands.cpp
+Subcommand add_bench_command(CLI::App& parent);                             // bench_command.cpp
 
 }  // namespace clothsim::cli

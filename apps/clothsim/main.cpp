@@ -20,6 +20,7 @@ std::string main_footer() {
       "  clothsim run my-scene.json --until-rest --out out/mine\n"
       "  clothsim validate my-scene.json\n"
       "  clothsim params | grep stiffness                  # keys for --set\n"
+      "  clothsim bench --quick                            # throughput on this machine\n"
       "  clothsim run --help                               # every flag of a subcommand\n"
       "\n";
   text += clothsim::cli::exit_code_help();
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
   app.get_formatter()->column_width(34);
   app.footer(main_footer());
   const std::array commands = {add_run_command(app, invocation), add_validate_command(app), add_scenes_command(app),
-                               add_params_command(app)};
+                               add_params_command(app), add_bench_command(app)};
 
   try {
     app.parse(argc, argv);

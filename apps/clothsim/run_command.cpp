@@ -24,6 +24,7 @@
 #include "io/run_writer.h"
 #include "progress_bar.h"
 #include "scene/parameters.h"
+#include "sim/profile.h"
 #include "sim/simulation.h"
 
 namespace clothsim::cli {
@@ -104,6 +105,7 @@ struct RunOptions {
   bool until_rest = false;
   bool quiet = false;
   bool no_progress = false;
+  bool profile = false;
 
   bool given(std::string_view flag) const { return app->count(std::string(flag)) > 0; }
 };
@@ -266,6 +268,13 @@ int run(const RunOptions& options, const Invocation& invocation) {
 
   // 3. Report.
   if (!options.quiet) print_summary(spec, simulation, writer, status, wall_seconds);
+  if (options.profile) {
+    std::printf("\nprofile (wall time per phase)\n%s",
+                format_profile(profile_rows(simulation, writer.output_seconds(), wall_seconds),
+                               simulation.integrator_stats().force_evaluations)
+                    .c_str());
+    std::fflush(stdout);
+  }
   if (status == RunStatus::failed) {
     std::string message = "simulation failed ";
     message += simulation.failure() ? simulation.failure()->message : std::string("without a diagnosis");
@@ -340,6 +349,8 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
   app->add_flag("--quiet", options->quiet, "print nothing but errors");
   app->add_flag("--no-progress", options->no_progress, "no progress bar (it is shown only on a terminal anyway)");
+  app->add_flag("--profile", options->profile,
+                "print where the wall time went: forces, integration (stage sums, error control), checks, output");
   app->footer(run_footer());
   return {app, [options, invocation] { return run(*options, invocation); }};
 }

@@ -18,6 +18,15 @@ void ForceBuffers::resize(const ClothModel& model) {
   slot_force.assign(model.force_slot_count(), Vec3{});
   element_power.assign(model.connector_count() + model.radial_count(), 0.0);
   block_power.assign((element_power.size() + kReductionBlock - 1) / kReductionBlock, 0.0);
+  const bool lattice_ready = kernel != ForceKernel::general && lattice.prepare(model);
+  if (kernel == ForceKernel::general) lattice = LatticeKernel{};
+  CLOTHSIM_ASSERT(kernel != ForceKernel::lattice || lattice_ready,
+                  "ForceKernel::lattice needs an intact lattice with uniform material");
+}
+
+std::size_t ForceBuffers::bytes() const {
+  return slot_force.capacity() * sizeof(Vec3) + (element_power.capacity() + block_power.capacity()) * sizeof(double) +
+         lattice.bytes();
 }
 
 double deterministic_sum(std::span<const double> values, int threads, std::vector<double>& block_sums) {
@@ -51,12 +60,15 @@ void gather_forces(const ClothModel& model, std::span<const Vec3> velocity, Forc
 ForcePowers evaluate_forces(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                             ForceTerms terms, int threads, ForceBuffers& buffers, std::span<Vec3> force) {
   CLOTHSIM_ASSERT(buffers.slot_force.size() == model.force_slot_count(), "ForceBuffers::resize(model) was called");
-  accumulate_connector_springs(model, position, velocity, terms, threads, buffers);
-  accumulate_radial_springs(model, position, velocity, terms, threads, buffers);
-  gather_forces(model, velocity, terms, threads, buffers, force);
-
   ForcePowers powers;
-  powers.damping = deterministic_sum(buffers.element_power, threads, buffers.block_power);
+  if (buffers.lattice.active()) {
+    powers.damping = buffers.lattice.evaluate(model, position, velocity, terms, threads, force);
+  } else {
+    accumulate_connector_springs(model, position, velocity, terms, threads, buffers);
+    accumulate_radial_springs(model, position, velocity, terms, threads, buffers);
+    gather_forces(model, velocity, terms, threads, buffers, force);
+    powers.damping = deterministic_sum(buffers.element_power, threads, buffers.block_power);
+  }
   if ((terms & kAirDrag) != 0 && model.environment.air_drag != 0.0) {
     // -drag |v|^2 summed in particle order. Serial: it is one multiply-add per particle.
     double speed_squared = 0.0;

@@ -9,6 +9,12 @@
 // add into the same value, so the result is bit-for-bit the same for any thread count; this costs
 // one extra pass over memory compared with scattered atomic adds, and keeps runs reproducible.
 // The per-element math itself is in element.h.
+//
+// An intact rows x cols lattice with uniform material (what build_lattice makes) takes a second,
+// vectorised path through the same physics: lattice_kernel.h. ForceBuffers::resize() chooses
+// the path once per model; evaluate_forces() then follows it. Both give the same forces up to
+// rounding (tests/forces/test_lattice_kernel.cpp), and each is bit-for-bit independent of the
+// thread count.
 #pragma once
 
 #include <cstdint>
@@ -16,6 +22,7 @@
 #include <vector>
 
 #include "core/vec3.h"
+#include "forces/lattice_kernel.h"
 #include "model/cloth_model.h"
 
 namespace clothsim {
@@ -30,12 +37,25 @@ inline constexpr ForceTerms kAirDrag = 1u << 4;
 inline constexpr ForceTerms kSpringDamping = 1u << 5;  // damping of connector and radial springs
 inline constexpr ForceTerms kAllForceTerms = (1u << 6) - 1;
 
-// Scratch memory for one force evaluation, sized by resize() for a model.
+// Which implementation of the force function evaluate_forces() runs.
+enum class ForceKernel : std::uint8_t {
+  automatic,  // the lattice kernel when the model is an intact lattice, else the general one
+  general,    // element lists and per-element slots: any sheet, torn or irregular
+  lattice,    // the structured kernel; resize() fails an assertion if the model is not a lattice
+};
+
+// Scratch memory for one force evaluation, sized by resize() for a model. A model whose elements
+// change (tearing) needs resize() again before the next evaluation.
 struct ForceBuffers {
+  ForceKernel kernel = ForceKernel::automatic;  // set before resize()
   std::vector<Vec3> slot_force;     // [model.force_slot_count()], N
   std::vector<double> element_power;  // [connectors + radials], damping power per element, W
   std::vector<double> block_power;    // partial sums over fixed blocks of element_power
+  LatticeKernel lattice;              // scratch of the structured kernel, when it is in use
   void resize(const ClothModel& model);
+  bool uses_lattice_kernel() const { return lattice.active(); }
+  // Bytes of scratch memory held.
+  std::size_t bytes() const;
 };
 
 // Powers of the dissipative forces at the evaluated state (W, never positive).

@@ -12,6 +12,7 @@ void StateDerivative::resize(std::size_t particles) {
 
 ClothDynamics::ClothDynamics(const ClothModel& model, const ForceOptions& options)
     : model_(model), options_(options), force_(model.particle_count()) {
+  buffers_.kernel = options.kernel;
   buffers_.resize(model);
 }
 

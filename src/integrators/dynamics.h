@@ -23,6 +23,7 @@ struct StateDerivative {
   double drag_power = 0.0;          // W
   double anchor_power = 0.0;        // W, power the anchors put into the sheet
   void resize(std::size_t particles);
+  std::size_t bytes() const { return (position_rate.capacity() + velocity_rate.capacity()) * sizeof(Vec3); }
 };
 
 class ClothDynamics {
@@ -38,6 +39,8 @@ class ClothDynamics {
   int threads() const { return options_.threads; }
   std::uint64_t evaluations() const { return evaluations_; }
   double seconds() const { return seconds_; }
+  // Bytes of scratch memory held (force buffers and the force array).
+  std::size_t bytes() const { return buffers_.bytes() + force_.capacity() * sizeof(Vec3); }
 
  private:
   const ClothModel& model_;

@@ -1,7 +1,9 @@
 #include "integrators/explicit_runge_kutta.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <span>
 
 #include "core/assert.h"
 #include "core/parallel.h"
@@ -13,6 +15,56 @@ namespace {
 // Particles per block of the parallel error-norm reduction; fixed so the result never depends
 // on the thread count.
 constexpr std::size_t kErrorBlock = 1024;
+
+// Doubles per block of the parallel linear combinations.
+constexpr std::size_t kCombinationBlock = 4096;
+
+// out[k] = base[k] + c[0] in[0][k] + c[1] in[1][k] + ..., summed left to right (from 0 when base
+// is null), for k in
+// [begin, end) of flat double arrays (a Vec3 array is 3n doubles). The number of terms is a
+// template parameter so that the term loop unrolls and the loop over k vectorises.
+template <int kTerms>
+void combination_block(double* __restrict out, const double* __restrict base, const double* const* in,
+                       const double* c, std::size_t begin, std::size_t end) {
+  const double* __restrict term[kTerms > 0 ? kTerms : 1];
+  double coefficient[kTerms > 0 ? kTerms : 1];
+  for (int t = 0; t < kTerms; ++t) {
+    term[t] = in[t];
+    coefficient[t] = c[t];
+  }
+#pragma GCC ivdep
+  for (std::size_t k = begin; k < end; ++k) {
+    double sum = base != nullptr ? base[k] : 0.0;
+    for (int t = 0; t < kTerms; ++t) sum += coefficient[t] * term[t][k];
+    out[k] = sum;
+  }
+}
+
+// Linear combination of Vec3 arrays: out = base + sum_t c[t] in[t] (base empty: 0 + ...).
+// The same sums, in the same order, as adding c[t] * in[t][p] to a Vec3 term by term, so the
+// result is independent of the blocking and of the thread count.
+void linear_combination(std::span<Vec3> out, std::span<const Vec3> base, const std::array<const Vec3*, kMaxStages>& in,
+                        const std::array<double, kMaxStages>& c, int terms, int threads) {
+  const std::size_t size = 3 * out.size();
+  double* out_data = &out.data()->x;
+  const double* base_data = base.empty() ? nullptr : &base.data()->x;
+  std::array<const double*, kMaxStages> flat{};
+  for (int t = 0; t < terms; ++t) flat[static_cast<std::size_t>(t)] = &in[static_cast<std::size_t>(t)]->x;
+  const std::size_t blocks = (size + kCombinationBlock - 1) / kCombinationBlock;
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    const std::size_t begin = block * kCombinationBlock;
+    const std::size_t end = std::min(size, begin + kCombinationBlock);
+    switch (terms) {
+      case 0: combination_block<0>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 1: combination_block<1>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 2: combination_block<2>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 3: combination_block<3>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 4: combination_block<4>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      case 5: combination_block<5>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+      default: combination_block<6>(out_data, base_data, flat.data(), c.data(), begin, end); break;
+    }
+  });
+}
 
 // Exponents of the PI step-size controller for an error estimate of order 5 (the embedded
 // 4th-order solution's local error): Hairer, Norsett and Wanner's DOPRI5 values, beta = 0.04,
@@ -34,25 +86,28 @@ ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const Integrator
 }
 
 void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
-  const std::size_t n = model_.particle_count();
   for (int i = 0; i < tableau_.stages; ++i) {
     const auto& a = tableau_.coefficients[static_cast<std::size_t>(i)];
-    // Stage state y_i = y + h sum_{j<i} a_ij k_j. Written as one loop per particle so that each
-    // particle's stage values come from one pass over the earlier stage rates.
-    parallel_for(n, dynamics_.threads(), [&](std::size_t p) {
-      Vec3 x = state.position[p];
-      Vec3 v = state.velocity[p];
+    // Stage state y_i = y + h sum_{j<i} a_ij k_j, over the stages with a non-zero coefficient.
+    const double stage_time = state.time + tableau_.nodes[static_cast<std::size_t>(i)] * h;
+    {
+      ScopedTimer timer(stage_sum_seconds_);
+      std::array<double, kMaxStages> coefficient{};
+      std::array<const Vec3*, kMaxStages> position_rate{};
+      std::array<const Vec3*, kMaxStages> velocity_rate{};
+      int terms = 0;
       for (int j = 0; j < i; ++j) {
         const double ha = h * a[static_cast<std::size_t>(j)];
         if (ha == 0.0) continue;
-        x += ha * stage_rate_[static_cast<std::size_t>(j)].position_rate[p];
-        v += ha * stage_rate_[static_cast<std::size_t>(j)].velocity_rate[p];
+        const auto t = static_cast<std::size_t>(terms++);
+        coefficient[t] = ha;
+        position_rate[t] = stage_rate_[static_cast<std::size_t>(j)].position_rate.data();
+        velocity_rate[t] = stage_rate_[static_cast<std::size_t>(j)].velocity_rate.data();
       }
-      stage_position_[p] = x;
-      stage_velocity_[p] = v;
-    });
-    const double stage_time = state.time + tableau_.nodes[static_cast<std::size_t>(i)] * h;
-    dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
+      linear_combination(stage_position_, state.position, position_rate, coefficient, terms, dynamics_.threads());
+      linear_combination(stage_velocity_, state.velocity, velocity_rate, coefficient, terms, dynamics_.threads());
+      dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
+    }
     dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[static_cast<std::size_t>(i)]);
   }
   stats_.force_evaluations = dynamics_.evaluations();
@@ -61,19 +116,22 @@ void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
 
 void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::array<double, kMaxStages>& weights,
                                  ClothState& out) {
+  ScopedTimer timer(solution_seconds_);
   const int stages = tableau_.stages;
-  parallel_for(model_.particle_count(), dynamics_.threads(), [&](std::size_t p) {
-    Vec3 x = state.position[p];
-    Vec3 v = state.velocity[p];
-    for (int i = 0; i < stages; ++i) {
-      const double hb = h * weights[static_cast<std::size_t>(i)];
-      if (hb == 0.0) continue;
-      x += hb * stage_rate_[static_cast<std::size_t>(i)].position_rate[p];
-      v += hb * stage_rate_[static_cast<std::size_t>(i)].velocity_rate[p];
-    }
-    out.position[p] = x;
-    out.velocity[p] = v;
-  });
+  std::array<double, kMaxStages> coefficient{};
+  std::array<const Vec3*, kMaxStages> position_rate{};
+  std::array<const Vec3*, kMaxStages> velocity_rate{};
+  int terms = 0;
+  for (int i = 0; i < stages; ++i) {
+    const double hb = h * weights[static_cast<std::size_t>(i)];
+    if (hb == 0.0) continue;
+    const auto t = static_cast<std::size_t>(terms++);
+    coefficient[t] = hb;
+    position_rate[t] = stage_rate_[static_cast<std::size_t>(i)].position_rate.data();
+    velocity_rate[t] = stage_rate_[static_cast<std::size_t>(i)].velocity_rate.data();
+  }
+  linear_combination(out.position, state.position, position_rate, coefficient, terms, dynamics_.threads());
+  linear_combination(out.velocity, state.velocity, velocity_rate, coefficient, terms, dynamics_.threads());
   out.damping_work = state.damping_work;
   out.drag_work = state.drag_work;
   out.anchor_work = state.anchor_work;
@@ -84,6 +142,20 @@ void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::a
     out.drag_work += hb * rate.drag_power;
     out.anchor_work += hb * rate.anchor_power;
   }
+}
+
+std::vector<PhaseTime> ExplicitRungeKutta::phase_times() const {
+  std::vector<PhaseTime> phases = {{"stage sums", stage_sum_seconds_}, {"solution update", solution_seconds_}};
+  if (tableau_.embedded_order > 0 && kind() == IntegratorKind::rkf45) phases.push_back({"error control", error_seconds_});
+  return phases;
+}
+
+std::size_t ExplicitRungeKutta::workspace_bytes() const {
+  std::size_t bytes = dynamics_.bytes();
+  for (const StateDerivative& rate : stage_rate_) bytes += rate.bytes();
+  bytes += (stage_position_.capacity() + stage_velocity_.capacity()) * sizeof(Vec3);
+  bytes += (trial_.position.capacity() + trial_.velocity.capacity()) * sizeof(Vec3);
+  return bytes;
 }
 
 void ExplicitRungeKutta::accept(ClothState& state, double h, double t) {
@@ -122,58 +194,89 @@ AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const Integrator
   CLOTHSIM_ASSERT(tableau.embedded_order > 0, "an adaptive method needs an embedded error estimate");
   const std::size_t blocks = (model.particle_count() + kErrorBlock - 1) / kErrorBlock;
   block_error_.resize(blocks);
-  block_worst_.resize(blocks);
 }
 
+namespace {
+
+// The scaled error of one particle as the bit pattern of a non-negative double: for those,
+// unsigned integer order is numeric order, with +inf above every finite value and NaN above +inf,
+// so a plain integer maximum finds the largest error and lets a non-finite one win, without
+// branches (the loop vectorises). 0 for anchored particles.
+inline std::uint64_t scaled_error_bits(const Vec3& error_x, const Vec3& error_v, const Vec3& x0, const Vec3& x1,
+                                       const Vec3& v0, const Vec3& v1, double atol, double rtol, bool anchored) {
+  const auto ratio = [&](double error, double before, double after) {
+    const double scale = atol + rtol * std::max(std::abs(before), std::abs(after));
+    // (e - e) and (after - after) are 0 for finite values and NaN otherwise.
+    const double ratio_value = std::abs(error) / scale + ((error - error) + (after - after));
+    return std::bit_cast<std::uint64_t>(std::abs(ratio_value));
+  };
+  const std::uint64_t largest = std::max({ratio(error_x.x, x0.x, x1.x), ratio(error_x.y, x0.y, x1.y),
+                                          ratio(error_x.z, x0.z, x1.z), ratio(error_v.x, v0.x, v1.x),
+                                          ratio(error_v.y, v0.y, v1.y), ratio(error_v.z, v0.z, v1.z)});
+  return anchored ? 0 : largest;
+}
+
+}  // namespace
+
 AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& state, double h) {
+  ScopedTimer timer(error_seconds_);
+  // The error estimate h sum (b_i - b*_i) k_i, into the stage arrays (free until the next step).
   std::array<double, kMaxStages> difference{};
+  std::array<const Vec3*, kMaxStages> position_rate{};
+  std::array<const Vec3*, kMaxStages> velocity_rate{};
+  int terms = 0;
   for (int i = 0; i < tableau_.stages; ++i) {
     const auto k = static_cast<std::size_t>(i);
-    difference[k] = h * (tableau_.weights[k] - tableau_.embedded_weights[k]);
+    const double d = h * (tableau_.weights[k] - tableau_.embedded_weights[k]);
+    if (d == 0.0) continue;
+    const auto t = static_cast<std::size_t>(terms++);
+    difference[t] = d;
+    position_rate[t] = stage_rate_[k].position_rate.data();
+    velocity_rate[t] = stage_rate_[k].velocity_rate.data();
   }
+  linear_combination(stage_position_, {}, position_rate, difference, terms, dynamics_.threads());
+  linear_combination(stage_velocity_, {}, velocity_rate, difference, terms, dynamics_.threads());
+
   const double atol = settings_.absolute_tolerance;
   const double rtol = settings_.relative_tolerance;
   const std::size_t n = model_.particle_count();
+  const Vec3* error_x = stage_position_.data();
+  const Vec3* error_v = stage_velocity_.data();
+  const Vec3* x0 = state.position.data();
+  const Vec3* x1 = trial_.position.data();
+  const Vec3* v0 = state.velocity.data();
+  const Vec3* v1 = trial_.velocity.data();
+  const std::int32_t* anchor = model_.particle_anchor.data();
+  const auto particle_bits = [&](std::size_t p) {
+    return scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0);
+  };
   parallel_for(block_error_.size(), dynamics_.threads(), [&](std::size_t block) {
-    double worst = 0.0;
-    std::uint32_t worst_particle = static_cast<std::uint32_t>(block * kErrorBlock);
+    std::uint64_t worst = 0;
     const std::size_t end = std::min(n, (block + 1) * kErrorBlock);
-    for (std::size_t p = block * kErrorBlock; p < end; ++p) {
-      if (model_.is_anchored(p)) continue;
-      Vec3 ex;
-      Vec3 ev;
-      for (int i = 0; i < tableau_.stages; ++i) {
-        const double d = difference[static_cast<std::size_t>(i)];
-        if (d == 0.0) continue;
-        ex += d * stage_rate_[static_cast<std::size_t>(i)].position_rate[p];
-        ev += d * stage_rate_[static_cast<std::size_t>(i)].velocity_rate[p];
-      }
-      double particle_error = 0.0;
-      for (int axis = 0; axis < 3; ++axis) {
-        const double sx = atol + rtol * std::max(std::abs(state.position[p][axis]), std::abs(trial_.position[p][axis]));
-        const double sv = atol + rtol * std::max(std::abs(state.velocity[p][axis]), std::abs(trial_.velocity[p][axis]));
-        particle_error = std::max({particle_error, std::abs(ex[axis]) / sx, std::abs(ev[axis]) / sv});
-        if (!std::isfinite(ex[axis]) || !std::isfinite(ev[axis]) || !std::isfinite(trial_.position[p][axis]) ||
-            !std::isfinite(trial_.velocity[p][axis])) {
-          particle_error = std::numeric_limits<double>::quiet_NaN();
-        }
-      }
-      // NaN compares false: test for it explicitly so it wins over every finite error.
-      if (std::isnan(particle_error) || particle_error > worst) {
-        worst = particle_error;
-        worst_particle = static_cast<std::uint32_t>(p);
-        if (std::isnan(particle_error)) break;
-      }
-    }
-    block_error_[block] = worst;
-    block_worst_[block] = worst_particle;
+    for (std::size_t p = block * kErrorBlock; p < end; ++p) worst = std::max(worst, particle_bits(p));
+    block_error_[block] = std::bit_cast<double>(worst);
   });
-  ErrorNorm norm;
+  // The first block with the largest error, and (only when the step fails, where it is reported)
+  // the first particle in it with that error.
+  std::uint64_t worst = 0;
+  std::size_t worst_block = 0;
   for (std::size_t block = 0; block < block_error_.size(); ++block) {
-    if (std::isnan(block_error_[block]) || block_error_[block] > norm.value) {
-      norm.value = block_error_[block];
-      norm.particle = block_worst_[block];
-      if (std::isnan(norm.value)) break;
+    const auto bits = std::bit_cast<std::uint64_t>(block_error_[block]);
+    if (bits > worst) {
+      worst = bits;
+      worst_block = block;
+    }
+  }
+  ErrorNorm norm;
+  norm.value = std::bit_cast<double>(worst);
+  norm.particle = static_cast<std::uint32_t>(worst_block * kErrorBlock);
+  if (!(norm.value <= 1.0)) {
+    const std::size_t end = std::min(n, (worst_block + 1) * kErrorBlock);
+    for (std::size_t p = worst_block * kErrorBlock; p < end; ++p) {
+      if (particle_bits(p) == worst) {
+        norm.particle = static_cast<std::uint32_t>(p);
+        break;
+      }
     }
   }
   return norm;

@@ -20,6 +20,16 @@ std::string_view to_string(IntegratorKind kind) {
   return "unknown";
 }
 
+std::vector<IntegratorKind> all_integrator_kinds() {
+  std::vector<IntegratorKind> kinds;
+  for (int value = 0; value < 256; ++value) {
+    const auto kind = static_cast<IntegratorKind>(value);
+    if (to_string(kind) == "unknown") break;
+    kinds.push_back(kind);
+  }
+  return kinds;
+}
+
 bool parse_integrator_kind(std::string_view text, IntegratorKind& kind) {
   for (IntegratorKind candidate : {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler}) {
     if (text == to_string(candidate)) {

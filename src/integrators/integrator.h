@@ -11,6 +11,7 @@
 #include <memory>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "forces/forces.h"
 #include "model/cloth_model.h"
@@ -20,6 +21,9 @@ namespace clothsim {
 enum class IntegratorKind : std::uint8_t { rkf45, rk4, symplectic_euler };
 
 std::string_view to_string(IntegratorKind kind);
+// Every kind, in enum order: the values to_string() names (so a new kind appears here, in the
+// benchmark suite for instance, as soon as to_string() knows it).
+std::vector<IntegratorKind> all_integrator_kinds();
 // Parses "rkf45", "rk4", "symplectic-euler"; returns false for anything else.
 bool parse_integrator_kind(std::string_view text, IntegratorKind& kind);
 
@@ -66,6 +70,13 @@ struct StepOutcome {
 struct ForceOptions {
   ForceTerms terms = kAllForceTerms;
   int threads = 1;  // resolved thread count (>= 1)
+  ForceKernel kernel = ForceKernel::automatic;
+};
+
+// Wall time of one named sub-phase of step() besides force evaluation, s.
+struct PhaseTime {
+  std::string_view name;  // "stage sums", "error control", ...
+  double seconds = 0.0;
 };
 
 class Integrator {
@@ -78,6 +89,11 @@ class Integrator {
   const IntegratorStats& stats() const { return stats_; }
   // Time spent in force evaluation, s (the rest of step() is integration).
   double force_seconds() const { return force_seconds_; }
+  // The timed sub-phases of the integration (the part of step() outside force evaluation), for
+  // the run profile; an integrator lists only the phases it has. Called once per report.
+  virtual std::vector<PhaseTime> phase_times() const { return {}; }
+  // Bytes of scratch memory the integrator holds: stage arrays, force buffers, and so on.
+  virtual std::size_t workspace_bytes() const { return 0; }
 
  protected:
   IntegratorStats stats_;

@@ -4,6 +4,7 @@
 
 #include "core/assert.h"
 #include "core/parallel.h"
+#include "core/timer.h"
 
 namespace clothsim {
 
@@ -18,10 +19,13 @@ StepOutcome SymplecticEuler::step(ClothState& state, double t_limit) {
   bool clipped = false;
   const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
   dynamics_.evaluate(state.time, state.position, state.velocity, rate_);
-  parallel_for(model_.particle_count(), dynamics_.threads(), [&](std::size_t p) {
-    state.velocity[p] += h * rate_.velocity_rate[p];
-    state.position[p] += h * state.velocity[p];
-  });
+  {
+    ScopedTimer timer(update_seconds_);
+    parallel_for(model_.particle_count(), dynamics_.threads(), [&](std::size_t p) {
+      state.velocity[p] += h * rate_.velocity_rate[p];
+      state.position[p] += h * state.velocity[p];
+    });
+  }
   // The work integrals take the rates at the start of the step (first order, like the method).
   state.damping_work += h * rate_.damping_power;
   state.drag_work += h * rate_.drag_power;

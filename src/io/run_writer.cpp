@@ -302,7 +302,11 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
                             {"output", output_seconds_},
                             {"realtime_factor", wall_seconds > 0.0 ? number_or_null(last_time_ / wall_seconds)
                                                                    : ordered_json(nullptr)}};
+  ordered_json phases = ordered_json::object();
+  for (const PhaseTime& phase : simulation.integration_phases()) phases[std::string(phase.name)] = phase.seconds;
+  summary["timings"]["integration_phases"] = phases;
   summary["threads"] = simulation.threads();
+  summary["memory_bytes"] = simulation.memory_bytes();
   const std::size_t particles = model.particle_count();
   const ordered_json shape = ordered_json::array({frames_, particles, 3});
   summary["files"] = ordered_json{

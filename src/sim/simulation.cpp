@@ -29,7 +29,7 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   CLOTHSIM_ASSERT(state_.position.size() == model_->particle_count(), "state matches the model");
   CLOTHSIM_ASSERT(state_.velocity.size() == model_->particle_count(), "state matches the model");
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
-  integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_});
+  integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_, settings.kernel});
   initial_energy_ = energy().total() - (state_.damping_work + state_.drag_work + state_.anchor_work);
   check_state();
 }
@@ -103,6 +103,30 @@ void Simulation::fail(std::string element, std::string message) {
   diagnosis.message = "at t = " + format_number(diagnosis.time) + " s (step " + std::to_string(diagnosis.step) +
                       "): " + message;
   failure_ = std::move(diagnosis);
+}
+
+namespace {
+
+template <typename T>
+std::size_t vector_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+std::size_t model_bytes(const ClothModel& m) {
+  return vector_bytes(m.particle_mass) + vector_bytes(m.particle_inverse_mass) + vector_bytes(m.particle_anchor) +
+         vector_bytes(m.particle_rest_position) + vector_bytes(m.connector_particles) +
+         vector_bytes(m.connector_rest_length) + vector_bytes(m.connector_stiffness) +
+         vector_bytes(m.connector_damping) + vector_bytes(m.radial_particles) + vector_bytes(m.radial_connectors) +
+         vector_bytes(m.radial_kind) + vector_bytes(m.radial_rest_angle) + vector_bytes(m.radial_stiffness) +
+         vector_bytes(m.radial_damping) + vector_bytes(m.anchors) + vector_bytes(m.gather_offset) +
+         vector_bytes(m.gather_slot);
+}
+
+}  // namespace
+
+std::size_t Simulation::memory_bytes() const {
+  return model_bytes(*model_) + vector_bytes(state_.position) + vector_bytes(state_.velocity) +
+         integrator_->workspace_bytes();
 }
 
 EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms); }

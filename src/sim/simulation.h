@@ -5,6 +5,7 @@
 //     integrator step (adaptive, never past t)   -> StepProfile::integration / forces
 //     discrete events between steps               -> (tearing, plasticity: later issues)
 //     check the state: finite, not exploding      -> StepProfile::checks
+// sim/profile.h turns the profile into the table `clothsim run --profile` prints.
 // A failed check or integrator stops the simulation with a Diagnosis (time, step, element), and
 // the state stays at the last good step, so a caller can still write what it has.
 #pragma once
@@ -13,6 +14,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "forces/forces.h"
 #include "integrators/integrator.h"
@@ -24,11 +26,13 @@ struct SimulationSettings {
   IntegratorSettings integrator;
   int threads = 0;  // 0: choose from the lattice size
   ForceTerms terms = kAllForceTerms;
+  ForceKernel kernel = ForceKernel::automatic;  // which force implementation (forces.h)
   // A connector longer than this many times its rest length means the integration has blown up.
   double explosion_stretch = 1000.0;
 };
 
-// Wall time per phase, s.
+// Wall time per phase, s. The integrator's own sub-phases (stage sums, error control, ...) are
+// in Simulation::integration_phases().
 struct StepProfile {
   double forces = 0.0;       // force evaluation (inside the integrator)
   double integration = 0.0;  // the rest of the integrator: stage sums, error control
@@ -67,6 +71,11 @@ class Simulation {
   int threads() const { return threads_; }
   const IntegratorStats& integrator_stats() const { return integrator_->stats(); }
   const StepProfile& profile() const { return profile_; }
+  // The timed sub-phases of profile().integration, as the integrator reports them.
+  std::vector<PhaseTime> integration_phases() const { return integrator_->phase_times(); }
+  // Bytes held by the model's arrays, the state and the integrator's workspace (capacity, not
+  // just size): the simulation's own memory, without the process around it.
+  std::size_t memory_bytes() const;
   const std::optional<Diagnosis>& failure() const { return failure_; }
 
   EnergyReport energy() const;

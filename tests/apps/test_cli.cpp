@@ -19,6 +19,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <csignal>
@@ -556,6 +557,100 @@ TEST_F(CliTest, NoSubcommandIsBadInput) {
   const Result result = clothsim({});
   EXPECT_EQ(result.exit_code, 2) << describe(result);
   EXPECT_TRUE(contains(result.err, "clothsim: error: "));
+}
+
+
+// ---------------------------------------------------------------------------------------------
+// clothsim bench and run --profile
+
+std::vector<std::string> split_csv_line(const std::string& line) {
+  std::vector<std::string> fields;
+  std::string field;
+  bool quoted = false;
+  for (char c : line) {
+    if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      fields.push_back(field);
+      field.clear();
+    } else {
+      field += c;
+    }
+  }
+  fields.push_back(field);
+  return fields;
+}
+
+TEST_F(CliTest, BenchWritesOneCsvRowPerCase) {
+  const Result result = clothsim({"bench", "--sizes", "4,6", "--integrators", "rkf45,symplectic-euler", "--seconds",
+                                  "0.05", "--sim-cap", "0.05", "--csv", "bench.csv"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_TRUE(contains(result.out, "6x6"));
+  EXPECT_TRUE(contains(result.out, "symplectic-euler"));
+  EXPECT_EQ(entries(work_), (std::set<std::string>{"bench.csv"}));
+  std::istringstream csv(read_text(work_ / "bench.csv"));
+  std::string line;
+  ASSERT_TRUE(std::getline(csv, line));
+  const std::vector<std::string> header = split_csv_line(line);
+  const auto column = [&](const std::string& name) {
+    const auto it = std::find(header.begin(), header.end(), name);
+    EXPECT_NE(it, header.end()) << name;
+    return static_cast<std::size_t>(it - header.begin());
+  };
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(csv, line)) rows.push_back(split_csv_line(line));
+  ASSERT_EQ(rows.size(), 4u);  // sizes x integrators, sizes outer
+  const std::vector<std::pair<std::string, std::string>> expected = {
+      {"4", "rkf45"}, {"4", "symplectic-euler"}, {"6", "rkf45"}, {"6", "symplectic-euler"}};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    ASSERT_EQ(rows[i].size(), header.size());
+    EXPECT_EQ(rows[i][column("rows")], expected[i].first);
+    EXPECT_EQ(rows[i][column("integrator")], expected[i].second);
+    EXPECT_EQ(rows[i][column("status")], "ok");
+    EXPECT_EQ(rows[i][column("kernel")], "lattice");
+    EXPECT_GT(std::stod(rows[i][column("force_evaluations")]), 0.0);
+    EXPECT_GT(std::stod(rows[i][column("evaluations_per_second")]), 0.0);
+    EXPECT_GT(std::stod(rows[i][column("memory_bytes")]), 0.0);
+    // Each case stops at the simulated-time cap (0.05 s rounded up to whole 60 fps frames) or
+    // at the wall budget, whichever comes first.
+    EXPECT_LE(std::stod(rows[i][column("simulated_seconds")]), 0.05 + 1e-9);
+  }
+}
+
+TEST_F(CliTest, BenchRejectsBadFlagsAndRunsNothing) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
+           {"bench", "--sizes", "1", "--csv", "b.csv"},
+           {"bench", "--sizes", "25,x", "--csv", "b.csv"},
+           {"bench", "--integrators", "euler", "--csv", "b.csv"},
+           {"bench", "--seconds", "0", "--csv", "b.csv"},
+           {"bench", "--sizes", "4", "--csv", "nosuch/b.csv"}}) {
+    const Result result = clothsim(args);
+    EXPECT_EQ(result.exit_code, 2) << args[1] << "\n" << describe(result);
+    const std::string flag = args.back() == "nosuch/b.csv" ? "--csv" : args[1];
+    EXPECT_TRUE(contains(result.err, "clothsim: error: " + flag)) << describe(result);
+    EXPECT_FALSE(contains(result.out, "lattice "));  // no table: nothing ran
+    EXPECT_TRUE(entries(work_).empty());
+  }
+}
+
+TEST_F(CliTest, ProfileListsEveryPhaseOfTheRun) {
+  const Result result = small_run("run", {"--duration", "0.2", "--profile"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  for (const char* phase : {"forces", "integration", "stage sums", "solution update", "error control", "checks",
+                            "output", "total", "evaluations"}) {
+    EXPECT_TRUE(contains(result.out, phase)) << phase;
+  }
+  const json s = summary("run");
+  const json& phases = s["timings"]["integration_phases"];
+  EXPECT_EQ(phases.size(), 3u);
+  double sum = 0.0;
+  for (const auto& [name, seconds] : phases.items()) sum += seconds.get<double>();
+  EXPECT_LE(sum, s["timings"]["integration"].get<double>() * (1 + 1e-12));
+  EXPECT_GT(s["memory_bytes"].get<double>(), 0.0);
+  // Fixed-step methods list only the phases they have.
+  const Result rk4 = small_run("rk4", {"--duration", "0.1", "--integrator", "rk4", "--time-step", "1e-4", "--profile"});
+  ASSERT_EQ(rk4.exit_code, 0) << describe(rk4);
+  EXPECT_FALSE(contains(rk4.out, "error control"));
 }
 
 }  // namespace

@@ -1,0 +1,68 @@
+// Micro-benchmarks of one force evaluation: the general element-list path and the structured
+// lattice kernel, on square sheets of the paper's material bent into a wave (no singular
+// springs), for 1 and 2 threads. Counters: ns per particle and force evaluations per second.
+//
+//   build/bench/bench/clothsim_microbench --benchmark_filter=Lattice --benchmark_repetitions=5
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <vector>
+
+#include "forces/forces.h"
+
+namespace clothsim {
+namespace {
+
+struct Sheet {
+  ClothModel model;
+  std::vector<Vec3> position;
+  std::vector<Vec3> velocity;
+};
+
+Sheet wavy_sheet(int n) {
+  LatticeDef def;
+  def.rows = n;
+  def.cols = n;
+  Sheet sheet{build_lattice(def, Environment{}, {}), {}, {}};
+  sheet.position = sheet.model.particle_rest_position;
+  sheet.velocity.assign(sheet.position.size(), Vec3{});
+  for (std::size_t p = 0; p < sheet.position.size(); ++p) {
+    Vec3& x = sheet.position[p];
+    x.y = 0.3 * std::sin(0.7 * x.x) * std::cos(0.5 * x.z);
+    sheet.velocity[p] = {0.01 * std::cos(x.z), 0.1 * std::sin(x.x), 0.0};
+  }
+  return sheet;
+}
+
+void force_evaluation(benchmark::State& state, ForceKernel kernel) {
+  const int n = static_cast<int>(state.range(0));
+  const int threads = static_cast<int>(state.range(1));
+  const Sheet sheet = wavy_sheet(n);
+  ForceBuffers buffers;
+  buffers.kernel = kernel;
+  buffers.resize(sheet.model);
+  std::vector<Vec3> force(sheet.model.particle_count());
+  for (auto _ : state) {
+    const ForcePowers powers = evaluate_forces(sheet.model, sheet.position, sheet.velocity, kAllForceTerms, threads,
+                                               buffers, force);
+    benchmark::DoNotOptimize(powers);
+    benchmark::DoNotOptimize(force.data());
+  }
+  const double particles = static_cast<double>(sheet.model.particle_count());
+  state.counters["evals/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["ns/particle"] = benchmark::Counter(
+      1e-9 * particles, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+}
+
+void sizes(benchmark::internal::Benchmark* b) {
+  for (int threads : {1, 2}) {
+    for (int n : {25, 50, 100, 128, 200, 400}) b->Args({n, threads});
+  }
+  b->ArgNames({"n", "threads"})->UseRealTime()->Unit(benchmark::kMicrosecond);
+}
+
+BENCHMARK_CAPTURE(force_evaluation, General, ForceKernel::general)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, Lattice, ForceKernel::lattice)->Apply(sizes);
+
+}  // namespace
+}  // namespace clothsim

@@ -1,0 +1,140 @@
+#include "bench/suite.h"
+
+#include <sys/resource.h>
+
+#include <cstdio>
+#include <utility>
+
+#include "core/timer.h"
+#include "scene/scene.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+std::size_t peak_rss_bytes() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::size_t>(usage.ru_maxrss) * 1024;  // Linux reports KiB
+}
+
+constexpr int kFramesPerSecond = 60;
+
+}  // namespace
+
+BenchOptions BenchOptions::quick() {
+  BenchOptions options;
+  options.sizes = {25, 50, 100};
+  options.wall_budget = 0.3;
+  options.simulated_cap = 0.4;
+  return options;
+}
+
+BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptions& options) {
+  const std::string n = std::to_string(size);
+  SceneSpec spec = scene_from_paper_args(n + "," + n + ",1,4,1,1400,200,80,5,1", "bench");
+  spec.integrator.kind = integrator;
+  if (integrator == IntegratorKind::rk4 || integrator == IntegratorKind::symplectic_euler) {
+    spec.integrator.time_step = options.explicit_fixed_step;
+  }
+  ClothModel model = build_model(spec);
+  ClothState initial = build_initial_state(model, spec);
+  SimulationSettings settings;
+  settings.integrator = spec.integrator;
+  settings.threads = options.threads;
+
+  BenchResult result;
+  result.size = size;
+  result.particles = model.particle_count();
+  result.integrator = integrator;
+  result.time_step = integrator == IntegratorKind::rkf45 ? 0.0 : spec.integrator.time_step;
+
+  Simulation simulation(std::move(model), std::move(initial), settings);
+  ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
+  probe.resize(simulation.model());
+  result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";
+  result.threads = simulation.threads();
+
+  const Stopwatch wall;
+  bool ok = true;
+  for (int frame = 1;; ++frame) {
+    const double t = static_cast<double>(frame) / kFramesPerSecond;
+    if (t > options.simulated_cap * (1.0 + 1e-12)) break;
+    if (!simulation.advance_to(t)) {
+      ok = false;
+      break;
+    }
+    if (wall.seconds() >= options.wall_budget) break;
+  }
+  const StepProfile& profile = simulation.profile();
+  result.wall_seconds = wall.seconds();
+  result.simulated_seconds = simulation.state().time;
+  result.status = ok ? "ok" : "failed: " + simulation.failure()->message;
+  const IntegratorStats& stats = simulation.integrator_stats();
+  result.force_evaluations = stats.force_evaluations;
+  result.accepted_steps = stats.accepted_steps;
+  result.rejected_steps = stats.rejected_steps;
+  result.force_seconds = profile.forces;
+  result.memory_bytes = simulation.memory_bytes();
+  result.peak_rss_bytes = peak_rss_bytes();
+  return result;
+}
+
+std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
+                                         const std::function<void(const BenchResult&)>& on_result) {
+  const std::vector<IntegratorKind> kinds = options.integrators.empty() ? all_integrator_kinds() : options.integrators;
+  std::vector<BenchResult> results;
+  for (int size : options.sizes) {
+    for (IntegratorKind kind : kinds) {
+      results.push_back(run_bench_case(size, kind, options));
+      if (on_result) on_result(results.back());
+    }
+  }
+  return results;
+}
+
+std::string bench_table_header() {
+  char line[256];
+  std::snprintf(line, sizeof line, "%-9s %-17s %-7s %3s %10s %10s %10s %9s %8s %7s %9s %9s  %s", "lattice", "integrator",
+                "kernel", "thr", "evals/s", "us/eval", "p-steps/s", "sim s/s", "sim s", "wall s", "sim MiB",
+                "RSS MiB", "status");
+  return line;
+}
+
+std::string bench_table_row(const BenchResult& r) {
+  char line[512];
+  const std::string lattice = std::to_string(r.size) + "x" + std::to_string(r.size);
+  std::snprintf(line, sizeof line, "%-9s %-17s %-7s %3d %10.4g %10.4g %10.4g %9.4g %8.4g %7.3g %9.1f %9.1f  %s",
+                lattice.c_str(), std::string(to_string(r.integrator)).c_str(), r.kernel.c_str(), r.threads,
+                r.evaluations_per_second(), r.microseconds_per_evaluation(), r.particle_steps_per_second(),
+                r.realtime_factor(), r.simulated_seconds, r.wall_seconds,
+                static_cast<double>(r.memory_bytes) / (1024.0 * 1024.0),
+                static_cast<double>(r.peak_rss_bytes) / (1024.0 * 1024.0), r.status.c_str());
+  return line;
+}
+
+std::string bench_csv(const std::vector<BenchResult>& results) {
+  std::string csv =
+      "rows,cols,particles,integrator,kernel,threads,time_step,status,wall_seconds,simulated_seconds,"
+      "force_evaluations,accepted_steps,rejected_steps,force_seconds,evaluations_per_second,"
+      "microseconds_per_evaluation,particle_steps_per_second,simulated_seconds_per_wall_second,memory_bytes,"
+      "peak_rss_bytes\n";
+  char line[1024];
+  for (const BenchResult& r : results) {
+    std::string status = r.status;
+    for (char& c : status) {
+      if (c == '"') c = '\'';
+    }
+    std::snprintf(line, sizeof line, "%d,%d,%zu,%s,%s,%d,%.17g,\"%s\",%.17g,%.17g,%llu,%llu,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu\n",
+                  r.size, r.size, r.particles, std::string(to_string(r.integrator)).c_str(), r.kernel.c_str(),
+                  r.threads, r.time_step, status.c_str(), r.wall_seconds, r.simulated_seconds,
+                  static_cast<unsigned long long>(r.force_evaluations),
+                  static_cast<unsigned long long>(r.accepted_steps), static_cast<unsigned long long>(r.rejected_steps),
+                  r.force_seconds, r.evaluations_per_second(), r.microseconds_per_evaluation(),
+                  r.particle_steps_per_second(), r.realtime_factor(), r.memory_bytes, r.peak_rss_bytes);
+    csv += line;
+  }
+  return csv;
+}
+
+}  // namespace clothsim

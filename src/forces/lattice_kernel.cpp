@@ -1,0 +1,473 @@
+// The structured force kernel for an intact lattice; the design is in lattice_kernel.h.
+#include "forces/lattice_kernel.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/assert.h"
+#include "forces/element.h"
+#include "forces/forces.h"
+#include "forces/vector_math.h"
+
+namespace clothsim {
+namespace {
+
+// The scratch arrays, each `stride_` doubles, indexed by particle (with padding both sides).
+enum Array : std::size_t {
+  kPositionX, kPositionY, kPositionZ,
+  kVelocityX, kVelocityY, kVelocityZ,
+  // East connector of each particle (to col + 1) and south connector (to row + 1): unit vector,
+  // 1/length (0 where the connector does not exist or has zero length), tension (N).
+  kEastX, kEastY, kEastZ, kEastInverseLength, kEastTension,
+  kSouthX, kSouthY, kSouthZ, kSouthInverseLength, kSouthTension,
+  kConnectorPower,  // damping power of the east and south connectors, W
+  // Force that the radial springs centred at a particle exert on each of its four neighbours, N.
+  kToEastX, kToEastY, kToEastZ,
+  kToSouthX, kToSouthY, kToSouthZ,
+  kToWestX, kToWestY, kToWestZ,
+  kToNorthX, kToNorthY, kToNorthZ,
+  kPower,  // damping power of everything owned by the particle (2 connectors, 6 radials), W
+  kSingular,  // > 0 where one of the particle's radial springs is singular
+  kArrayCount
+};
+
+constexpr std::size_t kReductionBlock = 1024;
+
+// Each row function is compiled three times, for AVX-512 (x86-64-v4), AVX2 (x86-64-v3) and the
+// baseline x86-64, and the dynamic loader picks the best one the CPU supports (GCC function
+// multiversioning, an ifunc). Safe on any x86-64 machine, unlike -march=native in the build. The
+// three versions compute bit-identical results: -ffp-contract=off keeps FMA out of the AVX2 and
+// AVX-512 code, so every lane performs the same IEEE operations as the baseline scalar code.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define CLOTHSIM_MULTIVERSION __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
+#else
+#define CLOTHSIM_MULTIVERSION
+#endif
+
+// Coefficients of one evaluation: the material with switched-off terms zeroed.
+struct Coefficients {
+  double rest_length = 0.0;
+  double connector_stiffness = 0.0;
+  double connector_damping = 0.0;
+  double adjacent_stiffness = 0.0;
+  double adjacent_damping = 0.0;
+  double adjacent_rest_angle = 0.0;
+  double opposite_stiffness = 0.0;
+  double opposite_damping = 0.0;
+  double opposite_rest_angle = 0.0;
+  Vec3 gravity;
+  double drag = 0.0;
+};
+
+// One radial spring between the connectors centre->b and centre->c, from their unit vectors and
+// inverse lengths (0: no such connector) and the relative velocities v_b - v_a, v_c - v_a.
+// The formulas are those of element::radial_force, rearranged to multiply by 1/length and
+// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p; with kResolveSingular false a singular spring (sin(theta) <
+// kSingularSine) gives garbage and sets `singular`, and the caller recomputes it with
+// kResolveSingular true, which takes the bending plane from the motion like
+// element::resolve_singular_directions.
+struct RadialResult {
+  Vec3 on_b;
+  Vec3 on_c;
+  double power = 0.0;
+  double singular = 0.0;  // > 0 if the spring is singular (a double: GCC vectorises it better than a bool)
+};
+
+template <bool kResolveSingular>
+[[gnu::always_inline]] inline RadialResult radial_spring(const Vec3& ub, double inverse_b, const Vec3& uc,
+                                                         double inverse_c, const Vec3& rb, const Vec3& rc,
+                                                         double stiffness, double damping, double rest_angle) {
+  const bool exists = std::min(inverse_b, inverse_c) > 0.0;
+  const Vec3 n = cross(ub, uc);
+  const double cosine = dot(ub, uc);
+  const double sine = std::sqrt(dot(n, n));
+  const Vec3 wb = cross(n, ub);  // sin(theta) p_b
+  const Vec3 wc = cross(uc, n);  // sin(theta) p_c
+  const double inverse_sine = 1.0 / sine;
+  const bool obtuse = cosine < 0.0;
+  RadialResult out;
+  out.singular = exists ? element::kSingularSine - sine : -1.0;
+  // theta (acute) or pi - theta (obtuse), and (that angle) / sin(theta) without cancellation.
+  const double angle = vector_math::atan2_first_quadrant(sine, std::abs(cosine));
+  const double angle2 = angle * angle;
+  const double series = 1.0 + angle2 * (1.0 / 6.0 + angle2 * (7.0 / 360.0));
+  const double ratio = angle < 1e-4 ? series : angle * inverse_sine;
+  const double smooth = obtuse ? -ratio : ratio;
+  const double constant = obtuse ? std::numbers::pi - rest_angle : -rest_angle;
+  const double kb = stiffness * inverse_b;
+  const double kc = stiffness * inverse_c;
+  Vec3 fb;
+  Vec3 fc;
+  double angle_rate = 0.0;
+  double torque = 0.0;
+  if (!kResolveSingular || !(out.singular > 0.0)) {
+    // p = w / sin(theta) is parallel to w, so every force along p is a multiple of w:
+    //   f_b = [k/l_b (A + B / sin) + torque (-1/(l_b sin))] w_b,  dtheta/dx_b = -w_b / (l_b sin).
+    const double gradient_b = -inverse_b * inverse_sine;
+    const double gradient_c = -inverse_c * inverse_sine;
+    angle_rate = gradient_b * dot(wb, rb) + gradient_c * dot(wc, rc);
+    torque = -damping * angle_rate;
+    const double elastic = smooth + constant * inverse_sine;
+    fb = (kb * elastic + torque * gradient_b) * wb;
+    fc = (kc * elastic + torque * gradient_c) * wc;
+  } else {
+    // Singular: the bending plane from the motion (element::resolve_singular_directions).
+    const Vec3 turn_b = inverse_b * (rb - dot(rb, ub) * ub);
+    const Vec3 turn_c = inverse_c * (rc - dot(rc, uc) * uc);
+    const Vec3 opening = obtuse ? turn_b + turn_c : turn_c - turn_b;
+    const double rate = norm(opening);
+    const Vec3 pb = rate > 0.0 ? opening / rate : Vec3{};
+    const Vec3 pc = obtuse ? pb : -pb;
+    fb = kb * (smooth * wb + constant * pb);
+    fc = kc * (smooth * wc + constant * pc);
+    const Vec3 gb = -inverse_b * pb;  // dtheta/dx_b
+    const Vec3 gc = -inverse_c * pc;
+    angle_rate = dot(gb, rb) + dot(gc, rc);
+    torque = -damping * angle_rate;
+    fb += torque * gb;
+    fc += torque * gc;
+  }
+  out.on_b = {exists ? fb.x : 0.0, exists ? fb.y : 0.0, exists ? fb.z : 0.0};
+  out.on_c = {exists ? fc.x : 0.0, exists ? fc.y : 0.0, exists ? fc.z : 0.0};
+  out.power = exists ? torque * angle_rate : 0.0;
+  return out;
+}
+
+// Pointers into the scratch, offset past the padding: index p is particle p, p - 1 its west
+// neighbour, p - cols its north neighbour (or padding / the previous row's last particle, whose
+// east connector does not exist: either way a zero connector).
+struct Arrays {
+  double* a[kArrayCount];
+  double* operator[](std::size_t k) const { return a[k]; }
+};
+
+CLOTHSIM_MULTIVERSION void transpose_row(const Arrays& s, std::span<const Vec3> position, std::span<const Vec3> velocity, std::size_t begin,
+                   std::size_t end) {
+  double* __restrict px = s[kPositionX];
+  double* __restrict py = s[kPositionY];
+  double* __restrict pz = s[kPositionZ];
+  double* __restrict vx = s[kVelocityX];
+  double* __restrict vy = s[kVelocityY];
+  double* __restrict vz = s[kVelocityZ];
+  const Vec3* __restrict x = position.data();
+  const Vec3* __restrict v = velocity.data();
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    px[p] = x[p].x;
+    py[p] = x[p].y;
+    pz[p] = x[p].z;
+    vx[p] = v[p].x;
+    vy[p] = v[p].y;
+    vz[p] = v[p].z;
+  }
+}
+
+// Connector from each particle p in [begin, end) to p + offset (east: 1, south: cols); particles
+// from `missing_from` on have none (the last column has no east connector, the last row no south
+// one).
+CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, std::size_t begin, std::size_t end, std::size_t offset,
+                   std::size_t missing_from, std::size_t ux_array, double* __restrict power) {
+  const double* __restrict px = s[kPositionX];
+  const double* __restrict py = s[kPositionY];
+  const double* __restrict pz = s[kPositionZ];
+  const double* __restrict vx = s[kVelocityX];
+  const double* __restrict vy = s[kVelocityY];
+  const double* __restrict vz = s[kVelocityZ];
+  // The far ends, p + offset.
+  const double* __restrict qx = px + offset;
+  const double* __restrict qy = py + offset;
+  const double* __restrict qz = pz + offset;
+  const double* __restrict wx = vx + offset;
+  const double* __restrict wy = vy + offset;
+  const double* __restrict wz = vz + offset;
+  double* __restrict ux = s[ux_array];
+  double* __restrict uy = s[ux_array + 1];
+  double* __restrict uz = s[ux_array + 2];
+  double* __restrict inverse_length = s[ux_array + 3];
+  double* __restrict tension = s[ux_array + 4];
+  const double stiffness = k.connector_stiffness;
+  const double damping = k.connector_damping;
+  const double rest_length = k.rest_length;
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < missing_from; ++p) {
+    const Vec3 e{qx[p] - px[p], qy[p] - py[p], qz[p] - pz[p]};
+    const double length = std::sqrt(dot(e, e));
+    const bool exists = length > 0.0;
+    const double inverse = exists ? 1.0 / length : 0.0;
+    const Vec3 u = inverse * e;
+    const Vec3 dv{wx[p] - vx[p], wy[p] - vy[p], wz[p] - vz[p]};
+    const double rate = dot(dv, u);
+    const double t = stiffness * (length - rest_length) + damping * rate;
+    ux[p] = u.x;
+    uy[p] = u.y;
+    uz[p] = u.z;
+    inverse_length[p] = inverse;
+    tension[p] = exists ? t : 0.0;
+    power[p] += exists ? -damping * rate * rate : 0.0;
+  }
+  // No connector from the last column eastwards, or from the last row southwards.
+  for (std::size_t p = missing_from; p < end; ++p) ux[p] = uy[p] = uz[p] = inverse_length[p] = tension[p] = 0.0;
+}
+
+// The six radial springs centred at particle p, written as forces on its four neighbours.
+// Returns a positive number if one of them is singular.
+template <bool kResolveSingular>
+[[gnu::always_inline]] inline double radial_particle(const Arrays& s, const Coefficients& k, std::size_t p, std::size_t cols) {
+  const std::size_t west = p - 1;
+  const std::size_t north = p - cols;
+  const Vec3 u_east{s[kEastX][p], s[kEastY][p], s[kEastZ][p]};
+  const Vec3 u_south{s[kSouthX][p], s[kSouthY][p], s[kSouthZ][p]};
+  const Vec3 u_west{-s[kEastX][west], -s[kEastY][west], -s[kEastZ][west]};
+  const Vec3 u_north{-s[kSouthX][north], -s[kSouthY][north], -s[kSouthZ][north]};
+  const double i_east = s[kEastInverseLength][p];
+  const double i_south = s[kSouthInverseLength][p];
+  const double i_west = s[kEastInverseLength][west];
+  const double i_north = s[kSouthInverseLength][north];
+  const Vec3 v{s[kVelocityX][p], s[kVelocityY][p], s[kVelocityZ][p]};
+  const auto relative = [&](std::size_t q) {
+    return Vec3{s[kVelocityX][q] - v.x, s[kVelocityY][q] - v.y, s[kVelocityZ][q] - v.z};
+  };
+  const Vec3 r_east = relative(p + 1);
+  const Vec3 r_south = relative(p + cols);
+  const Vec3 r_west = relative(west);
+  const Vec3 r_north = relative(north);
+
+  const double ka = k.adjacent_stiffness, ca = k.adjacent_damping, ta = k.adjacent_rest_angle;
+  const double ko = k.opposite_stiffness, co = k.opposite_damping, to = k.opposite_rest_angle;
+  const RadialResult es = radial_spring<kResolveSingular>(u_east, i_east, u_south, i_south, r_east, r_south, ka, ca, ta);
+  const RadialResult sw = radial_spring<kResolveSingular>(u_south, i_south, u_west, i_west, r_south, r_west, ka, ca, ta);
+  const RadialResult wn = radial_spring<kResolveSingular>(u_west, i_west, u_north, i_north, r_west, r_north, ka, ca, ta);
+  const RadialResult ne = radial_spring<kResolveSingular>(u_north, i_north, u_east, i_east, r_north, r_east, ka, ca, ta);
+  const RadialResult ew = radial_spring<kResolveSingular>(u_east, i_east, u_west, i_west, r_east, r_west, ko, co, to);
+  const RadialResult sn = radial_spring<kResolveSingular>(u_south, i_south, u_north, i_north, r_south, r_north, ko, co, to);
+
+  const Vec3 to_east = es.on_b + ne.on_c + ew.on_b;
+  const Vec3 to_south = es.on_c + sw.on_b + sn.on_b;
+  const Vec3 to_west = sw.on_c + wn.on_b + ew.on_c;
+  const Vec3 to_north = wn.on_c + ne.on_b + sn.on_c;
+  s[kToEastX][p] = to_east.x;
+  s[kToEastY][p] = to_east.y;
+  s[kToEastZ][p] = to_east.z;
+  s[kToSouthX][p] = to_south.x;
+  s[kToSouthY][p] = to_south.y;
+  s[kToSouthZ][p] = to_south.z;
+  s[kToWestX][p] = to_west.x;
+  s[kToWestY][p] = to_west.y;
+  s[kToWestZ][p] = to_west.z;
+  s[kToNorthX][p] = to_north.x;
+  s[kToNorthY][p] = to_north.y;
+  s[kToNorthZ][p] = to_north.z;
+  s[kPower][p] = s[kConnectorPower][p] + ((es.power + sw.power) + (wn.power + ne.power)) + (ew.power + sn.power);
+  // Positive if any of the six springs is singular.
+  return std::max(std::max(std::max(es.singular, sw.singular), std::max(wn.singular, ne.singular)),
+                  std::max(ew.singular, sn.singular));
+}
+
+CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin, std::size_t end,
+                std::size_t cols) {
+  // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
+  const Arrays s = arrays;
+  const Coefficients k = coefficients;
+  double* __restrict singular = s[kSingular];
+  int any_singular = 0;
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    singular[p] = radial_particle<false>(s, k, p, cols);
+    any_singular |= singular[p] > 0.0 ? 1 : 0;
+  }
+  if (any_singular != 0) {
+    // A straight or folded spring (a flat sheet, at the start of most runs; a symmetry line):
+    // redo that particle with the bending plane taken from the motion where it is undefined.
+    for (std::size_t p = begin; p < end; ++p) {
+      if (singular[p] > 0.0) radial_particle<true>(s, k, p, cols);
+    }
+  }
+}
+
+CLOTHSIM_MULTIVERSION void gather_row(const Arrays& arrays, const Coefficients& coefficients, const double* __restrict mass,
+                std::size_t begin, std::size_t end, std::size_t cols, Vec3* __restrict force) {
+  const Arrays s = arrays;
+  const Coefficients k = coefficients;
+  const auto load = [&](std::size_t x_array, std::size_t q) { return Vec3{s[x_array][q], s[x_array + 1][q], s[x_array + 2][q]}; };
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    const std::size_t west = p - 1;
+    const std::size_t north = p - cols;
+    const Vec3 v{s[kVelocityX][p], s[kVelocityY][p], s[kVelocityZ][p]};
+    Vec3 f = mass[p] * k.gravity - k.drag * v;
+    f += s[kEastTension][p] * load(kEastX, p);
+    f -= s[kEastTension][west] * load(kEastX, west);
+    f += s[kSouthTension][p] * load(kSouthX, p);
+    f -= s[kSouthTension][north] * load(kSouthX, north);
+    f -= (load(kToEastX, p) + load(kToSouthX, p)) + (load(kToWestX, p) + load(kToNorthX, p));
+    f += (load(kToWestX, p + 1) + load(kToEastX, west)) + (load(kToNorthX, p + cols) + load(kToSouthX, north));
+    force[p] = f;
+  }
+}
+
+}  // namespace
+
+std::optional<LatticeMaterial> detect_lattice(const ClothModel& model) {
+  const std::size_t rows = static_cast<std::size_t>(std::max(model.rows, 0));
+  const std::size_t cols = static_cast<std::size_t>(std::max(model.cols, 0));
+  if (rows == 0 || cols == 0 || rows * cols != model.particle_count()) return std::nullopt;
+  if (model.connector_count() == 0) return std::nullopt;
+  LatticeMaterial m;
+  m.rest_length = model.connector_rest_length[0];
+  m.connector_stiffness = model.connector_stiffness[0];
+  m.connector_damping = model.connector_damping[0];
+  bool have_adjacent = false;
+  bool have_opposite = false;
+  // Connectors in build_lattice's order: for each particle, east then south neighbour.
+  std::size_t e = 0;
+  std::vector<std::array<std::uint32_t, 4>> around(rows * cols, {~0u, ~0u, ~0u, ~0u});  // E, S, W, N
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t j = 0; j < cols; ++j) {
+      const auto p = static_cast<std::uint32_t>(i * cols + j);
+      for (int direction = 0; direction < 2; ++direction) {
+        const bool exists = direction == 0 ? j + 1 < cols : i + 1 < rows;
+        if (!exists) continue;
+        const auto q = static_cast<std::uint32_t>(direction == 0 ? p + 1 : p + cols);
+        if (e >= model.connector_count()) return std::nullopt;
+        if (model.connector_particles[e] != std::array<std::uint32_t, 2>{p, q}) return std::nullopt;
+        if (model.connector_rest_length[e] != m.rest_length || model.connector_stiffness[e] != m.connector_stiffness ||
+            model.connector_damping[e] != m.connector_damping) {
+          return std::nullopt;
+        }
+        around[p][static_cast<std::size_t>(direction)] = static_cast<std::uint32_t>(e);
+        around[q][static_cast<std::size_t>(direction + 2)] = static_cast<std::uint32_t>(e);
+        ++e;
+      }
+    }
+  }
+  if (e != model.connector_count()) return std::nullopt;
+  // Radial springs: per particle the adjacent pairs (E,S), (S,W), (W,N), (N,E), then the opposite
+  // pairs (E,W), (S,N), each where both connectors exist.
+  constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}}};
+  const auto neighbour = [&](std::uint32_t p, int direction) -> std::uint32_t {
+    switch (direction) {
+      case 0: return p + 1;
+      case 1: return p + static_cast<std::uint32_t>(cols);
+      case 2: return p - 1;
+      default: return p - static_cast<std::uint32_t>(cols);
+    }
+  };
+  std::size_t r = 0;
+  for (std::uint32_t p = 0; p < rows * cols; ++p) {
+    for (std::size_t pair = 0; pair < kPairs.size(); ++pair) {
+      const int d1 = kPairs[pair][0];
+      const int d2 = kPairs[pair][1];
+      const std::uint32_t c1 = around[p][static_cast<std::size_t>(d1)];
+      const std::uint32_t c2 = around[p][static_cast<std::size_t>(d2)];
+      if (c1 == ~0u || c2 == ~0u) continue;
+      if (r >= model.radial_count()) return std::nullopt;
+      const bool adjacent = pair < 4;
+      if (model.radial_particles[r] != std::array<std::uint32_t, 3>{p, neighbour(p, d1), neighbour(p, d2)} ||
+          model.radial_connectors[r] != std::array<std::uint32_t, 2>{c1, c2} ||
+          model.radial_kind[r] != (adjacent ? RadialKind::adjacent : RadialKind::opposite)) {
+        return std::nullopt;
+      }
+      double& stiffness = adjacent ? m.adjacent_stiffness : m.opposite_stiffness;
+      double& damping = adjacent ? m.adjacent_damping : m.opposite_damping;
+      double& rest_angle = adjacent ? m.adjacent_rest_angle : m.opposite_rest_angle;
+      bool& seen = adjacent ? have_adjacent : have_opposite;
+      if (!seen) {
+        stiffness = model.radial_stiffness[r];
+        damping = model.radial_damping[r];
+        rest_angle = model.radial_rest_angle[r];
+        seen = true;
+      } else if (model.radial_stiffness[r] != stiffness || model.radial_damping[r] != damping ||
+                 model.radial_rest_angle[r] != rest_angle) {
+        return std::nullopt;
+      }
+      ++r;
+    }
+  }
+  if (r != model.radial_count()) return std::nullopt;
+  return m;
+}
+
+bool LatticeKernel::prepare(const ClothModel& model) {
+  material_ = detect_lattice(model);
+  scratch_.clear();
+  scratch_.shrink_to_fit();
+  if (!material_) return false;
+  rows_ = model.rows;
+  cols_ = model.cols;
+  const std::size_t n = model.particle_count();
+  padding_ = static_cast<std::size_t>(cols_) + 8;
+  stride_ = (n + 2 * padding_ + 7) / 8 * 8;
+  scratch_.assign(kArrayCount * stride_, 0.0);
+  block_power_.assign((n + kReductionBlock - 1) / kReductionBlock, 0.0);
+  return true;
+}
+
+double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                               std::uint32_t terms, int threads, std::span<Vec3> force) {
+  CLOTHSIM_ASSERT(material_.has_value(), "LatticeKernel::prepare() found an intact lattice");
+  CLOTHSIM_ASSERT(model.rows == rows_ && model.cols == cols_ && force.size() == model.particle_count(),
+                  "the kernel was prepared for this model");
+  const LatticeMaterial& m = *material_;
+  const bool connectors = (terms & kConnectorSprings) != 0;
+  const bool damped = (terms & kSpringDamping) != 0;
+  const bool adjacent = (terms & kAdjacentRadialSprings) != 0;
+  const bool opposite = (terms & kOppositeRadialSprings) != 0;
+  Coefficients k;
+  k.rest_length = m.rest_length;
+  k.connector_stiffness = connectors ? m.connector_stiffness : 0.0;
+  k.connector_damping = connectors && damped ? m.connector_damping : 0.0;
+  k.adjacent_stiffness = adjacent ? m.adjacent_stiffness : 0.0;
+  k.adjacent_damping = adjacent && damped ? m.adjacent_damping : 0.0;
+  k.adjacent_rest_angle = m.adjacent_rest_angle;
+  k.opposite_stiffness = opposite ? m.opposite_stiffness : 0.0;
+  k.opposite_damping = opposite && damped ? m.opposite_damping : 0.0;
+  k.opposite_rest_angle = m.opposite_rest_angle;
+  k.gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
+  k.drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
+
+  Arrays s;
+  for (std::size_t a = 0; a < kArrayCount; ++a) s.a[a] = scratch_.data() + a * stride_ + padding_;
+  const std::size_t cols = static_cast<std::size_t>(cols_);
+  const std::size_t rows = static_cast<std::size_t>(rows_);
+  const std::size_t n = rows * cols;
+  const double* mass = model.particle_mass.data();
+  Vec3* out = force.data();
+
+  const auto pass = [&](int which, std::size_t i) {
+    const std::size_t begin = i * cols;
+    const std::size_t end = begin + cols;
+    switch (which) {
+      case 0:
+        transpose_row(s, position, velocity, begin, end);
+        break;
+      case 1:
+        std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
+        connector_row(s, k, begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
+        connector_row(s, k, begin, end, cols, i + 1 < rows ? end : begin, kSouthX, s[kConnectorPower]);
+        break;
+      case 2:
+        radial_row(s, k, begin, end, cols);
+        break;
+      default:
+        gather_row(s, k, mass, begin, end, cols, out);
+        break;
+    }
+  };
+  if (threads <= 1) {
+    for (int which = 0; which < 4; ++which) {
+      for (std::size_t i = 0; i < rows; ++i) pass(which, i);
+    }
+  } else {
+    const auto row_count = static_cast<long long>(rows);
+#pragma omp parallel num_threads(threads)
+    for (int which = 0; which < 4; ++which) {
+      // The implicit barrier at the end of each loop separates the passes.
+#pragma omp for schedule(static)
+      for (long long i = 0; i < row_count; ++i) pass(which, static_cast<std::size_t>(i));
+    }
+  }
+  return deterministic_sum(std::span<const double>(s[kPower], n), threads, block_power_);
+}
+
+}  // namespace clothsim

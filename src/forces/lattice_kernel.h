@@ -1,0 +1,103 @@
+// The structured force kernel: the whole force function for an intact rows x cols lattice with
+// uniform material, computed without element lists or index indirection.
+//
+// Why a second path. The general path (connector_springs.cpp, radial_springs.cpp, gather in
+// forces.cpp) reads element lists, gathers particles by index, calls std::atan2 and writes one
+// force slot per element end: scalar code, about 350 ns per particle. On an intact lattice every
+// particle's neighbours are at fixed offsets (+-1, +-cols), every element of a kind has the same
+// parameters, and the loops over a row run over contiguous memory, so the compiler can vectorise
+// them. Torn or irregular sheets keep the general path; ForceBuffers::resize() picks the kernel
+// by checking the model against the canonical lattice (detect_lattice), and
+// tests/forces/test_lattice_kernel.cpp checks that both paths agree on random configurations.
+//
+// Passes, each a loop over rows and, inside, a vectorised loop over the columns:
+//   1. transpose  positions and velocities from Vec3 arrays into padded x/y/z arrays (SoA);
+//   2. connectors the east and south connector of each particle: unit vector, 1/length, tension
+//                 (the radial springs reuse the unit vectors and inverse lengths: each connector's
+//                 square root and division are done once, not once per spring that uses it);
+//   3. radials    the six radial springs centred at each particle; each writes its forces on the
+//                 four neighbours into to_east/to_south/to_west/to_north of the centre;
+//   4. gather     each particle sums, in a fixed order, gravity, drag, its four connectors'
+//                 tensions, minus its own springs' forces on the neighbours, and the forces the
+//                 four neighbours' springs put on it.
+// Every value is computed by one formula from the same inputs whichever thread computes it, and
+// every sum has a fixed order, so the result is bit-for-bit the same for any thread count; the
+// passes run in one OpenMP region, rows split statically between threads, with a barrier between
+// passes. Borders need no special code: the arrays have cols + 1 zero entries of padding at both
+// ends, a missing connector is stored with 1/length = 0 and tension 0, and a radial spring with
+// a missing (or zero-length) connector contributes nothing, exactly like a degenerate element of
+// the general path.
+//
+// Vectorisation. GCC 12 -O3 vectorises the four column loops (checked with -fopt-info-vec: "loop
+// vectorized using 32 byte vectors" for each of them, 64 byte ones with -mprefer-vector-width=512)
+// because their bodies are straight-line arithmetic with selects: the arctangent is the inline
+// vector_math::atan2_first_quadrant instead of std::atan2, and the singular case (a straight or
+// folded spring, whose bending plane comes from the motion, element::resolve_singular_directions)
+// only raises a per-row flag in the vector loop; a flagged row is then recomputed by the scalar
+// loop that resolves it. Both loops compute non-singular springs with the same operations, so
+// the result does not depend on which loop computed a row. -ffp-contract=off stays: no fused
+// multiply-adds are introduced, and vector lanes round exactly like scalar code.
+//
+// Precision. Double throughout, like the general path: the kernel differs from it only by
+// rounding (1/l multiplied instead of dividing by l, the polynomial arctangent instead of libm's),
+// a few ulps per force. float32 was rejected: RKF45's error control at the default tolerance
+// (1e-6 m + 1e-6 |x|) compares stage differences of ~1e-9 m on metre-sized sheets, which float's
+// 24-bit significand (6e-8 relative) cannot resolve (docs/performance.md).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include "core/vec3.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+// Material of an intact lattice: every element of a kind has these parameters.
+struct LatticeMaterial {
+  double rest_length = 0.0;           // connector L, m
+  double connector_stiffness = 0.0;   // N/m
+  double connector_damping = 0.0;     // N s/m
+  double adjacent_stiffness = 0.0;    // N m / rad
+  double adjacent_damping = 0.0;      // N m s / rad
+  double adjacent_rest_angle = 0.0;   // rad
+  double opposite_stiffness = 0.0;    // N m / rad
+  double opposite_damping = 0.0;      // N m s / rad
+  double opposite_rest_angle = 0.0;   // rad
+};
+
+// The material if `model` is exactly the lattice build_lattice() makes for its rows x cols
+// (same connectors and radial springs in the same order, uniform parameters per kind), else
+// nothing. O(elements); run once per model, not per evaluation.
+std::optional<LatticeMaterial> detect_lattice(const ClothModel& model);
+
+// Scratch memory of the structured kernel: padded SoA arrays, allocated by prepare().
+class LatticeKernel {
+ public:
+  // Sizes the scratch for `model` and records its material; false (and no scratch) if the model
+  // is not an intact lattice.
+  bool prepare(const ClothModel& model);
+  bool active() const { return material_.has_value(); }
+
+  // The force function of forces.h for the prepared lattice; returns the spring damping power
+  // (W). `force` [particle_count()].
+  double evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                  std::uint32_t terms, int threads, std::span<Vec3> force);
+
+  // Bytes of scratch memory held.
+  std::size_t bytes() const { return scratch_.capacity() * sizeof(double) + block_power_.capacity() * sizeof(double); }
+
+ private:
+  std::optional<LatticeMaterial> material_;
+  int rows_ = 0;
+  int cols_ = 0;
+  std::size_t padding_ = 0;  // zero entries before and after each array
+  std::size_t stride_ = 0;   // doubles per array (padding + particles + padding, rounded up)
+  std::vector<double> scratch_;
+  std::vector<double> block_power_;
+};
+
+}  // namespace clothsim
