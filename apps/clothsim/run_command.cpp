@@ -68,10 +68,10 @@ struct FieldFlag {
 constexpr std::array<FieldFlag, 10> kFieldFlags = {{
     {"--duration", "output.duration", "SECONDS", "simulated time to run"},
     {"--fps", "output.fps", "N", "frames written per simulated second"},
-    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4 or symplectic-euler"},
+    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler or implicit-euler"},
     {"--rtol", "integrator.relative_tolerance", "X", "RKF45 relative error tolerance"},
     {"--atol", "integrator.absolute_tolerance", "X", "RKF45 absolute error tolerance (m, m/s)"},
-    {"--time-step", "integrator.time_step", "SECONDS", "step of rk4 and symplectic-euler; first trial step of rkf45"},
+    {"--time-step", "integrator.time_step", "SECONDS", "step of rk4, symplectic-euler and implicit-euler; first trial step of rkf45"},
     {"--gravity", "environment.gravity", "X,Y,Z", "gravitational acceleration, m/s^2"},
     {"--anchor", "anchors", "PRESET", "anchored particles: center, corners, edge-corners or none"},
     {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size"},
@@ -205,7 +205,14 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
   if (stats.accepted_steps > 0) {
     std::printf("; step %.3g .. %.3g s", stats.smallest_step, stats.largest_step);
   }
-  std::printf("; %llu force evaluations\n", static_cast<unsigned long long>(stats.force_evaluations));
+  std::printf("; %llu force evaluations", static_cast<unsigned long long>(stats.force_evaluations));
+  if (integrator.kind == IntegratorKind::implicit_euler && stats.accepted_steps > 0) {
+    std::printf("; CG iterations %.3g per step (most %llu, %llu solves at the cap)",
+                static_cast<double>(stats.linear_iterations) / static_cast<double>(stats.accepted_steps),
+                static_cast<unsigned long long>(stats.max_linear_iterations),
+                static_cast<unsigned long long>(stats.unconverged_solves));
+  }
+  std::printf("\n");
   const EnergyBalance& initial = writer.initial_energy();
   const EnergyBalance& final = writer.last_energy();
   std::printf("energy       initial %s, final %s (kinetic %s); balance error %s\n",

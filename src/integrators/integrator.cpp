@@ -4,6 +4,7 @@
 
 #include "core/assert.h"
 #include "integrators/explicit_runge_kutta.h"
+#include "integrators/implicit_euler.h"
 #include "integrators/symplectic_euler.h"
 
 namespace clothsim {
@@ -16,6 +17,8 @@ std::string_view to_string(IntegratorKind kind) {
       return "rk4";
     case IntegratorKind::symplectic_euler:
       return "symplectic-euler";
+    case IntegratorKind::implicit_euler:
+      return "implicit-euler";
   }
   return "unknown";
 }
@@ -31,7 +34,7 @@ std::vector<IntegratorKind> all_integrator_kinds() {
 }
 
 bool parse_integrator_kind(std::string_view text, IntegratorKind& kind) {
-  for (IntegratorKind candidate : {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler}) {
+  for (IntegratorKind candidate : all_integrator_kinds()) {
     if (text == to_string(candidate)) {
       kind = candidate;
       return true;
@@ -50,6 +53,8 @@ std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const Integ
       return std::make_unique<FixedStepRungeKutta>(model, settings, force_options, kClassicRk4);
     case IntegratorKind::symplectic_euler:
       return std::make_unique<SymplecticEuler>(model, settings, force_options);
+    case IntegratorKind::implicit_euler:
+      return std::make_unique<ImplicitEuler>(model, settings, force_options);
   }
   return nullptr;
 }

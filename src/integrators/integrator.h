@@ -18,13 +18,13 @@
 
 namespace clothsim {
 
-enum class IntegratorKind : std::uint8_t { rkf45, rk4, symplectic_euler };
+enum class IntegratorKind : std::uint8_t { rkf45, rk4, symplectic_euler, implicit_euler };
 
 std::string_view to_string(IntegratorKind kind);
 // Every kind, in enum order: the values to_string() names (so a new kind appears here, in the
 // benchmark suite for instance, as soon as to_string() knows it).
 std::vector<IntegratorKind> all_integrator_kinds();
-// Parses "rkf45", "rk4", "symplectic-euler"; returns false for anything else.
+// Parses "rkf45", "rk4", "symplectic-euler", "implicit-euler"; returns false for anything else.
 bool parse_integrator_kind(std::string_view text, IntegratorKind& kind);
 
 struct IntegratorSettings {
@@ -41,6 +41,10 @@ struct IntegratorSettings {
   double safety = 0.9;       // factor on the optimal step
   double max_growth = 5.0;   // largest step increase per step
   double max_shrink = 0.1;   // smallest step decrease factor after a rejection
+  // Implicit Euler's linear solve (conjugate gradients): stop when the residual's norm is below
+  // cg_tolerance times the right-hand side's, or after cg_max_iterations.
+  double cg_tolerance = 1e-3;    // dimensionless
+  int cg_max_iterations = 2000;
 };
 
 // Counters for one run, reported in summary.json.
@@ -51,6 +55,11 @@ struct IntegratorStats {
   double smallest_step = std::numeric_limits<double>::infinity();  // s, accepted steps only
   double largest_step = 0.0;                                       // s, accepted steps only
   double last_step = 0.0;                                          // s
+  // Implicit Euler: conjugate-gradient iterations, in all steps and the most in one step, and
+  // the solves that stopped at cg_max_iterations before reaching cg_tolerance.
+  std::uint64_t linear_iterations = 0;
+  std::uint64_t max_linear_iterations = 0;
+  std::uint64_t unconverged_solves = 0;
 };
 
 enum class StepStatus : std::uint8_t {

@@ -288,6 +288,15 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       {"accepted_steps", stats.accepted_steps},
       {"rejected_steps", stats.rejected_steps},
       {"force_evaluations", stats.force_evaluations},
+      {"cg_tolerance", settings.cg_tolerance},
+      {"cg_max_iterations", settings.cg_max_iterations},
+      {"cg_iterations", stats.linear_iterations},
+      {"cg_iterations_per_step",
+       stats.accepted_steps > 0 ? number_or_null(static_cast<double>(stats.linear_iterations) /
+                                                 static_cast<double>(stats.accepted_steps))
+                                : ordered_json(nullptr)},
+      {"cg_max_iterations_in_a_step", stats.max_linear_iterations},
+      {"cg_unconverged_solves", stats.unconverged_solves},
       {"smallest_step", stats.accepted_steps > 0 ? number_or_null(stats.smallest_step) : ordered_json(nullptr)},
       {"largest_step", stats.accepted_steps > 0 ? number_or_null(stats.largest_step) : ordered_json(nullptr)},
       {"steps_per_simulated_second",

@@ -240,7 +240,7 @@ std::string read_string(const json& value, const std::string& source, const std:
 
 std::string method_choices() {
   return join_names(std::array{to_string(IntegratorKind::rkf45), to_string(IntegratorKind::rk4),
-                               to_string(IntegratorKind::symplectic_euler)});
+                               to_string(IntegratorKind::symplectic_euler), to_string(IntegratorKind::implicit_euler)});
 }
 
 // ---------------------------------------------------------------------------------------------

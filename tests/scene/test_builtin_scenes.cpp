@@ -35,14 +35,15 @@ std::size_t expected_radial_count(int rows, int cols) {
   return count;
 }
 
-TEST(BuiltinScenes, ListsTheFiveScenes) {
+TEST(BuiltinScenes, ListsTheSixScenes) {
   const std::vector<BuiltinScene> scenes = builtin_scenes();
   std::vector<std::string> names;
   for (const BuiltinScene& scene : scenes) {
     names.push_back(scene.name);
     EXPECT_FALSE(scene.description.empty()) << scene.name;
   }
-  EXPECT_EQ(names, (std::vector<std::string>{"paper-fig4", "paper-fig5", "paper-fig6", "drape-corners", "free-spin"}));
+  EXPECT_EQ(names, (std::vector<std::string>{"paper-fig4", "paper-fig5", "paper-fig6", "drape-corners", "free-spin",
+                                              "cotton-drape"}));
   EXPECT_FALSE(is_builtin_scene("paper-fig7"));
   expect_input_error([] { builtin_scene("paper-fig7"); }, {"paper-fig7", "not a built-in scene", "paper-fig4"});
 }

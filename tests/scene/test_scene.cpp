@@ -317,7 +317,7 @@ const MalformedScene kMalformedScenes[] = {
      {"scene.json: field 'output.fps': must be a number, got string \"sixty\""}},
     {"group not an object", R"({"lattice": 5})", {"field 'lattice'", "must be an object", "got 5"}},
     {"bad method", R"({"integrator": {"method": "euler"}})",
-     {"scene.json: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, got \"euler\""}},
+     {"scene.json: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, implicit-euler, got \"euler\""}},
     {"method not a string", R"({"integrator": {"method": 4}})", {"integrator.method", "rkf45, rk4", "got 4"}},
     {"fps 0", R"({"output": {"fps": 0}})", {"field 'output.fps'", "an integer in [1, 10000]", "got 0"}},
     {"negative duration", R"({"output": {"duration": -5}})", {"field 'output.duration'", "(0, 1e7]", "got -5"}},
@@ -507,7 +507,7 @@ TEST(SetSceneField, Errors) {
                      {"field 'environment.gravity[2]'", "[-1000, 1000]"});
   expect_input_error(set("integrator.method", "euler", "--method"),
                      {"--method: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, "
-                      "got \"euler\""});
+                      "implicit-euler, got \"euler\""});
   expect_input_error(set("anchors", "middle", "--anchors"),
                      {"--anchors: field 'anchors'", "center, corners, edge-corners, none"});
   expect_input_error(set("anchors", "[{\"row\": 99}]", "--anchors"), {"--anchors: field 'anchors[0].row'", "[0, 20]"});

@@ -1,0 +1,232 @@
+// Implicit Euler (one Newton step, conjugate gradients): it dissipates energy on a damped sheet,
+// converges at first order to the RKF45 solution, stays stable on stiff cotton at the frame step
+// where RK4 blows up, keeps anchors exactly on their paths, books the damping work at the end of
+// the step, and gives the same bits for any thread count.
+#include "integrators/implicit_euler.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "forces/forces.h"
+#include "integrators/integrator.h"
+#include "model/material.h"
+#include "scene/scene.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+// A sheet of the paper's material with the two corners of row 0 anchored where they start.
+ClothModel corner_sheet(int rows, int cols, const LatticeDef& material = LatticeDef{}) {
+  LatticeDef def = material;
+  def.rows = rows;
+  def.cols = cols;
+  const ClothModel flat = build_lattice(def, Environment{}, {});
+  const std::uint32_t right = lattice_index(cols, 0, cols - 1);
+  const Anchor anchors[2] = {{0, AnchorPath::fixed_at(flat.particle_rest_position[0])},
+                             {right, AnchorPath::fixed_at(flat.particle_rest_position[right])}};
+  return build_lattice(def, Environment{}, anchors);
+}
+
+IntegratorSettings implicit_settings(double step, double tolerance = 1e-10) {
+  IntegratorSettings settings;
+  settings.kind = IntegratorKind::implicit_euler;
+  settings.time_step = step;
+  settings.cg_tolerance = tolerance;
+  settings.cg_max_iterations = 10000;
+  return settings;
+}
+
+double max_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double distance = 0.0;
+  for (std::size_t p = 0; p < a.size(); ++p) distance = std::max(distance, norm(a[p] - b[p]));
+  return distance;
+}
+
+// The cotton-drape scene on a smaller lattice (same spacing and springs, so the same stiffness
+// per particle), anchors re-resolved for the new size.
+SceneSpec small_cotton(int size) {
+  SceneSpec spec = builtin_scene("cotton-drape");
+  spec.lattice.rows = spec.lattice.cols = size;
+  parse_anchor_preset("edge-corners", spec.lattice, spec.anchors);
+  return spec;
+}
+
+TEST(ImplicitEuler, EnergyDecreasesMonotonicallyOnADampedSheet) {
+  const ClothModel model = corner_sheet(8, 8);
+  ImplicitEuler integrator(model, implicit_settings(1.0 / 60.0), ForceOptions{});
+  ClothState state = make_rest_state(model);
+  double previous = compute_energy(model, state).total();
+  for (int step = 0; step < 240; ++step) {
+    ASSERT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
+    const double energy = compute_energy(model, state).total();  // kinetic + gravity + springs
+    EXPECT_LE(energy, previous) << "step " << step;
+    previous = energy;
+  }
+  // It has lost a good part of the potential energy it started falling with.
+  EXPECT_LT(previous, -100.0);
+}
+
+TEST(ImplicitEuler, ConvergesToTheRkf45SolutionAtFirstOrder) {
+  const ClothModel model = corner_sheet(4, 5);
+  const double end = 0.25;
+  IntegratorSettings reference_settings;
+  reference_settings.relative_tolerance = reference_settings.absolute_tolerance = 1e-11;
+  auto reference = make_integrator(model, reference_settings, ForceOptions{});
+  ClothState exact = make_rest_state(model);
+  while (exact.time < end) ASSERT_EQ(reference->step(exact, end).status, StepStatus::ok);
+
+  std::vector<double> errors;
+  for (const double step : {1.0 / 400, 1.0 / 800, 1.0 / 1600, 1.0 / 3200}) {
+    ImplicitEuler integrator(model, implicit_settings(step, 1e-12), ForceOptions{});
+    ClothState state = make_rest_state(model);
+    while (state.time < end) ASSERT_EQ(integrator.step(state, end).status, StepStatus::ok);
+    errors.push_back(max_distance(state.position, exact.position));
+  }
+  for (std::size_t i = 1; i < errors.size(); ++i) {
+    const double ratio = errors[i - 1] / errors[i];
+    EXPECT_GT(ratio, 1.8) << "halving the step from error " << errors[i - 1];
+    EXPECT_LT(ratio, 2.2) << "halving the step from error " << errors[i - 1];
+  }
+  EXPECT_LT(errors.back(), 1e-2);
+}
+
+TEST(ImplicitEuler, StiffCottonIsStableAtTheFrameStepWhereRk4BlowsUp) {
+  const SceneSpec spec = small_cotton(12);
+  ASSERT_EQ(spec.integrator.kind, IntegratorKind::implicit_euler);
+  ASSERT_EQ(spec.integrator.time_step, 1.0 / 60.0);
+
+  SimulationSettings settings;
+  settings.integrator = spec.integrator;
+  const ClothModel model = build_model(spec);
+  Simulation implicit(model, build_initial_state(model, spec), settings);
+  // The sheet's whole potential energy scale: its mass falling by its own size.
+  double mass = 0.0;
+  for (double m : model.particle_mass) mass += m;
+  const double scale = mass * 9.81 * spec.lattice.spacing * spec.lattice.rows;
+  for (int frame = 1; frame <= 180; ++frame) {
+    ASSERT_TRUE(implicit.advance_to(frame / 60.0)) << implicit.failure()->message;
+    const EnergyReport energy = implicit.energy();
+    ASSERT_TRUE(std::isfinite(energy.total()));
+    EXPECT_LT(energy.kinetic, scale) << "frame " << frame;
+    // The first steps stretch the connectors next to the anchors beyond the physical sag: one
+    // Newton step moves particles along the tangent of springs at rest length, which have no
+    // sideways stiffness yet (docs/materials.md). Bounded, and damped out within a few frames.
+    EXPECT_LT(energy.connector + energy.radial_adjacent + energy.radial_opposite, 10 * scale) << "frame " << frame;
+  }
+  EXPECT_EQ(implicit.integrator_stats().unconverged_solves, 0u);
+  EXPECT_GT(implicit.integrator_stats().linear_iterations, 0u);
+  // Nearly at rest after 3 s.
+  EXPECT_LT(implicit.energy().kinetic, 1e-3 * scale);
+
+  // RK4 at the same step: the connectors' period is far below 1/60 s.
+  settings.integrator.kind = IntegratorKind::rk4;
+  Simulation explicit_rk4(model, build_initial_state(model, spec), settings);
+  bool ok = true;
+  for (int frame = 1; frame <= 180 && ok; ++frame) ok = explicit_rk4.advance_to(frame / 60.0);
+  EXPECT_FALSE(ok);
+  ASSERT_TRUE(explicit_rk4.failure().has_value());
+  EXPECT_LT(explicit_rk4.failure()->time, 0.5);
+}
+
+TEST(ImplicitEuler, AnchorsStayExactlyOnTheirPaths) {
+  LatticeDef def;
+  def.rows = 6;
+  def.cols = 6;
+  const ClothModel flat = build_lattice(def, Environment{}, {});
+  AnchorPath moving;
+  moving.kind = AnchorPathKind::sinusoid;
+  moving.origin = flat.particle_rest_position[5];
+  moving.amplitude = {0.0, 0.8, 0.3};
+  moving.frequency = 1.3;
+  moving.phase = 0.4;
+  AnchorPath sliding;
+  sliding.kind = AnchorPathKind::linear;
+  sliding.origin = flat.particle_rest_position[0];
+  sliding.velocity = {0.5, 0.0, -0.2};
+  const Anchor anchors[2] = {{0, sliding}, {5, moving}};
+  const ClothModel model = build_lattice(def, Environment{}, anchors);
+  ImplicitEuler integrator(model, implicit_settings(0.01, 1e-6), ForceOptions{});
+  ClothState state = make_rest_state(model);
+  for (int frame = 1; frame <= 60; ++frame) {
+    const double t = frame / 60.0;
+    while (state.time < t) ASSERT_EQ(integrator.step(state, t).status, StepStatus::ok);
+    for (const Anchor& anchor : model.anchors) {
+      EXPECT_EQ(state.position[anchor.particle], anchor.path.position(state.time));
+      EXPECT_EQ(state.velocity[anchor.particle], anchor.path.velocity_at(state.time));
+    }
+  }
+}
+
+TEST(ImplicitEuler, DampingWorkUsesTheEndOfStepPower) {
+  const ClothModel model = corner_sheet(5, 5);
+  ImplicitEuler integrator(model, implicit_settings(0.02), ForceOptions{});
+  ClothState state = make_rest_state(model);
+  ForceBuffers buffers;
+  buffers.resize(model);
+  std::vector<Vec3> force(model.particle_count());
+  for (int step = 0; step < 10; ++step) {
+    const double before = state.damping_work;
+    ASSERT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
+    const ForcePowers powers = evaluate_forces(model, state.position, state.velocity, kAllForceTerms, 1, buffers, force);
+    EXPECT_EQ(state.damping_work, before + 0.02 * powers.damping);
+    EXPECT_LE(powers.damping, 0.0);
+  }
+  EXPECT_LT(state.damping_work, 0.0);
+}
+
+TEST(ImplicitEuler, CountsConjugateGradientIterationsAndUnconvergedSolves) {
+  const ClothModel model = corner_sheet(6, 6);
+  IntegratorSettings settings = implicit_settings(1.0 / 60.0, 1e-12);
+  settings.cg_max_iterations = 2;
+  ImplicitEuler capped(model, settings, ForceOptions{});
+  ClothState state = make_rest_state(model);
+  for (int step = 0; step < 5; ++step) ASSERT_EQ(capped.step(state, 10.0).status, StepStatus::ok);
+  EXPECT_EQ(capped.stats().linear_iterations, 10u);
+  EXPECT_EQ(capped.stats().max_linear_iterations, 2u);
+  EXPECT_EQ(capped.stats().unconverged_solves, 5u);
+  EXPECT_EQ(capped.stats().accepted_steps, 5u);
+  // Two force evaluations per step (start and end), the start one reused from the previous end.
+  EXPECT_EQ(capped.stats().force_evaluations, 6u);
+}
+
+TEST(ImplicitEuler, MatrixFollowsTheLatticeAdjacency) {
+  const ClothModel model = corner_sheet(7, 7);
+  ImplicitEuler integrator(model, implicit_settings(0.01), ForceOptions{});
+  // Interior particle (3, 3): itself, 4 connector neighbours, 4 diagonal and 4 two away.
+  const std::uint32_t centre = lattice_index(7, 3, 3);
+  EXPECT_EQ(integrator.row_offset()[centre + 1] - integrator.row_offset()[centre], 13u);
+  // A corner: itself, 2 neighbours, the diagonal one and 2 two away.
+  EXPECT_EQ(integrator.row_offset()[1] - integrator.row_offset()[0], 6u);
+}
+
+TEST(ImplicitEuler, ResultsAreBitIdenticalForAnyThreadCount) {
+  // 36 x 36 = 1296 particles: two reduction blocks, split differently by each thread count.
+  LatticeDef def;
+  def.rows = def.cols = 36;
+  const ClothModel flat = build_lattice(def, Environment{}, {});
+  AnchorPath moving;
+  moving.kind = AnchorPathKind::sinusoid;
+  moving.origin = flat.particle_rest_position[0];
+  moving.amplitude = {0.0, 2.0, 0.0};
+  moving.frequency = 0.7;
+  const Anchor anchors[2] = {{0, moving}, {35, AnchorPath::fixed_at(flat.particle_rest_position[35])}};
+  const ClothModel model = build_lattice(def, Environment{}, anchors);
+  const auto run = [&](int threads) {
+    ImplicitEuler integrator(model, implicit_settings(0.01, 1e-6), ForceOptions{kAllForceTerms, threads});
+    ClothState state = make_rest_state(model);
+    for (int step = 0; step < 8; ++step) EXPECT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
+    return state;
+  };
+  const ClothState one = run(1);
+  for (int threads : {2, 3}) {
+    const ClothState many = run(threads);
+    EXPECT_EQ(many.position, one.position) << threads << " threads";
+    EXPECT_EQ(many.velocity, one.velocity) << threads << " threads";
+    EXPECT_EQ(many.damping_work, one.damping_work) << threads << " threads";
+  }
+}
+
+}  // namespace
+}  // namespace clothsim
