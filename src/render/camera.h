@@ -76,8 +76,9 @@ struct Camera {
 
   // Interaction (the viewer maps mouse motion onto these).
   void orbit(double delta_azimuth, double delta_elevation);  // rad; elevation clamped
-  // Moves the target (and eye) in the view plane by fractions of the visible height at the
-  // target: pan(0, 0.5) moves the picture down by half a screen height.
+  // Moves the target (and eye) in the view plane so that the picture at the target's depth moves
+  // right by `right_fraction` and up by `up_fraction` screen heights (drag-to-pan: pass the
+  // mouse motion divided by the window height, with y flipped).
   void pan(double right_fraction, double up_fraction);
   // Multiplies the distance by `factor` (> 0): < 1 zooms in. Distance stays in [1e-4, 1e6] m.
   void zoom(double factor);
@@ -87,6 +88,10 @@ struct Camera {
   // both directions, keeping the current azimuth, elevation and field of view. Non-finite points
   // are ignored; with none left the camera is unchanged.
   void frame(std::span<const Vec3> points, double aspect, double margin = 1.1);
+  // Tighter than frame(): centres the target on the bounding box of `points` and sets the
+  // smallest distance at which every point projects inside the view (shrunk by `margin`) from
+  // the current direction. Depends on the direction, so a view that orbits should use frame().
+  void fit(std::span<const Vec3> points, double aspect, double margin = 1.05);
   // The same for a given sphere.
   void frame_sphere(const Vec3& centre, double radius, double aspect);
   // Distance at which a sphere of `radius` just fits a view of `aspect`.

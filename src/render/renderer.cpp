@@ -68,12 +68,12 @@ void main() {
   }
   vec3 v = normalize(eye - world_position);
   // Hemisphere ambient: a little more from the sky than from the ground.
-  float ambient = mix(0.10, 0.20, 0.5 + 0.5 * n.y);
+  float ambient = mix(0.06, 0.14, 0.5 + 0.5 * n.y);
   float key = max(dot(n, key_direction), 0.0);
   float fill = 0.35 * max(dot(n, fill_direction), 0.0);
   vec3 h = normalize(key_direction + v);
   float specular = key > 0.0 ? 0.25 * pow(max(dot(n, h), 0.0), 48.0) : 0.0;
-  vec3 lit = base * (ambient + 0.85 * key + fill) + vec3(specular);
+  vec3 lit = base * (ambient + 0.9 * key + fill) + vec3(specular);
   colour = vec4(to_srgb(lit), opacity);
 }
 )";
@@ -145,7 +145,7 @@ void main() {
   vec2 to_major = abs(fract(p5 - 0.5) - 0.5) / max(fwidth(p5), vec2(1e-6));
   float major = 1.0 - min(min(to_major.x, to_major.y), 1.0);
   float fade = 1.0 - smoothstep(0.55 * extent, extent, length(world_position.xz - centre.xz));
-  float alpha = (0.10 + 0.35 * line + 0.30 * major) * fade;
+  float alpha = (0.08 + 0.22 * line + 0.25 * major) * fade;
   colour = vec4(ground_colour * (1.0 - 0.35 * max(line, major)), alpha);
 }
 )";
@@ -379,8 +379,8 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
   const Vec3 eye = camera.eye();
   // Lights fixed to the camera: key from the upper right, fill from the left, both towards the
   // viewer's side of the scene.
-  const Vec3 key_direction = unit_or(0.45 * camera.right() + 0.75 * camera.up() - 0.5 * camera.forward(), {0, 1, 0});
-  const Vec3 fill_direction = unit_or(-0.7 * camera.right() + 0.15 * camera.up() - 0.7 * camera.forward(), {0, 1, 0});
+  const Vec3 key_direction = unit_or(0.8 * camera.right() + 0.9 * camera.up() - 0.45 * camera.forward(), {0, 1, 0});
+  const Vec3 fill_direction = unit_or(-0.8 * camera.right() - 0.2 * camera.up() - 0.55 * camera.forward(), {0, 1, 0});
 
   glViewport(0, 0, width, height);
   const Colour& background = options.background_colour;
