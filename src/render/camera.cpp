@@ -150,6 +150,26 @@ void Camera::frame(std::span<const Vec3> points, double aspect, double margin) {
   frame_sphere(centre, margin * std::sqrt(radius_squared), aspect);
 }
 
+double Camera::fitting_distance(std::span<const Vec3> points, double aspect, double margin) const {
+  const Vec3 f = forward();
+  const Vec3 r = right();
+  const Vec3 u = up();
+  const double tan_vertical = std::tan(field_of_view / 2.0) / margin;
+  const double tan_horizontal = tan_vertical * aspect;
+  // A point at offset q from the target has depth d + q.f in front of the eye, and lies in the
+  // view when |q.r| <= tan_horizontal * depth and |q.u| <= tan_vertical * depth. The near plane
+  // (distance / 100) must stay in front of it too: d + q.f >= d / 100 + a little.
+  double needed = 0.0;
+  for (const Vec3& p : points) {
+    if (!is_finite(p)) continue;
+    const Vec3 q = p - target;
+    const double along = dot(q, f);
+    needed = std::max({needed, std::abs(dot(q, r)) / tan_horizontal - along, std::abs(dot(q, u)) / tan_vertical - along,
+                       -1.02 * along / 0.99});
+  }
+  return needed;
+}
+
 void Camera::fit(std::span<const Vec3> points, double aspect, double margin) {
   const double inf = std::numeric_limits<double>::infinity();
   Vec3 low{inf, inf, inf};
@@ -160,25 +180,8 @@ void Camera::fit(std::span<const Vec3> points, double aspect, double margin) {
     high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
   }
   if (!(low.x <= high.x)) return;
-  const Vec3 centre = 0.5 * (low + high);
-  const Vec3 f = forward();
-  const Vec3 r = right();
-  const Vec3 u = up();
-  const double tan_vertical = std::tan(field_of_view / 2.0) / margin;
-  const double tan_horizontal = tan_vertical * aspect;
-  // A point at offset q from the centre has depth d + q.f in front of the eye, and lies in the
-  // view when |q.r| <= tan_horizontal * depth and |q.u| <= tan_vertical * depth.
-  double needed = 0.0;
-  for (const Vec3& p : points) {
-    if (!is_finite(p)) continue;
-    const Vec3 q = p - centre;
-    const double along = dot(q, f);
-    needed = std::max({needed, std::abs(dot(q, r)) / tan_horizontal - along, std::abs(dot(q, u)) / tan_vertical - along});
-  }
-  target = centre;
-  // Keep the near plane (distance / 100) in front of every point.
-  const double radius = 0.5 * norm(high - low);
-  distance = std::clamp(std::max({needed, 1.02 * radius, 1e-6}), 1e-4, 1e6);
+  target = 0.5 * (low + high);
+  distance = std::clamp(std::max(fitting_distance(points, aspect, margin), 1e-6), 1e-4, 1e6);
 }
 
 Projection Camera::project(const Vec3& point, int width, int height) const {

@@ -92,6 +92,9 @@ struct Camera {
   // smallest distance at which every point projects inside the view (shrunk by `margin`) from
   // the current direction. Depends on the direction, so a view that orbits should use frame().
   void fit(std::span<const Vec3> points, double aspect, double margin = 1.05);
+  // The smallest distance at which every point of `points` projects inside the view (shrunk by
+  // `margin`) from the current target and direction; 0 with no finite points.
+  double fitting_distance(std::span<const Vec3> points, double aspect, double margin = 1.05) const;
   // The same for a given sphere.
   void frame_sphere(const Vec3& centre, double radius, double aspect);
   // Distance at which a sphere of `radius` just fits a view of `aspect`.

@@ -287,9 +287,13 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   EXPECT_TRUE(contains(result.out, "5x5 lattice, 25 particles"));
 
   // Exactly the documented files, and no partial folder left next to them.
-  const std::set<std::string> expected = {"run",           "run/positions.npy", "run/velocities.npy",
-                                          "run/energy.csv", "run/summary.json",  "run/final.obj",
-                                          "run/scene.json"};
+  std::set<std::string> expected = {"run",           "run/positions.npy", "run/velocities.npy",
+                                    "run/energy.csv", "run/summary.json",  "run/final.obj",
+                                    "run/scene.json"};
+#if CLOTHSIM_HAVE_RENDER
+  // The pictures, by default (tests/render/test_run_pictures.cpp checks their contents).
+  expected.insert({"run/final.png", "run/animation.mp4"});
+#endif
   EXPECT_EQ(entries(work_), expected);
 
   const NpyArray positions = read_npy((work_ / "run" / "positions.npy").string());
