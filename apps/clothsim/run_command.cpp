@@ -195,17 +195,18 @@ int run(const RunOptions& options, const Invocation& invocation) {
   }
   progress.clear();
   const double wall_seconds = wall.seconds();
-  recorder.finish(writer.partial());
+  recorder.finish(writer);
   writer.finish(simulation, status, wall_seconds);
 
   // 3. Report.
   if (!options.quiet) {
     print_summary(spec, simulation, writer, status, wall_seconds);
     if (recorder.active()) {
-      std::printf("pictures     %s: %ld frames at %s in %s (%.3g s per frame, rendering and encoding)\n",
-                  describe_render_outputs(*render_plan).c_str(), recorder.frames(), recorder.description().c_str(),
+      std::printf("pictures     %s: %ld frames in %s (%.3g ms per frame); %s\n",
+                  describe_render_outputs(*render_plan).c_str(), recorder.frames(),
                   format_duration(recorder.seconds()).c_str(),
-                  recorder.frames() > 0 ? recorder.seconds() / static_cast<double>(recorder.frames()) : 0.0);
+                  recorder.frames() > 0 ? 1e3 * recorder.seconds() / static_cast<double>(recorder.frames()) : 0.0,
+                  recorder.description().c_str());
       std::fflush(stdout);
     }
   }
@@ -248,6 +249,8 @@ std::string run_footer() {
       "  clothsim run paper-fig5 --until-rest --rest-energy 1e-4\n"
       "  clothsim run paper-fig5 --set springs.adjacent.stiffness=400 --set environment.air_drag=0.1\n"
       "  clothsim run out/paper-fig4/scene.json --out out/paper-fig4-again   # reproduce a run\n"
+      "  clothsim run paper-fig5 --size 1920x1080 --camera 0,10 --show wireframe\n"
+      "  clothsim run drape-corners --render none   # data only, no OpenGL\n"
       "\n";
   text += exit_code_help();
   return text;

@@ -23,7 +23,7 @@ namespace {
 
 constexpr int kMinSide = 16;
 constexpr int kMaxSide = 8192;
-constexpr double kDegree = 3.14159265358979323846 / 180.0;
+[[maybe_unused]] constexpr double kDegree = 3.14159265358979323846 / 180.0;
 
 #if CLOTHSIM_HAVE_RENDER
 constexpr const char* kDefaultRender = "all";
@@ -32,7 +32,7 @@ constexpr const char* kDefaultRender = "none";
 #endif
 
 // Parses a whole string as a double; false on trailing text, empty input or non-finite values.
-bool parse_double(const std::string& text, double& value) {
+[[maybe_unused]] bool parse_double(const std::string& text, double& value) {
   if (text.empty()) return false;
   char* end = nullptr;
   value = std::strtod(text.c_str(), &end);
@@ -190,7 +190,6 @@ std::shared_ptr<const RenderPlan> parse_render_flags(const RenderFlags& flags) {
     }
   }
 #else
-  (void)kDegree;
   if (flags.camera != "auto" || flags.mesh != "particles" || !flags.show.empty()) {
     throw InputError("--camera", "", "this clothsim was built without rendering (CLOTHSIM_BUILD_RENDER=OFF)");
   }
@@ -220,6 +219,7 @@ struct RunRecorder::Impl {
   render::Image image;
   double seconds = 0.0;
   long frames = 0;
+  int fps = 0;
   std::string description;
 };
 
@@ -264,6 +264,7 @@ RunRecorder::~RunRecorder() = default;
 
 void RunRecorder::begin(const std::filesystem::path& folder, int fps) {
   Impl& impl = *impl_;
+  impl.fps = fps;
   if (!impl.plan->video) return;
   try {
     impl.video.emplace((folder / kVideoFile).string(), impl.plan->width, impl.plan->height, fps);
@@ -290,10 +291,11 @@ void RunRecorder::frame(const ClothModel& model, std::span<const Vec3> position,
   impl.seconds += watch.seconds();
 }
 
-void RunRecorder::finish(const std::filesystem::path& folder) {
+void RunRecorder::finish(RunWriter& writer) {
   Impl& impl = *impl_;
   if (!impl.context) return;
   const Stopwatch watch;
+  const std::filesystem::path& folder = writer.partial();
   try {
     if (impl.plan->image && impl.frames > 0) render::write_png((folder / kImageFile).string(), impl.image);
     if (impl.video) impl.video->finish();
@@ -301,6 +303,20 @@ void RunRecorder::finish(const std::filesystem::path& folder) {
     rethrow_as_output_error();
   }
   impl.seconds += watch.seconds();
+  const int width = impl.plan->width;
+  const int height = impl.plan->height;
+  if (impl.plan->image && impl.frames > 0) {
+    writer.add_file(std::string(kImageFile), {{"width", width}, {"height", height}, {"frame", impl.frames - 1}});
+  }
+  if (impl.video) {
+    // yuv420p needs even sides: the video is padded by a pixel where the size is odd.
+    writer.add_file(std::string(kVideoFile), {{"frames", impl.video->frames()},
+                                              {"fps", impl.fps},
+                                              {"width", width + width % 2},
+                                              {"height", height + height % 2},
+                                              {"codec", "h264"},
+                                              {"pixel_format", "yuv420p"}});
+  }
 }
 
 bool RunRecorder::active() const { return impl_->context.has_value(); }
@@ -315,7 +331,7 @@ RunRecorder::RunRecorder(std::shared_ptr<const RenderPlan> /*plan*/, const Cloth
 RunRecorder::~RunRecorder() = default;
 void RunRecorder::begin(const std::filesystem::path& /*folder*/, int /*fps*/) {}
 void RunRecorder::frame(const ClothModel& /*model*/, std::span<const Vec3> /*position*/, double /*time*/) {}
-void RunRecorder::finish(const std::filesystem::path& /*folder*/) {}
+void RunRecorder::finish(RunWriter& /*writer*/) {}
 bool RunRecorder::active() const { return false; }
 std::string RunRecorder::description() const { return {}; }
 double RunRecorder::seconds() const { return 0.0; }

@@ -22,6 +22,7 @@
 #include <CLI/CLI.hpp>
 
 #include "core/vec3.h"
+#include "io/run_writer.h"
 #include "model/cloth_model.h"
 
 namespace clothsim::cli {
@@ -60,11 +61,12 @@ class RunRecorder {
   void begin(const std::filesystem::path& folder, int fps);
   // Renders one output frame and sends it to the video. Throws OutputError.
   void frame(const ClothModel& model, std::span<const Vec3> position, double time);
-  // Writes `folder`/final.png (the last frame) and finishes the video. Throws OutputError.
-  void finish(const std::filesystem::path& folder);
+  // Writes final.png (the last frame) into the writer's partial folder, finishes the video, and
+  // records both in summary.json "files". Throws OutputError.
+  void finish(RunWriter& writer);
 
   bool active() const;
-  // "1280x720, 4x MSAA, OpenGL 4.5 (Core Profile) Mesa 22.3.6, llvmpipe ...": for the summary.
+  // "1280x720, OpenGL 4.5 (Core Profile) Mesa 22.3.6, llvmpipe (...), EGL surfaceless, 4x MSAA".
   std::string description() const;
   // Wall time spent rendering and encoding so far, s; frames rendered.
   double seconds() const;

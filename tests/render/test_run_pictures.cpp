@@ -158,6 +158,15 @@ TEST_F(RunPictures, VideoHasOneFramePerOutputFrameAndFinalPngTheRequestedSize) {
   // Frames 0 .. 10: t = 0, 0.05, ..., 0.5 s.
   EXPECT_EQ(stream.value("nb_read_frames", ""), "11");
 
+  // summary.json lists both, with what ffprobe saw.
+  const nlohmann::json summary = nlohmann::json::parse(read_text(work_ / "run" / "summary.json"));
+  const nlohmann::json& files = summary["files"];
+  EXPECT_EQ(files["animation.mp4"]["frames"], 11);
+  EXPECT_EQ(files["animation.mp4"]["fps"], 20);
+  EXPECT_EQ(files["animation.mp4"]["codec"], "h264");
+  EXPECT_EQ(files["final.png"]["frame"], 10);
+  EXPECT_EQ(files["final.png"]["width"], 320);
+
   const Image image = read_png((work_ / "run" / "final.png").string());
   EXPECT_EQ(image.width, 320);
   EXPECT_EQ(image.height, 240);
