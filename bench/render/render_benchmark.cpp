@@ -1,5 +1,6 @@
 // Render time per frame of `clothsim run`'s pictures, for square sheets of 50, 100 and 200
-// particles a side, headless (render/headless.h) at 1280x720 by default.
+// particles a side, headless (render/headless.h) at 1280x720 with 4x MSAA by default
+// (--size WxH, --samples N, --no-ground to see what the parts cost).
 //
 // Each sheet is given a smooth two-wave shape (so normals vary and no triangle is degenerate),
 // framed by Camera::fit, and drawn `frames` times after 3 warm-up frames. Per frame it times
@@ -47,18 +48,29 @@ int main(int argc, char** argv) {
   int width = 1280;
   int height = 720;
   int frames = 15;
-  for (int i = 1; i + 1 < argc; i += 2) {
+  int samples = 4;
+  bool ground = true;
+  for (int i = 1; i < argc; ++i) {
     const std::string flag = argv[i];
-    if (flag == "--size" && std::sscanf(argv[i + 1], "%dx%d", &width, &height) == 2) continue;
-    if (flag == "--frames") {
-      frames = std::max(1, std::atoi(argv[i + 1]));
+    const bool has_value = i + 1 < argc;
+    if (flag == "--no-ground") {
+      ground = false;
       continue;
     }
-    std::fprintf(stderr, "usage: render_benchmark [--size WxH] [--frames N]\n");
+    if (has_value && flag == "--size" && std::sscanf(argv[++i], "%dx%d", &width, &height) == 2) continue;
+    if (has_value && flag == "--frames") {
+      frames = std::max(1, std::atoi(argv[++i]));
+      continue;
+    }
+    if (has_value && flag == "--samples") {
+      samples = std::max(1, std::atoi(argv[++i]));
+      continue;
+    }
+    std::fprintf(stderr, "usage: render_benchmark [--size WxH] [--frames N] [--samples N] [--no-ground]\n");
     return 2;
   }
 
-  clothsim::render::HeadlessContext context(width, height);
+  clothsim::render::HeadlessContext context(width, height, samples);
   clothsim::render::Renderer renderer;
   std::printf("render_benchmark: %dx%d, %d frames per sheet after 3 warm-up frames\n%s\n\n", width, height, frames,
               context.description().c_str());
@@ -75,7 +87,8 @@ int main(int argc, char** argv) {
     for (Vec3& p : position) p.y = 0.8 * std::sin(0.9 * p.x) * std::cos(0.6 * p.z);
     clothsim::render::Camera camera;
     camera.fit(position, static_cast<double>(width) / height);
-    const clothsim::render::RenderOptions options;
+    clothsim::render::RenderOptions options;
+    options.show_ground = ground;
 
     std::vector<double> draw_times;
     std::vector<double> read_times;

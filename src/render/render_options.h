@@ -34,7 +34,7 @@ struct RenderOptions {
   std::optional<double> ground_height;
   double ground_extent = 0.0;  // half-width of the grid square, m; 0 chooses from the sheet size
 
-  // Marker radius, m; 0 chooses from the lattice spacing (0.35 L) and the view so a marker stays
+  // Marker radius, m; 0 chooses from the lattice spacing (0.45 L) and the view so a marker stays
   // a few pixels wide at any zoom.
   double anchor_radius = 0.0;
 

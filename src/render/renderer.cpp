@@ -523,10 +523,10 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
   }
 
   // --- Anchors and the highlighted particle ---
-  // Radius: 0.35 L, but never below 4 pixels at the target's distance, so a marker on a large
+  // Radius: 0.45 L, but never below 5 pixels at the target's distance, so a marker on a large
   // sheet seen from far away is still visible.
   const double pixel = 2.0 * camera.distance * std::tan(camera.field_of_view / 2.0) / height;
-  const double radius = options.anchor_radius > 0.0 ? options.anchor_radius : std::max(0.35 * spacing, 4.0 * pixel);
+  const double radius = options.anchor_radius > 0.0 ? options.anchor_radius : std::max(0.45 * spacing, 5.0 * pixel);
   auto draw_spheres = [&](const std::vector<float>& centres, const Colour& colour, double sphere_radius) {
     if (centres.empty()) return;
     glUseProgram(impl.lit_sphere);
