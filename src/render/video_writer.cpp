@@ -5,7 +5,8 @@
 // pipe nobody drains would block ffmpeg once it fills (64 KiB), and draining it needs a thread.
 // The pipe's write end is close-on-exec so ffmpeg does not inherit it (else it would never see
 // end of input). SIGPIPE is ignored while a writer lives, so a dead ffmpeg turns into an EPIPE
-// error with its message rather than killing clothsim.
+// error with its message rather than killing clothsim. ffmpeg runs in its own process group, so
+// the terminal's Ctrl-C reaches only clothsim, which then finishes the video of the frames kept.
 #include "render/video_writer.h"
 
 #include <fcntl.h>
@@ -25,8 +26,8 @@ extern char** environ;
 namespace clothsim::render {
 namespace {
 
-// Runs argv and waits; its output goes to `stderr_fd` (or /dev/null with -1). Returns the pid or
-// throws with errno's reason.
+// Starts argv with stdin from `stdin_fd` and stdout and stderr to `output_fd` (/dev/null for -1),
+// in a new process group. Returns the pid or throws with the reason.
 pid_t spawn(const std::vector<std::string>& arguments, int stdin_fd, int output_fd) {
   std::vector<char*> argv;
   for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
@@ -45,8 +46,15 @@ pid_t spawn(const std::vector<std::string>& arguments, int stdin_fd, int output_
     posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
     posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
   }
+  // A process group of its own: Ctrl-C in the terminal goes to the terminal's foreground group,
+  // and ffmpeg would stop (and fail the video) while clothsim finishes the interrupted run.
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
+  posix_spawnattr_setpgroup(&attributes, 0);
   pid_t pid = -1;
-  const int error = posix_spawnp(&pid, argv[0], &actions, nullptr, argv.data(), environ);
+  const int error = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+  posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   if (error != 0) {
     throw RenderError("cannot run '" + arguments[0] + "': " + std::strerror(error) +

@@ -15,6 +15,7 @@
 
 #include <gtest/gtest.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -241,6 +242,49 @@ TEST_F(RunPictures, BadFlagsExitTwoNamingTheFlagAndWriteNothing) {
   }
   const Result size = small_run({"--size", "0x100"});
   EXPECT_NE(size.err.find("[16, 8192]"), std::string::npos) << size.err;
+}
+
+// Ctrl-C in a terminal sends SIGINT to the whole foreground process group. The run must end as
+// an interrupted run (exit 130) with a complete video of the frames kept: ffmpeg must not get
+// the signal too.
+TEST_F(RunPictures, CtrlCKeepsACompleteVideoOfTheFramesKept) {
+  std::vector<std::string> words = {CLOTHSIM_EXE, "run", "--paper-args", kSmallPaperArgs, "--duration", "100000",
+                                    "--fps", "20", "--size", "64x48", "--out", "run", "--quiet"};
+  std::vector<char*> argv;
+  for (std::string& word : words) argv.push_back(word.data());
+  argv.push_back(nullptr);
+  posix_spawn_file_actions_t actions;
+  posix_spawn_file_actions_init(&actions);
+  posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
+  const std::string err_path = (root_ / "stderr.txt").string();
+  posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+  posix_spawn_file_actions_addchdir_np(&actions, work_.c_str());
+  posix_spawnattr_t attributes;
+  posix_spawnattr_init(&attributes);
+  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);  // a group, like a shell job
+  posix_spawnattr_setpgroup(&attributes, 0);
+  pid_t pid = -1;
+  ASSERT_EQ(posix_spawn(&pid, argv[0], &actions, &attributes, argv.data(), environ), 0);
+  posix_spawnattr_destroy(&attributes);
+  posix_spawn_file_actions_destroy(&actions);
+  // Wait until a few frames are in the partial folder's positions.npy, then Ctrl-C the group.
+  const fs::path positions = work_ / ("run.partial-" + std::to_string(pid)) / "positions.npy";
+  for (int wait = 0; wait < 600; ++wait) {
+    std::error_code error;
+    if (fs::file_size(positions, error) > 128 + 5 * 25 * 24 && !error) break;
+    ::usleep(10000);
+  }
+  ASSERT_EQ(::kill(-pid, SIGINT), 0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  ASSERT_TRUE(WIFEXITED(status)) << read_text(err_path);
+  EXPECT_EQ(WEXITSTATUS(status), 130) << read_text(err_path);
+  const nlohmann::json summary = nlohmann::json::parse(read_text(work_ / "run" / "summary.json"));
+  EXPECT_EQ(summary["status"], "interrupted");
+  const int frames = summary["frames"].get<int>();
+  EXPECT_GE(frames, 5);
+  const nlohmann::json stream = probe(work_ / "run" / "animation.mp4");
+  EXPECT_EQ(stream.value("nb_read_frames", ""), std::to_string(frames));
 }
 
 TEST_F(RunPictures, WithoutFfmpegTheRunFailsBeforeSimulatingAndWritesNothing) {
