@@ -11,6 +11,13 @@
 #include "io/run_writer.h"
 
 #if CLOTHSIM_HAVE_RENDER
+#include <condition_variable>
+#include <deque>
+#include <exception>
+#include <mutex>
+#include <thread>
+#include <vector>
+
 #include "render/camera_director.h"
 #include "render/headless.h"
 #include "render/renderer.h"
@@ -209,18 +216,104 @@ std::string describe_render_outputs(const RenderPlan& plan) {
 
 #if CLOTHSIM_HAVE_RENDER
 
+// Frames are rendered on a worker thread, so that the simulation of the next frames and the
+// rendering of this one overlap (docs/performance.md: paper-fig4 went from 126 s to 110 s on a
+// busy 2-core machine with llvmpipe; with a GPU or more cores the overlap is larger). The main
+// thread copies each frame's
+// positions into a bounded queue (kQueueDepth frames; it waits when the renderer falls behind,
+// so memory stays bounded) and the worker, which owns the OpenGL context while it runs, renders,
+// reads back and pipes each frame to ffmpeg in order. A worker failure (ffmpeg died, disk full)
+// is rethrown on the main thread at its next frame() or finish().
 struct RunRecorder::Impl {
+  static constexpr std::size_t kQueueDepth = 3;
+
+  struct Frame {
+    std::vector<Vec3> position;
+    double time = 0.0;
+  };
+
   std::shared_ptr<const RenderPlan> plan;
+  ClothModel model;  // a copy: the worker must not depend on the caller's lifetimes
   std::optional<render::HeadlessContext> context;
   std::optional<render::Renderer> renderer;
   std::optional<render::VideoWriter> video;
   std::optional<render::CameraDirector> director;
   render::RenderOptions options;
-  render::Image image;
+  render::Image image;  // the last frame rendered
   double seconds = 0.0;
   long frames = 0;
   int fps = 0;
   std::string description;
+
+  // Shared between the main thread and the worker, under `mutex`.
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<Frame> queue;     // frames to render, oldest first
+  std::vector<Frame> spare;    // recycled position buffers
+  bool closing = false;        // no more frames will come
+  std::exception_ptr failure;  // the worker's error, if any
+  std::thread worker;
+
+  void render_frame(const Frame& frame) {
+    const Stopwatch watch;
+    director->update(model, frame.position, frame.time);
+    options.ground_height = director->ground_height();
+    context->bind();
+    renderer->draw(model, frame.position, options, director->camera(), plan->width, plan->height);
+    context->read(image);
+    if (video) video->write_frame(image);
+    ++frames;
+    seconds += watch.seconds();
+  }
+
+  void run_worker() {
+    try {
+      while (true) {
+        Frame frame;
+        {
+          std::unique_lock lock(mutex);
+          changed.wait(lock, [this] { return !queue.empty() || closing; });
+          if (queue.empty()) break;
+          frame = std::move(queue.front());
+          queue.pop_front();
+        }
+        changed.notify_all();
+        render_frame(frame);
+        std::lock_guard lock(mutex);
+        spare.push_back(std::move(frame));
+      }
+    } catch (...) {
+      std::lock_guard lock(mutex);
+      failure = std::current_exception();
+    }
+    context->release();
+    changed.notify_all();
+  }
+
+  // Stops the worker after the frames queued so far and takes the context back.
+  void stop_worker() {
+    if (!worker.joinable()) return;
+    {
+      std::lock_guard lock(mutex);
+      closing = true;
+    }
+    changed.notify_all();
+    worker.join();
+    context->bind();
+  }
+
+  ~Impl() {
+    // A run that ends by an exception: stop rendering (the frames still queued are dropped by
+    // the worker when ffmpeg is killed, or rendered: either way nothing outlives this), and make
+    // the context current here again for the renderer's destructor.
+    if (worker.joinable()) {
+      {
+        std::lock_guard lock(mutex);
+        queue.clear();
+      }
+      stop_worker();
+    }
+  }
 };
 
 namespace {
@@ -238,7 +331,7 @@ namespace {
 
 }  // namespace
 
-RunRecorder::RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothModel& /*model*/)
+RunRecorder::RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothModel& model)
     : impl_(std::make_unique<Impl>()) {
   Impl& impl = *impl_;
   impl.plan = std::move(plan);
@@ -256,6 +349,7 @@ RunRecorder::RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothMode
   } catch (...) {
     rethrow_as_output_error();
   }
+  impl.model = model;
   impl.options = impl.plan->options;
   impl.director.emplace(impl.plan->camera, static_cast<double>(impl.plan->width) / impl.plan->height);
 }
@@ -265,38 +359,50 @@ RunRecorder::~RunRecorder() = default;
 void RunRecorder::begin(const std::filesystem::path& folder, int fps) {
   Impl& impl = *impl_;
   impl.fps = fps;
-  if (!impl.plan->video) return;
+  if (!impl.context) return;
   try {
-    impl.video.emplace((folder / kVideoFile).string(), impl.plan->width, impl.plan->height, fps);
+    if (impl.plan->video) {
+      impl.video.emplace((folder / kVideoFile).string(), impl.plan->width, impl.plan->height, fps);
+    }
   } catch (...) {
     rethrow_as_output_error();
   }
+  impl.context->release();
+  impl.worker = std::thread([&impl] { impl.run_worker(); });
 }
 
-void RunRecorder::frame(const ClothModel& model, std::span<const Vec3> position, double time) {
+void RunRecorder::frame(const ClothModel& /*model*/, std::span<const Vec3> position, double time) {
   Impl& impl = *impl_;
   if (!impl.context) return;
-  const Stopwatch watch;
-  try {
-    impl.director->update(model, position, time);
-    impl.options.ground_height = impl.director->ground_height();
-    impl.context->bind();
-    impl.renderer->draw(model, position, impl.options, impl.director->camera(), impl.plan->width, impl.plan->height);
-    impl.context->read(impl.image);
-    if (impl.video) impl.video->write_frame(impl.image);
-  } catch (...) {
-    rethrow_as_output_error();
+  std::unique_lock lock(impl.mutex);
+  impl.changed.wait(lock, [&impl] { return impl.queue.size() < Impl::kQueueDepth || impl.failure; });
+  if (impl.failure) {
+    try {
+      std::rethrow_exception(impl.failure);
+    } catch (...) {
+      rethrow_as_output_error();
+    }
   }
-  ++impl.frames;
-  impl.seconds += watch.seconds();
+  Impl::Frame frame;
+  if (!impl.spare.empty()) {
+    frame = std::move(impl.spare.back());
+    impl.spare.pop_back();
+  }
+  frame.position.assign(position.begin(), position.end());
+  frame.time = time;
+  impl.queue.push_back(std::move(frame));
+  lock.unlock();
+  impl.changed.notify_all();
 }
 
 void RunRecorder::finish(RunWriter& writer) {
   Impl& impl = *impl_;
   if (!impl.context) return;
+  impl.stop_worker();
   const Stopwatch watch;
   const std::filesystem::path& folder = writer.partial();
   try {
+    if (impl.failure) std::rethrow_exception(impl.failure);
     if (impl.plan->image && impl.frames > 0) render::write_png((folder / kImageFile).string(), impl.image);
     if (impl.video) impl.video->finish();
   } catch (...) {

@@ -5,8 +5,9 @@
 // anything is written (bad values exit 2); the recorder is constructed before the simulation
 // starts and before the output folder exists, so a machine without EGL or ffmpeg fails at once
 // (exit 3, with a message suggesting --render none) instead of after a long run; begin() starts
-// ffmpeg writing into the partial output folder; frame() renders each output frame; finish()
-// writes final.png and waits for ffmpeg, before the folder is renamed into place. A run that
+// ffmpeg writing into the partial output folder and a worker thread that renders; frame() queues
+// each output frame for it; finish() waits for the worker, writes final.png and waits for ffmpeg,
+// before the folder is renamed into place. A run that
 // dies on the way leaves nothing: the partial folder goes, ffmpeg with it.
 //
 // With --render none nothing here touches OpenGL: no context is created (batch runs on
@@ -59,7 +60,8 @@ class RunRecorder {
 
   // Starts the video (ffmpeg writing `folder`/animation.mp4 at `fps`). Throws OutputError.
   void begin(const std::filesystem::path& folder, int fps);
-  // Renders one output frame and sends it to the video. Throws OutputError.
+  // Queues one output frame (its positions are copied) for rendering and the video; waits while
+  // 3 frames are already queued. Throws OutputError if rendering or ffmpeg failed.
   void frame(const ClothModel& model, std::span<const Vec3> position, double time);
   // Writes final.png (the last frame) into the writer's partial folder, finishes the video, and
   // records both in summary.json "files". Throws OutputError.

@@ -225,6 +225,12 @@ void HeadlessContext::bind() {
   glViewport(0, 0, impl_->width, impl_->height);
 }
 
+void HeadlessContext::release() {
+  if (eglGetCurrentContext() == impl_->context) {
+    eglMakeCurrent(impl_->display.display, EGL_NO_SURFACE, EGL_NO_SURFACE, EGL_NO_CONTEXT);
+  }
+}
+
 void HeadlessContext::read(Image& image) {
   Impl& impl = *impl_;
   impl.make_current();

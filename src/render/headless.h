@@ -38,8 +38,12 @@ class HeadlessContext {
   int height() const;
   int samples() const;  // MSAA samples of the target actually obtained (1: none)
 
-  // Binds the offscreen target for drawing (draw calls go there) and makes the context current.
+  // Makes the context current on the calling thread and binds the offscreen target for drawing
+  // (draw calls go there). A context is current on at most one thread: to hand it to another
+  // thread, release() it on this one first.
   void bind();
+  // Makes no context current on the calling thread (if this one was current there).
+  void release();
   // Resolves the target and reads it into `image` (RGB, top row first).
   void read(Image& image);
 

@@ -17,6 +17,7 @@
 
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -285,6 +286,43 @@ TEST_F(RunPictures, CtrlCKeepsACompleteVideoOfTheFramesKept) {
   EXPECT_GE(frames, 5);
   const nlohmann::json stream = probe(work_ / "run" / "animation.mp4");
   EXPECT_EQ(stream.value("nb_read_frames", ""), std::to_string(frames));
+}
+
+// A simulation that blows up keeps its good frames (exit 1), and its pictures show them.
+TEST_F(RunPictures, FailedSimulationKeepsPicturesOfTheFramesKept) {
+  const Result result =
+      small_run({"--integrator", "symplectic-euler", "--time-step", "0.5", "--duration", "5", "--fps", "2", "--size",
+                 "64x48"});
+  ASSERT_EQ(result.exit_code, 1) << describe(result);
+  const nlohmann::json summary = nlohmann::json::parse(read_text(work_ / "run" / "summary.json"));
+  EXPECT_EQ(summary["status"], "failed");
+  const nlohmann::json stream = probe(work_ / "run" / "animation.mp4");
+  EXPECT_EQ(stream.value("nb_read_frames", ""), std::to_string(summary["frames"].get<int>()));
+  EXPECT_TRUE(fs::exists(work_ / "run" / "final.png"));
+}
+
+// ffmpeg failing in the middle of the run (here a stand-in that reads a little, complains and
+// exits 1) is an output error: exit 3 with ffmpeg's message, and no folder left behind.
+TEST_F(RunPictures, FfmpegFailingMidRunExitsThreeWithItsMessageAndLeavesNothing) {
+  const fs::path bin = root_ / "bin";
+  fs::create_directories(bin);
+  const fs::path fake = bin / "ffmpeg";
+  {
+    std::ofstream script(fake);
+    script << "#!/bin/sh\n"
+              "case \"$*\" in *-version*) exit 0;; esac\n"
+              "head -c 20000 > /dev/null\n"
+              "echo 'stand-in ffmpeg: the encoder gave up' >&2\n"
+              "exit 1\n";
+  }
+  fs::permissions(fake, fs::perms::owner_all);
+  const char* path = std::getenv("PATH");
+  const Result result = small_run({"--size", "64x48", "--duration", "2"},
+                                  {"PATH=" + bin.string() + ":" + (path != nullptr ? path : "/usr/bin:/bin")});
+  EXPECT_EQ(result.exit_code, 3) << describe(result);
+  EXPECT_NE(result.err.find("the encoder gave up"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("animation.mp4"), std::string::npos) << result.err;
+  EXPECT_TRUE(entries(work_).empty());
 }
 
 TEST_F(RunPictures, WithoutFfmpegTheRunFailsBeforeSimulatingAndWritesNothing) {
