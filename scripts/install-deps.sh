@@ -10,6 +10,15 @@ packages=(
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev     # micro-benchmarks
   python3 python3-numpy  # end-to-end check that numpy.load opens our .npy output
+  # Rendering (src/render, docs/rendering.md): OpenGL 3.3 core through libepoxy, headless EGL
+  # on Mesa (llvmpipe where there is no GPU), PNG images, H.264 video through the ffmpeg program.
+  libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri
+  libpng-dev
+  ffmpeg               # animation.mp4; ffprobe checks it in the tests
+  mesa-utils           # eglinfo/glxinfo, to diagnose a machine's OpenGL
+  # The interactive viewer (clothsim view, docs/viewer.md): a GLFW window with Dear ImGui; its
+  # tests run under a virtual X server.
+  libglfw3-dev libimgui-dev xvfb xauth
 )
 
 missing=()

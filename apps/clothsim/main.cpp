@@ -1,8 +1,8 @@
 // clothsim: the command-line tool. main() only parses and dispatches; each subcommand is one
 // file (commands.h) and the shared exit codes and error reporting are in cli_support.h.
-#include <array>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -19,6 +19,9 @@ std::string main_footer() {
       "  clothsim run --paper-args 21,21,1,4,1,1400,200,80,5,1 --duration 10\n"
       "  clothsim run my-scene.json --until-rest --out out/mine\n"
       "  clothsim validate my-scene.json\n"
+#if defined(CLOTHSIM_HAS_VIEWER)
+      "  clothsim view paper-fig4                          # the interactive viewer\n"
+#endif
       "  clothsim params | grep stiffness                  # keys for --set\n"
       "  clothsim bench --quick                            # throughput on this machine\n"
       "  clothsim run --help                               # every flag of a subcommand\n"
@@ -39,8 +42,11 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.get_formatter()->column_width(34);
   app.footer(main_footer());
-  const std::array commands = {add_run_command(app, invocation), add_validate_command(app), add_scenes_command(app),
-                               add_params_command(app), add_bench_command(app)};
+  std::vector<Subcommand> commands = {add_run_command(app, invocation), add_validate_command(app),
+                                      add_scenes_command(app), add_params_command(app), add_bench_command(app)};
+#if defined(CLOTHSIM_HAS_VIEWER)
+  commands.push_back(add_view_command(app));
+#endif
 
   try {
     app.parse(argc, argv);

@@ -12,7 +12,6 @@
 // interrupted run still ends with a complete, well-formed folder; a second SIGINT kills the
 // process the default way (the partial folder is then left behind, named <out>.partial-<pid>).
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -23,6 +22,8 @@
 #include "forces/forces.h"
 #include "io/run_writer.h"
 #include "progress_bar.h"
+#include "run_render.h"
+#include "scene_options.h"
 #include "scene/parameters.h"
 #include "sim/profile.h"
 #include "sim/simulation.h"
@@ -56,102 +57,26 @@ class InterruptGuard {
   void (*previous_)(int) = SIG_DFL;
 };
 
-// The flags that each set one scene field, by its registry key. Their messages come from
-// set_scene_field with the flag as the source: "--fps: field 'output.fps': must be ...".
-struct FieldFlag {
-  std::string_view flag;
-  std::string_view key;
-  std::string_view value_name;
-  std::string_view what;  // help text; the allowed range is appended from the registry
-};
-
-constexpr std::array<FieldFlag, 10> kFieldFlags = {{
-    {"--duration", "output.duration", "SECONDS", "simulated time to run"},
-    {"--fps", "output.fps", "N", "frames written per simulated second"},
-    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler or implicit-euler"},
-    {"--rtol", "integrator.relative_tolerance", "X", "RKF45 relative error tolerance"},
-    {"--atol", "integrator.absolute_tolerance", "X", "RKF45 absolute error tolerance (m, m/s)"},
-    {"--time-step", "integrator.time_step", "SECONDS", "step of rk4, symplectic-euler and implicit-euler; first trial step of rkf45"},
-    {"--gravity", "environment.gravity", "X,Y,Z", "gravitational acceleration, m/s^2"},
-    {"--anchor", "anchors", "PRESET", "anchored particles: center, corners, edge-corners or none"},
-    {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size"},
-    {"--rest-energy", "output.rest_kinetic_energy", "JOULES", "kinetic energy below which --until-rest stops"},
-}};
-
-constexpr std::size_t kDurationFlag = 0;
-
-std::string field_flag_help(const FieldFlag& flag) {
-  std::string text(flag.what);
-  text += " (";
-  text += flag.key;
-  if (const ScalarParameter* parameter = find_scalar_parameter(flag.key)) {
-    text += ": ";
-    text += describe_allowed(parameter->type, parameter->range);
-  } else if (const VectorParameter* vector = find_vector_parameter(flag.key)) {
-    text += ": each in ";
-    text += describe_range(vector->component_range);
-  }
-  text += ")";
-  return text;
-}
-
 struct RunOptions {
-  CLI::App* app = nullptr;
-  std::string scene;       // file or built-in name
-  std::string paper_args;  // the paper's ten numbers
-  std::array<std::string, kFieldFlags.size()> field_values;
-  std::vector<std::string> assignments;  // --set KEY=VALUE, in order
+  SceneOptions scene;  // SCENE or --paper-args, --set and the field flags (scene_options.h)
   std::string out;
   bool until_rest = false;
   bool quiet = false;
   bool no_progress = false;
   bool profile = false;
+  RenderFlags render;  // --render, --size, --camera, --mesh, --show (run_render.h)
 
-  bool given(std::string_view flag) const { return app->count(std::string(flag)) > 0; }
+  bool given(std::string_view flag) const { return scene.given(flag); }
 };
 
 // The scene with every flag applied and checked. Throws InputError.
-SceneSpec make_scene(const RunOptions& options) {
-  const bool has_scene = options.given("SCENE");
-  const bool has_paper_args = options.given("--paper-args");
-  if (has_scene == has_paper_args) {
-    throw InputError("run", "",
-                     has_scene ? "give either SCENE or --paper-args, not both"
-                               : "needs a SCENE (a scene file or a built-in name, see 'clothsim scenes') or "
-                                 "--paper-args ROWS,COLS,MASS,K_ADJ,C_ADJ,K_OPP,C_OPP,K_CONN,C_CONN,LENGTH");
-  }
-  std::string source = has_scene ? options.scene : "--paper-args";
-  SceneSpec spec = has_scene ? load_scene(options.scene) : scene_from_paper_args(options.paper_args, source);
-
-  bool overridden = false;
-  for (const std::string& assignment : options.assignments) {
-    const std::size_t equals = assignment.find('=');
-    if (equals == std::string::npos || equals == 0) {
-      std::string reason = "expects KEY=VALUE (list the keys with 'clothsim params'), got \"";
-      reason += assignment;
-      reason += "\"";
-      throw InputError("--set", "", reason);
-    }
-    const std::string_view text = assignment;
-    set_scene_field(spec, text.substr(0, equals), text.substr(equals + 1), "--set");
-    overridden = true;
-  }
-  for (std::size_t i = 0; i < kFieldFlags.size(); ++i) {
-    const FieldFlag& flag = kFieldFlags[i];
-    if (!options.given(flag.flag)) continue;
-    set_scene_field(spec, flag.key, options.field_values[i], std::string(flag.flag));
-    overridden = true;
-  }
-  if (options.until_rest) {
+SceneSpec make_run_scene(const RunOptions& options) {
+  return make_scene(options.scene, [&options](SceneSpec& spec) {
+    if (!options.until_rest) return false;
     spec.output.until_rest = true;
-    if (!options.given(kFieldFlags[kDurationFlag].flag)) {
-      spec.output.duration = std::max(spec.output.duration, kUntilRestDurationCap);
-    }
-    overridden = true;
-  }
-  if (overridden) source += " with the command-line flags";
-  validate_scene(spec, source);
-  return spec;
+    if (!options.given("--duration")) spec.output.duration = std::max(spec.output.duration, kUntilRestDurationCap);
+    return true;
+  });
 }
 
 // out/<scene name>, with characters that do not belong in a folder name replaced.
@@ -232,11 +157,15 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
 int run(const RunOptions& options, const Invocation& invocation) {
   // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
   //    anything exists on disk.
-  const SceneSpec spec = make_scene(options);
+  const SceneSpec spec = make_run_scene(options);
   ClothModel model = build_model(spec);
   ClothState initial = build_initial_state(model, spec);
   const std::string out = options.given("--out") ? options.out : default_output_folder(spec);
   RunWriter writer(out, RunInfo{CLOTHSIM_VERSION, invocation.command_line});
+  const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
+  // The OpenGL context and ffmpeg are checked now, before the run: a machine that cannot make
+  // pictures fails at once (exit 3, suggesting --render none), not after a long simulation.
+  RunRecorder recorder(render_plan, model);
 
   // 2. The run.
   SimulationSettings settings;
@@ -247,6 +176,9 @@ int run(const RunOptions& options, const Invocation& invocation) {
   const InterruptGuard interrupt;
   writer.begin(spec, simulation);
   writer.write_frame(simulation);
+  // Pictures go into the partial folder too, so they appear (or not) with everything else.
+  recorder.begin(writer.partial(), spec.output.fps);
+  recorder.frame(simulation.model(), simulation.state().position, simulation.state().time);
 
   const int fps = spec.output.fps;
   const auto last_frame = static_cast<std::uint64_t>(std::llround(spec.output.duration * fps));
@@ -262,6 +194,7 @@ int run(const RunOptions& options, const Invocation& invocation) {
       break;
     }
     writer.write_frame(simulation);
+    recorder.frame(simulation.model(), simulation.state().position, simulation.state().time);
     progress.update(simulation.state().time, simulation.integrator_stats().accepted_steps);
     if (spec.output.until_rest &&
         kinetic_energy(simulation.model(), simulation.state().velocity) < spec.output.rest_kinetic_energy) {
@@ -271,13 +204,25 @@ int run(const RunOptions& options, const Invocation& invocation) {
   }
   progress.clear();
   const double wall_seconds = wall.seconds();
+  recorder.finish(writer);
   writer.finish(simulation, status, wall_seconds);
 
   // 3. Report.
-  if (!options.quiet) print_summary(spec, simulation, writer, status, wall_seconds);
+  if (!options.quiet) {
+    print_summary(spec, simulation, writer, status, wall_seconds);
+    if (recorder.active()) {
+      std::printf("pictures     %s: %ld frames in %s (%.3g ms per frame); %s\n",
+                  describe_render_outputs(*render_plan).c_str(), recorder.frames(),
+                  format_duration(recorder.seconds()).c_str(),
+                  recorder.frames() > 0 ? 1e3 * recorder.seconds() / static_cast<double>(recorder.frames()) : 0.0,
+                  recorder.description().c_str());
+      std::fflush(stdout);
+    }
+  }
   if (options.profile) {
+    // "output" is everything written during the run: the data files and the pictures.
     std::printf("\nprofile (wall time per phase)\n%s",
-                format_profile(profile_rows(simulation, writer.output_seconds(), wall_seconds),
+                format_profile(profile_rows(simulation, writer.output_seconds() + recorder.seconds(), wall_seconds),
                                simulation.integrator_stats().force_evaluations)
                     .c_str());
     std::fflush(stdout);
@@ -307,8 +252,9 @@ std::string run_footer() {
   text += "\n\n";
   text += wrap_text(
       "The output folder (default out/<scene name>) holds positions.npy and velocities.npy (float64 [frames, "
-      "particles, 3]; frame k at t = k/fps, frame 0 the initial state), energy.csv, summary.json, final.obj and "
-      "scene.json (run it to reproduce the run). It is written as <out>.partial-<pid> and renamed into place at "
+      "particles, 3]; frame k at t = k/fps, frame 0 the initial state), energy.csv, summary.json, final.obj, "
+      "scene.json (run it to reproduce the run), and unless --render none, final.png (the last frame) and "
+      "animation.mp4 (H.264, one video frame per output frame, at --fps). It is written as <out>.partial-<pid> and renamed into place at "
       "the end; an existing <out> is replaced only if a clothsim run wrote it.",
       100, 0);
   text +=
@@ -320,6 +266,8 @@ std::string run_footer() {
       "  clothsim run paper-fig5 --until-rest --rest-energy 1e-4\n"
       "  clothsim run paper-fig5 --set springs.adjacent.stiffness=400 --set environment.air_drag=0.1\n"
       "  clothsim run out/paper-fig4/scene.json --out out/paper-fig4-again   # reproduce a run\n"
+      "  clothsim run paper-fig5 --size 1920x1080 --camera 0,10 --show wireframe\n"
+      "  clothsim run drape-corners --render none   # data only, no OpenGL\n"
       "\n";
   text += exit_code_help();
   return text;
@@ -330,24 +278,9 @@ std::string run_footer() {
 Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* app = parent.add_subcommand("run", "Simulate a scene and write its output folder");
-  options->app = app;
-  app->add_option("SCENE", options->scene, "scene file (JSON) or built-in scene name (see 'clothsim scenes')")
-      ->type_name("");
-  app->add_option("--paper-args", options->paper_args,
-                  "instead of SCENE, the paper's 10 numbers: rows,cols,mass,k_adj,c_adj,k_opp,c_opp,k_conn,"
-                  "c_conn,length")
-      ->type_name("N,N,...");
-  for (std::size_t i = 0; i < kFieldFlags.size(); ++i) {
-    const FieldFlag& flag = kFieldFlags[i];
-    app->add_option(std::string(flag.flag), options->field_values[i], field_flag_help(flag))
-        ->type_name(std::string(flag.value_name))
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
-  }
-  app->add_option("--set", options->assignments, "set any scene parameter by its key (repeatable)")
-      ->type_name("KEY=VALUE")
-      ->expected(1)
-      ->allow_extra_args(false)
-      ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+  add_scene_options(*app, options->scene,
+                    {{"--duration"}, {"--fps"}, {"--integrator"}, {"--rtol"}, {"--atol"}, {"--time-step"},
+                     {"--gravity"}, {"--anchor"}, {"--threads"}, {"--rest-energy"}});
   app->add_flag("--until-rest", options->until_rest,
                 "stop at the first frame whose kinetic energy is below --rest-energy; without --duration, "
                 "run at most max(scene duration, 3600 s)");
@@ -358,6 +291,7 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   app->add_flag("--no-progress", options->no_progress, "no progress bar (it is shown only on a terminal anyway)");
   app->add_flag("--profile", options->profile,
                 "print where the wall time went: forces, integration (stage sums, error control), checks, output");
+  add_render_flags(*app, options->render);
   app->footer(run_footer());
   return {app, [options, invocation] { return run(*options, invocation); }};
 }

@@ -1,4 +1,4 @@
-// Lattice triangulation, vertex normals and the OBJ writer; the conventions are in obj.h.
+// The OBJ writer; the conventions are in obj.h, the mesh in model/sheet_mesh.h.
 //
 // The file is written straight to `path` through stdio with fprintf: OBJ is text, one short line
 // per element, and a 1000 x 1000 sheet (5M lines) takes about a second. Errors are collected
@@ -40,53 +40,6 @@ void write_comment(std::FILE* file, std::string_view text) {
 }
 
 }  // namespace
-
-std::vector<std::array<std::uint32_t, 3>> lattice_triangles(const ClothModel& model) {
-  CLOTHSIM_ASSERT(model.rows >= 1 && model.cols >= 1 &&
-                      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == model.particle_count(),
-                  "the model is a rows x cols lattice");
-  std::vector<std::array<std::uint32_t, 3>> triangles;
-  if (model.rows < 2 || model.cols < 2) return triangles;
-  triangles.reserve(2 * static_cast<std::size_t>(model.rows - 1) * static_cast<std::size_t>(model.cols - 1));
-  const int cols = model.cols;
-  for (int i = 0; i + 1 < model.rows; ++i) {
-    for (int j = 0; j + 1 < cols; ++j) {
-      const std::uint32_t top_left = lattice_index(cols, i, j);
-      const std::uint32_t top_right = lattice_index(cols, i, j + 1);
-      const std::uint32_t bottom_left = lattice_index(cols, i + 1, j);
-      const std::uint32_t bottom_right = lattice_index(cols, i + 1, j + 1);
-      // At rest: cross(+z L, +x L) = +y L^2 for the first, likewise for the second (obj.h).
-      triangles.push_back({top_left, bottom_left, top_right});
-      triangles.push_back({top_right, bottom_left, bottom_right});
-    }
-  }
-  return triangles;
-}
-
-std::vector<Vec3> vertex_normals(const ClothModel& model, std::span<const Vec3> position,
-                                 std::span<const std::array<std::uint32_t, 3>> triangles) {
-  const std::size_t n = model.particle_count();
-  CLOTHSIM_ASSERT(position.size() == n, "one position per particle");
-  std::vector<Vec3> normal(n, Vec3{});
-  for (const auto& triangle : triangles) {
-    CLOTHSIM_ASSERT(triangle[0] < n && triangle[1] < n && triangle[2] < n, "triangle indices name particles");
-    const Vec3& a = position[triangle[0]];
-    // |cross| = 2 * area, so summing unnormalised cross products weights each face by its area.
-    const Vec3 area_normal = cross(position[triangle[1]] - a, position[triangle[2]] - a);
-    for (const std::uint32_t corner : triangle) normal[corner] += area_normal;
-  }
-  for (Vec3& vertex_normal : normal) {
-    const double length = norm(vertex_normal);
-    // length is 0 with no incident area, and inf/NaN for non-finite positions (or a squared
-    // norm beyond 1e308): fall back to the rest normal rather than hand out NaNs.
-    if (length > 0.0 && std::isfinite(length)) {
-      vertex_normal = vertex_normal / length;
-    } else {
-      vertex_normal = Vec3{0.0, 1.0, 0.0};
-    }
-  }
-  return normal;
-}
 
 void write_obj(const std::string& path, const ClothModel& model, std::span<const Vec3> position,
                std::string_view comment) {

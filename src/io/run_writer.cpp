@@ -233,6 +233,10 @@ void RunWriter::write_frame(const Simulation& simulation) {
   ++frames_;
 }
 
+void RunWriter::add_file(std::string name, nlohmann::ordered_json details) {
+  extra_files_.emplace_back(std::move(name), std::move(details));
+}
+
 void RunWriter::finish(const Simulation& simulation, RunStatus status, double wall_seconds) {
   CLOTHSIM_ASSERT(begun_ && !finished_, "finish() once, after begin()");
   {
@@ -325,6 +329,7 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       {std::string(kFinalMeshFile),
        ordered_json{{"frame", frames_ > 0 ? ordered_json(frames_ - 1) : ordered_json(nullptr)}}},
       {std::string(kSceneFile), ordered_json::object()}};
+  for (const auto& [name, details] : extra_files_) summary["files"][name] = details;
 
   ScopedTimer timer(output_seconds_);
   try {

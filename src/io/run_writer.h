@@ -33,7 +33,10 @@
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "core/vec3.h"
 #include "io/npy.h"
@@ -100,6 +103,10 @@ class RunWriter {
   // Throws OutputError.
   void write_frame(const Simulation& simulation);
 
+  // Records a file that someone else wrote into partial() (e.g. the pictures of a run) under
+  // summary.json "files", after the writer's own; `details` describes it (an object).
+  void add_file(std::string name, nlohmann::ordered_json details);
+
   // Writes final.obj (the last frame) and summary.json, closes every file and renames the
   // folder to `out`, replacing a previous run there. `wall_seconds` is the run's wall time
   // (summary.json "timings"). A failed simulation's diagnosis comes from simulation.failure().
@@ -139,6 +146,7 @@ class RunWriter {
   EnergyBalance last_energy_;        // of the last frame written
   double last_time_ = 0.0;           // s, of the last frame written
   std::vector<Vec3> last_position_;  // [particles], m, of the last frame written
+  std::vector<std::pair<std::string, nlohmann::ordered_json>> extra_files_;  // add_file()
   std::size_t frames_ = 0;
   double output_seconds_ = 0.0;
 };

@@ -1,5 +1,6 @@
 #include "model/anchor.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -15,6 +16,10 @@ Vec3 AnchorPath::position(double t) const {
       const double omega = 2.0 * std::numbers::pi * frequency;
       return origin + (std::sin(omega * t + phase) - std::sin(phase)) * amplitude;
     }
+    case AnchorPathKind::driven:
+      // A held particle (velocity zero, end_time infinite) gives exactly origin.
+      if (velocity == Vec3{}) return origin;
+      return origin + (std::min(t, end_time) - start_time) * velocity;
   }
   return origin;
 }
@@ -29,6 +34,8 @@ Vec3 AnchorPath::velocity_at(double t) const {
       const double omega = 2.0 * std::numbers::pi * frequency;
       return (omega * std::cos(omega * t + phase)) * amplitude;
     }
+    case AnchorPathKind::driven:
+      return t <= end_time ? velocity : Vec3{};
   }
   return {};
 }

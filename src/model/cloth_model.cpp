@@ -154,4 +154,51 @@ ClothState make_rest_state(const ClothModel& model) {
   return state;
 }
 
+void set_spring_family(ClothModel& model, SpringFamily family, const SpringParameters& parameters) {
+  CLOTHSIM_ASSERT(parameters.stiffness >= 0.0 && parameters.damping >= 0.0, "spring constants are not negative");
+  if (family == SpringFamily::connector) {
+    std::fill(model.connector_stiffness.begin(), model.connector_stiffness.end(), parameters.stiffness);
+    std::fill(model.connector_damping.begin(), model.connector_damping.end(), parameters.damping);
+    return;
+  }
+  const RadialKind kind = family == SpringFamily::adjacent ? RadialKind::adjacent : RadialKind::opposite;
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    if (model.radial_kind[r] != kind) continue;
+    model.radial_stiffness[r] = parameters.stiffness;
+    model.radial_damping[r] = parameters.damping;
+  }
+}
+
+void set_particle_mass(ClothModel& model, double mass) {
+  CLOTHSIM_ASSERT(mass > 0.0 && std::isfinite(mass), "particle mass is positive");
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    model.particle_mass[p] = mass;
+    model.particle_inverse_mass[p] = model.is_anchored(p) ? 0.0 : 1.0 / mass;
+  }
+}
+
+void set_anchor(ClothModel& model, std::uint32_t particle, const AnchorPath& path) {
+  CLOTHSIM_ASSERT(particle < model.particle_count(), "anchored particle is in the lattice");
+  if (model.is_anchored(particle)) {
+    model.anchors[static_cast<std::size_t>(model.particle_anchor[particle])].path = path;
+    return;
+  }
+  model.particle_anchor[particle] = static_cast<std::int32_t>(model.anchors.size());
+  model.particle_inverse_mass[particle] = 0.0;
+  model.anchors.push_back(Anchor{particle, path});
+}
+
+bool remove_anchor(ClothModel& model, std::uint32_t particle) {
+  CLOTHSIM_ASSERT(particle < model.particle_count(), "freed particle is in the lattice");
+  if (!model.is_anchored(particle)) return false;
+  const auto index = static_cast<std::size_t>(model.particle_anchor[particle]);
+  const Anchor last = model.anchors.back();
+  model.anchors[index] = last;
+  model.particle_anchor[last.particle] = static_cast<std::int32_t>(index);
+  model.anchors.pop_back();
+  model.particle_anchor[particle] = -1;
+  model.particle_inverse_mass[particle] = 1.0 / model.particle_mass[particle];
+  return true;
+}
+
 }  // namespace clothsim

@@ -30,6 +30,9 @@ namespace clothsim {
 // (rest angle 90 degrees on a square lattice) or two opposite ones (rest angle 180 degrees).
 enum class RadialKind : std::uint8_t { adjacent, opposite };
 
+// The three spring families of the paper, each with one (k, c) pair in its argument vector.
+enum class SpringFamily : std::uint8_t { connector, adjacent, opposite };
+
 struct SpringParameters {
   double stiffness = 0.0;  // connector: N/m; radial: N m / rad
   double damping = 0.0;    // connector: N s/m; radial: N m s / rad
@@ -125,6 +128,21 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
 
 // The flat lattice at rest, anchors at their path positions at time 0.
 ClothState make_rest_state(const ClothModel& model);
+
+// Edits of a built model, for live editing between steps (Simulation wraps them so that the
+// integrator and the energy balance stay consistent; call these directly only on a model no
+// integrator is using). Each keeps the model's invariants: inverse masses match masses and
+// anchors, particle_anchor indexes `anchors`.
+//
+// Sets the stiffness and damping of every spring of `family` (a per-spring variation is replaced).
+void set_spring_family(ClothModel& model, SpringFamily family, const SpringParameters& parameters);
+// Sets every particle's mass, kg (> 0); anchored particles keep inverse mass 0.
+void set_particle_mass(ClothModel& model, double mass);
+// Anchors `particle` to `path`, replacing the path if it is anchored already.
+void set_anchor(ClothModel& model, std::uint32_t particle, const AnchorPath& path);
+// Frees an anchored particle (its inverse mass is restored from its mass); false if it was free.
+// The last anchor takes the freed one's index in `anchors`.
+bool remove_anchor(ClothModel& model, std::uint32_t particle);
 
 // Index of particle (row, col).
 inline std::uint32_t lattice_index(int cols, int row, int col) {

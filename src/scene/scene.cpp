@@ -36,6 +36,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/assert.h"
 #include "core/error.h"
 #include "scene/parameters.h"
 
@@ -318,10 +319,14 @@ constexpr std::array<std::string_view, 4> kAnchorPresets = {"center", "corners",
 
 std::string preset_choices() { return join_names(kAnchorPresets); }
 
-// Indexed by AnchorPathKind.
+// Indexed by AnchorPathKind. Driven paths (the viewer's runtime anchors, model/anchor.h) are
+// made between steps by Simulation and have no scene-file form.
 constexpr std::array<std::string_view, 3> kPathKindNames = {"fixed", "linear", "sinusoid"};
 
-std::string_view path_kind_name(AnchorPathKind kind) { return kPathKindNames[static_cast<std::size_t>(kind)]; }
+std::string_view path_kind_name(AnchorPathKind kind) {
+  CLOTHSIM_ASSERT(kind != AnchorPathKind::driven, "a scene holds no driven anchor path");
+  return kPathKindNames[static_cast<std::size_t>(kind)];
+}
 
 // Keys of a path object; the first is "type", the others belong to the path kind.
 std::vector<std::string> path_keys(AnchorPathKind kind) {
@@ -332,6 +337,8 @@ std::vector<std::string> path_keys(AnchorPathKind kind) {
       return {"type", "velocity"};
     case AnchorPathKind::sinusoid:
       return {"type", "amplitude", "frequency", "phase"};
+    case AnchorPathKind::driven:
+      break;  // not a scene-file path (path_kind_name)
   }
   return {"type"};
 }
@@ -430,6 +437,8 @@ json anchor_to_json(const AnchorSpec& anchor) {
       path["frequency"] = anchor.path.frequency;
       path["phase"] = anchor.path.phase;
       break;
+    case AnchorPathKind::driven:
+      break;  // unreachable: path_kind_name() rejects it above
   }
   json out = {{"row", anchor.row}, {"col", anchor.col}, {"path", path}};
   // Written only when given: its absence means "the particle's rest position", which follows the

@@ -1,7 +1,9 @@
 #include "sim/simulation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "core/assert.h"
 #include "core/parallel.h"
@@ -41,7 +43,8 @@ bool Simulation::advance_to(double time) {
     {
       Stopwatch watch;
       const double force_before = integrator_->force_seconds();
-      const StepOutcome outcome = integrator_->step(state_, time);
+      // A driven anchor's arrival is an event: no step crosses it (model/anchor.h).
+      const StepOutcome outcome = integrator_->step(state_, std::min(time, next_anchor_arrival()));
       const double force = integrator_->force_seconds() - force_before;
       profile_.forces += force;
       profile_.integration += watch.seconds() - force;
@@ -62,7 +65,9 @@ bool Simulation::advance_to(double time) {
         return false;
       }
     }
-    // Discrete events (tearing, plasticity, creasing) will run here, between accepted steps.
+    // Discrete events between accepted steps: driven anchors arriving (tearing, plasticity and
+    // creasing will run here too).
+    stop_arrived_anchors();
     {
       ScopedTimer timer(profile_.checks);
       check_state();
@@ -138,7 +143,115 @@ EnergyBalance Simulation::energy_balance() const {
   balance.damping_work = state_.damping_work;
   balance.drag_work = state_.drag_work;
   balance.anchor_work = state_.anchor_work;
+  balance.edit_work = edit_work_;
   return balance;
+}
+
+IntegratorStats Simulation::integrator_stats() const {
+  IntegratorStats total = integrator_->stats();
+  total.accepted_steps += retired_stats_.accepted_steps;
+  total.rejected_steps += retired_stats_.rejected_steps;
+  total.force_evaluations += retired_stats_.force_evaluations;
+  total.smallest_step = std::min(total.smallest_step, retired_stats_.smallest_step);
+  total.largest_step = std::max(total.largest_step, retired_stats_.largest_step);
+  return total;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Live editing.
+
+void Simulation::set_spring_parameters(SpringFamily family, const SpringParameters& parameters) {
+  const double before = energy().total();
+  set_spring_family(*model_, family, parameters);
+  edit_work_ += energy().total() - before;
+}
+
+void Simulation::set_environment(const Environment& environment) {
+  CLOTHSIM_ASSERT(is_finite(environment.gravity) && environment.air_drag >= 0.0, "environment is valid");
+  const double before = energy().total();
+  model_->environment = environment;
+  edit_work_ += energy().total() - before;
+}
+
+void Simulation::set_particle_mass(double mass) {
+  const double before = energy().total();
+  clothsim::set_particle_mass(*model_, mass);
+  edit_work_ += energy().total() - before;
+}
+
+void Simulation::set_integrator(const IntegratorSettings& settings) {
+  retired_stats_ = integrator_stats();
+  settings_.integrator = settings;
+  integrator_ = make_integrator(*model_, settings, ForceOptions{settings_.terms, threads_});
+}
+
+void Simulation::hold_on_path(std::uint32_t particle, const AnchorPath& path) {
+  const Vec3 before = state_.velocity[particle];
+  set_anchor(*model_, particle, path);
+  state_.position[particle] = path.position(state_.time);
+  state_.velocity[particle] = path.velocity_at(state_.time);
+  state_.anchor_work +=
+      0.5 * model_->particle_mass[particle] * (squared_norm(state_.velocity[particle]) - squared_norm(before));
+}
+
+void Simulation::pin_particle(std::uint32_t particle) {
+  CLOTHSIM_ASSERT(particle < model_->particle_count(), "pinned particle is in the lattice");
+  hold_on_path(particle, AnchorPath::fixed_at(state_.position[particle]));
+}
+
+void Simulation::drive_particle(std::uint32_t particle, const Vec3& target, double arrival_time) {
+  CLOTHSIM_ASSERT(particle < model_->particle_count(), "driven particle is in the lattice");
+  CLOTHSIM_ASSERT(arrival_time > state_.time, "a driven particle arrives after the current time");
+  AnchorPath path;
+  path.kind = AnchorPathKind::driven;
+  path.origin = state_.position[particle];
+  path.start_time = state_.time;
+  path.end_time = arrival_time;
+  path.velocity = (target - path.origin) / (arrival_time - state_.time);
+  hold_on_path(particle, path);
+}
+
+void Simulation::place_particle(std::uint32_t particle, const Vec3& position) {
+  CLOTHSIM_ASSERT(particle < model_->particle_count() && model_->is_anchored(particle),
+                  "only an anchored particle is placed");
+  const double before = energy().total();
+  AnchorPath path;
+  path.kind = AnchorPathKind::driven;
+  path.origin = position;
+  path.start_time = state_.time;
+  set_anchor(*model_, particle, path);
+  state_.position[particle] = position;
+  state_.velocity[particle] = Vec3{};
+  edit_work_ += energy().total() - before;
+}
+
+bool Simulation::release_particle(std::uint32_t particle) {
+  CLOTHSIM_ASSERT(particle < model_->particle_count(), "released particle is in the lattice");
+  return remove_anchor(*model_, particle);
+}
+
+double Simulation::next_anchor_arrival() const {
+  double next = std::numeric_limits<double>::infinity();
+  for (const Anchor& anchor : model_->anchors) {
+    const AnchorPath& path = anchor.path;
+    if (path.kind == AnchorPathKind::driven && path.velocity != Vec3{} && path.end_time > state_.time) {
+      next = std::min(next, path.end_time);
+    }
+  }
+  return next;
+}
+
+void Simulation::stop_arrived_anchors() {
+  for (const Anchor& anchor : model_->anchors) {
+    const AnchorPath& path = anchor.path;
+    if (path.kind != AnchorPathKind::driven || path.velocity == Vec3{} || path.end_time > state_.time) continue;
+    AnchorPath held;
+    held.kind = AnchorPathKind::driven;
+    held.origin = path.position(path.end_time);
+    held.start_time = path.end_time;
+    // hold_on_path() only rewrites this anchor's path, so the loop's iteration stays valid.
+    hold_on_path(anchor.particle, held);
+  }
 }
 
 }  // namespace clothsim

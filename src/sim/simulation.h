@@ -8,6 +8,21 @@
 // sim/profile.h turns the profile into the table `clothsim run --profile` prints.
 // A failed check or integrator stops the simulation with a Diagnosis (time, step, element), and
 // the state stays at the last good step, so a caller can still write what it has.
+//
+// Live editing (the viewer's panel and scripts) goes through the set_* and *_particle members,
+// called between advance_to() calls, so an edit takes effect from the next step on and never
+// inside one. Integrators read the model by reference and copy nothing an edit changes (they
+// read stiffness, masses and anchors at every force evaluation), so parameter and anchor edits
+// need no rebuild; set_integrator() makes a new integrator on the same state. Every edit books
+// the energy it adds or removes, so the balance stays exact across edits (docs/viewer.md):
+//   parameter edits (stiffness, gravity, mass): EnergyBalance::edit_work += E_after - E_before,
+//     the jump of potential or kinetic energy the edit causes at fixed positions and velocities;
+//   anchor edits (pin, drive, a driven anchor arriving): the jump of the anchored particle's
+//     velocity is the anchor's impulse, and its work 1/2 m (|v_after|^2 - |v_before|^2) goes into
+//     ClothState::anchor_work like the anchor's continuous work;
+//   release: the particle goes on with the velocity it has, so no energy changes.
+// Rejected: resetting E(0) at each edit. The balance would then say nothing about the run before
+// the edit, and a viewer's energy plot would jump.
 #pragma once
 
 #include <cstdint>
@@ -54,7 +69,10 @@ struct EnergyBalance {
   double damping_work = 0.0;
   double drag_work = 0.0;
   double anchor_work = 0.0;
-  double error() const { return energy.total() - (initial_total + damping_work + drag_work + anchor_work); }
+  double edit_work = 0.0;  // energy added by live parameter edits between steps (Simulation::set_*), J
+  double error() const {
+    return energy.total() - (initial_total + damping_work + drag_work + anchor_work + edit_work);
+  }
 };
 
 class Simulation {
@@ -69,7 +87,8 @@ class Simulation {
   const ClothState& state() const { return state_; }
   const SimulationSettings& settings() const { return settings_; }
   int threads() const { return threads_; }
-  const IntegratorStats& integrator_stats() const { return integrator_->stats(); }
+  // Totals over the run, across set_integrator() switches (last_step is the current integrator's).
+  IntegratorStats integrator_stats() const;
   const StepProfile& profile() const { return profile_; }
   // The timed sub-phases of profile().integration, as the integrator reports them.
   std::vector<PhaseTime> integration_phases() const { return integrator_->phase_times(); }
@@ -81,16 +100,53 @@ class Simulation {
   EnergyReport energy() const;
   EnergyBalance energy_balance() const;
 
+  // Live parameter edits, between advance_to() calls (see the top of this file). Values must be
+  // valid (the caller checks input against the parameter registry, scene/parameters.h).
+  //
+  // Stiffness and damping of every spring of `family`.
+  void set_spring_parameters(SpringFamily family, const SpringParameters& parameters);
+  // Gravity and air drag.
+  void set_environment(const Environment& environment);
+  // Every particle's mass, kg (> 0); anchored particles stay anchored.
+  void set_particle_mass(double mass);
+  // A new integrator (kind, tolerances, step) that goes on from the current state. Statistics
+  // and the profile keep counting across the switch.
+  void set_integrator(const IntegratorSettings& settings);
+
+  // Runtime anchors (the viewer's mouse and pins, scripted drags).
+  //
+  // Holds `particle` where it is now, at rest (anchoring it if it was free).
+  void pin_particle(std::uint32_t particle);
+  // Moves `particle` in a straight line at constant velocity from where it is now to `target`,
+  // arriving at simulated time `arrival_time` (> the current time), and holds it there after.
+  // Re-aiming a driven particle between frames makes it follow a moving cursor. Steps never
+  // cross the arrival time.
+  void drive_particle(std::uint32_t particle, const Vec3& target, double arrival_time);
+  // Puts an anchored particle at `position` at once and holds it there, without simulated time
+  // passing (a drag in a paused viewer). The energy jump is booked as edit work.
+  void place_particle(std::uint32_t particle, const Vec3& position);
+  // Frees an anchored particle: it goes on with its current velocity, and its inverse mass is
+  // restored. Returns false if it was free.
+  bool release_particle(std::uint32_t particle);
+
  private:
   void check_state();
   void fail(std::string element, std::string message);
+  // The next arrival time of a moving driven anchor after the current time, or +infinity.
+  double next_anchor_arrival() const;
+  // Stops driven anchors that have arrived (their impulse goes into anchor_work).
+  void stop_arrived_anchors();
+  // Sets particle's anchor path and its velocity to the path's, booking the velocity jump.
+  void hold_on_path(std::uint32_t particle, const AnchorPath& path);
 
   std::unique_ptr<ClothModel> model_;  // on the heap: the integrator keeps a reference to it
   ClothState state_;
   SimulationSettings settings_;
   int threads_ = 1;
   std::unique_ptr<Integrator> integrator_;
+  IntegratorStats retired_stats_;  // summed over integrators replaced by set_integrator()
   double initial_energy_ = 0.0;
+  double edit_work_ = 0.0;  // J, see EnergyBalance::edit_work
   StepProfile profile_;
   std::optional<Diagnosis> failure_;
 };

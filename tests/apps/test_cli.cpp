@@ -185,6 +185,11 @@ class CliTest : public ::testing::Test {
   // A small run of the paper's material into `out` (relative to the work folder).
   Result small_run(const std::string& out, std::vector<std::string> extra = {}) const {
     std::vector<std::string> args = {"run", "--paper-args", kSmallPaperArgs, "--out", out, "--no-progress"};
+    // No pictures unless asked for: these tests are about the data files, and rendering would
+    // only slow them down (tests/render/test_run_pictures.cpp tests the pictures).
+    if (std::find(extra.begin(), extra.end(), "--render") == extra.end()) {
+      args.insert(args.end(), {"--render", "none"});
+    }
     args.insert(args.end(), extra.begin(), extra.end());
     return clothsim(args);
   }
@@ -282,15 +287,23 @@ INSTANTIATE_TEST_SUITE_P(Cli, BadInputTest, ::testing::ValuesIn(kBadInputCases),
 // A run and its output folder.
 
 TEST_F(CliTest, SmallRunWritesEveryFile) {
+#if CLOTHSIM_HAVE_RENDER
+  const Result result = small_run("run", {"--duration", "0.5", "--fps", "20", "--render", "all", "--size", "64x48"});
+#else
   const Result result = small_run("run", {"--duration", "0.5", "--fps", "20"});
+#endif
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   EXPECT_TRUE(contains(result.out, "completed"));
   EXPECT_TRUE(contains(result.out, "5x5 lattice, 25 particles"));
 
   // Exactly the documented files, and no partial folder left next to them.
-  const std::set<std::string> expected = {"run",           "run/positions.npy", "run/velocities.npy",
-                                          "run/energy.csv", "run/summary.json",  "run/final.obj",
-                                          "run/scene.json"};
+  std::set<std::string> expected = {"run",           "run/positions.npy", "run/velocities.npy",
+                                    "run/energy.csv", "run/summary.json",  "run/final.obj",
+                                    "run/scene.json"};
+#if CLOTHSIM_HAVE_RENDER
+  // The pictures, by default (tests/render/test_run_pictures.cpp checks their contents).
+  expected.insert({"run/final.png", "run/animation.mp4"});
+#endif
   EXPECT_EQ(entries(work_), expected);
 
   const NpyArray positions = read_npy((work_ / "run" / "positions.npy").string());
@@ -359,7 +372,7 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
 TEST_F(CliTest, SceneJsonReproducesTheRunBitForBit) {
   ASSERT_EQ(small_run("first", {"--duration", "0.5", "--fps", "20", "--set", "initial.position_noise=0.01"}).exit_code,
             0);
-  const Result again = clothsim({"run", "first/scene.json", "--out", "second", "--quiet"});
+  const Result again = clothsim({"run", "first/scene.json", "--out", "second", "--quiet", "--render", "none"});
   ASSERT_EQ(again.exit_code, 0) << describe(again);
   EXPECT_TRUE(again.out.empty()) << "--quiet prints nothing";
   EXPECT_EQ(read_text(work_ / "first" / "positions.npy"), read_text(work_ / "second" / "positions.npy"));
@@ -458,7 +471,8 @@ TEST_F(CliTest, RerunReplacesThePreviousRun) {
 
 TEST_F(CliTest, DefaultOutputFolderIsNamedAfterTheScene) {
   const Result result =
-      clothsim({"run", "--paper-args", kSmallPaperArgs, "--duration", "0.1", "--fps", "10", "--no-progress"});
+      clothsim({"run", "--paper-args", kSmallPaperArgs, "--duration", "0.1", "--fps", "10", "--no-progress",
+                "--render", "none"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   EXPECT_TRUE(fs::exists(work_ / "out" / "paper-args" / "summary.json"));
 }
@@ -475,7 +489,7 @@ TEST_F(CliTest, UnwritableOutputExitsThree) {
 
 TEST_F(CliTest, InterruptFinishesTheFolderAndExits130) {
   const pid_t pid = spawn_clothsim(
-      work_, {"run", "--paper-args", kSmallPaperArgs, "--duration", "100000", "--out", "long", "--no-progress"},
+      work_, {"run", "--paper-args", kSmallPaperArgs, "--duration", "100000", "--out", "long", "--no-progress", "--render", "none"},
       root_);
   ASSERT_GT(pid, 0);
   // Wait until the run is under way (its partial folder holds frames), then interrupt it.

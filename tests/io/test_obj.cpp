@@ -1,5 +1,6 @@
-// Tests of io/obj: the lattice triangulation and its winding, vertex normals, and the OBJ file
-// read back line by line (counts, index ranges, values), including flipped and 1-wide sheets.
+// Tests of io/obj: the OBJ file read back line by line (counts, index ranges, values), including
+// flipped and 1-wide sheets. The triangulation and normals it writes are tested in
+// tests/model/test_sheet_mesh.cpp.
 #include "io/obj.h"
 
 #include <gtest/gtest.h>
@@ -46,13 +47,6 @@ ClothModel make_sheet(int rows, int cols, double spacing = 0.5) {
 
 // Rotation by 180 degrees about x: turns the sheet upside down (y -> -y, z -> -z).
 Vec3 flip(const Vec3& p) { return {p.x, -p.y, -p.z}; }
-
-// The rest lattice with a smooth bump: y = 0.3 L cos(x) cos(z), normals everywhere near +y.
-std::vector<Vec3> bumped_positions(const ClothModel& model) {
-  std::vector<Vec3> position = model.particle_rest_position;
-  for (Vec3& p : position) p.y = 0.3 * model.spacing * std::cos(p.x) * std::cos(p.z);
-  return position;
-}
 
 // An OBJ file read back: one entry per line of each kind; indices as written (1-based).
 struct ObjFile {
@@ -122,107 +116,6 @@ void expect_near(const Vec3& actual, const Vec3& expected, double tolerance) {
   EXPECT_NEAR(actual.x, expected.x, tolerance);
   EXPECT_NEAR(actual.y, expected.y, tolerance);
   EXPECT_NEAR(actual.z, expected.z, tolerance);
-}
-
-// --- Triangulation and normals ---
-
-TEST(LatticeTriangles, CoverTheSheetWoundTowardsPlusY) {
-  const ClothModel model = make_sheet(3, 4, 0.5);
-  const auto triangles = lattice_triangles(model);
-  ASSERT_EQ(triangles.size(), 2U * 2U * 3U);
-  std::vector<int> uses(model.particle_count(), 0);
-  double total_area = 0.0;
-  for (const auto& triangle : triangles) {
-    for (const std::uint32_t corner : triangle) {
-      ASSERT_LT(corner, model.particle_count());
-      ++uses[corner];
-    }
-    const Vec3 normal = face_normal(model.particle_rest_position, triangle);
-    // cross(+z L, +x L) = +y L^2: area L^2 / 2, pointing up.
-    expect_near(normal, {0.0, 0.25, 0.0}, 1e-15);
-    total_area += 0.5 * norm(normal);
-  }
-  EXPECT_NEAR(total_area, 2 * 3 * 0.25, 1e-14);
-  for (std::size_t p = 0; p < uses.size(); ++p) EXPECT_GT(uses[p], 0) << model.describe_particle(p);
-  // First quad: (0,0) -> (1,0) -> (0,1), then (0,1) -> (1,0) -> (1,1).
-  EXPECT_EQ(triangles[0], (std::array<std::uint32_t, 3>{0, 4, 1}));
-  EXPECT_EQ(triangles[1], (std::array<std::uint32_t, 3>{1, 4, 5}));
-}
-
-TEST(LatticeTriangles, OneWideLatticesHaveNone) {
-  EXPECT_TRUE(lattice_triangles(make_sheet(1, 5)).empty());
-  EXPECT_TRUE(lattice_triangles(make_sheet(5, 1)).empty());
-}
-
-TEST(VertexNormals, UnitAndUpOnARestAndABumpedSheet) {
-  const ClothModel model = make_sheet(6, 7, 0.5);
-  const auto triangles = lattice_triangles(model);
-  for (const Vec3& normal : vertex_normals(model, model.particle_rest_position, triangles)) {
-    expect_near(normal, {0.0, 1.0, 0.0}, 1e-15);
-  }
-  const std::vector<Vec3> bumped = bumped_positions(model);
-  const std::vector<Vec3> normals = vertex_normals(model, bumped, triangles);
-  for (std::size_t p = 0; p < normals.size(); ++p) {
-    EXPECT_NEAR(norm(normals[p]), 1.0, 1e-14) << model.describe_particle(p);
-    EXPECT_GT(normals[p].y, 0.9) << model.describe_particle(p);
-  }
-  // A tent over a 3 x 3 lattice is symmetric under a half-turn about y, and so is the mesh (the
-  // half-turn maps each quad's diagonal to a diagonal): the apex normal is exactly +y.
-  const ClothModel small = make_sheet(3, 3, 1.0);
-  std::vector<Vec3> tent = small.particle_rest_position;
-  tent[4].y = 0.5;
-  expect_near(vertex_normals(small, tent, lattice_triangles(small))[4], {0.0, 1.0, 0.0}, 1e-15);
-}
-
-TEST(VertexNormals, WeightFacesByArea) {
-  // Particle 1 of a 2 x 3 lattice touches triangles (0,3,1), (1,3,4) and (1,4,2). Stretching the
-  // second column and tilting particle 2 gives the faces different areas and normals.
-  const ClothModel model = make_sheet(2, 3, 1.0);
-  std::vector<Vec3> position = model.particle_rest_position;
-  position[2] = {4.0, 1.0, -0.5};
-  position[5] = {4.0, 0.0, 0.5};
-  const auto triangles = lattice_triangles(model);
-  Vec3 weighted;
-  Vec3 unweighted;
-  for (const auto& triangle : triangles) {
-    if (triangle[0] != 1 && triangle[1] != 1 && triangle[2] != 1) continue;
-    const Vec3 area_normal = face_normal(position, triangle);
-    weighted += area_normal;
-    unweighted += area_normal / norm(area_normal);
-  }
-  weighted = weighted / norm(weighted);
-  unweighted = unweighted / norm(unweighted);
-  ASSERT_GT(norm(weighted - unweighted), 1e-3) << "the test must tell the two weightings apart";
-  expect_near(vertex_normals(model, position, triangles)[1], weighted, 1e-15);
-}
-
-TEST(VertexNormals, FlippedSheetPointsDown) {
-  const ClothModel model = make_sheet(4, 5, 0.5);
-  const auto triangles = lattice_triangles(model);
-  std::vector<Vec3> flipped_rest;
-  for (const Vec3& p : model.particle_rest_position) flipped_rest.push_back(flip(p));
-  for (const Vec3& normal : vertex_normals(model, flipped_rest, triangles)) expect_near(normal, {0.0, -1.0, 0.0}, 1e-15);
-
-  // Normals turn with the sheet: the flipped bump's normals are the flipped normals.
-  const std::vector<Vec3> bumped = bumped_positions(model);
-  std::vector<Vec3> flipped_bump;
-  for (const Vec3& p : bumped) flipped_bump.push_back(flip(p));
-  const std::vector<Vec3> up = vertex_normals(model, bumped, triangles);
-  const std::vector<Vec3> down = vertex_normals(model, flipped_bump, triangles);
-  for (std::size_t p = 0; p < up.size(); ++p) expect_near(down[p], flip(up[p]), 1e-14);
-}
-
-TEST(VertexNormals, DegenerateAndNonFiniteFallBackToPlusY) {
-  const ClothModel model = make_sheet(3, 3);
-  const auto triangles = lattice_triangles(model);
-  const std::vector<Vec3> collapsed(model.particle_count(), Vec3{1.0, 2.0, 3.0});
-  for (const Vec3& normal : vertex_normals(model, collapsed, triangles)) EXPECT_EQ(normal, (Vec3{0.0, 1.0, 0.0}));
-  std::vector<Vec3> broken = model.particle_rest_position;
-  broken[0].x = std::numeric_limits<double>::quiet_NaN();
-  const std::vector<Vec3> normals = vertex_normals(model, broken, triangles);
-  for (const Vec3& normal : normals) EXPECT_TRUE(is_finite(normal));
-  EXPECT_EQ(normals[0], (Vec3{0.0, 1.0, 0.0}));
-  expect_near(normals[8], {0.0, 1.0, 0.0}, 1e-15);  // far corner: no NaN face touches it
 }
 
 // --- The file ---

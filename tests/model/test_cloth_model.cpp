@@ -3,7 +3,9 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
 #include <numbers>
+#include <vector>
 
 #include "core/error.h"
 #include "model/initial_conditions.h"
@@ -137,6 +139,82 @@ TEST(InitialConditions, SpinAndPerturbationAreReproducible) {
   EXPECT_NE(a.position[1], model.particle_rest_position[1]);
   EXPECT_LE(std::abs(a.position[1].y), 0.01);
   EXPECT_EQ(a.position[0], model.particle_rest_position[0]);
+}
+
+TEST(AnchorPath, DrivenPathMovesInAStraightLineAndStopsAtItsTarget) {
+  AnchorPath path;
+  path.kind = AnchorPathKind::driven;
+  path.origin = {1, 2, 3};
+  path.velocity = {0.5, 0.0, -1.0};
+  path.start_time = 2.0;
+  path.end_time = 4.0;
+  EXPECT_EQ(path.position(2.0), path.origin);
+  EXPECT_EQ(path.position(3.0), (Vec3{1.5, 2.0, 2.0}));
+  EXPECT_EQ(path.position(4.0), (Vec3{2.0, 2.0, 1.0}));
+  EXPECT_EQ(path.position(9.0), (Vec3{2.0, 2.0, 1.0}));  // held at the target
+  // Moving up to and including the arrival (the limit from inside the last step), at rest after.
+  EXPECT_EQ(path.velocity_at(4.0), path.velocity);
+  EXPECT_EQ(path.velocity_at(4.0 + 1e-9), Vec3{});
+  EXPECT_EQ(path.acceleration(3.0), Vec3{});
+  // A held path (no velocity) is exactly its origin at any time.
+  path.velocity = {};
+  path.end_time = std::numeric_limits<double>::infinity();
+  EXPECT_EQ(path.position(1e9), path.origin);
+}
+
+TEST(ModelEdits, SpringFamilyEditTouchesOnlyThatFamily) {
+  ClothModel model = build_lattice(lattice(4, 4), Environment{}, {});
+  const ClothModel before = model;
+  set_spring_family(model, SpringFamily::adjacent, {7.0, 0.5});
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    if (model.radial_kind[r] == RadialKind::adjacent) {
+      EXPECT_EQ(model.radial_stiffness[r], 7.0);
+      EXPECT_EQ(model.radial_damping[r], 0.5);
+    } else {
+      EXPECT_EQ(model.radial_stiffness[r], before.radial_stiffness[r]);
+      EXPECT_EQ(model.radial_damping[r], before.radial_damping[r]);
+    }
+  }
+  EXPECT_EQ(model.connector_stiffness, before.connector_stiffness);
+  set_spring_family(model, SpringFamily::connector, {9.0, 0.25});
+  EXPECT_EQ(model.connector_stiffness, std::vector<double>(model.connector_count(), 9.0));
+  EXPECT_EQ(model.connector_damping, std::vector<double>(model.connector_count(), 0.25));
+}
+
+TEST(ModelEdits, MassEditKeepsAnchoredParticlesImmovable) {
+  const Anchor centre{4, {}};
+  ClothModel model = build_lattice(lattice(3, 3), Environment{}, {&centre, 1});
+  set_particle_mass(model, 0.25);
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    EXPECT_EQ(model.particle_mass[p], 0.25);
+    EXPECT_EQ(model.particle_inverse_mass[p], p == 4 ? 0.0 : 4.0);
+  }
+}
+
+TEST(ModelEdits, AddingAndRemovingAnchorsKeepsTheIndexConsistent) {
+  const Anchor centre{4, {}};
+  ClothModel model = build_lattice(lattice(3, 3), Environment{}, {&centre, 1});
+  set_anchor(model, 0, AnchorPath::fixed_at({1, 1, 1}));
+  set_anchor(model, 8, AnchorPath::fixed_at({2, 2, 2}));
+  ASSERT_EQ(model.anchor_count(), 3u);
+  set_anchor(model, 0, AnchorPath::fixed_at({3, 3, 3}));  // replaces the path, no new anchor
+  ASSERT_EQ(model.anchor_count(), 3u);
+  EXPECT_EQ(model.anchors[static_cast<std::size_t>(model.particle_anchor[0])].path.origin, (Vec3{3, 3, 3}));
+  EXPECT_EQ(model.particle_inverse_mass[8], 0.0);
+
+  EXPECT_TRUE(remove_anchor(model, 4));  // the first anchor: the last one moves into its place
+  EXPECT_FALSE(remove_anchor(model, 4));
+  EXPECT_FALSE(model.is_anchored(4));
+  EXPECT_EQ(model.particle_inverse_mass[4], 1.0 / model.particle_mass[4]);
+  ASSERT_EQ(model.anchor_count(), 2u);
+  for (std::size_t a = 0; a < model.anchor_count(); ++a) {
+    EXPECT_EQ(model.particle_anchor[model.anchors[a].particle], static_cast<std::int32_t>(a));
+  }
+  EXPECT_EQ(model.anchors[static_cast<std::size_t>(model.particle_anchor[8])].path.origin, (Vec3{2, 2, 2}));
+  EXPECT_TRUE(remove_anchor(model, 8));
+  EXPECT_TRUE(remove_anchor(model, 0));
+  EXPECT_EQ(model.anchor_count(), 0u);
+  EXPECT_EQ(model.particle_anchor, std::vector<std::int32_t>(9, -1));
 }
 
 }  // namespace

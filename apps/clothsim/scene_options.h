@@ -1,0 +1,71 @@
+// The options that choose a scene and override its fields, shared by `clothsim run` and
+// `clothsim view` so that both read a scene and its flags the same way, with the same messages.
+//
+// SCENE (a file or a built-in name) or --paper-args picks the scene; --set KEY=VALUE sets any
+// registry field (scene/parameters.h), in order; then the named field flags (--integrator,
+// --gravity, ...) each set one field. Every value goes through set_scene_field with the flag as
+// its source, so "--fps: field 'output.fps': must be ..." reads like the scene file's message.
+// A subcommand registers only the field flags that mean something to it (FieldFlagSet).
+#pragma once
+
+#include <array>
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "scene/scene.h"
+
+namespace clothsim::cli {
+
+// A flag that sets one scene field, by its registry key.
+struct FieldFlag {
+  std::string_view flag;
+  std::string_view key;
+  std::string_view value_name;
+  std::string_view what;  // help text; the allowed range is appended from the registry
+};
+
+inline constexpr std::array<FieldFlag, 10> kFieldFlags = {{
+    {"--duration", "output.duration", "SECONDS", "simulated time to run"},
+    {"--fps", "output.fps", "N", "frames written per simulated second"},
+    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler or implicit-euler"},
+    {"--rtol", "integrator.relative_tolerance", "X", "RKF45 relative error tolerance"},
+    {"--atol", "integrator.absolute_tolerance", "X", "RKF45 absolute error tolerance (m, m/s)"},
+    {"--time-step", "integrator.time_step", "SECONDS", "step of rk4, symplectic-euler and implicit-euler; first trial step of rkf45"},
+    {"--gravity", "environment.gravity", "X,Y,Z", "gravitational acceleration, m/s^2"},
+    {"--anchor", "anchors", "PRESET", "anchored particles: center, corners, edge-corners or none"},
+    {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size"},
+    {"--rest-energy", "output.rest_kinetic_energy", "JOULES", "kinetic energy below which --until-rest stops"},
+}};
+
+// Which of kFieldFlags a subcommand offers, by flag name, with optional help text replacing the
+// table's (the viewer's --fps means something else than run's).
+struct FieldFlagChoice {
+  std::string_view flag;
+  std::string_view what = {};  // empty: the table's help text
+};
+
+struct SceneOptions {
+  CLI::App* app = nullptr;
+  std::string command;     // "run", "view": names the subcommand in messages
+  std::string scene;       // file or built-in name
+  std::string paper_args;  // the paper's ten numbers
+  std::array<std::string, kFieldFlags.size()> field_values;
+  std::vector<std::string> assignments;  // --set KEY=VALUE, in order
+
+  // True when the option (a flag such as "--fps", or the positional "SCENE") was given.
+  bool given(std::string_view flag) const { return app->count(std::string(flag)) > 0; }
+};
+
+// Registers SCENE, --paper-args, --set and the chosen field flags on `app`.
+void add_scene_options(CLI::App& app, SceneOptions& options, std::initializer_list<FieldFlagChoice> field_flags);
+
+// The scene with every flag applied and checked (validate_scene); throws InputError. `extra`, if
+// given, applies a subcommand's own overrides after the field flags and returns whether it
+// changed anything (the source then reads "... with the command-line flags").
+SceneSpec make_scene(const SceneOptions& options, const std::function<bool(SceneSpec&)>& extra = {});
+
+}  // namespace clothsim::cli

@@ -1,0 +1,173 @@
+#include "viewer/session.h"
+
+#include <algorithm>
+#include <cstdio>
+
+#include "core/assert.h"
+#include "core/error.h"
+#include "core/timer.h"
+#include "viewer/live_parameters.h"
+
+namespace clothsim::viewer {
+
+Session::Session(SceneSpec scene) : scene_(std::move(scene)) { build(); }
+
+void Session::build() {
+  ClothModel model = build_model(scene_);
+  ClothState initial = build_initial_state(model, scene_);
+  SimulationSettings settings;
+  settings.integrator = scene_.integrator;
+  settings.threads = scene_.threads;
+  simulation_ = std::make_unique<Simulation>(std::move(model), std::move(initial), settings);
+}
+
+void Session::reset() {
+  build();
+  held_.clear();
+  energy_history_.clear();
+}
+
+double Session::advance(double duration, double work_budget, double piece) {
+  if (failed() || duration <= 0.0) return 0.0;
+  const double start = time();
+  const double end = start + duration;
+  if (work_budget <= 0.0 || piece <= 0.0) {
+    simulation_->advance_to(end);
+    return time() - start;
+  }
+  const Stopwatch watch;
+  while (time() < end) {
+    if (!simulation_->advance_to(std::min(end, time() + piece))) break;
+    if (watch.seconds() >= work_budget) break;
+  }
+  return time() - start;
+}
+
+void Session::set_parameters(const std::vector<std::pair<std::string, std::string>>& assignments,
+                             const std::string& source) {
+  SceneSpec edited = scene_;
+  for (const auto& [key, value] : assignments) {
+    if (!is_live_parameter(key)) {
+      throw InputError(source, key, "cannot change while the simulation runs; live keys: " + live_parameter_list());
+    }
+    set_scene_field(edited, key, value, source);
+  }
+  validate_scene(edited, source);
+  set_live_parameters(edited);
+}
+
+void Session::set_live_parameters(const SceneSpec& edited) {
+  apply_live_parameters(scene_, edited, *simulation_);
+  scene_.lattice.connector = edited.lattice.connector;
+  scene_.lattice.adjacent = edited.lattice.adjacent;
+  scene_.lattice.opposite = edited.lattice.opposite;
+  scene_.lattice.particle_mass = edited.lattice.particle_mass;
+  scene_.environment = edited.environment;
+  scene_.integrator = edited.integrator;
+}
+
+bool Session::is_pinned(std::uint32_t particle) const {
+  return simulation_->model().is_anchored(particle) && !is_held(particle);
+}
+
+void Session::drag(std::uint32_t particle, const Vec3& target, double duration) {
+  CLOTHSIM_ASSERT(particle < simulation_->model().particle_count(), "dragged particle is in the lattice");
+  if (!is_held(particle)) held_.emplace(particle, simulation_->model().is_anchored(particle));
+  if (duration > 0.0 && playing_) {
+    simulation_->drive_particle(particle, target, time() + duration);
+    return;
+  }
+  if (!simulation_->model().is_anchored(particle)) simulation_->pin_particle(particle);
+  simulation_->place_particle(particle, target);
+}
+
+void Session::release(std::uint32_t particle) {
+  const auto held = held_.find(particle);
+  if (held == held_.end()) return;
+  const bool was_pinned = held->second;
+  held_.erase(held);
+  if (was_pinned) {
+    simulation_->pin_particle(particle);
+  } else {
+    simulation_->release_particle(particle);
+  }
+}
+
+void Session::pin(std::uint32_t particle) {
+  held_.erase(particle);
+  simulation_->pin_particle(particle);
+}
+
+void Session::unpin(std::uint32_t particle) {
+  held_.erase(particle);
+  simulation_->release_particle(particle);
+}
+
+void Session::record_energy(double window) {
+  if (!energy_history_.empty() && energy_history_.back().time == time()) return;
+  const EnergyReport energy = simulation_->energy();
+  EnergySample sample;
+  sample.time = time();
+  sample.kinetic = energy.kinetic;
+  sample.total = energy.total();
+  sample.potential = sample.total - sample.kinetic;
+  energy_history_.push_back(sample);
+  while (energy_history_.front().time < sample.time - window) energy_history_.pop_front();
+}
+
+std::uint32_t Session::particle(int row, int col) const {
+  CLOTHSIM_ASSERT(row >= 0 && row < scene_.lattice.rows && col >= 0 && col < scene_.lattice.cols,
+                  "particle inside the lattice");
+  return lattice_index(scene_.lattice.cols, row, col);
+}
+
+ScriptPlayer::ScriptPlayer(Script script, double frame_time) : script_(std::move(script)), frame_time_(frame_time) {
+  order_.resize(script_.events.size());
+  for (std::size_t i = 0; i < order_.size(); ++i) order_[i] = i;
+  std::stable_sort(order_.begin(), order_.end(), [this](std::size_t a, std::size_t b) {
+    return script_.events[a].firing_frame(frame_time_) < script_.events[b].firing_frame(frame_time_);
+  });
+}
+
+std::uint64_t ScriptPlayer::last_event_frame() const {
+  return order_.empty() ? 0 : script_.events[order_.back()].firing_frame(frame_time_);
+}
+
+ScriptPlayer::FrameRequests ScriptPlayer::fire(std::uint64_t frame, Session& session) {
+  FrameRequests requests;
+  while (next_ < order_.size() && script_.events[order_[next_]].firing_frame(frame_time_) <= frame) {
+    const ScriptEvent& event = script_.events[order_[next_++]];
+    switch (event.action) {
+      case ScriptAction::drag:
+        session.drag(session.particle(event.row, event.col), event.to, event.duration);
+        break;
+      case ScriptAction::release:
+        session.release(session.particle(event.row, event.col));
+        break;
+      case ScriptAction::pin:
+        session.pin(session.particle(event.row, event.col));
+        break;
+      case ScriptAction::unpin:
+        session.unpin(session.particle(event.row, event.col));
+        break;
+      case ScriptAction::pause:
+        session.set_playing(false);
+        break;
+      case ScriptAction::play:
+        session.set_playing(true);
+        break;
+      case ScriptAction::set:
+        session.set_parameters(event.assignments, script_.source + ": events[" + std::to_string(event.index) + "].set");
+        break;
+      case ScriptAction::screenshot:
+        requests.screenshots.push_back(event.path);
+        break;
+      case ScriptAction::quit:
+        requests.quit = true;
+        break;
+    }
+  }
+  return requests;
+}
+
+}  // namespace clothsim::viewer

@@ -1,0 +1,246 @@
+// Live editing between steps (Simulation::set_*, runtime anchors): an edit takes effect from the
+// next step on, as if the run had been started afresh from that state with the edited model; the
+// state survives an integrator switch; and the energy balance stays exact across every edit,
+// with parameter edits booked as edit work and anchor velocity jumps as anchor work.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "model/initial_conditions.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+constexpr std::uint32_t kCentre = 12;  // of a 5 x 5 lattice
+constexpr std::uint32_t kCorner = 0;
+
+ClothModel hanging_sheet(const LatticeDef& def, const Environment& environment = Environment{}) {
+  const Anchor anchor{kCentre, AnchorPath::fixed_at({0, 0, 0})};
+  return build_lattice(def, environment, {&anchor, 1});
+}
+
+LatticeDef five_by_five() {
+  LatticeDef def;
+  def.rows = 5;
+  def.cols = 5;
+  return def;
+}
+
+SimulationSettings rk4(double step) {
+  SimulationSettings settings;
+  settings.integrator.kind = IntegratorKind::rk4;
+  settings.integrator.time_step = step;
+  settings.threads = 1;
+  return settings;
+}
+
+SimulationSettings rkf45(double tolerance) {
+  SimulationSettings settings;
+  settings.integrator.relative_tolerance = tolerance;
+  settings.integrator.absolute_tolerance = tolerance;
+  settings.threads = 1;
+  return settings;
+}
+
+// |balance error| relative to the energy that moved through the sheet's books.
+double relative_balance_error(const EnergyBalance& balance) {
+  const double scale = std::abs(balance.damping_work) + std::abs(balance.drag_work) +
+                       std::abs(balance.anchor_work) + std::abs(balance.edit_work) +
+                       std::abs(balance.energy.kinetic);
+  return std::abs(balance.error()) / scale;
+}
+
+TEST(LiveEditing, StiffnessEditActsFromTheNextStepAsIfTheRunHadRestartedThere) {
+  Simulation edited(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rk4(1e-3));
+  ASSERT_TRUE(edited.advance_to(0.2));
+  const ClothState at_edit = edited.state();
+  const double connector_energy_before = edited.energy().connector;
+  ASSERT_GT(connector_energy_before, 0.0);
+
+  edited.set_spring_parameters(SpringFamily::connector, {160.0, 5.0});
+  // The force law changed at once: the stretch energy of the same positions doubled (exactly:
+  // every term is scaled by 2), and the state did not move.
+  EXPECT_EQ(edited.energy().connector, 2.0 * connector_energy_before);
+  EXPECT_EQ(edited.state().position, at_edit.position);
+  ASSERT_TRUE(edited.advance_to(0.4));
+
+  // The oracle: a fresh run from the state at the edit, with the edited material.
+  LatticeDef stiffer = five_by_five();
+  stiffer.connector = {160.0, 5.0};
+  Simulation restarted(hanging_sheet(stiffer), at_edit, rk4(1e-3));
+  ASSERT_TRUE(restarted.advance_to(0.4));
+  EXPECT_EQ(edited.state().position, restarted.state().position);
+  EXPECT_EQ(edited.state().velocity, restarted.state().velocity);
+
+  // And the edit mattered: without it the run ends elsewhere.
+  Simulation unedited(hanging_sheet(five_by_five()), at_edit, rk4(1e-3));
+  ASSERT_TRUE(unedited.advance_to(0.4));
+  EXPECT_NE(edited.state().position, unedited.state().position);
+}
+
+TEST(LiveEditing, EveryParameterEditMatchesARestartWithTheEditedModel) {
+  Simulation edited(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rk4(2e-3));
+  ASSERT_TRUE(edited.advance_to(0.3));
+  const ClothState at_edit = edited.state();
+  const Environment environment{{0.5, -3.0, 0.0}, 0.4};
+  edited.set_spring_parameters(SpringFamily::adjacent, {2.0, 0.5});
+  edited.set_spring_parameters(SpringFamily::opposite, {700.0, 100.0});
+  edited.set_environment(environment);
+  edited.set_particle_mass(0.5);
+  ASSERT_TRUE(edited.advance_to(0.5));
+
+  LatticeDef def = five_by_five();
+  def.adjacent = {2.0, 0.5};
+  def.opposite = {700.0, 100.0};
+  def.particle_mass = 0.5;
+  Simulation restarted(hanging_sheet(def, environment), at_edit, rk4(2e-3));
+  ASSERT_TRUE(restarted.advance_to(0.5));
+  EXPECT_EQ(edited.state().position, restarted.state().position);
+  EXPECT_EQ(edited.state().velocity, restarted.state().velocity);
+  EXPECT_EQ(edited.model().particle_inverse_mass, restarted.model().particle_inverse_mass);
+}
+
+TEST(LiveEditing, SwitchingIntegratorKeepsTheStateAndGoesOnWithTheNewMethod) {
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
+                        rkf45(1e-6));
+  ASSERT_TRUE(simulation.advance_to(0.3));
+  const ClothState at_switch = simulation.state();
+  const std::uint64_t rkf45_steps = simulation.integrator_stats().accepted_steps;
+
+  IntegratorSettings fixed;
+  fixed.kind = IntegratorKind::rk4;
+  fixed.time_step = 1e-3;
+  simulation.set_integrator(fixed);
+  EXPECT_EQ(simulation.settings().integrator.kind, IntegratorKind::rk4);
+  EXPECT_EQ(simulation.state().position, at_switch.position);
+  EXPECT_EQ(simulation.state().velocity, at_switch.velocity);
+  EXPECT_EQ(simulation.state().time, at_switch.time);
+  ASSERT_TRUE(simulation.advance_to(0.5));
+
+  Simulation restarted(hanging_sheet(five_by_five()), at_switch, rk4(1e-3));
+  ASSERT_TRUE(restarted.advance_to(0.5));
+  EXPECT_EQ(simulation.state().position, restarted.state().position);
+  EXPECT_EQ(simulation.state().velocity, restarted.state().velocity);
+  // Statistics count across the switch: the rkf45 steps and 200 rk4 steps of 1 ms.
+  EXPECT_EQ(simulation.integrator_stats().accepted_steps, rkf45_steps + 200);
+  EXPECT_EQ(simulation.integrator_stats().last_step, restarted.integrator_stats().last_step);
+}
+
+TEST(LiveEditing, EnergyBalanceStaysExactAcrossParameterEdits) {
+  Simulation simulation(hanging_sheet(five_by_five(), Environment{{0, -9.81, 0}, 0.1}),
+                        make_rest_state(hanging_sheet(five_by_five())), rkf45(1e-9));
+  ASSERT_TRUE(simulation.advance_to(0.5));
+  const double before = simulation.energy().total();
+  simulation.set_spring_parameters(SpringFamily::adjacent, {40.0, 1.0});  // the sheet is bent: energy changes
+  simulation.set_environment(Environment{{0, -4.0, 0}, 0.3});
+  simulation.set_particle_mass(2.0);
+  const EnergyBalance at_edit = simulation.energy_balance();
+  // The edit work is exactly the energy jump the edits made, so the balance holds across them.
+  EXPECT_DOUBLE_EQ(at_edit.edit_work, simulation.energy().total() - before);
+  EXPECT_GT(std::abs(at_edit.edit_work), 1.0);
+  EXPECT_LT(relative_balance_error(at_edit), 1e-7);
+  for (int frame = 1; frame <= 10; ++frame) {
+    ASSERT_TRUE(simulation.advance_to(0.5 + 0.05 * frame)) << simulation.failure()->message;
+    EXPECT_LT(relative_balance_error(simulation.energy_balance()), 1e-7) << "frame " << frame;
+  }
+}
+
+TEST(RuntimeAnchors, PinningAMovingParticleHoldsItAndBooksItsKineticEnergyAsAnchorWork) {
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
+                        rkf45(1e-9));
+  ASSERT_TRUE(simulation.advance_to(0.4));
+  const Vec3 where = simulation.state().position[kCorner];
+  const Vec3 velocity = simulation.state().velocity[kCorner];
+  ASSERT_GT(norm(velocity), 0.01);
+  const double anchor_work_before = simulation.state().anchor_work;
+
+  simulation.pin_particle(kCorner);
+  EXPECT_TRUE(simulation.model().is_anchored(kCorner));
+  EXPECT_EQ(simulation.model().particle_inverse_mass[kCorner], 0.0);
+  EXPECT_EQ(simulation.state().velocity[kCorner], Vec3{});
+  EXPECT_DOUBLE_EQ(simulation.state().anchor_work - anchor_work_before,
+                   -0.5 * simulation.model().particle_mass[kCorner] * squared_norm(velocity));
+  ASSERT_TRUE(simulation.advance_to(0.8));
+  EXPECT_EQ(simulation.state().position[kCorner], where);
+  EXPECT_LT(relative_balance_error(simulation.energy_balance()), 1e-7);
+
+  // Unpinning frees it (mass restored) and gravity takes it again.
+  EXPECT_TRUE(simulation.release_particle(kCorner));
+  EXPECT_FALSE(simulation.release_particle(kCorner));
+  EXPECT_EQ(simulation.model().particle_inverse_mass[kCorner], 1.0 / simulation.model().particle_mass[kCorner]);
+  ASSERT_TRUE(simulation.advance_to(1.0));
+  EXPECT_NE(simulation.state().position[kCorner], where);
+}
+
+TEST(RuntimeAnchors, DrivenParticleArrivesAtItsTargetAndTheBalanceSeesTheWork) {
+  Simulation simulation(hanging_sheet(five_by_five(), Environment{{0, -9.81, 0}, 0.2}),
+                        make_rest_state(hanging_sheet(five_by_five())), rkf45(1e-9));
+  ASSERT_TRUE(simulation.advance_to(0.25));
+  const Vec3 start = simulation.state().position[kCorner];
+  const Vec3 target{-3.0, 1.5, -2.5};
+  const double arrival = 0.25 + 0.537;  // not on a frame time: the arrival is its own event
+  simulation.drive_particle(kCorner, target, arrival);
+  const Vec3 drive_velocity = (target - start) / 0.537;
+  EXPECT_TRUE(simulation.model().is_anchored(kCorner));
+  EXPECT_EQ(simulation.state().velocity[kCorner], drive_velocity);
+
+  for (int frame = 1; frame <= 60; ++frame) {
+    const double time = 0.25 + frame / 60.0;
+    ASSERT_TRUE(simulation.advance_to(time)) << simulation.failure()->message;
+    const Vec3 expected = time < arrival ? start + (time - 0.25) * drive_velocity : target;
+    EXPECT_LT(norm(simulation.state().position[kCorner] - expected), 1e-12) << "t = " << time;
+    EXPECT_EQ(simulation.state().velocity[kCorner], time < arrival ? drive_velocity : Vec3{}) << "t = " << time;
+    EXPECT_LT(relative_balance_error(simulation.energy_balance()), 1e-7) << "t = " << time;
+  }
+  // The hand lifted the corner 1.5 m against gravity and the springs: it did positive work.
+  EXPECT_GT(simulation.state().anchor_work, 0.0);
+}
+
+TEST(RuntimeAnchors, ReAimingEveryFrameFollowsAMovingTarget) {
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rk4(1e-3));
+  const auto cursor = [](double t) { return Vec3{-2.0 + std::sin(3.0 * t), 0.5 * t, -2.0}; };
+  for (int frame = 1; frame <= 30; ++frame) {
+    const double time = frame / 30.0;
+    simulation.drive_particle(kCorner, cursor(time), time);
+    ASSERT_TRUE(simulation.advance_to(time));
+    EXPECT_LT(norm(simulation.state().position[kCorner] - cursor(time)), 1e-12) << "frame " << frame;
+  }
+}
+
+TEST(RuntimeAnchors, ReleasingADrivenParticleKeepsItsVelocityAndRestoresItsMass) {
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
+                        rkf45(1e-9));
+  simulation.drive_particle(kCorner, {-2.0, 2.0, -2.0}, 1.0);
+  ASSERT_TRUE(simulation.advance_to(0.5));
+  const Vec3 velocity = simulation.state().velocity[kCorner];
+  const double anchor_work = simulation.state().anchor_work;
+  EXPECT_TRUE(simulation.release_particle(kCorner));
+  EXPECT_FALSE(simulation.model().is_anchored(kCorner));
+  EXPECT_EQ(simulation.model().particle_inverse_mass[kCorner], 1.0 / simulation.model().particle_mass[kCorner]);
+  EXPECT_EQ(simulation.state().velocity[kCorner], velocity);
+  EXPECT_EQ(simulation.state().anchor_work, anchor_work);  // no impulse: nothing jumped
+  // The released particle flies on: it is not stopped at the old arrival time.
+  ASSERT_TRUE(simulation.advance_to(1.2));
+  EXPECT_NE(simulation.state().velocity[kCorner], Vec3{});
+  EXPECT_LT(relative_balance_error(simulation.energy_balance()), 1e-7);
+}
+
+TEST(RuntimeAnchors, PlacingAnAnchoredParticleBooksTheJumpAsEditWork) {
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
+                        rkf45(1e-9));
+  ASSERT_TRUE(simulation.advance_to(0.3));
+  simulation.pin_particle(kCorner);
+  const double before = simulation.energy().total();
+  const double edit_work = simulation.energy_balance().edit_work;
+  simulation.place_particle(kCorner, {-2.5, 0.5, -2.5});
+  EXPECT_EQ(simulation.state().position[kCorner], (Vec3{-2.5, 0.5, -2.5}));
+  EXPECT_EQ(simulation.state().time, 0.3);
+  EXPECT_DOUBLE_EQ(simulation.energy_balance().edit_work - edit_work, simulation.energy().total() - before);
+  ASSERT_TRUE(simulation.advance_to(0.6));
+  EXPECT_EQ(simulation.state().position[kCorner], (Vec3{-2.5, 0.5, -2.5}));
+  EXPECT_LT(relative_balance_error(simulation.energy_balance()), 1e-7);
+}
+
+}  // namespace
+}  // namespace clothsim

@@ -1,0 +1,195 @@
+// The viewer's window-free core (apps/clothsim/viewer/session.h): what a script or the mouse does
+// to the simulation, without a display. A scripted drag ends at its target, a scripted run is
+// reproducible, "set" changes the running simulation and survives a reset, the hand restores
+// what it found, and the work budget bounds one frame's simulation.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "core/error.h"
+#include "viewer/session.h"
+
+namespace clothsim::viewer {
+namespace {
+
+constexpr double kFrameTime = 1.0 / 60.0;
+
+// The paper's material on a 5 x 5 lattice with the centre anchored at the origin.
+SceneSpec small_scene() {
+  SceneSpec scene = scene_from_paper_args("5,5,1,4,1,1400,200,80,5,1", "test");
+  scene.threads = 1;
+  return scene;
+}
+
+// Plays `script` for frames 0..last as the window does: frame k > 0 first advances one frame
+// while playing, then fires frame k's events.
+void play(Session& session, ScriptPlayer& player, std::uint64_t last) {
+  for (std::uint64_t frame = 0; frame <= last; ++frame) {
+    if (frame > 0 && session.playing()) {
+      ASSERT_GT(session.advance(kFrameTime), 0.0);
+    }
+    const ScriptPlayer::FrameRequests requests = player.fire(frame, session);
+    if (requests.quit) return;
+  }
+}
+
+TEST(Session, ScriptedDragEndsAtItsTargetAndReleaseFreesTheParticle) {
+  Session session(small_scene());
+  const Script script = parse_script(R"({"events": [
+      {"at": 0.25, "drag": {"row": 0, "col": 0, "to": [-3, 1.5, -2.5], "duration": 0.5}},
+      {"at": 1.0, "release": {"row": 0, "col": 0}}]})",
+                                     "drag.json");
+  check_script(script, session.scene());
+  ScriptPlayer player(script, kFrameTime);
+  play(session, player, 50);  // t = 50/60 s: arrived at 0.75 s, still held
+  const std::uint32_t corner = session.particle(0, 0);
+  EXPECT_TRUE(session.is_held(corner));
+  EXPECT_LT(norm(session.simulation().state().position[corner] - Vec3{-3, 1.5, -2.5}), 1e-12);
+  EXPECT_EQ(session.simulation().state().velocity[corner], Vec3{});
+
+  for (std::uint64_t frame = 51; frame <= 60; ++frame) {
+    session.advance(kFrameTime);
+    player.fire(frame, session);
+  }
+  EXPECT_FALSE(session.is_held(corner));
+  EXPECT_FALSE(session.simulation().model().is_anchored(corner));
+  EXPECT_EQ(session.simulation().model().particle_inverse_mass[corner], 1.0);
+  session.advance(0.1);
+  EXPECT_GT(norm(session.simulation().state().position[corner] - Vec3{-3, 1.5, -2.5}), 1e-3);  // it falls
+}
+
+TEST(Session, ScriptedRunsAreReproducible) {
+  const Script script = parse_script(R"({"events": [
+      {"at": 0.1, "drag": {"row": 4, "col": 2, "to": [0, 2, 3], "duration": 0.3}},
+      {"at": 0.2, "pin": {"row": 0, "col": 0}},
+      {"at": 0.3, "set": {"springs.adjacent.stiffness": 40, "integrator.method": "rk4", "integrator.time_step": 0.001}},
+      {"at": 0.5, "release": {"row": 4, "col": 2}}]})",
+                                     "run.json");
+  const auto run = [&script] {
+    Session session(small_scene());
+    ScriptPlayer player(script, kFrameTime);
+    play(session, player, 45);
+    return session.simulation().state();
+  };
+  const ClothState first = run();
+  const ClothState second = run();
+  EXPECT_NEAR(first.time, 45 * kFrameTime, 1e-12);
+  EXPECT_EQ(first.position, second.position);
+  EXPECT_EQ(first.velocity, second.velocity);
+}
+
+TEST(Session, SetChangesTheRunningSimulationAndSurvivesAReset) {
+  Session session(small_scene());
+  session.advance(0.2);
+  session.set_parameters({{"springs.connector.stiffness", "160"}, {"environment.gravity", "0,-4,0"},
+                          {"lattice.particle_mass", "2"}, {"integrator.method", "rk4"}},
+                         "test");
+  const Simulation& simulation = session.simulation();
+  EXPECT_EQ(simulation.model().connector_stiffness.front(), 160.0);
+  EXPECT_EQ(simulation.model().environment.gravity, (Vec3{0, -4, 0}));
+  EXPECT_EQ(simulation.model().particle_mass.front(), 2.0);
+  EXPECT_EQ(simulation.settings().integrator.kind, IntegratorKind::rk4);
+  EXPECT_EQ(session.time(), 0.2);  // the state went on where it was
+  EXPECT_NE(simulation.energy_balance().edit_work, 0.0);
+  EXPECT_EQ(session.scene().lattice.connector.stiffness, 160.0);
+
+  session.reset();
+  EXPECT_EQ(session.time(), 0.0);
+  EXPECT_EQ(session.simulation().model().connector_stiffness.front(), 160.0);
+  EXPECT_EQ(session.simulation().settings().integrator.kind, IntegratorKind::rk4);
+  EXPECT_EQ(session.simulation().energy_balance().edit_work, 0.0);
+}
+
+TEST(Session, RefusedSetChangesNothing) {
+  Session session(small_scene());
+  // A key that is not live, and a bad value after a good one: neither is applied.
+  EXPECT_THROW(session.set_parameters({{"lattice.rows", "7"}}, "test"), InputError);
+  EXPECT_THROW(session.set_parameters({{"springs.connector.stiffness", "10"}, {"springs.connector.damping", "-1"}},
+                                      "test"),
+               InputError);
+  // min_step above max_step breaks a cross-field rule only together.
+  EXPECT_THROW(session.set_parameters({{"integrator.min_step", "0.5"}, {"integrator.max_step", "0.01"}}, "test"),
+               InputError);
+  EXPECT_EQ(session.simulation().model().connector_stiffness.front(), 80.0);
+  EXPECT_EQ(session.scene().lattice.connector.stiffness, 80.0);
+  EXPECT_EQ(session.scene().integrator.min_step, SceneSpec{}.integrator.min_step);
+}
+
+TEST(Session, ReleasingAParticleThatWasPinnedPinsItWhereItWasLetGo) {
+  Session session(small_scene());
+  const std::uint32_t centre = session.particle(2, 2);  // the scene's anchor
+  ASSERT_TRUE(session.is_pinned(centre));
+  session.drag(centre, {0.0, 1.0, 0.0}, 0.25);
+  EXPECT_FALSE(session.is_pinned(centre));
+  session.advance(0.5);
+  session.release(centre);
+  EXPECT_TRUE(session.is_pinned(centre));
+  EXPECT_LT(norm(session.simulation().state().position[centre] - Vec3{0, 1, 0}), 1e-12);
+  session.advance(0.2);
+  EXPECT_LT(norm(session.simulation().state().position[centre] - Vec3{0, 1, 0}), 1e-12);
+
+  session.unpin(centre);
+  EXPECT_FALSE(session.simulation().model().is_anchored(centre));
+  session.pin(centre);
+  EXPECT_TRUE(session.is_pinned(centre));
+}
+
+TEST(Session, DragWhilePausedPlacesTheParticleAtOnce) {
+  Session session(small_scene());
+  session.advance(0.1);
+  session.set_playing(false);
+  const std::uint32_t corner = session.particle(4, 4);
+  session.drag(corner, {3.0, 0.5, 3.0}, 0.5);
+  EXPECT_EQ(session.simulation().state().position[corner], (Vec3{3.0, 0.5, 3.0}));
+  EXPECT_EQ(session.time(), 0.1);
+  EXPECT_TRUE(session.is_held(corner));
+  const EnergyBalance balance = session.simulation().energy_balance();
+  EXPECT_LT(std::abs(balance.error()), 1e-6 * (std::abs(balance.edit_work) + std::abs(balance.anchor_work)));
+}
+
+TEST(Session, WorkBudgetStopsAFrameEarly) {
+  Session session(small_scene());
+  // A budget that is spent by the first piece: one piece of simulated time, not the whole second.
+  const double advanced = session.advance(1.0, 1e-12, 0.01);
+  EXPECT_DOUBLE_EQ(advanced, 0.01);
+  EXPECT_DOUBLE_EQ(session.time(), 0.01);
+  // No budget: the whole duration.
+  EXPECT_DOUBLE_EQ(session.advance(0.05), 0.05);
+}
+
+TEST(Session, EnergyHistoryKeepsItsWindow) {
+  Session session(small_scene());
+  for (int frame = 0; frame <= 30; ++frame) {
+    if (frame > 0) session.advance(0.1);
+    session.record_energy(0.95);
+    session.record_energy(0.95);  // the same time twice is one sample
+  }
+  const auto& history = session.energy_history();
+  ASSERT_EQ(history.size(), 10u);  // t = 2.1 .. 3.0
+  EXPECT_NEAR(history.front().time, 2.1, 1e-9);
+  EXPECT_NEAR(history.back().time, 3.0, 1e-9);
+  const EnergyReport energy = session.simulation().energy();
+  EXPECT_EQ(history.back().kinetic, energy.kinetic);
+  EXPECT_DOUBLE_EQ(history.back().potential + history.back().kinetic, energy.total());
+}
+
+TEST(Session, PauseAndPlayEventsAndQuit) {
+  Session session(small_scene());
+  ScriptPlayer player(parse_script(R"({"events": [{"frame": 3, "quit": true}, {"at": 0.05, "pause": true},
+                                                  {"frame": 2, "screenshot": "a.png"}, {"frame": 2, "play": true}]})",
+                                   "p.json"),
+                      kFrameTime);
+  EXPECT_EQ(player.last_event_frame(), 3u);
+  EXPECT_TRUE(player.fire(0, session).screenshots.empty());
+  EXPECT_TRUE(session.playing());
+  const ScriptPlayer::FrameRequests second = player.fire(2, session);
+  EXPECT_TRUE(session.playing());  // the pause (frame 3) has not fired yet
+  ASSERT_EQ(second.screenshots.size(), 1u);
+  EXPECT_EQ(second.screenshots[0], "a.png");
+  const ScriptPlayer::FrameRequests third = player.fire(3, session);
+  EXPECT_TRUE(third.quit);
+  EXPECT_FALSE(session.playing());  // 0.05 s is frame 3, in the same frame as the quit
+}
+
+}  // namespace
+}  // namespace clothsim::viewer

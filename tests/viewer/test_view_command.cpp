@@ -1,0 +1,303 @@
+// `clothsim view` end to end: the real executable in a real window on a virtual X server (Xvfb,
+// started by each test on a display it picks itself with -displayfd, so parallel tests never
+// collide), rendering with Mesa where there is no GPU.
+//
+// What they pin down (docs/viewer.md):
+//   - a scripted drag runs for its frames and exits 0; the dragged particle ends at its target,
+//     the anchor stays put; the screenshots are PNGs of the window size that show the sheet;
+//   - a scripted run is reproducible bit for bit, and a paused one does not move;
+//   - bad input exits 2 naming the file, event and field, before any window opens;
+//   - no display exits 3 with advice; --benchmark-frames prints its figures.
+// Xvfb comes from scripts/install-deps.sh; without it the tests fail and say so (never skip).
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <csignal>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "io/npy.h"
+#include "render/image.h"
+
+namespace clothsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The paper's material on a 7 x 7 lattice, the centre particle (index 24) anchored at the origin.
+constexpr const char* kPaperArgs = "7,7,1,4,1,1400,200,80,5,1";
+constexpr std::size_t kParticles = 49;
+constexpr std::size_t kCentre = 24;
+
+struct Result {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+std::string read_text(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_text(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
+}
+
+// A virtual X server for the life of the object.
+class VirtualDisplay {
+ public:
+  VirtualDisplay() {
+    int fds[2];
+    if (::pipe(fds) != 0) return;
+    pid_ = ::fork();
+    if (pid_ == 0) {
+      ::close(fds[0]);
+      const int null = ::open("/dev/null", O_WRONLY);
+      ::dup2(null, STDOUT_FILENO);
+      ::dup2(null, STDERR_FILENO);
+      const std::string fd = std::to_string(fds[1]);
+      ::execlp("Xvfb", "Xvfb", "-displayfd", fd.c_str(), "-screen", "0", "1024x768x24", "-nolisten", "tcp",
+               static_cast<char*>(nullptr));
+      ::_exit(127);
+    }
+    ::close(fds[1]);
+    // Xvfb writes the display number and a newline once it accepts connections.
+    std::string number;
+    pollfd poll_fd{fds[0], POLLIN, 0};
+    while (number.find('\n') == std::string::npos && ::poll(&poll_fd, 1, 20000) > 0) {
+      char buffer[16];
+      const ssize_t count = ::read(fds[0], buffer, sizeof buffer);
+      if (count <= 0) break;
+      number.append(buffer, static_cast<std::size_t>(count));
+    }
+    ::close(fds[0]);
+    if (number.find('\n') != std::string::npos) name_ = ":" + number.substr(0, number.find('\n'));
+  }
+  ~VirtualDisplay() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGTERM);
+      ::waitpid(pid_, nullptr, 0);
+    }
+  }
+  VirtualDisplay(const VirtualDisplay&) = delete;
+  VirtualDisplay& operator=(const VirtualDisplay&) = delete;
+
+  // ":1", or "" if Xvfb did not start.
+  const std::string& name() const { return name_; }
+
+ private:
+  pid_t pid_ = -1;
+  std::string name_;
+};
+
+class ViewCommand : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    folder_ = fs::path(CLOTHSIM_TEST_TMPDIR) / "view" / info->name();
+    fs::remove_all(folder_);
+    fs::create_directories(folder_ / "work");
+  }
+
+  const fs::path& folder() const { return folder_; }
+  fs::path work() const { return folder_ / "work"; }
+
+  // Runs clothsim with `args` in work(), with DISPLAY set to `display` (unset when empty).
+  Result run(const std::vector<std::string>& args, const std::string& display) const {
+    const fs::path out_path = folder_ / "stdout.txt";
+    const fs::path err_path = folder_ / "stderr.txt";
+    std::vector<std::string> words = {CLOTHSIM_EXE};
+    words.insert(words.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (std::string& word : words) argv.push_back(word.data());
+    argv.push_back(nullptr);
+    std::fflush(nullptr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+      if (::chdir(work().c_str()) != 0) ::_exit(126);
+      const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      ::dup2(out, STDOUT_FILENO);
+      ::dup2(err, STDERR_FILENO);
+      if (display.empty()) {
+        ::unsetenv("DISPLAY");
+      } else {
+        ::setenv("DISPLAY", display.c_str(), 1);
+      }
+      ::unsetenv("WAYLAND_DISPLAY");
+      ::execv(argv[0], argv.data());
+      ::_exit(127);
+    }
+    Result result;
+    int status = 0;
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
+    while (::waitpid(pid, &status, WNOHANG) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        ::kill(pid, SIGKILL);
+        ::waitpid(pid, &status, 0);
+        ADD_FAILURE() << "clothsim view did not finish within 120 s";
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    result.out = read_text(out_path);
+    result.err = read_text(err_path);
+    return result;
+  }
+
+ private:
+  fs::path folder_;
+};
+
+// Fraction of pixels that differ clearly from the top-left one (the background), and the number
+// of distinct colours: a blank or uniform image has (0, 1).
+std::pair<double, std::size_t> image_content(const render::Image& image) {
+  const std::uint8_t* background = image.pixel(0, 0);
+  std::size_t different = 0;
+  std::set<std::uint32_t> colours;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      const int distance = std::abs(p[0] - background[0]) + std::abs(p[1] - background[1]) + std::abs(p[2] - background[2]);
+      if (distance > 30) ++different;
+      colours.insert(static_cast<std::uint32_t>(p[0]) << 16 | static_cast<std::uint32_t>(p[1]) << 8 | p[2]);
+    }
+  }
+  return {static_cast<double>(different) / (image.width * image.height), colours.size()};
+}
+
+Vec3 particle_position(const NpyArray& state, std::size_t particle) {
+  return {state.data[3 * particle], state.data[3 * particle + 1], state.data[3 * particle + 2]};
+}
+
+constexpr const char* kDragScript = R"({
+  "description": "lift a corner of the sheet",
+  "events": [
+    {"at": 0.1, "drag": {"row": 0, "col": 0, "to": [-2.0, 2.0, -2.5], "duration": 0.5}},
+    {"frame": 30, "screenshot": "middle.png"}
+  ]
+})";
+
+std::vector<std::string> drag_arguments() {
+  return {"view", "--paper-args", kPaperArgs, "--script", "drag.json", "--frames", "45", "--screenshot-at",
+          "45:final.png", "--dump-state", "state.npy", "--size", "320x240"};
+}
+
+TEST_F(ViewCommand, ScriptedDragEndsAtItsTargetWithScreenshotsOfTheSheet) {
+  const VirtualDisplay display;
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
+  write_text(work() / "drag.json", kDragScript);
+  const Result result = run(drag_arguments(), display.name());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("screenshot: middle.png (320x240, t = 0.5 s)"), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("screenshot: final.png (320x240, t = 0.75 s)"), std::string::npos) << result.out;
+
+  // The drag started at 0.1 s and took 0.5 s: at 0.75 s the corner is at its target.
+  const NpyArray state = read_npy((work() / "state.npy").string());
+  ASSERT_EQ(state.shape, (std::vector<std::size_t>{kParticles, 3}));
+  EXPECT_LT(norm(particle_position(state, 0) - Vec3{-2.0, 2.0, -2.5}), 1e-9);
+  EXPECT_EQ(particle_position(state, kCentre), Vec3{});  // the scene's anchor stayed put
+  EXPECT_LT(particle_position(state, kParticles - 1).y, -0.1);  // the far corner hangs down
+
+  const render::Image final_image = render::read_png((work() / "final.png").string());
+  const render::Image middle_image = render::read_png((work() / "middle.png").string());
+  EXPECT_EQ(final_image.width, 320);
+  EXPECT_EQ(final_image.height, 240);
+  const auto [covered, colours] = image_content(final_image);
+  EXPECT_GT(covered, 0.03) << "the sheet covers too little of the picture";
+  EXPECT_GT(colours, 50u) << "a shaded sheet has many colours";
+  EXPECT_NE(final_image.rgb, middle_image.rgb);  // the sheet moved between frames 30 and 45
+}
+
+TEST_F(ViewCommand, ScriptedRunsAreReproducibleBitForBit) {
+  const VirtualDisplay display;
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
+  write_text(work() / "drag.json", kDragScript);
+  ASSERT_EQ(run(drag_arguments(), display.name()).exit_code, 0);
+  fs::rename(work() / "state.npy", folder() / "first.npy");
+  ASSERT_EQ(run(drag_arguments(), display.name()).exit_code, 0);
+  EXPECT_EQ(read_text(folder() / "first.npy"), read_text(work() / "state.npy"));
+}
+
+TEST_F(ViewCommand, PausedRunStandsStillAndQuitEndsIt) {
+  const VirtualDisplay display;
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
+  write_text(work() / "pause.json", R"({"events": [{"at": 0, "pause": true}, {"frame": 5, "quit": true}]})");
+  const Result result = run({"view", "--paper-args", kPaperArgs, "--script", "pause.json", "--frames", "100000",
+                             "--dump-state", "state.npy", "--size", "200x150", "--hide-panel"},
+                            display.name());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const NpyArray state = read_npy((work() / "state.npy").string());
+  ASSERT_EQ(state.shape, (std::vector<std::size_t>{kParticles, 3}));
+  // Paused from frame 0: the flat rest lattice, spacing 1, centred on the origin.
+  for (std::size_t p = 0; p < kParticles; ++p) {
+    EXPECT_EQ(particle_position(state, p), (Vec3{static_cast<double>(p % 7) - 3.0, 0.0, static_cast<double>(p / 7) - 3.0}));
+  }
+}
+
+TEST_F(ViewCommand, BadInputExitsTwoBeforeAnyWindowOpens) {
+  write_text(work() / "bad.json", R"({"events": [{"at": 0, "pause": true},
+    {"at": 1, "drag": {"row": 0, "col": 0, "to": [0, 1, 0], "duration": -2}}]})");
+  // No DISPLAY: had a window been tried, the exit code would be 3.
+  Result result = run({"view", "--paper-args", kPaperArgs, "--script", "bad.json", "--dump-state", "state.npy"}, "");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("clothsim: error: bad.json: field 'events[1].drag.duration': must be a number in (0, 86400], got -2"),
+            std::string::npos)
+      << result.err;
+  EXPECT_FALSE(fs::exists(work() / "state.npy"));
+
+  write_text(work() / "rows.json", R"({"events": [{"at": 0, "pin": {"row": 7, "col": 0}}]})");
+  result = run({"view", "--paper-args", kPaperArgs, "--script", "rows.json"}, "");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("rows.json: field 'events[0].pin.row': must be in [0, 6]"), std::string::npos) << result.err;
+
+  result = run({"view", "paper-fig4", "--screenshot-at", "ten:shot.png"}, "");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--screenshot-at: expects FRAME:PATH"), std::string::npos) << result.err;
+
+  result = run({"view", "paper-fig4", "--size", "10x10"}, "");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--size: expects WIDTHxHEIGHT"), std::string::npos) << result.err;
+
+  result = run({"view", "paper-fig4", "--gravity", "0,-5"}, "");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("--gravity"), std::string::npos) << result.err;
+
+  result = run({"view"}, "");
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.err.find("view: needs a SCENE"), std::string::npos) << result.err;
+}
+
+TEST_F(ViewCommand, NoDisplayIsAnOutputErrorWithAdvice) {
+  const Result result = run({"view", "--paper-args", kPaperArgs, "--frames", "3"}, "");
+  EXPECT_EQ(result.exit_code, 3);
+  EXPECT_NE(result.err.find("clothsim: error: cannot open a window"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("xvfb-run -a clothsim view"), std::string::npos) << result.err;
+}
+
+TEST_F(ViewCommand, BenchmarkPrintsFramesPerSecondAndRealTimeRatio) {
+  const VirtualDisplay display;
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
+  const Result result =
+      run({"view", "--paper-args", kPaperArgs, "--benchmark-frames", "20", "--size", "200x150"}, display.name());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  EXPECT_NE(result.out.find("benchmark: 20 frames in "), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find(" fps (median frame "), std::string::npos) << result.out;
+  EXPECT_NE(result.out.find("x real time"), std::string::npos) << result.out;
+}
+
+}  // namespace
+}  // namespace clothsim
