@@ -164,6 +164,7 @@ void Simulation::set_spring_parameters(SpringFamily family, const SpringParamete
   const double before = energy().total();
   set_spring_family(*model_, family, parameters);
   edit_work_ += energy().total() - before;
+  restart_integrator();
 }
 
 void Simulation::set_environment(const Environment& environment) {
@@ -180,9 +181,13 @@ void Simulation::set_particle_mass(double mass) {
 }
 
 void Simulation::set_integrator(const IntegratorSettings& settings) {
-  retired_stats_ = integrator_stats();
   settings_.integrator = settings;
-  integrator_ = make_integrator(*model_, settings, ForceOptions{settings_.terms, threads_});
+  restart_integrator();
+}
+
+void Simulation::restart_integrator() {
+  retired_stats_ = integrator_stats();
+  integrator_ = make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
 }
 
 void Simulation::hold_on_path(std::uint32_t particle, const AnchorPath& path) {

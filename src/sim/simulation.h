@@ -11,9 +11,12 @@
 //
 // Live editing (the viewer's panel and scripts) goes through the set_* and *_particle members,
 // called between advance_to() calls, so an edit takes effect from the next step on and never
-// inside one. Integrators read the model by reference and copy nothing an edit changes (they
-// read stiffness, masses and anchors at every force evaluation), so parameter and anchor edits
-// need no rebuild; set_integrator() makes a new integrator on the same state. Every edit books
+// inside one. Integrators read masses, the environment and anchors from the model at every force
+// evaluation, so those edits need no rebuild. Spring parameters are different: the structured
+// force kernel (forces/lattice_kernel.h) keeps the material of a uniform lattice, and whether the
+// sheet still is one can change with an edit, so a spring edit restarts the integrator on the
+// current state, exactly as a new run from that state would go on; set_integrator() does the
+// same with new settings. Statistics and the profile count across restarts. Every edit books
 // the energy it adds or removes, so the balance stays exact across edits (docs/viewer.md):
 //   parameter edits (stiffness, gravity, mass): EnergyBalance::edit_work += E_after - E_before,
 //     the jump of potential or kinetic energy the edit causes at fixed positions and velocities;
@@ -138,13 +141,16 @@ class Simulation {
   void stop_arrived_anchors();
   // Sets particle's anchor path and its velocity to the path's, booking the velocity jump.
   void hold_on_path(std::uint32_t particle, const AnchorPath& path);
+  // Replaces the integrator with a new one for the current model and settings_.integrator,
+  // keeping the statistics of the old one.
+  void restart_integrator();
 
   std::unique_ptr<ClothModel> model_;  // on the heap: the integrator keeps a reference to it
   ClothState state_;
   SimulationSettings settings_;
   int threads_ = 1;
   std::unique_ptr<Integrator> integrator_;
-  IntegratorStats retired_stats_;  // summed over integrators replaced by set_integrator()
+  IntegratorStats retired_stats_;  // summed over integrators replaced by restart_integrator()
   double initial_energy_ = 0.0;
   double edit_work_ = 0.0;  // J, see EnergyBalance::edit_work
   StepProfile profile_;
