@@ -138,6 +138,8 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
     coarse_dofs_ = 3 * aggregate_rows * aggregate_cols;
     coarse_bandwidth_ = 3 * farthest + 2;
     coarse_band_.resize(coarse_dofs_ * (coarse_bandwidth_ + 1));
+    coarse_upper_.resize(coarse_band_.size());
+    coarse_lower_.resize(coarse_band_.size());
     coarse_vector_.resize(coarse_dofs_);
   }
   block_sum_a_.resize(block_count(n));
@@ -402,23 +404,53 @@ void ImplicitEuler::assemble_coarse() {
       row_i[i - j] = sum / diagonal;
     }
   }
+  // Copies laid out for the substitutions, each reading memory in ascending order: L by rows in
+  // column order, entry (i, j) at lower[i width + bandwidth - (i - j)], and L^T by rows, entry
+  // (i, k) at upper[i width + k - i].
+  for (std::size_t i = 0; i < coarse_dofs_; ++i) {
+    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
+    for (std::size_t j = first; j <= i; ++j) {
+      coarse_lower_[i * width + (j - first)] = coarse_band_[i * width + (i - j)];
+    }
+    coarse_lower_[i * width + bandwidth] = coarse_band_[i * width];
+    const std::size_t last = std::min(coarse_dofs_ - 1, i + bandwidth);
+    for (std::size_t k = i; k <= last; ++k) coarse_upper_[i * width + (k - i)] = coarse_band_[k * width + (k - i)];
+  }
 }
+
+namespace {
+
+// sum_k a[k] b[k] over k in [0, count), in four interleaved partial sums added in a fixed order:
+// the same bits every time, without the latency of one long chain of dependent additions.
+double band_dot(const double* a, const double* b, std::size_t count) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  std::size_t k = 0;
+  for (; k + 4 <= count; k += 4) {
+    s0 += a[k] * b[k];
+    s1 += a[k + 1] * b[k + 1];
+    s2 += a[k + 2] * b[k + 2];
+    s3 += a[k + 3] * b[k + 3];
+  }
+  for (; k < count; ++k) s0 += a[k] * b[k];
+  return (s0 + s1) + (s2 + s3);
+}
+
+}  // namespace
 
 void ImplicitEuler::solve_coarse() {
   const std::size_t width = coarse_bandwidth_ + 1;
   const std::size_t bandwidth = coarse_bandwidth_;
   std::vector<double>& x = coarse_vector_;
-  for (std::size_t i = 0; i < coarse_dofs_; ++i) {  // L y = b
-    const double* row_i = &coarse_band_[i * width];
-    double sum = x[i];
-    for (std::size_t k = i > bandwidth ? i - bandwidth : 0; k < i; ++k) sum -= row_i[i - k] * x[k];
-    x[i] = sum / row_i[0];
+  for (std::size_t i = 0; i < coarse_dofs_; ++i) {  // L y = b, with L by reversed rows (see assemble_coarse)
+    const double* row_i = &coarse_lower_[i * width];
+    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
+    // row_i[m] = L(i, first + m) for m < i - first; row_i[bandwidth] = L(i, i).
+    x[i] = (x[i] - band_dot(row_i, &x[first], i - first)) / row_i[bandwidth];
   }
   for (std::size_t i = coarse_dofs_; i-- > 0;) {  // L^T x = y
-    double sum = x[i];
+    const double* row_i = &coarse_upper_[i * width];
     const std::size_t last = std::min(coarse_dofs_ - 1, i + bandwidth);
-    for (std::size_t k = i + 1; k <= last; ++k) sum -= coarse_band_[k * width + (k - i)] * x[k];
-    x[i] = sum / coarse_band_[i * width];
+    x[i] = (x[i] - band_dot(row_i + 1, &x[i + 1], last - i)) / row_i[0];
   }
 }
 

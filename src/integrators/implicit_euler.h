@@ -149,7 +149,9 @@ class ImplicitEuler final : public Integrator {
   std::vector<std::uint32_t> particle_aggregate_;  // [particle_count()]
   std::size_t coarse_dofs_ = 0;                    // 3 per aggregate; 0 without the correction
   std::size_t coarse_bandwidth_ = 0;
-  std::vector<double> coarse_band_;    // [coarse_dofs_ (coarse_bandwidth_ + 1)]
+  std::vector<double> coarse_band_;    // [coarse_dofs_ (coarse_bandwidth_ + 1)], L by rows
+  std::vector<double> coarse_upper_;   // L^T by rows, for the backward substitution
+  std::vector<double> coarse_lower_;   // L by rows in column order, for the forward substitution
   std::vector<double> coarse_vector_;  // [coarse_dofs_]
 
   std::vector<double> block_sum_a_;  // per-block partial sums of the reductions
