@@ -126,7 +126,7 @@ constexpr std::array kScalarParameters = {
                     [](const SceneSpec& s) { return double(s.integrator.cg_max_iterations); },
                     [](SceneSpec& s, double v) { s.integrator.cg_max_iterations = static_cast<int>(v); }},
     ScalarParameter{"integrator.cg_two_level", ParameterType::boolean, "", closed_range(0.0, 1.0),
-                    "implicit Euler: add a coarse-grid correction (4 x 4 particle aggregates) to the Jacobi preconditioner",
+                    "implicit Euler: add a coarse-grid correction (4 x 4 aggregates) to the Jacobi preconditioner",
                     [](const SceneSpec& s) { return s.integrator.cg_two_level ? 1.0 : 0.0; },
                     [](SceneSpec& s, double v) { s.integrator.cg_two_level = v != 0.0; }},
     // Output.

@@ -169,7 +169,8 @@ TEST(ImplicitEuler, DampingWorkUsesTheEndOfStepPower) {
   for (int step = 0; step < 10; ++step) {
     const double before = state.damping_work;
     ASSERT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
-    const ForcePowers powers = evaluate_forces(model, state.position, state.velocity, kAllForceTerms, 1, buffers, force);
+    const ForcePowers powers =
+        evaluate_forces(model, state.position, state.velocity, kAllForceTerms, 1, buffers, force);
     EXPECT_EQ(state.damping_work, before + 0.02 * powers.damping);
     EXPECT_LE(powers.damping, 0.0);
   }
