@@ -14,6 +14,9 @@ namespace {
 // Particles per block of the deterministic reductions; fixed, never derived from the thread count.
 constexpr std::size_t kReductionBlock = 1024;
 
+// Side of the square aggregates of the coarse-grid correction, particles.
+constexpr std::size_t kAggregateSize = 4;
+
 std::size_t block_count(std::size_t n) { return (n + kReductionBlock - 1) / kReductionBlock; }
 
 // Sums body(begin, end) -> std::array<double, 3> over fixed blocks of [0, n), the blocks in
@@ -109,6 +112,35 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
   for (std::vector<Vec3>* vector :
        {&displacement_, &rhs_, &dv_, &residual_, &preconditioned_, &direction_, &product_}) {
     vector->assign(n, Vec3{});
+  }
+  if (settings.cg_two_level && model.rows > 0 && model.cols > 0 &&
+      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == n) {
+    // Aggregates of kAggregateSize x kAggregateSize particles, numbered row by row.
+    const std::size_t aggregate_cols = (static_cast<std::size_t>(model.cols) + kAggregateSize - 1) / kAggregateSize;
+    const std::size_t aggregate_rows = (static_cast<std::size_t>(model.rows) + kAggregateSize - 1) / kAggregateSize;
+    particle_aggregate_.resize(n);
+    for (std::size_t p = 0; p < n; ++p) {
+      const std::size_t row = p / static_cast<std::size_t>(model.cols);
+      const std::size_t col = p % static_cast<std::size_t>(model.cols);
+      particle_aggregate_[p] =
+          static_cast<std::uint32_t>((row / kAggregateSize) * aggregate_cols + col / kAggregateSize);
+    }
+    // The coarse matrix's bandwidth from the blocks themselves. Elements reach two particles
+    // away, so aggregates couple to their 8 neighbours only: at most aggregate_cols + 1 apart.
+    std::size_t farthest = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+      for (std::uint32_t k = row_offset_[p]; k < row_offset_[p + 1]; ++k) {
+        const std::uint32_t a = particle_aggregate_[p];
+        const std::uint32_t b = particle_aggregate_[column_[k]];
+        farthest = std::max<std::size_t>(farthest, a > b ? a - b : b - a);
+      }
+    }
+    coarse_dofs_ = 3 * aggregate_rows * aggregate_cols;
+    coarse_bandwidth_ = 3 * farthest + 2;
+    coarse_band_.resize(coarse_dofs_ * (coarse_bandwidth_ + 1));
+    coarse_upper_.resize(coarse_band_.size());
+    coarse_lower_.resize(coarse_band_.size());
+    coarse_vector_.resize(coarse_dofs_);
   }
   block_sum_a_.resize(block_count(n));
   block_sum_b_.resize(block_count(n));
@@ -220,6 +252,41 @@ void ImplicitEuler::assemble(double h) {
   });
 }
 
+double ImplicitEuler::precondition() {
+  const std::size_t n = model_.particle_count();
+  if (coarse_dofs_ > 0) {
+    // Restriction (sums over each aggregate's free particles, in particle order), then the
+    // coarse solve by the banded Cholesky factor.
+    std::fill(coarse_vector_.begin(), coarse_vector_.end(), 0.0);
+    for (std::size_t p = 0; p < n; ++p) {
+      if (!free_[p]) continue;
+      double* target = &coarse_vector_[3 * particle_aggregate_[p]];
+      target[0] += residual_[p].x;
+      target[1] += residual_[p].y;
+      target[2] += residual_[p].z;
+    }
+    solve_coarse();
+  }
+  const bool coarse = coarse_dofs_ > 0;
+  return blocked_sums(n, threads_, block_sum_a_, block_sum_b_, block_sum_c_, [&](std::size_t begin, std::size_t end) {
+    std::array<double, 3> sums{};
+    for (std::size_t p = begin; p < end; ++p) {
+      if (!free_[p]) {
+        preconditioned_[p] = Vec3{};
+        continue;
+      }
+      Vec3 z = preconditioner_[p] * residual_[p];
+      if (coarse) {
+        const double* correction = &coarse_vector_[3 * particle_aggregate_[p]];
+        z += Vec3{correction[0], correction[1], correction[2]};
+      }
+      preconditioned_[p] = z;
+      sums[0] += dot(residual_[p], z);
+    }
+    return sums;
+  })[0];
+}
+
 int ImplicitEuler::solve() {
   const std::size_t n = model_.particle_count();
   const auto row_product = [&](std::size_t p, const std::vector<Vec3>& vector) {
@@ -228,30 +295,27 @@ int ImplicitEuler::solve() {
     return sum;
   };
 
-  // r = b - A dv (anchored columns included), z = P r, p = z.
+  // r = b - A dv (anchored columns included).
   const std::array<double, 3> initial =
       blocked_sums(n, threads_, block_sum_a_, block_sum_b_, block_sum_c_, [&](std::size_t begin, std::size_t end) {
         std::array<double, 3> sums{};
         for (std::size_t p = begin; p < end; ++p) {
           if (!free_[p]) {
-            residual_[p] = preconditioned_[p] = direction_[p] = Vec3{};
+            residual_[p] = direction_[p] = Vec3{};
             continue;
           }
           const Vec3 r = rhs_[p] - row_product(p, dv_);
-          const Vec3 z = preconditioner_[p] * r;
           residual_[p] = r;
-          preconditioned_[p] = z;
-          direction_[p] = z;
-          sums[0] += dot(r, z);
           sums[1] += squared_norm(r);
           sums[2] += squared_norm(rhs_[p]);
         }
         return sums;
       });
-  double rho = initial[0];
-  double residual_norm2 = initial[1];
   const double target = settings_.cg_tolerance * settings_.cg_tolerance * initial[2];
-  if (residual_norm2 <= target) return 0;
+  if (initial[1] <= target) return 0;
+  // z = M^-1 r, p = z.
+  double rho = precondition();
+  parallel_for(n, threads_, [&](std::size_t p) { direction_[p] = preconditioned_[p]; });
 
   for (int iteration = 1; iteration <= settings_.cg_max_iterations; ++iteration) {
     // q = A p, and p . q.
@@ -270,32 +334,124 @@ int ImplicitEuler::solve() {
         })[0];
     if (!(curvature > 0.0)) return iteration;  // breakdown: A p = 0 or non-finite; keep the iterate
     const double alpha = rho / curvature;
-    // dv += alpha p, r -= alpha q, z = P r; r . z and |r|^2.
-    const std::array<double, 3> updated =
+    // dv += alpha p, r -= alpha q; |r|^2.
+    const double residual_norm2 =
         blocked_sums(n, threads_, block_sum_a_, block_sum_b_, block_sum_c_, [&](std::size_t begin, std::size_t end) {
           std::array<double, 3> sums{};
           for (std::size_t p = begin; p < end; ++p) {
             if (!free_[p]) continue;
             dv_[p] += alpha * direction_[p];
-            const Vec3 r = residual_[p] - alpha * product_[p];
-            const Vec3 z = preconditioner_[p] * r;
-            residual_[p] = r;
-            preconditioned_[p] = z;
-            sums[0] += dot(r, z);
-            sums[1] += squared_norm(r);
+            residual_[p] -= alpha * product_[p];
+            sums[0] += squared_norm(residual_[p]);
           }
           return sums;
-        });
-    residual_norm2 = updated[1];
+        })[0];
     if (residual_norm2 <= target || !std::isfinite(residual_norm2)) return iteration;
-    const double beta = updated[0] / rho;
-    rho = updated[0];
+    const double rho_next = precondition();
+    const double beta = rho_next / rho;
+    rho = rho_next;
     parallel_for(n, threads_, [&](std::size_t p) {
       if (free_[p]) direction_[p] = preconditioned_[p] + beta * direction_[p];
     });
   }
   ++stats_.unconverged_solves;
   return settings_.cg_max_iterations;
+}
+
+void ImplicitEuler::assemble_coarse() {
+  const std::size_t n = model_.particle_count();
+  const std::size_t width = coarse_bandwidth_ + 1;
+  std::fill(coarse_band_.begin(), coarse_band_.end(), 0.0);
+  // The lower triangle of P^T A P over the free particles; P sums each aggregate's particles.
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!free_[p]) continue;
+    const std::size_t row_aggregate = particle_aggregate_[p];
+    for (std::uint32_t k = row_offset_[p]; k < row_offset_[p + 1]; ++k) {
+      const std::uint32_t q = column_[k];
+      if (!free_[q]) continue;
+      const std::size_t column_aggregate = particle_aggregate_[q];
+      if (column_aggregate > row_aggregate) continue;
+      const Mat3& block = block_[k];
+      for (int r = 0; r < 3; ++r) {
+        const std::size_t i = 3 * row_aggregate + static_cast<std::size_t>(r);
+        for (int c = 0; c < 3; ++c) {
+          const std::size_t j = 3 * column_aggregate + static_cast<std::size_t>(c);
+          if (j <= i) coarse_band_[i * width + (i - j)] += block(r, c);
+        }
+      }
+    }
+  }
+  // Aggregates without free particles: an identity block keeps the matrix definite (their
+  // right-hand side is always zero).
+  for (std::size_t i = 0; i < coarse_dofs_; ++i) {
+    if (coarse_band_[i * width] == 0.0) coarse_band_[i * width] = 1.0;
+  }
+  // Banded Cholesky, L L^T, in place: entry (i, j), i - bandwidth <= j <= i, at band[i width + i - j].
+  const std::size_t bandwidth = coarse_bandwidth_;
+  for (std::size_t j = 0; j < coarse_dofs_; ++j) {
+    double* row_j = &coarse_band_[j * width];
+    const std::size_t first_j = j > bandwidth ? j - bandwidth : 0;
+    double diagonal = row_j[0];
+    for (std::size_t k = first_j; k < j; ++k) diagonal -= row_j[j - k] * row_j[j - k];
+    diagonal = diagonal > 0.0 ? std::sqrt(diagonal) : 1.0;  // SPD in exact arithmetic
+    row_j[0] = diagonal;
+    const std::size_t last = std::min(coarse_dofs_ - 1, j + bandwidth);
+    for (std::size_t i = j + 1; i <= last; ++i) {
+      double* row_i = &coarse_band_[i * width];
+      const std::size_t first = i > bandwidth ? i - bandwidth : 0;  // >= first_j as i > j
+      double sum = row_i[i - j];
+      for (std::size_t k = first; k < j; ++k) sum -= row_i[i - k] * row_j[j - k];
+      row_i[i - j] = sum / diagonal;
+    }
+  }
+  // Copies laid out for the substitutions, each reading memory in ascending order: L by rows in
+  // column order, entry (i, j) at lower[i width + bandwidth - (i - j)], and L^T by rows, entry
+  // (i, k) at upper[i width + k - i].
+  for (std::size_t i = 0; i < coarse_dofs_; ++i) {
+    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
+    for (std::size_t j = first; j <= i; ++j) {
+      coarse_lower_[i * width + (j - first)] = coarse_band_[i * width + (i - j)];
+    }
+    coarse_lower_[i * width + bandwidth] = coarse_band_[i * width];
+    const std::size_t last = std::min(coarse_dofs_ - 1, i + bandwidth);
+    for (std::size_t k = i; k <= last; ++k) coarse_upper_[i * width + (k - i)] = coarse_band_[k * width + (k - i)];
+  }
+}
+
+namespace {
+
+// sum_k a[k] b[k] over k in [0, count), in four interleaved partial sums added in a fixed order:
+// the same bits every time, without the latency of one long chain of dependent additions.
+double band_dot(const double* a, const double* b, std::size_t count) {
+  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
+  std::size_t k = 0;
+  for (; k + 4 <= count; k += 4) {
+    s0 += a[k] * b[k];
+    s1 += a[k + 1] * b[k + 1];
+    s2 += a[k + 2] * b[k + 2];
+    s3 += a[k + 3] * b[k + 3];
+  }
+  for (; k < count; ++k) s0 += a[k] * b[k];
+  return (s0 + s1) + (s2 + s3);
+}
+
+}  // namespace
+
+void ImplicitEuler::solve_coarse() {
+  const std::size_t width = coarse_bandwidth_ + 1;
+  const std::size_t bandwidth = coarse_bandwidth_;
+  std::vector<double>& x = coarse_vector_;
+  for (std::size_t i = 0; i < coarse_dofs_; ++i) {  // L y = b, with L by reversed rows (see assemble_coarse)
+    const double* row_i = &coarse_lower_[i * width];
+    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
+    // row_i[m] = L(i, first + m) for m < i - first; row_i[bandwidth] = L(i, i).
+    x[i] = (x[i] - band_dot(row_i, &x[first], i - first)) / row_i[bandwidth];
+  }
+  for (std::size_t i = coarse_dofs_; i-- > 0;) {  // L^T x = y
+    const double* row_i = &coarse_upper_[i * width];
+    const std::size_t last = std::min(coarse_dofs_ - 1, i + bandwidth);
+    x[i] = (x[i] - band_dot(row_i + 1, &x[i + 1], last - i)) / row_i[0];
+  }
 }
 
 StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
@@ -321,6 +477,7 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
     dv_[p] = anchor.path.velocity_at(end_time) - state.velocity[p];
   }
   assemble(h);
+  if (coarse_dofs_ > 0) assemble_coarse();
   last_iterations_ = solve();
   stats_.linear_iterations += static_cast<std::uint64_t>(last_iterations_);
   stats_.max_linear_iterations = std::max(stats_.max_linear_iterations, static_cast<std::uint64_t>(last_iterations_));

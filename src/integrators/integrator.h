@@ -45,6 +45,9 @@ struct IntegratorSettings {
   // cg_tolerance times the right-hand side's, or after cg_max_iterations.
   double cg_tolerance = 1e-3;    // dimensionless
   int cg_max_iterations = 2000;
+  // Adds a coarse-grid correction to the Jacobi preconditioner: the system restricted to
+  // aggregates of 4 x 4 particles, solved exactly (two-level additive preconditioner).
+  bool cg_two_level = true;
 };
 
 // Counters for one run, reported in summary.json.

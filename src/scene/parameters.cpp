@@ -125,6 +125,10 @@ constexpr std::array kScalarParameters = {
                     "implicit Euler: most conjugate-gradient iterations per step",
                     [](const SceneSpec& s) { return double(s.integrator.cg_max_iterations); },
                     [](SceneSpec& s, double v) { s.integrator.cg_max_iterations = static_cast<int>(v); }},
+    ScalarParameter{"integrator.cg_two_level", ParameterType::boolean, "", closed_range(0.0, 1.0),
+                    "implicit Euler: add a coarse-grid correction (4 x 4 aggregates) to the Jacobi preconditioner",
+                    [](const SceneSpec& s) { return s.integrator.cg_two_level ? 1.0 : 0.0; },
+                    [](SceneSpec& s, double v) { s.integrator.cg_two_level = v != 0.0; }},
     // Output.
     ScalarParameter{"output.duration", ParameterType::real, "s", left_open_range(0.0, 1e7),
                     "simulated time to run; with until_rest, the upper limit",

@@ -247,7 +247,8 @@ TEST(RadialJacobian, StraightPairIsTheExactHessian) {
       const std::array<Vec3, 3> plus = radial_forces(displaced(x, w, h), still, kPi, k, 0.0);
       const std::array<Vec3, 3> minus = radial_forces(displaced(x, w, -h), still, kPi, k, 0.0);
       for (std::size_t i = 0; i < 9; ++i) {
-        const double derivative = (plus[i / 3][static_cast<int>(i % 3)] - minus[i / 3][static_cast<int>(i % 3)]) / (2 * h);
+        const int axis = static_cast<int>(i % 3);
+        const double derivative = (plus[i / 3][axis] - minus[i / 3][axis]) / (2 * h);
         EXPECT_NEAR(m[i][j], -derivative, 1e-5 * k) << "entry (" << i << ", " << j << ")";
       }
     }
