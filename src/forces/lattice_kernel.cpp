@@ -15,7 +15,6 @@ namespace {
 
 // The scratch arrays, each `stride_` doubles, indexed by particle (with padding both sides).
 enum Array : std::size_t {
-  kPositionX, kPositionY, kPositionZ,
   kVelocityX, kVelocityY, kVelocityZ,
   // East connector of each particle (to col + 1) and south connector (to row + 1): unit vector,
   // 1/length (0 where the connector does not exist or has zero length), tension (N).
@@ -142,45 +141,14 @@ struct Arrays {
   double* operator[](std::size_t k) const { return a[k]; }
 };
 
-CLOTHSIM_MULTIVERSION void transpose_row(const Arrays& s, std::span<const Vec3> position, std::span<const Vec3> velocity, std::size_t begin,
-                   std::size_t end) {
-  double* __restrict px = s[kPositionX];
-  double* __restrict py = s[kPositionY];
-  double* __restrict pz = s[kPositionZ];
-  double* __restrict vx = s[kVelocityX];
-  double* __restrict vy = s[kVelocityY];
-  double* __restrict vz = s[kVelocityZ];
-  const Vec3* __restrict x = position.data();
-  const Vec3* __restrict v = velocity.data();
-#pragma GCC ivdep
-  for (std::size_t p = begin; p < end; ++p) {
-    px[p] = x[p].x;
-    py[p] = x[p].y;
-    pz[p] = x[p].z;
-    vx[p] = v[p].x;
-    vy[p] = v[p].y;
-    vz[p] = v[p].z;
-  }
-}
-
-// Connector from each particle p in [begin, end) to p + offset (east: 1, south: cols); particles
-// from `missing_from` on have none (the last column has no east connector, the last row no south
-// one).
-CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, std::size_t begin, std::size_t end, std::size_t offset,
-                   std::size_t missing_from, std::size_t ux_array, double* __restrict power) {
-  const double* __restrict px = s[kPositionX];
-  const double* __restrict py = s[kPositionY];
-  const double* __restrict pz = s[kPositionZ];
-  const double* __restrict vx = s[kVelocityX];
-  const double* __restrict vy = s[kVelocityY];
-  const double* __restrict vz = s[kVelocityZ];
-  // The far ends, p + offset.
-  const double* __restrict qx = px + offset;
-  const double* __restrict qy = py + offset;
-  const double* __restrict qz = pz + offset;
-  const double* __restrict wx = vx + offset;
-  const double* __restrict wy = vy + offset;
-  const double* __restrict wz = vz + offset;
+// Connector from each particle p in [begin, missing_from) to p + offset (east: 1, south: cols),
+// read straight from the Vec3 arrays; particles from `missing_from` to `end` have none (the last
+// column has no east connector, the last row no south one). With `copy_velocity`, also writes the
+// row's velocities into the SoA arrays for the later passes.
+CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
+                                         const Vec3* __restrict v, std::size_t begin, std::size_t end,
+                                         std::size_t offset, std::size_t missing_from, std::size_t ux_array,
+                                         double* __restrict power) {
   double* __restrict ux = s[ux_array];
   double* __restrict uy = s[ux_array + 1];
   double* __restrict uz = s[ux_array + 2];
@@ -191,13 +159,12 @@ CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k,
   const double rest_length = k.rest_length;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < missing_from; ++p) {
-    const Vec3 e{qx[p] - px[p], qy[p] - py[p], qz[p] - pz[p]};
+    const Vec3 e = x[p + offset] - x[p];
     const double length = std::sqrt(dot(e, e));
     const bool exists = length > 0.0;
     const double inverse = exists ? 1.0 / length : 0.0;
     const Vec3 u = inverse * e;
-    const Vec3 dv{wx[p] - vx[p], wy[p] - vy[p], wz[p] - vz[p]};
-    const double rate = dot(dv, u);
+    const double rate = dot(v[p + offset] - v[p], u);
     const double t = stiffness * (length - rest_length) + damping * rate;
     ux[p] = u.x;
     uy[p] = u.y;
@@ -208,6 +175,19 @@ CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k,
   }
   // No connector from the last column eastwards, or from the last row southwards.
   for (std::size_t p = missing_from; p < end; ++p) ux[p] = uy[p] = uz[p] = inverse_length[p] = tension[p] = 0.0;
+}
+
+// The row's velocities into the SoA arrays read by the radial and gather passes.
+CLOTHSIM_MULTIVERSION void velocity_row(const Arrays& s, const Vec3* __restrict v, std::size_t begin, std::size_t end) {
+  double* __restrict vx = s[kVelocityX];
+  double* __restrict vy = s[kVelocityY];
+  double* __restrict vz = s[kVelocityZ];
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    vx[p] = v[p].x;
+    vy[p] = v[p].y;
+    vz[p] = v[p].z;
+  }
 }
 
 // The six radial springs centred at particle p, written as forces on its four neighbours.
@@ -439,14 +419,13 @@ double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> po
     const std::size_t end = begin + cols;
     switch (which) {
       case 0:
-        transpose_row(s, position, velocity, begin, end);
+        velocity_row(s, velocity.data(), begin, end);
+        std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
+        connector_row(s, k, position.data(), velocity.data(), begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
+        connector_row(s, k, position.data(), velocity.data(), begin, end, cols, i + 1 < rows ? end : begin, kSouthX,
+                      s[kConnectorPower]);
         break;
       case 1:
-        std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
-        connector_row(s, k, begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
-        connector_row(s, k, begin, end, cols, i + 1 < rows ? end : begin, kSouthX, s[kConnectorPower]);
-        break;
-      case 2:
         radial_row(s, k, begin, end, cols);
         break;
       default:
@@ -455,13 +434,13 @@ double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> po
     }
   };
   if (threads <= 1) {
-    for (int which = 0; which < 4; ++which) {
+    for (int which = 0; which < 3; ++which) {
       for (std::size_t i = 0; i < rows; ++i) pass(which, i);
     }
   } else {
     const auto row_count = static_cast<long long>(rows);
 #pragma omp parallel num_threads(threads)
-    for (int which = 0; which < 4; ++which) {
+    for (int which = 0; which < 3; ++which) {
       // The implicit barrier at the end of each loop separates the passes.
 #pragma omp for schedule(static)
       for (long long i = 0; i < row_count; ++i) pass(which, static_cast<std::size_t>(i));
