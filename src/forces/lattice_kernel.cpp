@@ -2,6 +2,7 @@
 #include "forces/lattice_kernel.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -96,36 +97,39 @@ template <bool kResolveSingular>
   const double constant = obtuse ? std::numbers::pi - rest_angle : -rest_angle;
   const double kb = stiffness * inverse_b;
   const double kc = stiffness * inverse_c;
-  Vec3 fb;
-  Vec3 fc;
-  double angle_rate = 0.0;
-  double torque = 0.0;
-  if (!kResolveSingular || !(out.singular > 0.0)) {
-    // p = w / sin(theta) is parallel to w, so every force along p is a multiple of w:
-    //   f_b = [k/l_b (A + B / sin) + torque (-1/(l_b sin))] w_b,  dtheta/dx_b = -w_b / (l_b sin).
-    const double gradient_b = -inverse_b * inverse_sine;
-    const double gradient_c = -inverse_c * inverse_sine;
-    angle_rate = gradient_b * dot(wb, rb) + gradient_c * dot(wc, rc);
-    torque = -damping * angle_rate;
-    const double elastic = smooth + constant * inverse_sine;
-    fb = (kb * elastic + torque * gradient_b) * wb;
-    fc = (kc * elastic + torque * gradient_c) * wc;
-  } else {
+  // p = w / sin(theta) is parallel to w, so every force along p is a multiple of w:
+  //   f_b = [k/l_b (A + B / sin) + torque (-1/(l_b sin))] w_b,  dtheta/dx_b = -w_b / (l_b sin).
+  const double gradient_b = -inverse_b * inverse_sine;
+  const double gradient_c = -inverse_c * inverse_sine;
+  double angle_rate = gradient_b * dot(wb, rb) + gradient_c * dot(wc, rc);
+  double torque = -damping * angle_rate;
+  const double elastic = smooth + constant * inverse_sine;
+  Vec3 fb = (kb * elastic + torque * gradient_b) * wb;
+  Vec3 fc = (kc * elastic + torque * gradient_c) * wc;
+  if constexpr (kResolveSingular) {
     // Singular: the bending plane from the motion (element::resolve_singular_directions).
+    // Computed for every spring and selected, so that this loop vectorises too; non-singular
+    // springs keep exactly the values above.
     const Vec3 turn_b = inverse_b * (rb - dot(rb, ub) * ub);
     const Vec3 turn_c = inverse_c * (rc - dot(rc, uc) * uc);
     const Vec3 opening = obtuse ? turn_b + turn_c : turn_c - turn_b;
-    const double rate = norm(opening);
-    const Vec3 pb = rate > 0.0 ? opening / rate : Vec3{};
+    const double rate = std::sqrt(dot(opening, opening));
+    const double inverse_rate = rate > 0.0 ? 1.0 / rate : 0.0;
+    const Vec3 pb = inverse_rate * opening;
     const Vec3 pc = obtuse ? pb : -pb;
-    fb = kb * (smooth * wb + constant * pb);
-    fc = kc * (smooth * wc + constant * pc);
+    Vec3 singular_fb = kb * (smooth * wb + constant * pb);
+    Vec3 singular_fc = kc * (smooth * wc + constant * pc);
     const Vec3 gb = -inverse_b * pb;  // dtheta/dx_b
     const Vec3 gc = -inverse_c * pc;
-    angle_rate = dot(gb, rb) + dot(gc, rc);
-    torque = -damping * angle_rate;
-    fb += torque * gb;
-    fc += torque * gc;
+    const double singular_rate = dot(gb, rb) + dot(gc, rc);
+    const double singular_torque = -damping * singular_rate;
+    singular_fb += singular_torque * gb;
+    singular_fc += singular_torque * gc;
+    const bool use = out.singular > 0.0;
+    fb = {use ? singular_fb.x : fb.x, use ? singular_fb.y : fb.y, use ? singular_fb.z : fb.z};
+    fc = {use ? singular_fc.x : fc.x, use ? singular_fc.y : fc.y, use ? singular_fc.z : fc.z};
+    angle_rate = use ? singular_rate : angle_rate;
+    torque = use ? singular_torque : torque;
   }
   out.on_b = {exists ? fb.x : 0.0, exists ? fb.y : 0.0, exists ? fb.z : 0.0};
   out.on_c = {exists ? fc.x : 0.0, exists ? fc.y : 0.0, exists ? fc.z : 0.0};
@@ -190,38 +194,64 @@ CLOTHSIM_MULTIVERSION void velocity_row(const Arrays& s, const Vec3* __restrict 
   }
 }
 
-// The six radial springs centred at particle p, written as forces on its four neighbours.
-// Returns a positive number if one of them is singular.
-template <bool kResolveSingular>
-[[gnu::always_inline]] inline double radial_particle(const Arrays& s, const Coefficients& k, std::size_t p, std::size_t cols) {
-  const std::size_t west = p - 1;
-  const std::size_t north = p - cols;
-  const Vec3 u_east{s[kEastX][p], s[kEastY][p], s[kEastZ][p]};
-  const Vec3 u_south{s[kSouthX][p], s[kSouthY][p], s[kSouthZ][p]};
-  const Vec3 u_west{-s[kEastX][west], -s[kEastY][west], -s[kEastZ][west]};
-  const Vec3 u_north{-s[kSouthX][north], -s[kSouthY][north], -s[kSouthZ][north]};
-  const double i_east = s[kEastInverseLength][p];
-  const double i_south = s[kSouthInverseLength][p];
-  const double i_west = s[kEastInverseLength][west];
-  const double i_north = s[kSouthInverseLength][north];
-  const Vec3 v{s[kVelocityX][p], s[kVelocityY][p], s[kVelocityZ][p]};
-  const auto relative = [&](std::size_t q) {
-    return Vec3{s[kVelocityX][q] - v.x, s[kVelocityY][q] - v.y, s[kVelocityZ][q] - v.z};
-  };
-  const Vec3 r_east = relative(p + 1);
-  const Vec3 r_south = relative(p + cols);
-  const Vec3 r_west = relative(west);
-  const Vec3 r_north = relative(north);
+// A connector of particle p seen from p: unit vector towards the neighbour, 1/length, and the
+// neighbour's velocity relative to p's. Directions: 0 east, 1 south, 2 west, 3 north.
+struct Arm {
+  Vec3 unit;
+  double inverse_length = 0.0;
+  Vec3 relative_velocity;
+};
 
-  const double ka = k.adjacent_stiffness, ca = k.adjacent_damping, ta = k.adjacent_rest_angle;
-  const double ko = k.opposite_stiffness, co = k.opposite_damping, to = k.opposite_rest_angle;
-  const RadialResult es = radial_spring<kResolveSingular>(u_east, i_east, u_south, i_south, r_east, r_south, ka, ca, ta);
-  const RadialResult sw = radial_spring<kResolveSingular>(u_south, i_south, u_west, i_west, r_south, r_west, ka, ca, ta);
-  const RadialResult wn = radial_spring<kResolveSingular>(u_west, i_west, u_north, i_north, r_west, r_north, ka, ca, ta);
-  const RadialResult ne = radial_spring<kResolveSingular>(u_north, i_north, u_east, i_east, r_north, r_east, ka, ca, ta);
-  const RadialResult ew = radial_spring<kResolveSingular>(u_east, i_east, u_west, i_west, r_east, r_west, ko, co, to);
-  const RadialResult sn = radial_spring<kResolveSingular>(u_south, i_south, u_north, i_north, r_south, r_north, ko, co, to);
+template <int kDirection>
+[[gnu::always_inline]] inline Arm arm(const Arrays& s, std::size_t p, std::size_t cols) {
+  const std::size_t q = kDirection == 0 ? p + 1 : kDirection == 1 ? p + cols : kDirection == 2 ? p - 1 : p - cols;
+  Arm out;
+  if constexpr (kDirection == 0) {
+    out.unit = {s[kEastX][p], s[kEastY][p], s[kEastZ][p]};
+    out.inverse_length = s[kEastInverseLength][p];
+  } else if constexpr (kDirection == 1) {
+    out.unit = {s[kSouthX][p], s[kSouthY][p], s[kSouthZ][p]};
+    out.inverse_length = s[kSouthInverseLength][p];
+  } else if constexpr (kDirection == 2) {
+    out.unit = {-s[kEastX][q], -s[kEastY][q], -s[kEastZ][q]};
+    out.inverse_length = s[kEastInverseLength][q];
+  } else {
+    out.unit = {-s[kSouthX][q], -s[kSouthY][q], -s[kSouthZ][q]};
+    out.inverse_length = s[kSouthInverseLength][q];
+  }
+  out.relative_velocity = {s[kVelocityX][q] - s[kVelocityX][p], s[kVelocityY][q] - s[kVelocityY][p],
+                           s[kVelocityZ][q] - s[kVelocityZ][p]};
+  return out;
+}
 
+// The spring between arms kB and kC of particle p (adjacent or opposite material).
+template <bool kResolveSingular, int kB, int kC>
+[[gnu::always_inline]] inline RadialResult spring_at(const Arrays& s, const Coefficients& k, std::size_t p,
+                                                     std::size_t cols) {
+  constexpr bool kOpposite = (kB + 2) % 4 == kC;
+  const Arm b = arm<kB>(s, p, cols);
+  const Arm c = arm<kC>(s, p, cols);
+  return radial_spring<kResolveSingular>(b.unit, b.inverse_length, c.unit, c.inverse_length, b.relative_velocity,
+                                         c.relative_velocity, kOpposite ? k.opposite_stiffness : k.adjacent_stiffness,
+                                         kOpposite ? k.opposite_damping : k.adjacent_damping,
+                                         kOpposite ? k.opposite_rest_angle : k.adjacent_rest_angle);
+}
+
+// The to_<direction> x array of each direction.
+constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, kToNorthX};
+
+// The six radial springs centred at particle p, in the order (E,S), (S,W), (W,N), (N,E), (E,W),
+// (S,N), written as forces on its four neighbours; each neighbour's sum and the power are
+// accumulated in that order (resolve_spring_row repeats exactly these sums). Returns a positive
+// number if one of the springs is singular.
+[[gnu::always_inline]] inline double radial_particle(const Arrays& s, const Coefficients& k, std::size_t p,
+                                                     std::size_t cols) {
+  const RadialResult es = spring_at<false, 0, 1>(s, k, p, cols);
+  const RadialResult sw = spring_at<false, 1, 2>(s, k, p, cols);
+  const RadialResult wn = spring_at<false, 2, 3>(s, k, p, cols);
+  const RadialResult ne = spring_at<false, 3, 0>(s, k, p, cols);
+  const RadialResult ew = spring_at<false, 0, 2>(s, k, p, cols);
+  const RadialResult sn = spring_at<false, 1, 3>(s, k, p, cols);
   const Vec3 to_east = es.on_b + ne.on_c + ew.on_b;
   const Vec3 to_south = es.on_c + sw.on_b + sn.on_b;
   const Vec3 to_west = sw.on_c + wn.on_b + ew.on_c;
@@ -238,10 +268,36 @@ template <bool kResolveSingular>
   s[kToNorthX][p] = to_north.x;
   s[kToNorthY][p] = to_north.y;
   s[kToNorthZ][p] = to_north.z;
-  s[kPower][p] = s[kConnectorPower][p] + ((es.power + sw.power) + (wn.power + ne.power)) + (ew.power + sn.power);
-  // Positive if any of the six springs is singular.
+  s[kPower][p] = s[kConnectorPower][p] + es.power + sw.power + wn.power + ne.power + ew.power + sn.power;
   return std::max(std::max(std::max(es.singular, sw.singular), std::max(wn.singular, ne.singular)),
                   std::max(ew.singular, sn.singular));
+}
+
+// Recomputes one of the six springs for a row with singular springs resolved, adding its forces
+// into the neighbours' sums in the order of radial_particle (`first_b`/`first_c`: the spring is
+// the first term of that neighbour's sum). One spring per loop keeps the body small enough for
+// GCC to if-convert and vectorise it; inlined, so it is compiled into each clone of radial_row.
+template <int kB, int kC, bool kFirstB, bool kFirstC>
+[[gnu::always_inline]] inline void resolve_spring_row(const Arrays& s, const Coefficients& k, std::size_t begin,
+                                                      std::size_t end, std::size_t cols) {
+  double* __restrict bx = s[kToArray[kB]];
+  double* __restrict by = s[kToArray[kB] + 1];
+  double* __restrict bz = s[kToArray[kB] + 2];
+  double* __restrict cx = s[kToArray[kC]];
+  double* __restrict cy = s[kToArray[kC] + 1];
+  double* __restrict cz = s[kToArray[kC] + 2];
+  double* __restrict power = s[kPower];
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    const RadialResult r = spring_at<true, kB, kC>(s, k, p, cols);
+    bx[p] = (kFirstB ? 0.0 : bx[p]) + r.on_b.x;
+    by[p] = (kFirstB ? 0.0 : by[p]) + r.on_b.y;
+    bz[p] = (kFirstB ? 0.0 : bz[p]) + r.on_b.z;
+    cx[p] = (kFirstC ? 0.0 : cx[p]) + r.on_c.x;
+    cy[p] = (kFirstC ? 0.0 : cy[p]) + r.on_c.y;
+    cz[p] = (kFirstC ? 0.0 : cz[p]) + r.on_c.z;
+    power[p] += r.power;
+  }
 }
 
 CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin, std::size_t end,
@@ -253,15 +309,21 @@ CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& 
   int any_singular = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    singular[p] = radial_particle<false>(s, k, p, cols);
+    singular[p] = radial_particle(s, k, p, cols);
     any_singular |= singular[p] > 0.0 ? 1 : 0;
   }
   if (any_singular != 0) {
-    // A straight or folded spring (a flat sheet, at the start of most runs; a symmetry line):
-    // redo that particle with the bending plane taken from the motion where it is undefined.
-    for (std::size_t p = begin; p < end; ++p) {
-      if (singular[p] > 0.0) radial_particle<true>(s, k, p, cols);
-    }
+    // A straight or folded spring in this row (a flat sheet, at the start of most runs; a
+    // symmetry line): redo the row spring by spring with the bending plane taken from the motion
+    // where it is undefined. Particles without a singular spring get the same values again.
+    double* __restrict power = s[kPower];
+    for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
+    resolve_spring_row<0, 1, true, true>(s, k, begin, end, cols);    // (E,S): first into east and south
+    resolve_spring_row<1, 2, false, true>(s, k, begin, end, cols);   // (S,W): first into west
+    resolve_spring_row<2, 3, false, true>(s, k, begin, end, cols);   // (W,N): first into north
+    resolve_spring_row<3, 0, false, false>(s, k, begin, end, cols);  // (N,E)
+    resolve_spring_row<0, 2, false, false>(s, k, begin, end, cols);  // (E,W)
+    resolve_spring_row<1, 3, false, false>(s, k, begin, end, cols);  // (S,N)
   }
 }
 
