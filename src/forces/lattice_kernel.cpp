@@ -34,7 +34,10 @@ enum Array : std::size_t {
 
 constexpr std::size_t kReductionBlock = 1024;
 
-// Each row function is compiled three times, for AVX-512 (x86-64-v4), AVX2 (x86-64-v3) and the
+// Particles per band of the radial and gather passes (at least; bands are whole rows).
+constexpr std::size_t kBandParticles = 256;
+
+// Each row and band function is compiled three times, for AVX-512 (x86-64-v4), AVX2 (x86-64-v3) and the
 // baseline x86-64, and the dynamic loader picks the best one the CPU supports (GCC function
 // multiversioning, an ifunc). Safe on any x86-64 machine, unlike -march=native in the build. The
 // three versions compute bit-identical results: -ffp-contract=off keeps FMA out of the AVX2 and
@@ -147,8 +150,7 @@ struct Arrays {
 
 // Connector from each particle p in [begin, missing_from) to p + offset (east: 1, south: cols),
 // read straight from the Vec3 arrays; particles from `missing_from` to `end` have none (the last
-// column has no east connector, the last row no south one). With `copy_velocity`, also writes the
-// row's velocities into the SoA arrays for the later passes.
+// column has no east connector, the last row no south one).
 CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
                                          const Vec3* __restrict v, std::size_t begin, std::size_t end,
                                          std::size_t offset, std::size_t missing_from, std::size_t ux_array,
@@ -273,10 +275,10 @@ constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, 
                   std::max(ew.singular, sn.singular));
 }
 
-// Recomputes one of the six springs for a row with singular springs resolved, adding its forces
+// Recomputes one of the six springs for a band with singular springs resolved, adding its forces
 // into the neighbours' sums in the order of radial_particle (`first_b`/`first_c`: the spring is
 // the first term of that neighbour's sum). One spring per loop keeps the body small enough for
-// GCC to if-convert and vectorise it; inlined, so it is compiled into each clone of radial_row.
+// GCC to if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
 template <int kB, int kC, bool kFirstB, bool kFirstC>
 [[gnu::always_inline]] inline void resolve_spring_row(const Arrays& s, const Coefficients& k, std::size_t begin,
                                                       std::size_t end, std::size_t cols) {
@@ -300,7 +302,7 @@ template <int kB, int kC, bool kFirstB, bool kFirstC>
   }
 }
 
-CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin, std::size_t end,
+CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin, std::size_t end,
                 std::size_t cols) {
   // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
   const Arrays s = arrays;
@@ -313,8 +315,8 @@ CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& 
     any_singular |= singular[p] > 0.0 ? 1 : 0;
   }
   if (any_singular != 0) {
-    // A straight or folded spring in this row (a flat sheet, at the start of most runs; a
-    // symmetry line): redo the row spring by spring with the bending plane taken from the motion
+    // A straight or folded spring in this band (a flat sheet, at the start of most runs; a
+    // symmetry line): redo the band spring by spring with the bending plane taken from the motion
     // where it is undefined. Particles without a singular spring get the same values again.
     double* __restrict power = s[kPower];
     for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
@@ -327,7 +329,7 @@ CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& 
   }
 }
 
-CLOTHSIM_MULTIVERSION void gather_row(const Arrays& arrays, const Coefficients& coefficients, const double* __restrict mass,
+CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients& coefficients, const double* __restrict mass,
                 std::size_t begin, std::size_t end, std::size_t cols, Vec3* __restrict force) {
   const Arrays s = arrays;
   const Coefficients k = coefficients;
@@ -476,36 +478,45 @@ double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> po
   const double* mass = model.particle_mass.data();
   Vec3* out = force.data();
 
-  const auto pass = [&](int which, std::size_t i) {
-    const std::size_t begin = i * cols;
-    const std::size_t end = begin + cols;
-    switch (which) {
-      case 0:
-        velocity_row(s, velocity.data(), begin, end);
-        std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
-        connector_row(s, k, position.data(), velocity.data(), begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
-        connector_row(s, k, position.data(), velocity.data(), begin, end, cols, i + 1 < rows ? end : begin, kSouthX,
-                      s[kConnectorPower]);
-        break;
-      case 1:
-        radial_row(s, k, begin, end, cols);
-        break;
-      default:
-        gather_row(s, k, mass, begin, end, cols, out);
-        break;
+  // The connector pass works row by row (the last column and the last row have no east or south
+  // connector). The radial and gather passes need no row structure (borders are zero
+  // connectors), so they run over bands of whole rows, at least kBandParticles long: long vector
+  // loops, few remainders. The result does not depend on the banding (every particle's values
+  // come from the same formulas), only the speed does.
+  const std::size_t band_rows = std::max<std::size_t>(1, (kBandParticles + cols - 1) / cols);
+  const std::size_t bands = (rows + band_rows - 1) / band_rows;
+  const auto pass = [&](int which, std::size_t item) {
+    if (which == 0) {
+      const std::size_t i = item;
+      const std::size_t begin = i * cols;
+      const std::size_t end = begin + cols;
+      velocity_row(s, velocity.data(), begin, end);
+      std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
+      connector_row(s, k, position.data(), velocity.data(), begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
+      connector_row(s, k, position.data(), velocity.data(), begin, end, cols, i + 1 < rows ? end : begin, kSouthX,
+                    s[kConnectorPower]);
+      return;
+    }
+    const std::size_t begin = item * band_rows * cols;
+    const std::size_t end = std::min(n, begin + band_rows * cols);
+    if (which == 1) {
+      radial_band(s, k, begin, end, cols);
+    } else {
+      gather_band(s, k, mass, begin, end, cols, out);
     }
   };
+  const auto items = [&](int which) { return which == 0 ? rows : bands; };
   if (threads <= 1) {
     for (int which = 0; which < 3; ++which) {
-      for (std::size_t i = 0; i < rows; ++i) pass(which, i);
+      for (std::size_t item = 0; item < items(which); ++item) pass(which, item);
     }
   } else {
-    const auto row_count = static_cast<long long>(rows);
 #pragma omp parallel num_threads(threads)
     for (int which = 0; which < 3; ++which) {
       // The implicit barrier at the end of each loop separates the passes.
+      const auto count = static_cast<long long>(items(which));
 #pragma omp for schedule(static)
-      for (long long i = 0; i < row_count; ++i) pass(which, static_cast<std::size_t>(i));
+      for (long long item = 0; item < count; ++item) pass(which, static_cast<std::size_t>(item));
     }
   }
   return deterministic_sum(std::span<const double>(s[kPower], n), threads, block_power_);

@@ -10,7 +10,9 @@
 // by checking the model against the canonical lattice (detect_lattice), and
 // tests/forces/test_lattice_kernel.cpp checks that both paths agree on random configurations.
 //
-// Passes, each a loop over rows and, inside, a vectorised loop over the columns:
+// Passes, each a vectorised loop over particles: row by row for the connectors, over bands of
+// whole rows (at least 256 particles, so that short rows still make long vector loops) for the
+// other two:
 //   1. connectors the east and south connector of each particle, read from the Vec3 position and
 //                 velocity arrays: unit vector, 1/length, tension; the row's velocities are copied
 //                 into x/y/z arrays (SoA) for the later passes. The radial springs reuse the unit
@@ -23,8 +25,8 @@
 //                 four neighbours' springs put on it.
 // Every value is computed by one formula from the same inputs whichever thread computes it, and
 // every sum has a fixed order, so the result is bit-for-bit the same for any thread count; the
-// passes run in one OpenMP region, rows split statically between threads, with a barrier between
-// passes. Borders need no special code: the arrays have cols + 8 zero entries of padding at both
+// passes run in one OpenMP region, rows (bands) split statically between threads, with a barrier
+// between passes. Borders need no special code: the arrays have cols + 8 zero entries of padding at both
 // ends, a missing connector is stored with 1/length = 0 and tension 0, and a radial spring with
 // a missing (or zero-length) connector contributes nothing, exactly like a degenerate element of
 // the general path.
