@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "core/assert.h"
+#include "core/multiversion.h"
 #include "forces/element.h"
 #include "forces/forces.h"
 #include "forces/vector_math.h"
@@ -37,16 +38,8 @@ constexpr std::size_t kReductionBlock = 1024;
 // Particles per band of the radial and gather passes (at least; bands are whole rows).
 constexpr std::size_t kBandParticles = 256;
 
-// Each row and band function is compiled three times, for AVX-512 (x86-64-v4), AVX2 (x86-64-v3) and the
-// baseline x86-64, and the dynamic loader picks the best one the CPU supports (GCC function
-// multiversioning, an ifunc). Safe on any x86-64 machine, unlike -march=native in the build. The
-// three versions compute bit-identical results: -ffp-contract=off keeps FMA out of the AVX2 and
-// AVX-512 code, so every lane performs the same IEEE operations as the baseline scalar code.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define CLOTHSIM_MULTIVERSION __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define CLOTHSIM_MULTIVERSION
-#endif
+// The row and band functions are compiled for AVX-512, AVX2 and baseline x86-64 and chosen at
+// load time (core/multiversion.h).
 
 // Coefficients of one evaluation: the material with switched-off terms zeroed.
 struct Coefficients {
