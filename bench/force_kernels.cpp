@@ -1,6 +1,7 @@
 // Micro-benchmarks of one force evaluation: the general element-list path and the structured
 // lattice kernel, on square sheets of the paper's material bent into a wave (no singular
-// springs) and flat (every opposite spring singular: *Flat), for 1 and 2 threads. Counters: ns per particle and force evaluations per second.
+// springs) and flat (every opposite spring singular: *Flat), for 1 and 2 threads. Counters: ns per particle and force
+// evaluations per second.
 //
 //   build/bench/bench/clothsim_microbench --benchmark_filter=Lattice --benchmark_repetitions=5
 #include <benchmark/benchmark.h>
@@ -45,15 +46,15 @@ void force_evaluation(benchmark::State& state, ForceKernel kernel, bool flat) {
   buffers.resize(sheet.model);
   std::vector<Vec3> force(sheet.model.particle_count());
   for (auto _ : state) {
-    const ForcePowers powers = evaluate_forces(sheet.model, sheet.position, sheet.velocity, kAllForceTerms, threads,
-                                               buffers, force);
+    const ForcePowers powers =
+        evaluate_forces(sheet.model, sheet.position, sheet.velocity, kAllForceTerms, threads, buffers, force);
     benchmark::DoNotOptimize(powers);
     benchmark::DoNotOptimize(force.data());
   }
   const double particles = static_cast<double>(sheet.model.particle_count());
   state.counters["evals/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["ns/particle"] = benchmark::Counter(
-      1e-9 * particles, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns/particle"] =
+      benchmark::Counter(1e-9 * particles, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void sizes(benchmark::internal::Benchmark* b) {

@@ -16,6 +16,7 @@ namespace clothsim {
 namespace {
 
 // The scratch arrays, each `stride_` doubles, indexed by particle (with padding both sides).
+// clang-format off
 enum Array : std::size_t {
   kVelocityX, kVelocityY, kVelocityZ,
   // East connector of each particle (to col + 1) and south connector (to row + 1): unit vector,
@@ -32,8 +33,7 @@ enum Array : std::size_t {
   kSingular,  // > 0 where one of the particle's radial springs is singular
   kArrayCount
 };
-
-constexpr std::size_t kReductionBlock = 1024;
+// clang-format on
 
 // Particles per band of the radial and gather passes (at least; bands are whole rows).
 constexpr std::size_t kBandParticles = 256;
@@ -57,12 +57,12 @@ struct Coefficients {
 };
 
 // One radial spring between the connectors centre->b and centre->c, from their unit vectors and
-// inverse lengths (0: no such connector) and the relative velocities v_b - v_a, v_c - v_a.
-// The formulas are those of element::radial_force, rearranged to multiply by 1/length and
-// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p; with kResolveSingular false a singular spring (sin(theta) <
-// kSingularSine) gives garbage and sets `singular`, and the caller recomputes it with
-// kResolveSingular true, which takes the bending plane from the motion like
-// element::resolve_singular_directions.
+// inverse lengths (0: no such connector) and the relative velocities v_b - v_a, v_c - v_a. The
+// formulas are those of element::radial_force, rearranged to multiply by 1/length and
+// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p. A singular spring
+// (sin(theta) < kSingularSine) gets meaningless values from the kResolveSingular = false version,
+// which only reports it through `singular`; the caller then recomputes it with the true version,
+// which takes the bending plane from the motion like element::resolve_singular_directions.
 struct RadialResult {
   Vec3 on_b;
   Vec3 on_c;
@@ -295,8 +295,8 @@ template <int kB, int kC, bool kFirstB, bool kFirstC>
   }
 }
 
-CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin, std::size_t end,
-                std::size_t cols) {
+CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin,
+                                       std::size_t end, std::size_t cols) {
   // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
   const Arrays s = arrays;
   const Coefficients k = coefficients;
@@ -322,11 +322,14 @@ CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients&
   }
 }
 
-CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients& coefficients, const double* __restrict mass,
-                std::size_t begin, std::size_t end, std::size_t cols, Vec3* __restrict force) {
+CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients& coefficients,
+                                       const double* __restrict mass, std::size_t begin, std::size_t end,
+                                       std::size_t cols, Vec3* __restrict force) {
   const Arrays s = arrays;
   const Coefficients k = coefficients;
-  const auto load = [&](std::size_t x_array, std::size_t q) { return Vec3{s[x_array][q], s[x_array + 1][q], s[x_array + 2][q]}; };
+  const auto load = [&](std::size_t x_array, std::size_t q) {
+    return Vec3{s[x_array][q], s[x_array + 1][q], s[x_array + 2][q]};
+  };
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
     const std::size_t west = p - 1;
@@ -384,10 +387,14 @@ std::optional<LatticeMaterial> detect_lattice(const ClothModel& model) {
   constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}}};
   const auto neighbour = [&](std::uint32_t p, int direction) -> std::uint32_t {
     switch (direction) {
-      case 0: return p + 1;
-      case 1: return p + static_cast<std::uint32_t>(cols);
-      case 2: return p - 1;
-      default: return p - static_cast<std::uint32_t>(cols);
+      case 0:
+        return p + 1;
+      case 1:
+        return p + static_cast<std::uint32_t>(cols);
+      case 2:
+        return p - 1;
+      default:
+        return p - static_cast<std::uint32_t>(cols);
     }
   };
   std::size_t r = 0;
@@ -436,7 +443,7 @@ bool LatticeKernel::prepare(const ClothModel& model) {
   padding_ = static_cast<std::size_t>(cols_) + 8;
   stride_ = (n + 2 * padding_ + 7) / 8 * 8;
   scratch_.assign(kArrayCount * stride_, 0.0);
-  block_power_.assign((n + kReductionBlock - 1) / kReductionBlock, 0.0);
+  block_power_.assign(deterministic_sum_blocks(n), 0.0);
   return true;
 }
 

@@ -63,15 +63,15 @@ namespace clothsim {
 
 // Material of an intact lattice: every element of a kind has these parameters.
 struct LatticeMaterial {
-  double rest_length = 0.0;           // connector L, m
-  double connector_stiffness = 0.0;   // N/m
-  double connector_damping = 0.0;     // N s/m
-  double adjacent_stiffness = 0.0;    // N m / rad
-  double adjacent_damping = 0.0;      // N m s / rad
-  double adjacent_rest_angle = 0.0;   // rad
-  double opposite_stiffness = 0.0;    // N m / rad
-  double opposite_damping = 0.0;      // N m s / rad
-  double opposite_rest_angle = 0.0;   // rad
+  double rest_length = 0.0;          // connector L, m
+  double connector_stiffness = 0.0;  // N/m
+  double connector_damping = 0.0;    // N s/m
+  double adjacent_stiffness = 0.0;   // N m / rad
+  double adjacent_damping = 0.0;     // N m s / rad
+  double adjacent_rest_angle = 0.0;  // rad
+  double opposite_stiffness = 0.0;   // N m / rad
+  double opposite_damping = 0.0;     // N m s / rad
+  double opposite_rest_angle = 0.0;  // rad
 };
 
 // The material if `model` is exactly the lattice build_lattice() makes for its rows x cols

@@ -25,8 +25,9 @@ constexpr std::size_t kCombinationBlock = 4096;
 // [begin, end) of flat double arrays (a Vec3 array is 3n doubles). The number of terms is a
 // template parameter so that the term loop unrolls and the loop over k vectorises.
 template <int kTerms>
-[[gnu::always_inline]] inline void combination_block(double* __restrict out, const double* __restrict base, const double* const* in,
-                       const double* c, std::size_t begin, std::size_t end) {
+[[gnu::always_inline]] inline void combination_block(double* __restrict out, const double* __restrict base,
+                                                     const double* const* in, const double* c, std::size_t begin,
+                                                     std::size_t end) {
   const double* __restrict term[kTerms > 0 ? kTerms : 1];
   double coefficient[kTerms > 0 ? kTerms : 1];
   for (int t = 0; t < kTerms; ++t) {
@@ -154,7 +155,7 @@ void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::a
 
 std::vector<PhaseTime> ExplicitRungeKutta::phase_times() const {
   std::vector<PhaseTime> phases = {{"stage sums", stage_sum_seconds_}, {"solution update", solution_seconds_}};
-  if (tableau_.embedded_order > 0 && kind() == IntegratorKind::rkf45) phases.push_back({"error control", error_seconds_});
+  if (kind() == IntegratorKind::rkf45) phases.push_back({"error control", error_seconds_});
   return phases;
 }
 
@@ -209,9 +210,10 @@ namespace {
 // The scaled error of one particle as the bit pattern of a non-negative double: for those,
 // unsigned integer order is numeric order, with +inf above every finite value and NaN above +inf,
 // so a plain integer maximum finds the largest error and lets a non-finite one win, without
-// branches (the loop vectorises). 0 for anchored particles.
-[[gnu::always_inline]] inline std::uint64_t scaled_error_bits(const Vec3& error_x, const Vec3& error_v, const Vec3& x0, const Vec3& x1,
-                                       const Vec3& v0, const Vec3& v1, double atol, double rtol, bool anchored) {
+// branches. 0 for anchored particles.
+[[gnu::always_inline]] inline std::uint64_t scaled_error_bits(const Vec3& error_x, const Vec3& error_v, const Vec3& x0,
+                                                              const Vec3& x1, const Vec3& v0, const Vec3& v1,
+                                                              double atol, double rtol, bool anchored) {
   const auto ratio = [&](double error, double before, double after) {
     const double scale = atol + rtol * std::max(std::abs(before), std::abs(after));
     // (e - e) and (after - after) are 0 for finite values and NaN otherwise.

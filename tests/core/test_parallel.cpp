@@ -1,10 +1,10 @@
 // Thread-count resolution and parallel_for: every index visited exactly once for any thread count.
-#include "core/parallel.h"
-
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <vector>
+
+#include "core/parallel.h"
 
 namespace clothsim {
 namespace {
@@ -27,7 +27,8 @@ TEST(Parallel, ParallelForVisitsEveryIndexOnce) {
   for (int threads : {1, 2, 3, 4}) {
     std::vector<std::atomic<int>> visits(1001);
     parallel_for(visits.size(), threads, [&](std::size_t i) { visits[i].fetch_add(1); });
-    for (std::size_t i = 0; i < visits.size(); ++i) EXPECT_EQ(visits[i].load(), 1) << i << ", " << threads << " threads";
+    for (std::size_t i = 0; i < visits.size(); ++i)
+      EXPECT_EQ(visits[i].load(), 1) << i << ", " << threads << " threads";
   }
 }
 

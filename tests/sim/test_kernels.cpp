@@ -13,7 +13,7 @@ namespace {
 
 ClothState run(ForceKernel kernel, int threads) {
   LatticeDef def;  // the paper's material, damped
-  def.rows = 40;  // 1,280 particles: 5 bands of the lattice kernel's radial and gather passes
+  def.rows = 40;   // 1,280 particles: 5 bands of the lattice kernel's radial and gather passes
   def.cols = 32;
   const Anchor anchor{lattice_index(def.cols, 20, 16), AnchorPath::fixed_at({0.0, 0.0, 0.5})};
   ClothModel model = build_lattice(def, Environment{{0.0, -9.81, 0.0}, 0.05}, {&anchor, 1});
