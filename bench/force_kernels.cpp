@@ -1,6 +1,7 @@
 // Micro-benchmarks of one force evaluation: the general element-list path and the structured
 // lattice kernel, on square sheets of the paper's material bent into a wave (no singular
-// springs), for 1 and 2 threads. Counters: ns per particle and force evaluations per second.
+// springs) and flat (every opposite spring singular: *Flat), for 1 and 2 threads. Counters: ns per particle and force
+// evaluations per second.
 //
 //   build/bench/bench/clothsim_microbench --benchmark_filter=Lattice --benchmark_repetitions=5
 #include <benchmark/benchmark.h>
@@ -19,7 +20,9 @@ struct Sheet {
   std::vector<Vec3> velocity;
 };
 
-Sheet wavy_sheet(int n) {
+// A wavy sheet (no singular springs), or a flat one falling with a velocity field that bends it
+// (every opposite spring exactly straight: the singular path, as at the start of most runs).
+Sheet make_sheet(int n, bool flat) {
   LatticeDef def;
   def.rows = n;
   def.cols = n;
@@ -28,30 +31,30 @@ Sheet wavy_sheet(int n) {
   sheet.velocity.assign(sheet.position.size(), Vec3{});
   for (std::size_t p = 0; p < sheet.position.size(); ++p) {
     Vec3& x = sheet.position[p];
-    x.y = 0.3 * std::sin(0.7 * x.x) * std::cos(0.5 * x.z);
+    if (!flat) x.y = 0.3 * std::sin(0.7 * x.x) * std::cos(0.5 * x.z);
     sheet.velocity[p] = {0.01 * std::cos(x.z), 0.1 * std::sin(x.x), 0.0};
   }
   return sheet;
 }
 
-void force_evaluation(benchmark::State& state, ForceKernel kernel) {
+void force_evaluation(benchmark::State& state, ForceKernel kernel, bool flat) {
   const int n = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  const Sheet sheet = wavy_sheet(n);
+  const Sheet sheet = make_sheet(n, flat);
   ForceBuffers buffers;
   buffers.kernel = kernel;
   buffers.resize(sheet.model);
   std::vector<Vec3> force(sheet.model.particle_count());
   for (auto _ : state) {
-    const ForcePowers powers = evaluate_forces(sheet.model, sheet.position, sheet.velocity, kAllForceTerms, threads,
-                                               buffers, force);
+    const ForcePowers powers =
+        evaluate_forces(sheet.model, sheet.position, sheet.velocity, kAllForceTerms, threads, buffers, force);
     benchmark::DoNotOptimize(powers);
     benchmark::DoNotOptimize(force.data());
   }
   const double particles = static_cast<double>(sheet.model.particle_count());
   state.counters["evals/s"] = benchmark::Counter(1.0, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["ns/particle"] = benchmark::Counter(
-      1e-9 * particles, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
+  state.counters["ns/particle"] =
+      benchmark::Counter(1e-9 * particles, benchmark::Counter::kIsIterationInvariantRate | benchmark::Counter::kInvert);
 }
 
 void sizes(benchmark::internal::Benchmark* b) {
@@ -61,8 +64,10 @@ void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"n", "threads"})->UseRealTime()->Unit(benchmark::kMicrosecond);
 }
 
-BENCHMARK_CAPTURE(force_evaluation, General, ForceKernel::general)->Apply(sizes);
-BENCHMARK_CAPTURE(force_evaluation, Lattice, ForceKernel::lattice)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, General, ForceKernel::general, false)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, Lattice, ForceKernel::lattice, false)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, GeneralFlat, ForceKernel::general, true)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, LatticeFlat, ForceKernel::lattice, true)->Apply(sizes);
 
 }  // namespace
 }  // namespace clothsim

@@ -23,13 +23,15 @@ int main() {
     std::vector<double> a(n, 0.0), b(n, 1.0), c(n, 2.0);
     const double scalar = 3.0;
     for (int threads : {1, all_threads}) {
-      const int repetitions = static_cast<int>(std::clamp<std::size_t>((std::size_t{1} << 31) / (3 * bytes_per_array), 5, 2000));
+      const int repetitions =
+          static_cast<int>(std::clamp<std::size_t>((std::size_t{1} << 31) / (3 * bytes_per_array), 5, 2000));
       double best = 1e30;
       for (int r = 0; r < repetitions; ++r) {
         const auto start = std::chrono::steady_clock::now();
         const auto count = static_cast<long long>(n);
 #pragma omp parallel for schedule(static) num_threads(threads)
-        for (long long i = 0; i < count; ++i) a[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] + scalar * c[static_cast<std::size_t>(i)];
+        for (long long i = 0; i < count; ++i)
+          a[static_cast<std::size_t>(i)] = b[static_cast<std::size_t>(i)] + scalar * c[static_cast<std::size_t>(i)];
         const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         best = std::min(best, seconds);
       }

@@ -53,7 +53,8 @@ BenchOptions make_options(const BenchFlags& flags) {
         used = 0;
       }
       if (used != item.size() || item.empty() || size < 2 || size > 2000) {
-        throw InputError("--sizes", "", "'" + item + "' is not a lattice side: expected integers in [2, 2000], e.g. 25,50");
+        throw InputError("--sizes", "",
+                         "'" + item + "' is not a lattice side: expected integers in [2, 2000], e.g. 25,50");
       }
       options.sizes.push_back(size);
     }
@@ -61,7 +62,8 @@ BenchOptions make_options(const BenchFlags& flags) {
   }
   if (flags.given("--integrators")) {
     std::string known;
-    for (IntegratorKind kind : all_integrator_kinds()) known += (known.empty() ? "" : ", ") + std::string(to_string(kind));
+    for (IntegratorKind kind : all_integrator_kinds())
+      known += (known.empty() ? "" : ", ") + std::string(to_string(kind));
     for (const std::string& item : split_list(flags.integrators)) {
       IntegratorKind kind{};
       if (!parse_integrator_kind(item, kind)) {
@@ -72,11 +74,13 @@ BenchOptions make_options(const BenchFlags& flags) {
     if (options.integrators.empty()) throw InputError("--integrators", "", "expected a list of: " + known);
   }
   if (flags.given("--threads")) {
-    if (flags.threads < 0 || flags.threads > 1024) throw InputError("--threads", "", "expected an integer in [0, 1024]");
+    if (flags.threads < 0 || flags.threads > 1024)
+      throw InputError("--threads", "", "expected an integer in [0, 1024]");
     options.threads = flags.threads;
   }
   if (flags.given("--seconds")) {
-    if (!(flags.seconds > 0.0 && flags.seconds <= 600.0)) throw InputError("--seconds", "", "expected a number in (0, 600]");
+    if (!(flags.seconds > 0.0 && flags.seconds <= 600.0))
+      throw InputError("--seconds", "", "expected a number in (0, 600]");
     options.wall_budget = flags.seconds;
   }
   if (flags.given("--sim-cap")) {
@@ -119,18 +123,20 @@ int bench(const BenchFlags& flags) {
       throw InputError("--csv", "", "folder '" + parent.string() + "' does not exist");
     }
   }
-  std::printf("clothsim bench: paper material (--paper-args N,N,1,4,1,1400,200,80,5,1), 60 fps frames, no output;\n"
-              "each case runs until %.3g s wall or %.3g s simulated. rk4 and symplectic-euler use a %.3g s step.\n\n",
-              options.wall_budget, options.simulated_cap, options.explicit_fixed_step);
+  std::printf(
+      "clothsim bench: paper material (--paper-args N,N,1,4,1,1400,200,80,5,1), 60 fps frames, no output;\n"
+      "each case runs until %.3g s wall or %.3g s simulated. rk4 and symplectic-euler use a %.3g s step.\n\n",
+      options.wall_budget, options.simulated_cap, options.explicit_fixed_step);
   std::printf("%s\n", bench_table_header().c_str());
   std::fflush(stdout);
   const std::vector<BenchResult> results = run_bench_suite(options, [](const BenchResult& result) {
     std::printf("%s\n", bench_table_row(result).c_str());
     std::fflush(stdout);
   });
-  std::printf("\nevals/s: force evaluations per wall second; us/eval: wall time per evaluation; p-steps/s:\n"
-              "particles x accepted steps per wall second; sim s/s: simulated seconds per wall second (>= 1 is\n"
-              "real time); sim MiB: model + state + integrator workspace; RSS MiB: process peak so far.\n");
+  std::printf(
+      "\nevals/s: force evaluations per wall second; us/eval: wall time per evaluation; p-steps/s:\n"
+      "particles x accepted steps per wall second; sim s/s: simulated seconds per wall second (>= 1 is\n"
+      "real time); sim MiB: model + state + integrator workspace; RSS MiB: process peak so far.\n");
   if (!flags.csv.empty()) {
     write_csv(flags.csv, bench_csv(results));
     std::printf("wrote %s\n", flags.csv.c_str());

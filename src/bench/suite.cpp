@@ -95,9 +95,9 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
 
 std::string bench_table_header() {
   char line[256];
-  std::snprintf(line, sizeof line, "%-9s %-17s %-7s %3s %10s %10s %10s %9s %8s %7s %9s %9s  %s", "lattice", "integrator",
-                "kernel", "thr", "evals/s", "us/eval", "p-steps/s", "sim s/s", "sim s", "wall s", "sim MiB",
-                "RSS MiB", "status");
+  std::snprintf(line, sizeof line, "%-9s %-17s %-7s %3s %10s %10s %10s %9s %8s %7s %9s %9s  %s", "lattice",
+                "integrator", "kernel", "thr", "evals/s", "us/eval", "p-steps/s", "sim s/s", "sim s", "wall s",
+                "sim MiB", "RSS MiB", "status");
   return line;
 }
 
@@ -125,7 +125,8 @@ std::string bench_csv(const std::vector<BenchResult>& results) {
     for (char& c : status) {
       if (c == '"') c = '\'';
     }
-    std::snprintf(line, sizeof line, "%d,%d,%zu,%s,%s,%d,%.17g,\"%s\",%.17g,%.17g,%llu,%llu,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu\n",
+    std::snprintf(line, sizeof line,
+                  "%d,%d,%zu,%s,%s,%d,%.17g,\"%s\",%.17g,%.17g,%llu,%llu,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu\n",
                   r.size, r.size, r.particles, std::string(to_string(r.integrator)).c_str(), r.kernel.c_str(),
                   r.threads, r.time_step, status.c_str(), r.wall_seconds, r.simulated_seconds,
                   static_cast<unsigned long long>(r.force_evaluations),

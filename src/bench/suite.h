@@ -23,9 +23,9 @@ namespace clothsim {
 struct BenchOptions {
   std::vector<int> sizes = {25, 50, 100, 200, 400};  // lattice side N (N x N particles)
   std::vector<IntegratorKind> integrators;           // empty: every kind (all_integrator_kinds())
-  double wall_budget = 1.5;    // s of wall time per case (a frame in progress is finished)
-  double simulated_cap = 2.0;  // s of simulated time per case at most
-  int threads = 0;             // 0: chosen from the lattice size, as `clothsim run` does
+  double wall_budget = 1.5;                          // s of wall time per case (a frame in progress is finished)
+  double simulated_cap = 2.0;                        // s of simulated time per case at most
+  int threads = 0;                                   // 0: chosen from the lattice size, as `clothsim run` does
   // Step of the explicit fixed-step methods (rk4, symplectic-euler), s: the paper's material is
   // stiff (opposite springs damped with c = 200), and their default 1e-3 s blows up; 2e-4 s is
   // stable for both. rkf45 chooses its own steps; other kinds use their default settings.
@@ -47,11 +47,13 @@ struct BenchResult {
   std::uint64_t force_evaluations = 0;
   std::uint64_t accepted_steps = 0;
   std::uint64_t rejected_steps = 0;
-  double force_seconds = 0.0;     // wall time inside force evaluation
-  std::size_t memory_bytes = 0;   // Simulation::memory_bytes()
-  std::size_t peak_rss_bytes = 0; // process peak resident set size after the case
+  double force_seconds = 0.0;      // wall time inside force evaluation
+  std::size_t memory_bytes = 0;    // Simulation::memory_bytes()
+  std::size_t peak_rss_bytes = 0;  // process peak resident set size after the case
 
-  double evaluations_per_second() const { return wall_seconds > 0 ? static_cast<double>(force_evaluations) / wall_seconds : 0.0; }
+  double evaluations_per_second() const {
+    return wall_seconds > 0 ? static_cast<double>(force_evaluations) / wall_seconds : 0.0;
+  }
   double particle_steps_per_second() const {
     return wall_seconds > 0 ? static_cast<double>(particles) * static_cast<double>(accepted_steps) / wall_seconds : 0.0;
   }

@@ -9,11 +9,18 @@
 
 namespace clothsim {
 
-// Resolves a requested thread count: 0 means "choose", which picks all hardware threads for
-// problems with at least `parallel_threshold` items and 1 otherwise (thread start-up costs more
-// than it saves on small sheets).
+// Resolves a requested thread count: 0 means "choose", which picks 1 thread for problems with
+// fewer than `parallel_threshold` items (thread start-up costs more than it saves on small
+// sheets) and otherwise the hardware threads that other processes leave idle
+// (idle_hardware_threads()). A loop split over more threads than there are free cores waits at
+// every barrier for a thread that is not running: on a busy 2-core machine a 2-thread force
+// evaluation took 20-60 ms instead of 0.5 ms (docs/performance.md). The choice never changes
+// results, which are the same for any thread count.
 int resolve_thread_count(int requested, std::size_t problem_size, std::size_t parallel_threshold = 4096);
 int hardware_thread_count();
+// Hardware threads minus the 1-minute load average rounded to the nearest integer (other
+// runnable processes), at least 1; all hardware threads where the load is unknown.
+int idle_hardware_threads();
 
 template <typename Body>
 void parallel_for(std::size_t count, int threads, Body&& body) {

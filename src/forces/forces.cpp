@@ -29,6 +29,8 @@ std::size_t ForceBuffers::bytes() const {
          lattice.bytes();
 }
 
+std::size_t deterministic_sum_blocks(std::size_t count) { return (count + kReductionBlock - 1) / kReductionBlock; }
+
 double deterministic_sum(std::span<const double> values, int threads, std::vector<double>& block_sums) {
   const std::size_t blocks = (values.size() + kReductionBlock - 1) / kReductionBlock;
   CLOTHSIM_ASSERT(block_sums.size() >= blocks, "block buffer sized by ForceBuffers::resize");

@@ -97,6 +97,8 @@ double gravitational_energy(const ClothModel& model, std::span<const Vec3> posit
 EnergyReport compute_energy(const ClothModel& model, const ClothState& state, ForceTerms terms = kAllForceTerms);
 
 // Sums `values` over fixed blocks in index order: the same result for any thread count.
+// `block_sums` needs deterministic_sum_blocks(values.size()) entries.
 double deterministic_sum(std::span<const double> values, int threads, std::vector<double>& block_sums);
+std::size_t deterministic_sum_blocks(std::size_t count);
 
 }  // namespace clothsim

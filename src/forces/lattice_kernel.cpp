@@ -2,10 +2,12 @@
 #include "forces/lattice_kernel.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
 #include "core/assert.h"
+#include "core/multiversion.h"
 #include "forces/element.h"
 #include "forces/forces.h"
 #include "forces/vector_math.h"
@@ -14,8 +16,8 @@ namespace clothsim {
 namespace {
 
 // The scratch arrays, each `stride_` doubles, indexed by particle (with padding both sides).
+// clang-format off
 enum Array : std::size_t {
-  kPositionX, kPositionY, kPositionZ,
   kVelocityX, kVelocityY, kVelocityZ,
   // East connector of each particle (to col + 1) and south connector (to row + 1): unit vector,
   // 1/length (0 where the connector does not exist or has zero length), tension (N).
@@ -31,19 +33,13 @@ enum Array : std::size_t {
   kSingular,  // > 0 where one of the particle's radial springs is singular
   kArrayCount
 };
+// clang-format on
 
-constexpr std::size_t kReductionBlock = 1024;
+// Particles per band of the radial and gather passes (at least; bands are whole rows).
+constexpr std::size_t kBandParticles = 256;
 
-// Each row function is compiled three times, for AVX-512 (x86-64-v4), AVX2 (x86-64-v3) and the
-// baseline x86-64, and the dynamic loader picks the best one the CPU supports (GCC function
-// multiversioning, an ifunc). Safe on any x86-64 machine, unlike -march=native in the build. The
-// three versions compute bit-identical results: -ffp-contract=off keeps FMA out of the AVX2 and
-// AVX-512 code, so every lane performs the same IEEE operations as the baseline scalar code.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
-#define CLOTHSIM_MULTIVERSION __attribute__((target_clones("arch=x86-64-v4", "arch=x86-64-v3", "default")))
-#else
-#define CLOTHSIM_MULTIVERSION
-#endif
+// The row and band functions are compiled for AVX-512, AVX2 and baseline x86-64 and chosen at
+// load time (core/multiversion.h).
 
 // Coefficients of one evaluation: the material with switched-off terms zeroed.
 struct Coefficients {
@@ -61,12 +57,12 @@ struct Coefficients {
 };
 
 // One radial spring between the connectors centre->b and centre->c, from their unit vectors and
-// inverse lengths (0: no such connector) and the relative velocities v_b - v_a, v_c - v_a.
-// The formulas are those of element::radial_force, rearranged to multiply by 1/length and
-// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p; with kResolveSingular false a singular spring (sin(theta) <
-// kSingularSine) gives garbage and sets `singular`, and the caller recomputes it with
-// kResolveSingular true, which takes the bending plane from the motion like
-// element::resolve_singular_directions.
+// inverse lengths (0: no such connector) and the relative velocities v_b - v_a, v_c - v_a. The
+// formulas are those of element::radial_force, rearranged to multiply by 1/length and
+// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p. A singular spring
+// (sin(theta) < kSingularSine) gets meaningless values from the kResolveSingular = false version,
+// which only reports it through `singular`; the caller then recomputes it with the true version,
+// which takes the bending plane from the motion like element::resolve_singular_directions.
 struct RadialResult {
   Vec3 on_b;
   Vec3 on_c;
@@ -97,36 +93,39 @@ template <bool kResolveSingular>
   const double constant = obtuse ? std::numbers::pi - rest_angle : -rest_angle;
   const double kb = stiffness * inverse_b;
   const double kc = stiffness * inverse_c;
-  Vec3 fb;
-  Vec3 fc;
-  double angle_rate = 0.0;
-  double torque = 0.0;
-  if (!kResolveSingular || !(out.singular > 0.0)) {
-    // p = w / sin(theta) is parallel to w, so every force along p is a multiple of w:
-    //   f_b = [k/l_b (A + B / sin) + torque (-1/(l_b sin))] w_b,  dtheta/dx_b = -w_b / (l_b sin).
-    const double gradient_b = -inverse_b * inverse_sine;
-    const double gradient_c = -inverse_c * inverse_sine;
-    angle_rate = gradient_b * dot(wb, rb) + gradient_c * dot(wc, rc);
-    torque = -damping * angle_rate;
-    const double elastic = smooth + constant * inverse_sine;
-    fb = (kb * elastic + torque * gradient_b) * wb;
-    fc = (kc * elastic + torque * gradient_c) * wc;
-  } else {
+  // p = w / sin(theta) is parallel to w, so every force along p is a multiple of w:
+  //   f_b = [k/l_b (A + B / sin) + torque (-1/(l_b sin))] w_b,  dtheta/dx_b = -w_b / (l_b sin).
+  const double gradient_b = -inverse_b * inverse_sine;
+  const double gradient_c = -inverse_c * inverse_sine;
+  double angle_rate = gradient_b * dot(wb, rb) + gradient_c * dot(wc, rc);
+  double torque = -damping * angle_rate;
+  const double elastic = smooth + constant * inverse_sine;
+  Vec3 fb = (kb * elastic + torque * gradient_b) * wb;
+  Vec3 fc = (kc * elastic + torque * gradient_c) * wc;
+  if constexpr (kResolveSingular) {
     // Singular: the bending plane from the motion (element::resolve_singular_directions).
+    // Computed for every spring and selected, so that this loop vectorises too; non-singular
+    // springs keep exactly the values above.
     const Vec3 turn_b = inverse_b * (rb - dot(rb, ub) * ub);
     const Vec3 turn_c = inverse_c * (rc - dot(rc, uc) * uc);
     const Vec3 opening = obtuse ? turn_b + turn_c : turn_c - turn_b;
-    const double rate = norm(opening);
-    const Vec3 pb = rate > 0.0 ? opening / rate : Vec3{};
+    const double rate = std::sqrt(dot(opening, opening));
+    const double inverse_rate = rate > 0.0 ? 1.0 / rate : 0.0;
+    const Vec3 pb = inverse_rate * opening;
     const Vec3 pc = obtuse ? pb : -pb;
-    fb = kb * (smooth * wb + constant * pb);
-    fc = kc * (smooth * wc + constant * pc);
+    Vec3 singular_fb = kb * (smooth * wb + constant * pb);
+    Vec3 singular_fc = kc * (smooth * wc + constant * pc);
     const Vec3 gb = -inverse_b * pb;  // dtheta/dx_b
     const Vec3 gc = -inverse_c * pc;
-    angle_rate = dot(gb, rb) + dot(gc, rc);
-    torque = -damping * angle_rate;
-    fb += torque * gb;
-    fc += torque * gc;
+    const double singular_rate = dot(gb, rb) + dot(gc, rc);
+    const double singular_torque = -damping * singular_rate;
+    singular_fb += singular_torque * gb;
+    singular_fc += singular_torque * gc;
+    const bool use = out.singular > 0.0;
+    fb = {use ? singular_fb.x : fb.x, use ? singular_fb.y : fb.y, use ? singular_fb.z : fb.z};
+    fc = {use ? singular_fc.x : fc.x, use ? singular_fc.y : fc.y, use ? singular_fc.z : fc.z};
+    angle_rate = use ? singular_rate : angle_rate;
+    torque = use ? singular_torque : torque;
   }
   out.on_b = {exists ? fb.x : 0.0, exists ? fb.y : 0.0, exists ? fb.z : 0.0};
   out.on_c = {exists ? fc.x : 0.0, exists ? fc.y : 0.0, exists ? fc.z : 0.0};
@@ -142,45 +141,13 @@ struct Arrays {
   double* operator[](std::size_t k) const { return a[k]; }
 };
 
-CLOTHSIM_MULTIVERSION void transpose_row(const Arrays& s, std::span<const Vec3> position, std::span<const Vec3> velocity, std::size_t begin,
-                   std::size_t end) {
-  double* __restrict px = s[kPositionX];
-  double* __restrict py = s[kPositionY];
-  double* __restrict pz = s[kPositionZ];
-  double* __restrict vx = s[kVelocityX];
-  double* __restrict vy = s[kVelocityY];
-  double* __restrict vz = s[kVelocityZ];
-  const Vec3* __restrict x = position.data();
-  const Vec3* __restrict v = velocity.data();
-#pragma GCC ivdep
-  for (std::size_t p = begin; p < end; ++p) {
-    px[p] = x[p].x;
-    py[p] = x[p].y;
-    pz[p] = x[p].z;
-    vx[p] = v[p].x;
-    vy[p] = v[p].y;
-    vz[p] = v[p].z;
-  }
-}
-
-// Connector from each particle p in [begin, end) to p + offset (east: 1, south: cols); particles
-// from `missing_from` on have none (the last column has no east connector, the last row no south
-// one).
-CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, std::size_t begin, std::size_t end, std::size_t offset,
-                   std::size_t missing_from, std::size_t ux_array, double* __restrict power) {
-  const double* __restrict px = s[kPositionX];
-  const double* __restrict py = s[kPositionY];
-  const double* __restrict pz = s[kPositionZ];
-  const double* __restrict vx = s[kVelocityX];
-  const double* __restrict vy = s[kVelocityY];
-  const double* __restrict vz = s[kVelocityZ];
-  // The far ends, p + offset.
-  const double* __restrict qx = px + offset;
-  const double* __restrict qy = py + offset;
-  const double* __restrict qz = pz + offset;
-  const double* __restrict wx = vx + offset;
-  const double* __restrict wy = vy + offset;
-  const double* __restrict wz = vz + offset;
+// Connector from each particle p in [begin, missing_from) to p + offset (east: 1, south: cols),
+// read straight from the Vec3 arrays; particles from `missing_from` to `end` have none (the last
+// column has no east connector, the last row no south one).
+CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
+                                         const Vec3* __restrict v, std::size_t begin, std::size_t end,
+                                         std::size_t offset, std::size_t missing_from, std::size_t ux_array,
+                                         double* __restrict power) {
   double* __restrict ux = s[ux_array];
   double* __restrict uy = s[ux_array + 1];
   double* __restrict uz = s[ux_array + 2];
@@ -191,13 +158,12 @@ CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k,
   const double rest_length = k.rest_length;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < missing_from; ++p) {
-    const Vec3 e{qx[p] - px[p], qy[p] - py[p], qz[p] - pz[p]};
+    const Vec3 e = x[p + offset] - x[p];
     const double length = std::sqrt(dot(e, e));
     const bool exists = length > 0.0;
     const double inverse = exists ? 1.0 / length : 0.0;
     const Vec3 u = inverse * e;
-    const Vec3 dv{wx[p] - vx[p], wy[p] - vy[p], wz[p] - vz[p]};
-    const double rate = dot(dv, u);
+    const double rate = dot(v[p + offset] - v[p], u);
     const double t = stiffness * (length - rest_length) + damping * rate;
     ux[p] = u.x;
     uy[p] = u.y;
@@ -210,38 +176,77 @@ CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k,
   for (std::size_t p = missing_from; p < end; ++p) ux[p] = uy[p] = uz[p] = inverse_length[p] = tension[p] = 0.0;
 }
 
-// The six radial springs centred at particle p, written as forces on its four neighbours.
-// Returns a positive number if one of them is singular.
-template <bool kResolveSingular>
-[[gnu::always_inline]] inline double radial_particle(const Arrays& s, const Coefficients& k, std::size_t p, std::size_t cols) {
-  const std::size_t west = p - 1;
-  const std::size_t north = p - cols;
-  const Vec3 u_east{s[kEastX][p], s[kEastY][p], s[kEastZ][p]};
-  const Vec3 u_south{s[kSouthX][p], s[kSouthY][p], s[kSouthZ][p]};
-  const Vec3 u_west{-s[kEastX][west], -s[kEastY][west], -s[kEastZ][west]};
-  const Vec3 u_north{-s[kSouthX][north], -s[kSouthY][north], -s[kSouthZ][north]};
-  const double i_east = s[kEastInverseLength][p];
-  const double i_south = s[kSouthInverseLength][p];
-  const double i_west = s[kEastInverseLength][west];
-  const double i_north = s[kSouthInverseLength][north];
-  const Vec3 v{s[kVelocityX][p], s[kVelocityY][p], s[kVelocityZ][p]};
-  const auto relative = [&](std::size_t q) {
-    return Vec3{s[kVelocityX][q] - v.x, s[kVelocityY][q] - v.y, s[kVelocityZ][q] - v.z};
-  };
-  const Vec3 r_east = relative(p + 1);
-  const Vec3 r_south = relative(p + cols);
-  const Vec3 r_west = relative(west);
-  const Vec3 r_north = relative(north);
+// The row's velocities into the SoA arrays read by the radial and gather passes.
+CLOTHSIM_MULTIVERSION void velocity_row(const Arrays& s, const Vec3* __restrict v, std::size_t begin, std::size_t end) {
+  double* __restrict vx = s[kVelocityX];
+  double* __restrict vy = s[kVelocityY];
+  double* __restrict vz = s[kVelocityZ];
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    vx[p] = v[p].x;
+    vy[p] = v[p].y;
+    vz[p] = v[p].z;
+  }
+}
 
-  const double ka = k.adjacent_stiffness, ca = k.adjacent_damping, ta = k.adjacent_rest_angle;
-  const double ko = k.opposite_stiffness, co = k.opposite_damping, to = k.opposite_rest_angle;
-  const RadialResult es = radial_spring<kResolveSingular>(u_east, i_east, u_south, i_south, r_east, r_south, ka, ca, ta);
-  const RadialResult sw = radial_spring<kResolveSingular>(u_south, i_south, u_west, i_west, r_south, r_west, ka, ca, ta);
-  const RadialResult wn = radial_spring<kResolveSingular>(u_west, i_west, u_north, i_north, r_west, r_north, ka, ca, ta);
-  const RadialResult ne = radial_spring<kResolveSingular>(u_north, i_north, u_east, i_east, r_north, r_east, ka, ca, ta);
-  const RadialResult ew = radial_spring<kResolveSingular>(u_east, i_east, u_west, i_west, r_east, r_west, ko, co, to);
-  const RadialResult sn = radial_spring<kResolveSingular>(u_south, i_south, u_north, i_north, r_south, r_north, ko, co, to);
+// A connector of particle p seen from p: unit vector towards the neighbour, 1/length, and the
+// neighbour's velocity relative to p's. Directions: 0 east, 1 south, 2 west, 3 north.
+struct Arm {
+  Vec3 unit;
+  double inverse_length = 0.0;
+  Vec3 relative_velocity;
+};
 
+template <int kDirection>
+[[gnu::always_inline]] inline Arm arm(const Arrays& s, std::size_t p, std::size_t cols) {
+  const std::size_t q = kDirection == 0 ? p + 1 : kDirection == 1 ? p + cols : kDirection == 2 ? p - 1 : p - cols;
+  Arm out;
+  if constexpr (kDirection == 0) {
+    out.unit = {s[kEastX][p], s[kEastY][p], s[kEastZ][p]};
+    out.inverse_length = s[kEastInverseLength][p];
+  } else if constexpr (kDirection == 1) {
+    out.unit = {s[kSouthX][p], s[kSouthY][p], s[kSouthZ][p]};
+    out.inverse_length = s[kSouthInverseLength][p];
+  } else if constexpr (kDirection == 2) {
+    out.unit = {-s[kEastX][q], -s[kEastY][q], -s[kEastZ][q]};
+    out.inverse_length = s[kEastInverseLength][q];
+  } else {
+    out.unit = {-s[kSouthX][q], -s[kSouthY][q], -s[kSouthZ][q]};
+    out.inverse_length = s[kSouthInverseLength][q];
+  }
+  out.relative_velocity = {s[kVelocityX][q] - s[kVelocityX][p], s[kVelocityY][q] - s[kVelocityY][p],
+                           s[kVelocityZ][q] - s[kVelocityZ][p]};
+  return out;
+}
+
+// The spring between arms kB and kC of particle p (adjacent or opposite material).
+template <bool kResolveSingular, int kB, int kC>
+[[gnu::always_inline]] inline RadialResult spring_at(const Arrays& s, const Coefficients& k, std::size_t p,
+                                                     std::size_t cols) {
+  constexpr bool kOpposite = (kB + 2) % 4 == kC;
+  const Arm b = arm<kB>(s, p, cols);
+  const Arm c = arm<kC>(s, p, cols);
+  return radial_spring<kResolveSingular>(b.unit, b.inverse_length, c.unit, c.inverse_length, b.relative_velocity,
+                                         c.relative_velocity, kOpposite ? k.opposite_stiffness : k.adjacent_stiffness,
+                                         kOpposite ? k.opposite_damping : k.adjacent_damping,
+                                         kOpposite ? k.opposite_rest_angle : k.adjacent_rest_angle);
+}
+
+// The to_<direction> x array of each direction.
+constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, kToNorthX};
+
+// The six radial springs centred at particle p, in the order (E,S), (S,W), (W,N), (N,E), (E,W),
+// (S,N), written as forces on its four neighbours; each neighbour's sum and the power are
+// accumulated in that order (resolve_spring_row repeats exactly these sums). Returns a positive
+// number if one of the springs is singular.
+[[gnu::always_inline]] inline double radial_particle(const Arrays& s, const Coefficients& k, std::size_t p,
+                                                     std::size_t cols) {
+  const RadialResult es = spring_at<false, 0, 1>(s, k, p, cols);
+  const RadialResult sw = spring_at<false, 1, 2>(s, k, p, cols);
+  const RadialResult wn = spring_at<false, 2, 3>(s, k, p, cols);
+  const RadialResult ne = spring_at<false, 3, 0>(s, k, p, cols);
+  const RadialResult ew = spring_at<false, 0, 2>(s, k, p, cols);
+  const RadialResult sn = spring_at<false, 1, 3>(s, k, p, cols);
   const Vec3 to_east = es.on_b + ne.on_c + ew.on_b;
   const Vec3 to_south = es.on_c + sw.on_b + sn.on_b;
   const Vec3 to_west = sw.on_c + wn.on_b + ew.on_c;
@@ -258,14 +263,40 @@ template <bool kResolveSingular>
   s[kToNorthX][p] = to_north.x;
   s[kToNorthY][p] = to_north.y;
   s[kToNorthZ][p] = to_north.z;
-  s[kPower][p] = s[kConnectorPower][p] + ((es.power + sw.power) + (wn.power + ne.power)) + (ew.power + sn.power);
-  // Positive if any of the six springs is singular.
+  s[kPower][p] = s[kConnectorPower][p] + es.power + sw.power + wn.power + ne.power + ew.power + sn.power;
   return std::max(std::max(std::max(es.singular, sw.singular), std::max(wn.singular, ne.singular)),
                   std::max(ew.singular, sn.singular));
 }
 
-CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin, std::size_t end,
-                std::size_t cols) {
+// Recomputes one of the six springs for a band with singular springs resolved, adding its forces
+// into the neighbours' sums in the order of radial_particle (`first_b`/`first_c`: the spring is
+// the first term of that neighbour's sum). One spring per loop keeps the body small enough for
+// GCC to if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
+template <int kB, int kC, bool kFirstB, bool kFirstC>
+[[gnu::always_inline]] inline void resolve_spring_row(const Arrays& s, const Coefficients& k, std::size_t begin,
+                                                      std::size_t end, std::size_t cols) {
+  double* __restrict bx = s[kToArray[kB]];
+  double* __restrict by = s[kToArray[kB] + 1];
+  double* __restrict bz = s[kToArray[kB] + 2];
+  double* __restrict cx = s[kToArray[kC]];
+  double* __restrict cy = s[kToArray[kC] + 1];
+  double* __restrict cz = s[kToArray[kC] + 2];
+  double* __restrict power = s[kPower];
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    const RadialResult r = spring_at<true, kB, kC>(s, k, p, cols);
+    bx[p] = (kFirstB ? 0.0 : bx[p]) + r.on_b.x;
+    by[p] = (kFirstB ? 0.0 : by[p]) + r.on_b.y;
+    bz[p] = (kFirstB ? 0.0 : bz[p]) + r.on_b.z;
+    cx[p] = (kFirstC ? 0.0 : cx[p]) + r.on_c.x;
+    cy[p] = (kFirstC ? 0.0 : cy[p]) + r.on_c.y;
+    cz[p] = (kFirstC ? 0.0 : cz[p]) + r.on_c.z;
+    power[p] += r.power;
+  }
+}
+
+CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin,
+                                       std::size_t end, std::size_t cols) {
   // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
   const Arrays s = arrays;
   const Coefficients k = coefficients;
@@ -273,23 +304,32 @@ CLOTHSIM_MULTIVERSION void radial_row(const Arrays& arrays, const Coefficients& 
   int any_singular = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    singular[p] = radial_particle<false>(s, k, p, cols);
+    singular[p] = radial_particle(s, k, p, cols);
     any_singular |= singular[p] > 0.0 ? 1 : 0;
   }
   if (any_singular != 0) {
-    // A straight or folded spring (a flat sheet, at the start of most runs; a symmetry line):
-    // redo that particle with the bending plane taken from the motion where it is undefined.
-    for (std::size_t p = begin; p < end; ++p) {
-      if (singular[p] > 0.0) radial_particle<true>(s, k, p, cols);
-    }
+    // A straight or folded spring in this band (a flat sheet, at the start of most runs; a
+    // symmetry line): redo the band spring by spring with the bending plane taken from the motion
+    // where it is undefined. Particles without a singular spring get the same values again.
+    double* __restrict power = s[kPower];
+    for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
+    resolve_spring_row<0, 1, true, true>(s, k, begin, end, cols);    // (E,S): first into east and south
+    resolve_spring_row<1, 2, false, true>(s, k, begin, end, cols);   // (S,W): first into west
+    resolve_spring_row<2, 3, false, true>(s, k, begin, end, cols);   // (W,N): first into north
+    resolve_spring_row<3, 0, false, false>(s, k, begin, end, cols);  // (N,E)
+    resolve_spring_row<0, 2, false, false>(s, k, begin, end, cols);  // (E,W)
+    resolve_spring_row<1, 3, false, false>(s, k, begin, end, cols);  // (S,N)
   }
 }
 
-CLOTHSIM_MULTIVERSION void gather_row(const Arrays& arrays, const Coefficients& coefficients, const double* __restrict mass,
-                std::size_t begin, std::size_t end, std::size_t cols, Vec3* __restrict force) {
+CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients& coefficients,
+                                       const double* __restrict mass, std::size_t begin, std::size_t end,
+                                       std::size_t cols, Vec3* __restrict force) {
   const Arrays s = arrays;
   const Coefficients k = coefficients;
-  const auto load = [&](std::size_t x_array, std::size_t q) { return Vec3{s[x_array][q], s[x_array + 1][q], s[x_array + 2][q]}; };
+  const auto load = [&](std::size_t x_array, std::size_t q) {
+    return Vec3{s[x_array][q], s[x_array + 1][q], s[x_array + 2][q]};
+  };
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
     const std::size_t west = p - 1;
@@ -347,10 +387,14 @@ std::optional<LatticeMaterial> detect_lattice(const ClothModel& model) {
   constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}}};
   const auto neighbour = [&](std::uint32_t p, int direction) -> std::uint32_t {
     switch (direction) {
-      case 0: return p + 1;
-      case 1: return p + static_cast<std::uint32_t>(cols);
-      case 2: return p - 1;
-      default: return p - static_cast<std::uint32_t>(cols);
+      case 0:
+        return p + 1;
+      case 1:
+        return p + static_cast<std::uint32_t>(cols);
+      case 2:
+        return p - 1;
+      default:
+        return p - static_cast<std::uint32_t>(cols);
     }
   };
   std::size_t r = 0;
@@ -399,7 +443,7 @@ bool LatticeKernel::prepare(const ClothModel& model) {
   padding_ = static_cast<std::size_t>(cols_) + 8;
   stride_ = (n + 2 * padding_ + 7) / 8 * 8;
   scratch_.assign(kArrayCount * stride_, 0.0);
-  block_power_.assign((n + kReductionBlock - 1) / kReductionBlock, 0.0);
+  block_power_.assign(deterministic_sum_blocks(n), 0.0);
   return true;
 }
 
@@ -434,37 +478,45 @@ double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> po
   const double* mass = model.particle_mass.data();
   Vec3* out = force.data();
 
-  const auto pass = [&](int which, std::size_t i) {
-    const std::size_t begin = i * cols;
-    const std::size_t end = begin + cols;
-    switch (which) {
-      case 0:
-        transpose_row(s, position, velocity, begin, end);
-        break;
-      case 1:
-        std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
-        connector_row(s, k, begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
-        connector_row(s, k, begin, end, cols, i + 1 < rows ? end : begin, kSouthX, s[kConnectorPower]);
-        break;
-      case 2:
-        radial_row(s, k, begin, end, cols);
-        break;
-      default:
-        gather_row(s, k, mass, begin, end, cols, out);
-        break;
+  // The connector pass works row by row (the last column and the last row have no east or south
+  // connector). The radial and gather passes need no row structure (borders are zero
+  // connectors), so they run over bands of whole rows, at least kBandParticles long: long vector
+  // loops, few remainders. The result does not depend on the banding (every particle's values
+  // come from the same formulas), only the speed does.
+  const std::size_t band_rows = std::max<std::size_t>(1, (kBandParticles + cols - 1) / cols);
+  const std::size_t bands = (rows + band_rows - 1) / band_rows;
+  const auto pass = [&](int which, std::size_t item) {
+    if (which == 0) {
+      const std::size_t i = item;
+      const std::size_t begin = i * cols;
+      const std::size_t end = begin + cols;
+      velocity_row(s, velocity.data(), begin, end);
+      std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
+      connector_row(s, k, position.data(), velocity.data(), begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
+      connector_row(s, k, position.data(), velocity.data(), begin, end, cols, i + 1 < rows ? end : begin, kSouthX,
+                    s[kConnectorPower]);
+      return;
+    }
+    const std::size_t begin = item * band_rows * cols;
+    const std::size_t end = std::min(n, begin + band_rows * cols);
+    if (which == 1) {
+      radial_band(s, k, begin, end, cols);
+    } else {
+      gather_band(s, k, mass, begin, end, cols, out);
     }
   };
+  const auto items = [&](int which) { return which == 0 ? rows : bands; };
   if (threads <= 1) {
-    for (int which = 0; which < 4; ++which) {
-      for (std::size_t i = 0; i < rows; ++i) pass(which, i);
+    for (int which = 0; which < 3; ++which) {
+      for (std::size_t item = 0; item < items(which); ++item) pass(which, item);
     }
   } else {
-    const auto row_count = static_cast<long long>(rows);
 #pragma omp parallel num_threads(threads)
-    for (int which = 0; which < 4; ++which) {
+    for (int which = 0; which < 3; ++which) {
       // The implicit barrier at the end of each loop separates the passes.
+      const auto count = static_cast<long long>(items(which));
 #pragma omp for schedule(static)
-      for (long long i = 0; i < row_count; ++i) pass(which, static_cast<std::size_t>(i));
+      for (long long item = 0; item < count; ++item) pass(which, static_cast<std::size_t>(item));
     }
   }
   return deterministic_sum(std::span<const double>(s[kPower], n), threads, block_power_);

@@ -10,39 +10,44 @@
 // by checking the model against the canonical lattice (detect_lattice), and
 // tests/forces/test_lattice_kernel.cpp checks that both paths agree on random configurations.
 //
-// Passes, each a loop over rows and, inside, a vectorised loop over the columns:
-//   1. transpose  positions and velocities from Vec3 arrays into padded x/y/z arrays (SoA);
-//   2. connectors the east and south connector of each particle: unit vector, 1/length, tension
-//                 (the radial springs reuse the unit vectors and inverse lengths: each connector's
-//                 square root and division are done once, not once per spring that uses it);
-//   3. radials    the six radial springs centred at each particle; each writes its forces on the
+// Passes, each a vectorised loop over particles: row by row for the connectors, over bands of
+// whole rows (at least 256 particles, so that short rows still make long vector loops) for the
+// other two:
+//   1. connectors the east and south connector of each particle, read from the Vec3 position and
+//                 velocity arrays: unit vector, 1/length, tension; the row's velocities are copied
+//                 into x/y/z arrays (SoA) for the later passes. The radial springs reuse the unit
+//                 vectors and inverse lengths: each connector's square root and division are done
+//                 once, not once per spring that uses it;
+//   2. radials    the six radial springs centred at each particle; each writes its forces on the
 //                 four neighbours into to_east/to_south/to_west/to_north of the centre;
-//   4. gather     each particle sums, in a fixed order, gravity, drag, its four connectors'
+//   3. gather     each particle sums, in a fixed order, gravity, drag, its four connectors'
 //                 tensions, minus its own springs' forces on the neighbours, and the forces the
 //                 four neighbours' springs put on it.
 // Every value is computed by one formula from the same inputs whichever thread computes it, and
 // every sum has a fixed order, so the result is bit-for-bit the same for any thread count; the
-// passes run in one OpenMP region, rows split statically between threads, with a barrier between
-// passes. Borders need no special code: the arrays have cols + 1 zero entries of padding at both
+// passes run in one OpenMP region, rows (bands) split statically between threads, with a barrier
+// between passes. Borders need no special code: the arrays have cols + 8 zero entries of padding at both
 // ends, a missing connector is stored with 1/length = 0 and tension 0, and a radial spring with
 // a missing (or zero-length) connector contributes nothing, exactly like a degenerate element of
 // the general path.
 //
-// Vectorisation. GCC 12 -O3 vectorises the four column loops (checked with -fopt-info-vec: "loop
-// vectorized using 32 byte vectors" for each of them, 64 byte ones with -mprefer-vector-width=512)
-// because their bodies are straight-line arithmetic with selects: the arctangent is the inline
+// Vectorisation. GCC 12 -O3 vectorises the column loops of all three passes (checked with
+// -fopt-info-vec: "loop vectorized using 64 byte vectors" in the AVX-512 clone of each, 32 byte
+// ones in the AVX2 clone; lattice_kernel.cpp explains the multiversioning) because their bodies
+// are straight-line arithmetic with selects: the arctangent is the inline
 // vector_math::atan2_first_quadrant instead of std::atan2, and the singular case (a straight or
 // folded spring, whose bending plane comes from the motion, element::resolve_singular_directions)
-// only raises a per-row flag in the vector loop; a flagged row is then recomputed by the scalar
-// loop that resolves it. Both loops compute non-singular springs with the same operations, so
-// the result does not depend on which loop computed a row. -ffp-contract=off stays: no fused
-// multiply-adds are introduced, and vector lanes round exactly like scalar code.
+// only marks the particle in the vector loop; marked particles are then recomputed by a scalar
+// loop that resolves them. -fno-math-errno and -fno-trapping-math (this file only) let GCC
+// if-convert the square roots and divisions; neither changes a value. -ffp-contract=off stays:
+// no fused multiply-adds are introduced, and vector lanes round exactly like scalar code.
 //
 // Precision. Double throughout, like the general path: the kernel differs from it only by
 // rounding (1/l multiplied instead of dividing by l, the polynomial arctangent instead of libm's),
-// a few ulps per force. float32 was rejected: RKF45's error control at the default tolerance
-// (1e-6 m + 1e-6 |x|) compares stage differences of ~1e-9 m on metre-sized sheets, which float's
-// 24-bit significand (6e-8 relative) cannot resolve (docs/performance.md).
+// a few ulps per force. float32 was rejected: RKF45's default tolerance is 1e-6 m + 1e-6 |x|,
+// and float's 24-bit significand resolves a coordinate of 100 m (a 200 x 200 sheet) only to
+// 8e-6 m, and the stiff opposite springs' forces (differences of nearly equal angles) to a few
+// parts in 1e7: the error estimate would be rounding noise (docs/performance.md).
 #pragma once
 
 #include <cstddef>
@@ -58,15 +63,15 @@ namespace clothsim {
 
 // Material of an intact lattice: every element of a kind has these parameters.
 struct LatticeMaterial {
-  double rest_length = 0.0;           // connector L, m
-  double connector_stiffness = 0.0;   // N/m
-  double connector_damping = 0.0;     // N s/m
-  double adjacent_stiffness = 0.0;    // N m / rad
-  double adjacent_damping = 0.0;      // N m s / rad
-  double adjacent_rest_angle = 0.0;   // rad
-  double opposite_stiffness = 0.0;    // N m / rad
-  double opposite_damping = 0.0;      // N m s / rad
-  double opposite_rest_angle = 0.0;   // rad
+  double rest_length = 0.0;          // connector L, m
+  double connector_stiffness = 0.0;  // N/m
+  double connector_damping = 0.0;    // N s/m
+  double adjacent_stiffness = 0.0;   // N m / rad
+  double adjacent_damping = 0.0;     // N m s / rad
+  double adjacent_rest_angle = 0.0;  // rad
+  double opposite_stiffness = 0.0;   // N m / rad
+  double opposite_damping = 0.0;     // N m s / rad
+  double opposite_rest_angle = 0.0;  // rad
 };
 
 // The material if `model` is exactly the lattice build_lattice() makes for its rows x cols

@@ -28,12 +28,10 @@ inline double atan2_first_quadrant(double y, double x) {
   // pi/2 - kPiOver2 (the part of pi/2 below the double's last bit), Cephes' MOREBITS.
   constexpr double kPiOver2Tail = 6.123233995736765886130e-17;
   // Cephes' rational approximation atan(t) = t + t z P(z) / Q(z), z = t^2, |t| <= 0.66.
-  constexpr double p4 = -8.750608600031904122785e-1, p3 = -1.615753718733365076637e1,
-                   p2 = -7.500855792314704667340e1, p1 = -1.228866684490136173410e2,
-                   p0 = -6.485021904942025371773e1;
-  constexpr double q4 = 2.485846490142306297962e1, q3 = 1.650270098316988542046e2,
-                   q2 = 4.328810604912902668951e2, q1 = 4.853903996359136964868e2,
-                   q0 = 1.945506571482613964390e2;
+  constexpr double p4 = -8.750608600031904122785e-1, p3 = -1.615753718733365076637e1, p2 = -7.500855792314704667340e1,
+                   p1 = -1.228866684490136173410e2, p0 = -6.485021904942025371773e1;
+  constexpr double q4 = 2.485846490142306297962e1, q3 = 1.650270098316988542046e2, q2 = 4.328810604912902668951e2,
+                   q1 = 4.853903996359136964868e2, q0 = 1.945506571482613964390e2;
   const bool swapped = y > x;
   const double numerator = swapped ? x : y;
   const double denominator = swapped ? y : x;

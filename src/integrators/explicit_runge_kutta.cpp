@@ -6,6 +6,7 @@
 #include <span>
 
 #include "core/assert.h"
+#include "core/multiversion.h"
 #include "core/parallel.h"
 #include "core/timer.h"
 
@@ -24,8 +25,9 @@ constexpr std::size_t kCombinationBlock = 4096;
 // [begin, end) of flat double arrays (a Vec3 array is 3n doubles). The number of terms is a
 // template parameter so that the term loop unrolls and the loop over k vectorises.
 template <int kTerms>
-void combination_block(double* __restrict out, const double* __restrict base, const double* const* in,
-                       const double* c, std::size_t begin, std::size_t end) {
+[[gnu::always_inline]] inline void combination_block(double* __restrict out, const double* __restrict base,
+                                                     const double* const* in, const double* c, std::size_t begin,
+                                                     std::size_t end) {
   const double* __restrict term[kTerms > 0 ? kTerms : 1];
   double coefficient[kTerms > 0 ? kTerms : 1];
   for (int t = 0; t < kTerms; ++t) {
@@ -37,6 +39,21 @@ void combination_block(double* __restrict out, const double* __restrict base, co
     double sum = base != nullptr ? base[k] : 0.0;
     for (int t = 0; t < kTerms; ++t) sum += coefficient[t] * term[t][k];
     out[k] = sum;
+  }
+}
+
+// combination_block for a run-time number of terms (0 to kMaxStages), vectorised for the CPU's
+// widest vectors (core/multiversion.h).
+CLOTHSIM_MULTIVERSION void combination_range(double* out, const double* base, const double* const* in, const double* c,
+                                             int terms, std::size_t begin, std::size_t end) {
+  switch (terms) {
+    case 0: combination_block<0>(out, base, in, c, begin, end); break;
+    case 1: combination_block<1>(out, base, in, c, begin, end); break;
+    case 2: combination_block<2>(out, base, in, c, begin, end); break;
+    case 3: combination_block<3>(out, base, in, c, begin, end); break;
+    case 4: combination_block<4>(out, base, in, c, begin, end); break;
+    case 5: combination_block<5>(out, base, in, c, begin, end); break;
+    default: combination_block<6>(out, base, in, c, begin, end); break;
   }
 }
 
@@ -54,15 +71,7 @@ void linear_combination(std::span<Vec3> out, std::span<const Vec3> base, const s
   parallel_for(blocks, threads, [&](std::size_t block) {
     const std::size_t begin = block * kCombinationBlock;
     const std::size_t end = std::min(size, begin + kCombinationBlock);
-    switch (terms) {
-      case 0: combination_block<0>(out_data, base_data, flat.data(), c.data(), begin, end); break;
-      case 1: combination_block<1>(out_data, base_data, flat.data(), c.data(), begin, end); break;
-      case 2: combination_block<2>(out_data, base_data, flat.data(), c.data(), begin, end); break;
-      case 3: combination_block<3>(out_data, base_data, flat.data(), c.data(), begin, end); break;
-      case 4: combination_block<4>(out_data, base_data, flat.data(), c.data(), begin, end); break;
-      case 5: combination_block<5>(out_data, base_data, flat.data(), c.data(), begin, end); break;
-      default: combination_block<6>(out_data, base_data, flat.data(), c.data(), begin, end); break;
-    }
+    combination_range(out_data, base_data, flat.data(), c.data(), terms, begin, end);
   });
 }
 
@@ -146,7 +155,7 @@ void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::a
 
 std::vector<PhaseTime> ExplicitRungeKutta::phase_times() const {
   std::vector<PhaseTime> phases = {{"stage sums", stage_sum_seconds_}, {"solution update", solution_seconds_}};
-  if (tableau_.embedded_order > 0 && kind() == IntegratorKind::rkf45) phases.push_back({"error control", error_seconds_});
+  if (kind() == IntegratorKind::rkf45) phases.push_back({"error control", error_seconds_});
   return phases;
 }
 
@@ -201,19 +210,34 @@ namespace {
 // The scaled error of one particle as the bit pattern of a non-negative double: for those,
 // unsigned integer order is numeric order, with +inf above every finite value and NaN above +inf,
 // so a plain integer maximum finds the largest error and lets a non-finite one win, without
-// branches (the loop vectorises). 0 for anchored particles.
-inline std::uint64_t scaled_error_bits(const Vec3& error_x, const Vec3& error_v, const Vec3& x0, const Vec3& x1,
-                                       const Vec3& v0, const Vec3& v1, double atol, double rtol, bool anchored) {
+// branches. 0 for anchored particles.
+[[gnu::always_inline]] inline std::uint64_t scaled_error_bits(const Vec3& error_x, const Vec3& error_v, const Vec3& x0,
+                                                              const Vec3& x1, const Vec3& v0, const Vec3& v1,
+                                                              double atol, double rtol, bool anchored) {
   const auto ratio = [&](double error, double before, double after) {
     const double scale = atol + rtol * std::max(std::abs(before), std::abs(after));
     // (e - e) and (after - after) are 0 for finite values and NaN otherwise.
     const double ratio_value = std::abs(error) / scale + ((error - error) + (after - after));
     return std::bit_cast<std::uint64_t>(std::abs(ratio_value));
   };
-  const std::uint64_t largest = std::max({ratio(error_x.x, x0.x, x1.x), ratio(error_x.y, x0.y, x1.y),
-                                          ratio(error_x.z, x0.z, x1.z), ratio(error_v.x, v0.x, v1.x),
-                                          ratio(error_v.y, v0.y, v1.y), ratio(error_v.z, v0.z, v1.z)});
+  const std::uint64_t largest =
+      std::max(std::max(std::max(ratio(error_x.x, x0.x, x1.x), ratio(error_x.y, x0.y, x1.y)),
+                        std::max(ratio(error_x.z, x0.z, x1.z), ratio(error_v.x, v0.x, v1.x))),
+               std::max(ratio(error_v.y, v0.y, v1.y), ratio(error_v.z, v0.z, v1.z)));
   return anchored ? 0 : largest;
+}
+
+// The largest scaled error bits over particles [begin, end).
+CLOTHSIM_MULTIVERSION std::uint64_t largest_error_bits(const Vec3* error_x, const Vec3* error_v, const Vec3* x0,
+                                                       const Vec3* x1, const Vec3* v0, const Vec3* v1,
+                                                       const std::int32_t* anchor, double atol, double rtol,
+                                                       std::size_t begin, std::size_t end) {
+  std::uint64_t worst = 0;
+  for (std::size_t p = begin; p < end; ++p) {
+    worst = std::max(worst, scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol,
+                                              anchor[p] >= 0));
+  }
+  return worst;
 }
 
 }  // namespace
@@ -251,10 +275,9 @@ AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& s
     return scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0);
   };
   parallel_for(block_error_.size(), dynamics_.threads(), [&](std::size_t block) {
-    std::uint64_t worst = 0;
     const std::size_t end = std::min(n, (block + 1) * kErrorBlock);
-    for (std::size_t p = block * kErrorBlock; p < end; ++p) worst = std::max(worst, particle_bits(p));
-    block_error_[block] = std::bit_cast<double>(worst);
+    block_error_[block] = std::bit_cast<double>(
+        largest_error_bits(error_x, error_v, x0, x1, v0, v1, anchor, atol, rtol, block * kErrorBlock, end));
   });
   // The first block with the largest error, and (only when the step fails, where it is reported)
   // the first particle in it with that error.

@@ -42,7 +42,7 @@ namespace clothsim {
 
 struct SimulationSettings {
   IntegratorSettings integrator;
-  int threads = 0;  // 0: choose from the lattice size
+  int threads = 0;  // 0: choose from the lattice size and the idle cores (core/parallel.h)
   ForceTerms terms = kAllForceTerms;
   ForceKernel kernel = ForceKernel::automatic;  // which force implementation (forces.h)
   // A connector longer than this many times its rest length means the integration has blown up.

@@ -2,8 +2,6 @@
 // damping power up to rounding on random configurations (stretched, bent, folded, flat with
 // motion: the singular case), bit-for-bit thread independence of both paths, detection of
 // intact lattices, and the vectorisable arctangent against std::atan2.
-#include "forces/lattice_kernel.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -12,6 +10,7 @@
 #include <numbers>
 
 #include "forces/forces.h"
+#include "forces/lattice_kernel.h"
 #include "forces/vector_math.h"
 #include "test_support.h"
 
@@ -79,7 +78,8 @@ void expect_paths_agree(const ClothModel& model, const std::vector<Vec3>& x, con
 
 TEST(LatticeKernel, AgreesWithTheGeneralPathOnRandomConfigurations) {
   int seed = 1;
-  for (const auto& [rows, cols] : std::vector<std::pair<int, int>>{{1, 2}, {1, 5}, {2, 2}, {3, 1}, {4, 7}, {9, 6}, {17, 23}}) {
+  for (const auto& [rows, cols] :
+       std::vector<std::pair<int, int>>{{1, 2}, {1, 5}, {2, 2}, {3, 1}, {4, 7}, {9, 6}, {17, 23}}) {
     const ClothModel model = lattice(rows, cols, 0.2);
     for (double amplitude : {0.05, 0.3, 0.9}) {  // gently to violently deformed (0.9 m folds it)
       std::vector<Vec3> x, v;
