@@ -38,6 +38,7 @@
 
 #include "core/assert.h"
 #include "core/error.h"
+#include "core/input_file.h"
 #include "scene/parameters.h"
 
 namespace clothsim {
@@ -695,19 +696,7 @@ SceneSpec parse_scene(std::string_view json_text, const std::string& source) {
 }
 
 SceneSpec load_scene_file(const std::string& path) {
-  errno = 0;
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) fail(path, "", std::string("cannot read file: ") + std::strerror(errno));
-  std::string text;
-  std::array<char, 65536> buffer{};
-  std::size_t count = 0;
-  while ((count = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) text.append(buffer.data(), count);
-  // Reading a directory opens fine on Linux and fails here with EISDIR.
-  const bool read_failed = std::ferror(file) != 0;
-  const int read_errno = errno;
-  std::fclose(file);
-  if (read_failed) fail(path, "", std::string("cannot read file: ") + std::strerror(read_errno));
-  return parse_scene(text, path);
+  return parse_scene(read_input_file(path), path);
 }
 
 SceneSpec scene_from_paper_args(std::string_view text, const std::string& source) {

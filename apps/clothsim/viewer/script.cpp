@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
+#include "core/input_file.h"
 #include "scene/parameters.h"
 #include "viewer/live_parameters.h"
 
@@ -262,18 +263,7 @@ Script parse_script(std::string_view json_text, const std::string& source) {
 }
 
 Script load_script_file(const std::string& path) {
-  errno = 0;
-  std::FILE* file = std::fopen(path.c_str(), "rb");
-  if (file == nullptr) fail(path, "", std::string("cannot read file: ") + std::strerror(errno));
-  std::string text;
-  std::array<char, 65536> buffer{};
-  std::size_t count = 0;
-  while ((count = std::fread(buffer.data(), 1, buffer.size(), file)) > 0) text.append(buffer.data(), count);
-  const bool read_failed = std::ferror(file) != 0;
-  const int read_errno = errno;
-  std::fclose(file);
-  if (read_failed) fail(path, "", std::string("cannot read file: ") + std::strerror(read_errno));
-  return parse_script(text, path);
+  return parse_script(read_input_file(path), path);
 }
 
 void check_script(const Script& script, const SceneSpec& scene) {
