@@ -299,7 +299,11 @@ struct RunRecorder::Impl {
     }
     changed.notify_all();
     worker.join();
-    context->bind();
+    try {
+      context->bind();  // back on this thread: finish() and the destructors use it
+    } catch (...) {
+      if (!failure) failure = std::current_exception();
+    }
   }
 
   ~Impl() {

@@ -52,7 +52,9 @@ std::string describe_render_outputs(const RenderPlan& plan);
 class RunRecorder {
  public:
   // Creates the headless OpenGL context and checks that ffmpeg runs, as the plan needs. Throws
-  // OutputError (exit 3) when either is unavailable. With --render none it does nothing.
+  // OutputError (exit 3) when either is unavailable. With --render none it does nothing. The
+  // model is copied for the rendering thread: its topology must not change during the run (the
+  // model argument of frame() is not read; it is there for when events change the sheet).
   RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothModel& model);
   ~RunRecorder();
   RunRecorder(const RunRecorder&) = delete;
