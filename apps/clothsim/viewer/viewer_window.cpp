@@ -418,8 +418,12 @@ int Viewer::run() {
 
   for (std::uint64_t frame = 0;; ++frame) {
     glfwPollEvents();
-    if (glfwWindowShouldClose(window_) != 0 || quit_) break;
     glfwGetFramebufferSize(window_, &width_, &height_);
+    while ((width_ < 1 || height_ < 1) && glfwWindowShouldClose(window_) == 0) {  // minimised: wait
+      glfwWaitEventsTimeout(0.1);
+      glfwGetFramebufferSize(window_, &width_, &height_);
+    }
+    if (glfwWindowShouldClose(window_) != 0 || quit_) break;
     const double now = glfwGetTime();
     const double wall_interval = now - last_frame;
     last_frame = now;
@@ -441,15 +445,15 @@ int Viewer::run() {
       panel_.step_requested = false;
       const bool moving = session_.playing() || step;
       const double duration = scripted || step ? frame_time : FramePacer::simulated_step(wall_interval);
+      if (step) session_.set_playing(true);  // for this frame, so that a drag drives rather than places
       if (mouse_mode_ == MouseMode::drag) drag_grabbed(moving ? duration : 0.0);
       double advanced = 0.0;
       const Stopwatch simulation_watch;
       if (moving) {
-        if (step) session_.set_playing(true);  // a drag during the step drives rather than places
         advanced = scripted || step ? session_.advance(duration)
                                     : session_.advance(duration, FramePacer::kWorkBudget, FramePacer::kPiece);
-        if (step) session_.set_playing(false);
       }
+      if (step) session_.set_playing(false);
       pacer_.record(wall_interval, advanced, session_.playing());
       if (frame >= 2) {  // frame 1's interval holds the start-up: the benchmark starts after it
         benchmark_simulated += advanced;
