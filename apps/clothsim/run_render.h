@@ -1,4 +1,5 @@
-// The pictures of `clothsim run`: the --render, --size, --camera, --mesh and --show flags, and
+// The pictures of `clothsim run`: the --render, --size, --camera, --mesh, --show and --samples
+// flags, and
 // the recorder that renders each output frame headlessly into final.png and animation.mp4.
 //
 // Order within a run (run_command.cpp): the flags are parsed with the other input, before
@@ -35,6 +36,7 @@ struct RenderFlags {
   std::string camera;
   std::string mesh;
   std::string show;
+  std::string samples;
 };
 
 // Registers the flags on `app`.
