@@ -1,4 +1,5 @@
-// The pictures of `clothsim run`: the --render, --size, --camera, --mesh and --show flags, and
+// The pictures of `clothsim run`: the --render, --size, --camera, --mesh, --show and --samples
+// flags, and
 // the recorder that renders each output frame headlessly into final.png and animation.mp4.
 //
 // Order within a run (run_command.cpp): the flags are parsed with the other input, before
@@ -35,6 +36,7 @@ struct RenderFlags {
   std::string camera;
   std::string mesh;
   std::string show;
+  std::string samples;
 };
 
 // Registers the flags on `app`.
@@ -52,7 +54,9 @@ std::string describe_render_outputs(const RenderPlan& plan);
 class RunRecorder {
  public:
   // Creates the headless OpenGL context and checks that ffmpeg runs, as the plan needs. Throws
-  // OutputError (exit 3) when either is unavailable. With --render none it does nothing.
+  // OutputError (exit 3) when either is unavailable. With --render none it does nothing. The
+  // model is copied for the rendering thread: its topology must not change during the run (the
+  // model argument of frame() is not read; it is there for when events change the sheet).
   RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothModel& model);
   ~RunRecorder();
   RunRecorder(const RunRecorder&) = delete;

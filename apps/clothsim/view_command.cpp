@@ -32,6 +32,7 @@ struct ViewOptions {
   std::string dump_state;
   std::uint64_t benchmark_frames = 0;
   std::string size = "1280x800";
+  int samples = -1;
   bool no_vsync = false;
   bool hide_panel = false;
 };
@@ -94,6 +95,12 @@ int view(const ViewOptions& options) {
   }
   viewer_options.screenshot_folder = options.screenshot_folder;
   viewer_options.dump_state = options.dump_state;
+  if (options.scene.given("--samples")) {
+    if (options.samples < 0 || options.samples > 16) {
+      throw InputError("--samples", "", "must be a whole number in [0, 16], got " + std::to_string(options.samples));
+    }
+    viewer_options.samples = options.samples;
+  }
   viewer_options.vsync = !options.no_vsync;
   viewer_options.show_panel = !options.hide_panel;
   viewer::Session session(spec);
@@ -169,6 +176,10 @@ Subcommand add_view_command(CLI::App& parent) {
                   "run N real-time frames without vsync, print fps and simulated/wall time, exit")
       ->type_name("N");
   app->add_option("--size", options->size, "window size in pixels (default 1280x800)")->type_name("WxH");
+  app->add_option("--samples", options->samples,
+                  "multisample anti-aliasing samples per pixel, 0 for none (default: 4 on a GPU, 0 on a "
+                  "software renderer such as llvmpipe)")
+      ->type_name("N");
   app->add_flag("--no-vsync", options->no_vsync, "draw as fast as possible instead of at the display's rate");
   app->add_flag("--hide-panel", options->hide_panel, "start with the panel hidden (H shows it)");
   app->footer(view_footer());

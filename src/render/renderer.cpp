@@ -237,7 +237,8 @@ struct Buffers {
   void upload(const std::vector<float>& data, std::initializer_list<int> attribute_offsets, int stride_floats) {
     glBindVertexArray(array);
     glBindBuffer(GL_ARRAY_BUFFER, vertices);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), nullptr, GL_STREAM_DRAW);
+    // glBufferData with new contents gives the buffer new storage (orphaning): the driver need
+    // not wait for draws still reading the previous frame's data.
     glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STREAM_DRAW);
     GLuint location = 0;
     for (const int offset : attribute_offsets) {

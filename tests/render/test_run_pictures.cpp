@@ -217,7 +217,7 @@ TEST_F(RunPictures, CameraMeshAndOverlayFlagsRun) {
   for (const std::vector<std::string>& flags :
        {std::vector<std::string>{"--camera", "follow", "--mesh", "cell-centres"},
         std::vector<std::string>{"--camera", "-30,60", "--show", "connectors,radials,wireframe"},
-        std::vector<std::string>{"--camera", "10,20,15", "--show", "no-ground,no-anchors"}}) {
+        std::vector<std::string>{"--camera", "10,20,15", "--show", "no-ground,no-anchors", "--samples", "1"}}) {
     fs::remove_all(work_);
     fs::create_directories(work_);
     std::vector<std::string> args = {"--render", "image", "--size", "96x64", "--duration", "0.1"};
@@ -233,7 +233,7 @@ TEST_F(RunPictures, BadFlagsExitTwoNamingTheFlagAndWriteNothing) {
       {"--size", "0x100"},       {"--size", "1280"},          {"--size", "100x99999"}, {"--size", "axb"},
       {"--size", "1280x720x3"},  {"--size", "-5x10"},         {"--render", "movie"},   {"--camera", "90"},
       {"--camera", "0,95"},      {"--camera", "0,10,-1"},     {"--camera", "zoom"},    {"--mesh", "quads"},
-      {"--show", "springs"},
+      {"--show", "springs"},     {"--samples", "0"},          {"--samples", "17"},     {"--samples", "2.5"},
   };
   for (const std::vector<std::string>& flags : cases) {
     const Result result = small_run(flags);

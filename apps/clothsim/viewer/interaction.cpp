@@ -6,21 +6,32 @@ namespace clothsim::viewer {
 
 long pick_particle(const render::Camera& camera, std::span<const Vec3> positions, double x, double y, int width,
                    int height, double radius) {
+  // One matrix for all particles (Camera::project would rebuild it per point), and the same
+  // projection as Camera::project: clip space, then pixels with y down.
+  const render::Mat4 matrix = camera.view_projection(static_cast<double>(width) / height);
   long best = -1;
   double best_distance = radius;
   double best_depth = 0.0;
   for (std::size_t p = 0; p < positions.size(); ++p) {
-    const render::Projection projection = camera.project(positions[p], width, height);
-    if (!projection.visible) continue;
-    const double distance = std::hypot(projection.x - x, projection.y - y);
+    const Vec3& point = positions[p];
+    const auto row = [&](int r) {
+      return matrix(r, 0) * point.x + matrix(r, 1) * point.y + matrix(r, 2) * point.z + matrix(r, 3);
+    };
+    const double w = row(3);
+    if (!(w > 0.0)) continue;  // behind the eye
+    const double ndc_x = row(0) / w;
+    const double ndc_y = row(1) / w;
+    const double depth = row(2) / w;
+    if (std::abs(ndc_x) > 1.0 || std::abs(ndc_y) > 1.0 || std::abs(depth) > 1.0) continue;
+    const double distance = std::hypot((ndc_x + 1.0) / 2.0 * width - x, (1.0 - ndc_y) / 2.0 * height - y);
     if (distance > radius) continue;
     // Within a tenth of a pixel counts as the same distance: then the nearer particle wins.
     const bool closer = distance < best_distance - 0.1;
-    const bool tie_nearer = distance <= best_distance + 0.1 && projection.depth < best_depth;
+    const bool tie_nearer = distance <= best_distance + 0.1 && depth < best_depth;
     if (best < 0 || closer || tie_nearer) {
       best = static_cast<long>(p);
       best_distance = distance;
-      best_depth = projection.depth;
+      best_depth = depth;
     }
   }
   return best;

@@ -14,7 +14,6 @@
 namespace clothsim::viewer {
 namespace {
 
-constexpr float kPanelWidth = 360.0f;
 constexpr float kPlotHeight = 130.0f;
 const ImVec4 kWarningColour{0.85f, 0.05f, 0.05f, 1.0f};
 constexpr ImU32 kKineticColour = IM_COL32(220, 90, 20, 255);
@@ -257,8 +256,9 @@ void help_section() {
 void draw_panel(PanelState& state, Session& session, const FramePacer& pacer) {
   if (!state.visible) return;
   const ImGuiIO& io = ImGui::GetIO();
-  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - kPanelWidth - 8.0f, 8.0f), ImGuiCond_Always);
-  ImGui::SetNextWindowSizeConstraints(ImVec2(kPanelWidth, 0.0f), ImVec2(kPanelWidth, io.DisplaySize.y - 16.0f));
+  const auto width = static_cast<float>(kPanelWidth);
+  ImGui::SetNextWindowPos(ImVec2(io.DisplaySize.x - width - 8.0f, 8.0f), ImGuiCond_Always);
+  ImGui::SetNextWindowSizeConstraints(ImVec2(width, 0.0f), ImVec2(width, io.DisplaySize.y - 16.0f));
   ImGui::SetNextWindowBgAlpha(0.92f);
   const std::string title = "clothsim: " + session.scene().name;
   if (ImGui::Begin(title.c_str(), nullptr, ImGuiWindowFlags_AlwaysAutoResize)) {

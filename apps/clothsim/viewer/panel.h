@@ -17,6 +17,9 @@
 
 namespace clothsim::viewer {
 
+// Width of the panel, pixels (the camera frames the sheet beside it).
+inline constexpr double kPanelWidth = 360.0;
+
 struct PanelState {
   bool visible = true;
   // Requests the window carries out at the right moment of its frame.

@@ -73,8 +73,9 @@ bool Session::is_pinned(std::uint32_t particle) const {
 void Session::drag(std::uint32_t particle, const Vec3& target, double duration) {
   CLOTHSIM_ASSERT(particle < simulation_->model().particle_count(), "dragged particle is in the lattice");
   if (!is_held(particle)) held_.emplace(particle, simulation_->model().is_anchored(particle));
-  if (duration > 0.0 && playing_) {
-    simulation_->drive_particle(particle, target, time() + duration);
+  const double arrival = time() + duration;
+  if (arrival > time() && playing_) {  // a duration lost to rounding next to time() places instead
+    simulation_->drive_particle(particle, target, arrival);
     return;
   }
   if (!simulation_->model().is_anchored(particle)) simulation_->pin_particle(particle);

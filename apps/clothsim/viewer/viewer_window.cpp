@@ -33,7 +33,6 @@ constexpr double kOrbitPerPixel = 0.008;   // rad of orbit per pixel of mouse mo
 constexpr double kOrbitPerKey = 0.06;      // rad per key press (or repeat)
 constexpr double kPanPerKey = 0.05;        // fraction of the view height per key press
 constexpr double kZoomPerNotch = 0.9;      // distance factor per scroll notch or key press
-constexpr double kClickSlop = 4.0;         // pixels a press may move and still count as a click
 
 std::string g_glfw_error;  // the last GLFW error, for messages
 
@@ -132,18 +131,34 @@ class Viewer {
   std::uint64_t screenshot_count_ = 0;
 };
 
-Viewer::Viewer(Session& session, const ViewerOptions& options) : session_(session), options_(options) {
+// An OpenGL 3.3 core window with `samples` MSAA samples, its context current.
+GLFWwindow* open_window(const ViewerOptions& options, const std::string& title, int samples) {
   glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
   glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
   glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
   glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, 4);
+  glfwWindowHint(GLFW_SAMPLES, samples);
+  GLFWwindow* window = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
+  if (window == nullptr) throw render::RenderError("cannot open an OpenGL 3.3 core window: " + g_glfw_error);
+  glfwMakeContextCurrent(window);
+  return window;
+}
+
+// Mesa's software rasterisers, which the default of 4x MSAA would slow down about five times.
+bool is_software_renderer() {
+  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
+  const std::string name = renderer != nullptr ? renderer : "";
+  return name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos ||
+         name.find("swrast") != std::string::npos;
+}
+
+Viewer::Viewer(Session& session, const ViewerOptions& options) : session_(session), options_(options) {
   const std::string title = "clothsim view: " + session.scene().name;
-  window_ = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
-  if (window_ == nullptr) {
-    throw render::RenderError("cannot open an OpenGL 3.3 core window: " + g_glfw_error);
+  window_ = open_window(options, title, options.samples < 0 ? 4 : options.samples);
+  if (options.samples < 0 && is_software_renderer()) {
+    glfwDestroyWindow(window_);
+    window_ = open_window(options, title, 0);
   }
-  glfwMakeContextCurrent(window_);
   glfwSwapInterval(options.vsync && options.benchmark_frames == 0 ? 1 : 0);
   glfwSetWindowUserPointer(window_, this);
   glfwGetFramebufferSize(window_, &width_, &height_);
@@ -163,6 +178,8 @@ Viewer::Viewer(Session& session, const ViewerOptions& options) : session_(sessio
   glfwSetScrollCallback(window_, on_scroll);
   glfwSetKeyCallback(window_, on_key);
   glfwSetCharCallback(window_, on_char);
+  glfwSetCursorEnterCallback(window_, ImGui_ImplGlfw_CursorEnterCallback);
+  glfwSetWindowFocusCallback(window_, ImGui_ImplGlfw_WindowFocusCallback);
 
   panel_.visible = options.show_panel;
   const std::span<const Vec3> positions = session_.simulation().state().position;
@@ -179,7 +196,12 @@ Viewer::~Viewer() {
 }
 
 void Viewer::frame_camera() {
-  camera_.frame(session_.simulation().state().position, static_cast<double>(width_) / std::max(1, height_), 1.2);
+  // Fit the sheet into the part of the window the panel leaves free, then move the picture into
+  // the middle of that part.
+  const double panel = panel_.visible ? std::min(kPanelWidth + 16.0, 0.5 * width_) : 0.0;
+  const double free_width = std::max(1.0, width_ - panel);
+  camera_.frame(session_.simulation().state().position, free_width / std::max(1, height_), 1.2);
+  camera_.pan(-0.5 * panel / std::max(1, height_), 0.0);
 }
 
 std::pair<double, double> Viewer::cursor_pixels() const {
@@ -257,7 +279,7 @@ void Viewer::cursor(double /*window_x*/, double /*window_y*/) {
       camera_.orbit(-dx * kOrbitPerPixel, dy * kOrbitPerPixel);
       break;
     case MouseMode::pan:
-      camera_.pan(-dx / height_, dy / height_);
+      camera_.pan(dx / height_, -dy / height_);  // the picture follows the cursor
       break;
     case MouseMode::drag:  // the target follows the cursor in drag_grabbed(), once per frame
     case MouseMode::none:
@@ -389,14 +411,19 @@ int Viewer::run() {
 
   Stopwatch benchmark_clock;
   double benchmark_simulated = 0.0;
+  double benchmark_simulation_seconds = 0.0;  // wall time spent in Session::advance
   std::vector<double> frame_intervals;
   double last_frame = glfwGetTime();
   bool reported_failure = false;
 
   for (std::uint64_t frame = 0;; ++frame) {
     glfwPollEvents();
-    if (glfwWindowShouldClose(window_) != 0 || quit_) break;
     glfwGetFramebufferSize(window_, &width_, &height_);
+    while ((width_ < 1 || height_ < 1) && glfwWindowShouldClose(window_) == 0) {  // minimised: wait
+      glfwWaitEventsTimeout(0.1);
+      glfwGetFramebufferSize(window_, &width_, &height_);
+    }
+    if (glfwWindowShouldClose(window_) != 0 || quit_) break;
     const double now = glfwGetTime();
     const double wall_interval = now - last_frame;
     last_frame = now;
@@ -418,17 +445,19 @@ int Viewer::run() {
       panel_.step_requested = false;
       const bool moving = session_.playing() || step;
       const double duration = scripted || step ? frame_time : FramePacer::simulated_step(wall_interval);
+      if (step) session_.set_playing(true);  // for this frame, so that a drag drives rather than places
       if (mouse_mode_ == MouseMode::drag) drag_grabbed(moving ? duration : 0.0);
       double advanced = 0.0;
+      const Stopwatch simulation_watch;
       if (moving) {
-        if (step) session_.set_playing(true);  // a drag during the step drives rather than places
         advanced = scripted || step ? session_.advance(duration)
                                     : session_.advance(duration, FramePacer::kWorkBudget, FramePacer::kPiece);
-        if (step) session_.set_playing(false);
       }
+      if (step) session_.set_playing(false);
       pacer_.record(wall_interval, advanced, session_.playing());
       if (frame >= 2) {  // frame 1's interval holds the start-up: the benchmark starts after it
         benchmark_simulated += advanced;
+        benchmark_simulation_seconds += simulation_watch.seconds();
         frame_intervals.push_back(wall_interval);
       }
     }
@@ -483,11 +512,14 @@ int Viewer::run() {
     const Simulation& simulation = session_.simulation();
     std::printf(
         "benchmark: %s, %dx%d lattice (%zu particles), %s, window %dx%d\n"
-        "benchmark: %zu frames in %.3f s: %.1f fps (median frame %.2f ms); simulated %.3f s, %.3fx real time\n",
+        "benchmark: %zu frames in %.3f s: %.1f fps (median frame %.2f ms); simulated %.3f s, %.3fx real time\n"
+        "benchmark: per frame %.2f ms simulating, %.2f ms drawing, the panel and the rest\n",
         session_.scene().name.c_str(), simulation.model().rows, simulation.model().cols,
         simulation.model().particle_count(), std::string(to_string(simulation.settings().integrator.kind)).c_str(),
         width_, height_, frame_intervals.size(), wall, static_cast<double>(frame_intervals.size()) / wall,
-        1e3 * median, benchmark_simulated, benchmark_simulated / wall);
+        1e3 * median, benchmark_simulated, benchmark_simulated / wall,
+        1e3 * benchmark_simulation_seconds / static_cast<double>(frame_intervals.size()),
+        1e3 * (wall - benchmark_simulation_seconds) / static_cast<double>(frame_intervals.size()));
     std::fflush(stdout);
   }
   if (!options_.dump_state.empty()) {
