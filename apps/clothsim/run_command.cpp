@@ -184,6 +184,10 @@ int run(const RunOptions& options, const Invocation& invocation) {
   const auto last_frame = static_cast<std::uint64_t>(std::llround(spec.output.duration * fps));
   ProgressBar progress(!options.quiet && !options.no_progress, static_cast<double>(last_frame) / fps);
   RunStatus status = RunStatus::completed;
+  // --until-rest: frames in a row whose kinetic energy is below the threshold, and how many make
+  // rest_duration (the first such frame and the one rest_duration later, and all between).
+  std::uint64_t quiet_frames = 0;
+  const auto rest_frames = static_cast<std::uint64_t>(std::llround(spec.output.rest_duration * fps)) + 1;
   for (std::uint64_t frame = 1; frame <= last_frame; ++frame) {
     if (interrupt.interrupted()) {
       status = RunStatus::interrupted;
@@ -196,10 +200,14 @@ int run(const RunOptions& options, const Invocation& invocation) {
     writer.write_frame(simulation);
     recorder.frame(simulation.model(), simulation.state().position, simulation.state().time);
     progress.update(simulation.state().time, simulation.integrator_stats().accepted_steps);
-    if (spec.output.until_rest &&
-        kinetic_energy(simulation.model(), simulation.state().velocity) < spec.output.rest_kinetic_energy) {
-      status = RunStatus::at_rest;
-      break;
+    if (spec.output.until_rest) {
+      const bool quiet =
+          kinetic_energy(simulation.model(), simulation.state().velocity) < spec.output.rest_kinetic_energy;
+      quiet_frames = quiet ? quiet_frames + 1 : 0;
+      if (quiet_frames >= rest_frames) {
+        status = RunStatus::at_rest;
+        break;
+      }
     }
   }
   progress.clear();
@@ -282,8 +290,8 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
                     {{"--duration"}, {"--fps"}, {"--integrator"}, {"--rtol"}, {"--atol"}, {"--time-step"},
                      {"--gravity"}, {"--anchor"}, {"--threads"}, {"--rest-energy"}});
   app->add_flag("--until-rest", options->until_rest,
-                "stop at the first frame whose kinetic energy is below --rest-energy; without --duration, "
-                "run at most max(scene duration, 3600 s)");
+                "stop once the kinetic energy has stayed below --rest-energy at every frame for "
+                "output.rest_duration (default 1 s); without --duration, run at most max(scene duration, 3600 s)");
   app->add_option("--out", options->out, "output folder (default out/<scene name>)")
       ->type_name("DIR")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);

@@ -48,7 +48,7 @@ namespace clothsim {
 // How a run ended, written to summary.json as "completed", "at_rest", "failed", "interrupted".
 enum class RunStatus : std::uint8_t {
   completed,    // every frame up to the duration was written
-  at_rest,      // stopped early: a frame's kinetic energy fell below output.rest_kinetic_energy
+  at_rest,      // stopped early: the kinetic energy stayed below output.rest_kinetic_energy for output.rest_duration
   failed,       // the simulation stopped with a diagnosis; frames up to the last good one are kept
   interrupted,  // stopped by the user (SIGINT) after a complete frame
 };

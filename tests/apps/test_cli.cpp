@@ -401,8 +401,12 @@ TEST_F(CliTest, NumpyOpensPositions) {
   EXPECT_TRUE(contains(output, "numpy ok"));
 }
 
-TEST_F(CliTest, UntilRestStopsAtTheFirstFrameBelowTheThreshold) {
+// At rest means below the threshold at every frame for output.rest_duration (1 s by default: 11
+// frames at 10 fps, the first and the one 1 s later included), so the run stops at the first
+// frame that ends such a stretch.
+TEST_F(CliTest, UntilRestStopsOnceTheKineticEnergyStayedBelowTheThresholdForTheRestDuration) {
   constexpr double kThreshold = 1e-3;  // J
+  constexpr std::size_t kRestFrames = 11;
   const Result result = small_run("rest", {"--until-rest", "--rest-energy", "0.001", "--fps", "10"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   const json run = summary("rest");
@@ -414,6 +418,29 @@ TEST_F(CliTest, UntilRestStopsAtTheFirstFrameBelowTheThreshold) {
   ASSERT_GE(energy.rows.size(), 3u);
   EXPECT_LT(energy.rows.size(), 36001u) << "stopped early";
   EXPECT_EQ(run["frames"], energy.rows.size());
+  const std::size_t frames = energy.rows.size();
+  ASSERT_GT(frames, kRestFrames + 1);
+  for (std::size_t frame = frames - kRestFrames; frame < frames; ++frame) {
+    EXPECT_LT(energy.rows[frame][kKineticColumn], kThreshold) << "frame " << frame << " of the resting stretch";
+  }
+  EXPECT_GE(energy.rows[frames - kRestFrames - 1][kKineticColumn], kThreshold) << "the stretch began a frame earlier";
+  // No earlier stretch of kRestFrames quiet frames: the run stopped at the first one.
+  std::size_t quiet = 0;
+  for (std::size_t frame = 1; frame + 1 < frames; ++frame) {
+    quiet = energy.rows[frame][kKineticColumn] < kThreshold ? quiet + 1 : 0;
+    EXPECT_LT(quiet, kRestFrames) << "already at rest at frame " << frame;
+  }
+}
+
+// A zero rest duration stops at the first frame below the threshold.
+TEST_F(CliTest, UntilRestWithZeroRestDurationStopsAtTheFirstQuietFrame) {
+  constexpr double kThreshold = 1e-3;  // J
+  const Result result = small_run("rest0", {"--until-rest", "--rest-energy", "0.001", "--fps", "10", "--set",
+                                            "output.rest_duration=0"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_EQ(summary("rest0")["status"], "at_rest");
+  const Csv energy = read_csv(work_ / "rest0" / "energy.csv");
+  ASSERT_GE(energy.rows.size(), 3u);
   EXPECT_LT(energy.rows.back()[kKineticColumn], kThreshold);
   for (std::size_t frame = 1; frame + 1 < energy.rows.size(); ++frame) {
     EXPECT_GE(energy.rows[frame][kKineticColumn], kThreshold) << "an earlier frame was already at rest: " << frame;

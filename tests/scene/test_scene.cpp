@@ -309,7 +309,7 @@ const MalformedScene kMalformedScenes[] = {
      {"field 'springs.opposite.stifness'", "did you mean 'springs.opposite.stiffness'"}},
     {"unknown key without a close match", R"({"output": {"video": true}})",
      {"field 'output.video'", "unknown field",
-      "known fields in 'output': duration, fps, until_rest, rest_kinetic_energy"}},
+      "known fields in 'output': duration, fps, until_rest, rest_kinetic_energy, rest_duration"}},
     {"key in the wrong group", R"({"fps": 30})", {"field 'fps'", "did you mean 'output.fps'"}},
     {"unknown top-level key", R"({"lattise": {}})", {"field 'lattise'", "did you mean 'lattice'"}},
     {"dotted key in a file", R"({"lattice.rows": 5})", {"field 'lattice.rows'", "nest objects"}},
