@@ -37,10 +37,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "test_checks.h"
 #include "io/npy.h"
 
 namespace clothsim {
 namespace {
+
+using checks::python_with_numpy;
 
 namespace fs = std::filesystem;
 using nlohmann::json;
@@ -144,23 +147,6 @@ Csv read_csv(const fs::path& path) {
 }
 
 constexpr std::size_t kKineticColumn = 2;
-
-// A Python interpreter that imports numpy: $CLOTHSIM_PYTHON if set, else the first of python3
-// (PATH) and /usr/bin/python3 that does. PATH's python3 may be a pyenv or venv interpreter
-// without numpy even when Debian's python3-numpy is installed for /usr/bin/python3.
-std::string python_with_numpy() {
-  std::vector<std::string> candidates;
-  if (const char* chosen = std::getenv("CLOTHSIM_PYTHON"); chosen != nullptr && *chosen != '\0') {
-    candidates.emplace_back(chosen);
-  }
-  candidates.emplace_back("python3");
-  candidates.emplace_back("/usr/bin/python3");
-  for (const std::string& candidate : candidates) {
-    const std::string probe = candidate + " -c \"import numpy\" >/dev/null 2>&1";
-    if (std::system(probe.c_str()) == 0) return candidate;
-  }
-  return {};
-}
 
 class CliTest : public ::testing::Test {
  protected:
@@ -599,7 +585,6 @@ TEST_F(CliTest, NoSubcommandIsBadInput) {
   EXPECT_EQ(result.exit_code, 2) << describe(result);
   EXPECT_TRUE(contains(result.err, "clothsim: error: "));
 }
-
 
 // ---------------------------------------------------------------------------------------------
 // clothsim bench and run --profile

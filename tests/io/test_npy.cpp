@@ -25,8 +25,14 @@
 #include <utility>
 #include <vector>
 
+#include "test_checks.h"
+
 namespace clothsim {
 namespace {
+
+using checks::thrown_message;
+using checks::contains;
+using checks::python_with_numpy;
 
 std::string scratch_path(const std::string& name) {
   const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
@@ -42,22 +48,6 @@ std::string read_file_bytes(const std::string& path) {
 void write_file_bytes(const std::string& path, const std::string& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
   out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-}
-
-// The message of the std::runtime_error that `action` throws, or a marker if it throws none.
-template <class Action>
-std::string thrown_message(Action&& action) {
-  try {
-    std::forward<Action>(action)();
-  } catch (const std::runtime_error& error) {
-    return error.what();
-  }
-  return "<no exception thrown>";
-}
-
-testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return testing::AssertionSuccess();
-  return testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
 }
 
 // Values that need all 17 significant digits, or are special to the encoding.
@@ -138,26 +128,6 @@ void write_raw_npy(const std::string& path, const std::string& dict, std::size_t
 }
 
 // --- Python ---
-
-// A Python interpreter that imports numpy: $CLOTHSIM_PYTHON if set, else the first of python3
-// (PATH) and /usr/bin/python3 that does. PATH's python3 may be a pyenv or venv interpreter
-// without numpy even when Debian's python3-numpy is installed for /usr/bin/python3.
-const std::string& python_with_numpy() {
-  static const std::string found = [] {
-    std::vector<std::string> candidates;
-    if (const char* chosen = std::getenv("CLOTHSIM_PYTHON"); chosen != nullptr && *chosen != '\0') {
-      candidates.emplace_back(chosen);
-    }
-    candidates.emplace_back("python3");
-    candidates.emplace_back("/usr/bin/python3");
-    for (const std::string& candidate : candidates) {
-      const std::string probe = candidate + " -c \"import numpy\" >/dev/null 2>&1";
-      if (std::system(probe.c_str()) == 0) return candidate;
-    }
-    return std::string();
-  }();
-  return found;
-}
 
 constexpr const char* kNoNumpy =
     "no Python interpreter with numpy found (tried $CLOTHSIM_PYTHON, python3, /usr/bin/python3): run "

@@ -17,28 +17,18 @@
 #include <utility>
 #include <vector>
 
+#include "test_checks.h"
+
 namespace clothsim {
 namespace {
+
+using checks::thrown_message;
+using checks::contains;
 
 std::string scratch_path(const std::string& name) {
   const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
   std::filesystem::create_directories(directory);
   return (directory / name).string();
-}
-
-template <class Action>
-std::string thrown_message(Action&& action) {
-  try {
-    std::forward<Action>(action)();
-  } catch (const std::runtime_error& error) {
-    return error.what();
-  }
-  return "<no exception thrown>";
-}
-
-testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return testing::AssertionSuccess();
-  return testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
 }
 
 ClothModel make_sheet(int rows, int cols, double spacing = 0.5) {

@@ -1,0 +1,52 @@
+// Checks shared by the tests that exercise errors and files: the message an action throws, a
+// substring assertion that prints both strings, and the Python interpreter that has numpy (for
+// the tests that open clothsim's .npy output with numpy itself).
+#pragma once
+
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace clothsim::checks {
+
+// The message of the std::runtime_error that `action` throws, or a marker if it throws none.
+template <class Action>
+std::string thrown_message(Action&& action) {
+  try {
+    std::forward<Action>(action)();
+  } catch (const std::runtime_error& error) {
+    return error.what();
+  }
+  return "<no exception thrown>";
+}
+
+inline ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
+  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
+  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+}
+
+// A Python interpreter that imports numpy: $CLOTHSIM_PYTHON if set, else the first of python3
+// (PATH) and /usr/bin/python3 that does, or "" if none. PATH's python3 may be a pyenv or venv
+// interpreter without numpy even when Debian's python3-numpy is installed for /usr/bin/python3.
+inline const std::string& python_with_numpy() {
+  static const std::string found = [] {
+    std::vector<std::string> candidates;
+    if (const char* chosen = std::getenv("CLOTHSIM_PYTHON"); chosen != nullptr && *chosen != '\0') {
+      candidates.emplace_back(chosen);
+    }
+    candidates.emplace_back("python3");
+    candidates.emplace_back("/usr/bin/python3");
+    for (const std::string& candidate : candidates) {
+      const std::string probe = candidate + " -c \"import numpy\" >/dev/null 2>&1";
+      if (std::system(probe.c_str()) == 0) return candidate;
+    }
+    return std::string();
+  }();
+  return found;
+}
+
+}  // namespace clothsim::checks
