@@ -176,10 +176,7 @@ void ExplicitRungeKutta::accept(ClothState& state, double h, double t) {
   state.anchor_work = trial_.anchor_work;
   state.time = t;
   dynamics_.constrain(t, state.position, state.velocity);
-  ++stats_.accepted_steps;
-  stats_.smallest_step = std::min(stats_.smallest_step, h);
-  stats_.largest_step = std::max(stats_.largest_step, h);
-  stats_.last_step = h;
+  record_accepted_step(h);
 }
 
 StepOutcome FixedStepRungeKutta::step(ClothState& state, double t_limit) {

@@ -506,10 +506,7 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   state.drag_work += h * powers.drag;
   state.anchor_work += h * powers.anchor;
 
-  ++stats_.accepted_steps;
-  stats_.smallest_step = std::min(stats_.smallest_step, h);
-  stats_.largest_step = std::max(stats_.largest_step, h);
-  stats_.last_step = h;
+  record_accepted_step(h);
   return {StepStatus::ok, h, 0, false};
 }
 

@@ -6,6 +6,7 @@
 // Integrators own their scratch memory (allocated in the constructor): step() does not allocate.
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -108,6 +109,14 @@ class Integrator {
   virtual std::size_t workspace_bytes() const { return 0; }
 
  protected:
+  // Counts an accepted step of size h (s) in stats_.
+  void record_accepted_step(double h) {
+    ++stats_.accepted_steps;
+    stats_.smallest_step = std::min(stats_.smallest_step, h);
+    stats_.largest_step = std::max(stats_.largest_step, h);
+    stats_.last_step = h;
+  }
+
   IntegratorStats stats_;
   double force_seconds_ = 0.0;
 };

@@ -40,10 +40,7 @@ StepOutcome SymplecticEuler::step(ClothState& state, double t_limit) {
       return {StepStatus::non_finite, h, static_cast<std::uint32_t>(p), true};
     }
   }
-  ++stats_.accepted_steps;
-  stats_.smallest_step = std::min(stats_.smallest_step, h);
-  stats_.largest_step = std::max(stats_.largest_step, h);
-  stats_.last_step = h;
+  record_accepted_step(h);
   return {StepStatus::ok, h, 0, false};
 }
 
