@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <utility>
 
+#include "core/parallel.h"
 #include "core/timer.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"
@@ -84,9 +85,16 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
                                          const std::function<void(const BenchResult&)>& on_result) {
   const std::vector<IntegratorKind> kinds = options.integrators.empty() ? all_integrator_kinds() : options.integrators;
   std::vector<BenchResult> results;
+  // The load average counts the suite's own threads from the cases before, which would talk the
+  // automatic choice down to 1 thread as the suite goes on: sample the idle cores once, now.
+  const int idle_at_start = idle_hardware_threads();
   for (int size : options.sizes) {
+    BenchOptions case_options = options;
+    case_options.threads =
+        resolve_thread_count(options.threads, static_cast<std::size_t>(size) * static_cast<std::size_t>(size),
+                             kParallelThreshold, idle_at_start);
     for (IntegratorKind kind : kinds) {
-      results.push_back(run_bench_case(size, kind, options));
+      results.push_back(run_bench_case(size, kind, case_options));
       if (on_result) on_result(results.back());
     }
   }

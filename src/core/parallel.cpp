@@ -18,9 +18,10 @@ int idle_hardware_threads() {
   return std::clamp(hardware - busy, 1, hardware);
 }
 
-int resolve_thread_count(int requested, std::size_t problem_size, std::size_t parallel_threshold) {
+int resolve_thread_count(int requested, std::size_t problem_size, std::size_t parallel_threshold, int available) {
   if (requested > 0) return requested;
-  return problem_size >= parallel_threshold ? idle_hardware_threads() : 1;
+  if (problem_size < parallel_threshold) return 1;
+  return available > 0 ? available : idle_hardware_threads();
 }
 
 }  // namespace clothsim

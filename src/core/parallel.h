@@ -15,8 +15,11 @@ namespace clothsim {
 // (idle_hardware_threads()). A loop split over more threads than there are free cores waits at
 // every barrier for a thread that is not running: on a busy 2-core machine a 2-thread force
 // evaluation took 20-60 ms instead of 0.5 ms (docs/performance.md). The choice never changes
-// results, which are the same for any thread count.
-int resolve_thread_count(int requested, std::size_t problem_size, std::size_t parallel_threshold = 4096);
+// results, which are the same for any thread count. `available` > 0 replaces idle_hardware_threads()
+// (a caller that makes many choices in a row samples the load once, before its own threads add to it).
+inline constexpr std::size_t kParallelThreshold = 4096;  // items; below it the automatic choice is 1 thread
+int resolve_thread_count(int requested, std::size_t problem_size, std::size_t parallel_threshold = kParallelThreshold,
+                         int available = 0);
 int hardware_thread_count();
 // Hardware threads minus the 1-minute load average rounded to the nearest integer (other
 // runnable processes), at least 1; all hardware threads where the load is unknown.

@@ -23,6 +23,14 @@ TEST(Parallel, ChosenCountIsOneForSmallProblemsAndAtMostTheHardwareOtherwise) {
   EXPECT_LE(idle_hardware_threads(), hardware_thread_count());
 }
 
+// A caller that samples the idle cores once (the benchmark suite) passes them in; small problems
+// and explicit requests are unaffected.
+TEST(Parallel, GivenAvailableThreadsReplaceTheLoadSample) {
+  EXPECT_EQ(resolve_thread_count(0, 5000, kParallelThreshold, 3), 3);
+  EXPECT_EQ(resolve_thread_count(0, 100, kParallelThreshold, 3), 1);
+  EXPECT_EQ(resolve_thread_count(2, 5000, kParallelThreshold, 3), 2);
+}
+
 TEST(Parallel, ParallelForVisitsEveryIndexOnce) {
   for (int threads : {1, 2, 3, 4}) {
     std::vector<std::atomic<int>> visits(1001);
