@@ -11,6 +11,8 @@
 #include <utility>
 #include <vector>
 
+#include "core/vec3.h"
+
 namespace clothsim::checks {
 
 // The message of the std::runtime_error that `action` throws, or a marker if it throws none.
@@ -47,6 +49,13 @@ inline const std::string& python_with_numpy() {
     return std::string();
   }();
   return found;
+}
+
+// Component-wise |actual - expected| <= tolerance, each component reported on failure.
+inline void expect_near(const Vec3& actual, const Vec3& expected, double tolerance) {
+  EXPECT_NEAR(actual.x, expected.x, tolerance);
+  EXPECT_NEAR(actual.y, expected.y, tolerance);
+  EXPECT_NEAR(actual.z, expected.z, tolerance);
 }
 
 }  // namespace clothsim::checks

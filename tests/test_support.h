@@ -1,8 +1,10 @@
 // Small helpers shared by the tests: deterministic random vectors and finite differences.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <functional>
+#include <vector>
 
 #include "core/vec3.h"
 
@@ -32,6 +34,11 @@ inline Vec3 numerical_gradient(const std::function<double(const Vec3&)>& f, cons
   g.y = (f(x + Vec3{0, h, 0}) - f(x - Vec3{0, h, 0})) / (2 * h);
   g.z = (f(x + Vec3{0, 0, h}) - f(x - Vec3{0, 0, h})) / (2 * h);
   return g;
+}
+
+// Normal of a triangle of `position`, of length twice its area, oriented by its winding.
+inline Vec3 face_normal(const std::vector<Vec3>& position, const std::array<std::uint32_t, 3>& triangle) {
+  return cross(position[triangle[1]] - position[triangle[0]], position[triangle[2]] - position[triangle[0]]);
 }
 
 }  // namespace clothsim::testing

@@ -18,12 +18,15 @@
 #include <vector>
 
 #include "test_checks.h"
+#include "test_support.h"
 
 namespace clothsim {
 namespace {
 
-using checks::thrown_message;
 using checks::contains;
+using checks::expect_near;
+using checks::thrown_message;
+using testing::face_normal;
 
 std::string scratch_path(const std::string& name) {
   const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
@@ -96,16 +99,6 @@ ObjFile read_obj(const std::string& path) {
     if (fields.fail() && kind != "#" && kind != "l") obj.unknown.push_back("unparsed: " + line);
   }
   return obj;
-}
-
-Vec3 face_normal(const std::vector<Vec3>& position, const std::array<std::uint32_t, 3>& triangle) {
-  return cross(position[triangle[1]] - position[triangle[0]], position[triangle[2]] - position[triangle[0]]);
-}
-
-void expect_near(const Vec3& actual, const Vec3& expected, double tolerance) {
-  EXPECT_NEAR(actual.x, expected.x, tolerance);
-  EXPECT_NEAR(actual.y, expected.y, tolerance);
-  EXPECT_NEAR(actual.z, expected.z, tolerance);
 }
 
 // --- The file ---

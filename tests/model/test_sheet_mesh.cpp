@@ -11,8 +11,14 @@
 #include <limits>
 #include <vector>
 
+#include "test_checks.h"
+#include "test_support.h"
+
 namespace clothsim {
 namespace {
+
+using checks::expect_near;
+using testing::face_normal;
 
 ClothModel make_sheet(int rows, int cols, double spacing = 0.5) {
   return build_lattice(LatticeDef{.rows = rows, .cols = cols, .spacing = spacing}, Environment{}, {});
@@ -26,16 +32,6 @@ std::vector<Vec3> bumped_positions(const ClothModel& model) {
   std::vector<Vec3> position = model.particle_rest_position;
   for (Vec3& p : position) p.y = 0.3 * model.spacing * std::cos(p.x) * std::cos(p.z);
   return position;
-}
-
-Vec3 face_normal(const std::vector<Vec3>& position, const std::array<std::uint32_t, 3>& triangle) {
-  return cross(position[triangle[1]] - position[triangle[0]], position[triangle[2]] - position[triangle[0]]);
-}
-
-void expect_near(const Vec3& actual, const Vec3& expected, double tolerance) {
-  EXPECT_NEAR(actual.x, expected.x, tolerance);
-  EXPECT_NEAR(actual.y, expected.y, tolerance);
-  EXPECT_NEAR(actual.z, expected.z, tolerance);
 }
 
 // --- Triangulation and normals ---

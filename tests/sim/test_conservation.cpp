@@ -6,9 +6,12 @@
 
 #include "model/initial_conditions.h"
 #include "sim/simulation.h"
+#include "simulation_settings.h"
 
 namespace clothsim {
 namespace {
+
+using testing::rkf45;
 
 // The paper's material (Figure 5 constants) on a rows x cols lattice.
 LatticeDef paper_material(int rows, int cols, bool damped) {
@@ -27,14 +30,6 @@ ClothState perturbed_state(const ClothModel& model, InitialConditions initial) {
   ClothState state = make_rest_state(model);
   apply_initial_conditions(model, initial, state);
   return state;
-}
-
-SimulationSettings rkf45(double tolerance) {
-  SimulationSettings settings;
-  settings.integrator.relative_tolerance = tolerance;
-  settings.integrator.absolute_tolerance = tolerance;
-  settings.threads = 1;
-  return settings;
 }
 
 // Largest |E(t) - E(0)| over `frames` frames up to `duration`.

@@ -8,9 +8,13 @@
 
 #include "model/initial_conditions.h"
 #include "sim/simulation.h"
+#include "simulation_settings.h"
 
 namespace clothsim {
 namespace {
+
+using testing::rk4;
+using testing::rkf45;
 
 constexpr std::uint32_t kCentre = 12;  // of a 5 x 5 lattice
 constexpr std::uint32_t kCorner = 0;
@@ -25,22 +29,6 @@ LatticeDef five_by_five() {
   def.rows = 5;
   def.cols = 5;
   return def;
-}
-
-SimulationSettings rk4(double step) {
-  SimulationSettings settings;
-  settings.integrator.kind = IntegratorKind::rk4;
-  settings.integrator.time_step = step;
-  settings.threads = 1;
-  return settings;
-}
-
-SimulationSettings rkf45(double tolerance) {
-  SimulationSettings settings;
-  settings.integrator.relative_tolerance = tolerance;
-  settings.integrator.absolute_tolerance = tolerance;
-  settings.threads = 1;
-  return settings;
 }
 
 // |balance error| relative to the energy that moved through the sheet's books.
