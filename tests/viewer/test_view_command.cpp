@@ -222,6 +222,38 @@ TEST_F(ViewCommand, ScriptedDragEndsAtItsTargetWithScreenshotsOfTheSheet) {
   EXPECT_NE(final_image.rgb, middle_image.rgb);  // the sheet moved between frames 30 and 45
 }
 
+// Fraction of pixels in the sheet's front colour (orange: red well above green and blue; the
+// yellow anchor marker and the grey grid do not count).
+double sheet_share(const render::Image& image) {
+  std::size_t sheet = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::uint8_t* p = image.pixel(x, y);
+      if (p[0] > p[1] + 40 && p[0] > p[2] + 60) ++sheet;
+    }
+  }
+  return static_cast<double>(sheet) / (image.width * image.height);
+}
+
+// A free sheet falls 19.6 m in 2 s, more than three times its own width: the view follows it (it
+// frames everything the sheet has covered) instead of keeping the first frame's shot, where the
+// sheet would have left the picture after half a second.
+TEST_F(ViewCommand, TheViewKeepsAFallingSheetInThePicture) {
+  const VirtualDisplay display;
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
+  const Result result = run({"view", "--paper-args", kPaperArgs, "--anchor", "none", "--frames", "120",
+                             "--screenshot-at", "1:start.png", "--screenshot-at", "120:fallen.png", "--dump-state",
+                             "state.npy", "--size", "320x240"},
+                            display.name());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const NpyArray state = read_npy((work() / "state.npy").string());
+  EXPECT_LT(particle_position(state, kCentre).y, -15.0) << "the sheet did fall";
+  const double start = sheet_share(render::read_png((work() / "start.png").string()));
+  const double fallen = sheet_share(render::read_png((work() / "fallen.png").string()));
+  EXPECT_GT(start, 0.05);
+  EXPECT_GT(fallen, 0.002) << "the fallen sheet is out of the picture";
+}
+
 TEST_F(ViewCommand, ScriptedRunsAreReproducibleBitForBit) {
   const VirtualDisplay display;
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";

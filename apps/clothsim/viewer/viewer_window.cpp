@@ -97,7 +97,10 @@ class Viewer {
 
   // Cursor position in framebuffer pixels.
   std::pair<double, double> cursor_pixels() const;
+  // Re-frames the sheet and keeps it in view from now on (F, the Frame button, a reset).
   void frame_camera();
+  // Grows the box of positions seen and, while keep_in_view_, frames it.
+  void keep_sheet_in_view();
   // The grabbed particle follows the cursor over the next `duration` s of simulated time.
   void drag_grabbed(double duration);
   void release_grabbed();
@@ -112,6 +115,11 @@ class Viewer {
   GLFWwindow* window_ = nullptr;
   std::unique_ptr<render::Renderer> renderer_;
   render::Camera camera_;
+  struct SeenBox {
+    Vec3 low, high;  // m, bounding box of the positions since the last frame_camera()
+    bool any = false;
+  } seen_;
+  bool keep_in_view_ = true;  // frame seen_ every frame until the user pans or zooms
   render::RenderOptions render_options_;
   double ground_height_ = 0.0;  // m; only ever lowered, so the ground stays put
   FramePacer pacer_;
@@ -196,11 +204,30 @@ Viewer::~Viewer() {
 }
 
 void Viewer::frame_camera() {
-  // Fit the sheet into the part of the window the panel leaves free, then move the picture into
+  seen_ = SeenBox{};
+  keep_in_view_ = true;
+  keep_sheet_in_view();
+}
+
+void Viewer::keep_sheet_in_view() {
+  // Frame everything the sheet has covered since the last re-framing (F, the Frame button, a
+  // reset), as `clothsim run --camera auto` does: the box only grows, so the view zooms out as the
+  // sheet falls or swings wide and never pumps back and forth. The framing sphere does not depend
+  // on the direction, so orbiting keeps it; panning or zooming by hand ends it until F.
+  for (const Vec3& p : session_.simulation().state().position) {
+    if (!is_finite(p)) continue;
+    if (!seen_.any) seen_.low = seen_.high = p;
+    seen_.low = {std::min(seen_.low.x, p.x), std::min(seen_.low.y, p.y), std::min(seen_.low.z, p.z)};
+    seen_.high = {std::max(seen_.high.x, p.x), std::max(seen_.high.y, p.y), std::max(seen_.high.z, p.z)};
+    seen_.any = true;
+  }
+  if (!keep_in_view_ || !seen_.any) return;
+  // Fit the box into the part of the window the panel leaves free, then move the picture into
   // the middle of that part.
   const double panel = panel_.visible ? std::min(kPanelWidth + 16.0, 0.5 * width_) : 0.0;
   const double free_width = std::max(1.0, width_ - panel);
-  camera_.frame(session_.simulation().state().position, free_width / std::max(1, height_), 1.2);
+  const std::array<Vec3, 2> box{seen_.low, seen_.high};
+  camera_.frame(box, free_width / std::max(1, height_), 1.2);
   camera_.pan(-0.5 * panel / std::max(1, height_), 0.0);
 }
 
@@ -224,7 +251,9 @@ void Viewer::on_cursor(GLFWwindow* window, double x, double y) { of(window).curs
 void Viewer::on_scroll(GLFWwindow* window, double x, double y) {
   ImGui_ImplGlfw_ScrollCallback(window, x, y);
   if (ImGui::GetIO().WantCaptureMouse) return;
-  of(window).camera_.zoom(std::pow(kZoomPerNotch, y));
+  Viewer& viewer = of(window);
+  viewer.camera_.zoom(std::pow(kZoomPerNotch, y));
+  viewer.keep_in_view_ = false;
 }
 
 void Viewer::on_key(GLFWwindow* window, int key, int scancode, int action, int mods) {
@@ -280,6 +309,7 @@ void Viewer::cursor(double /*window_x*/, double /*window_y*/) {
       break;
     case MouseMode::pan:
       camera_.pan(dx / height_, -dy / height_);  // the picture follows the cursor
+      keep_in_view_ = false;
       break;
     case MouseMode::drag:  // the target follows the cursor in drag_grabbed(), once per frame
     case MouseMode::none:
@@ -316,25 +346,31 @@ void Viewer::key(int key, int action, int mods) {
       break;
     case GLFW_KEY_LEFT:
       shift ? camera_.pan(-kPanPerKey, 0.0) : camera_.orbit(kOrbitPerKey, 0.0);
+      if (shift) keep_in_view_ = false;
       break;
     case GLFW_KEY_RIGHT:
       shift ? camera_.pan(kPanPerKey, 0.0) : camera_.orbit(-kOrbitPerKey, 0.0);
+      if (shift) keep_in_view_ = false;
       break;
     case GLFW_KEY_UP:
       shift ? camera_.pan(0.0, kPanPerKey) : camera_.orbit(0.0, kOrbitPerKey);
+      if (shift) keep_in_view_ = false;
       break;
     case GLFW_KEY_DOWN:
       shift ? camera_.pan(0.0, -kPanPerKey) : camera_.orbit(0.0, -kOrbitPerKey);
+      if (shift) keep_in_view_ = false;
       break;
     case GLFW_KEY_EQUAL:
     case GLFW_KEY_KP_ADD:
     case GLFW_KEY_PAGE_UP:
       camera_.zoom(kZoomPerNotch);
+      keep_in_view_ = false;
       break;
     case GLFW_KEY_MINUS:
     case GLFW_KEY_KP_SUBTRACT:
     case GLFW_KEY_PAGE_DOWN:
       camera_.zoom(1.0 / kZoomPerNotch);
+      keep_in_view_ = false;
       break;
     case GLFW_KEY_ESCAPE:
     case GLFW_KEY_Q:
@@ -434,6 +470,7 @@ int Viewer::run() {
       grabbed_ = -1;
       mouse_mode_ = MouseMode::none;
       session_.reset();
+      frame_camera();
       reported_failure = false;
       panel_.status = "reset to t = 0";
     }
@@ -487,6 +524,7 @@ int Viewer::run() {
       hovered_ = -1;
     }
 
+    keep_sheet_in_view();
     draw_scene();
     for (const std::string& path : screenshots) take_screenshot(path, true);
     if (panel_.screenshot_requested) {
