@@ -156,7 +156,8 @@ Subcommand add_bench_command(CLI::App& parent) {
       ->type_name("N,N,...");
   app->add_option("--integrators", flags->integrators, "integrators to run, e.g. rkf45 (default: all)")
       ->type_name("NAME,...");
-  app->add_option("--threads", flags->threads, "worker threads; 0 chooses from the lattice size (default)")
+  app->add_option("--threads", flags->threads,
+                  "worker threads; 0 chooses from the lattice size and the idle cores at the start (default)")
       ->type_name("N");
   app->add_option("--seconds", flags->seconds, "wall-time budget per case, s (default 1.5)")->type_name("S");
   app->add_option("--sim-cap", flags->simulated_cap, "simulated time per case at most, s (default 2)")->type_name("S");

@@ -37,7 +37,7 @@ inline constexpr std::array<FieldFlag, 10> kFieldFlags = {{
     {"--time-step", "integrator.time_step", "SECONDS", "step of rk4, symplectic-euler and implicit-euler; first trial step of rkf45"},
     {"--gravity", "environment.gravity", "X,Y,Z", "gravitational acceleration, m/s^2"},
     {"--anchor", "anchors", "PRESET", "anchored particles: center, corners, edge-corners or none"},
-    {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size"},
+    {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size and the idle cores"},
     {"--rest-energy", "output.rest_kinetic_energy", "JOULES", "kinetic energy below which --until-rest stops"},
 }};
 

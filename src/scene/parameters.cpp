@@ -153,7 +153,7 @@ constexpr std::array kScalarParameters = {
                     [](SceneSpec& s, double v) { s.output.rest_duration = v; }},
     // Execution.
     ScalarParameter{"threads", ParameterType::integer, "", closed_range(0.0, 1024.0),
-                    "worker threads; 0 chooses from the lattice size",
+                    "worker threads; 0 chooses from the lattice size and the idle cores",
                     [](const SceneSpec& s) { return double(s.threads); },
                     [](SceneSpec& s, double v) { s.threads = static_cast<int>(v); }},
 };
