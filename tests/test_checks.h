@@ -1,11 +1,15 @@
-// Checks shared by the tests that exercise errors and files: the message an action throws, a
-// substring assertion that prints both strings, and the Python interpreter that has numpy (for
-// the tests that open clothsim's .npy output with numpy itself).
+// Checks shared by the tests that exercise errors, files and the clothsim tool: the message an
+// action throws, a substring assertion that prints both strings, text files, a child process's
+// result, and the Python interpreter that has numpy (for the tests that open clothsim's .npy
+// output with numpy itself).
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -49,6 +53,23 @@ inline const std::string& python_with_numpy() {
     return std::string();
   }();
   return found;
+}
+
+// What a child process (the clothsim tool under test) left behind.
+struct ProcessResult {
+  int exit_code = -1;  // 128 + signal number if the process was killed by a signal
+  std::string out;     // its standard output
+  std::string err;     // its standard error
+};
+
+// The whole content of a file ("" if it cannot be read), and writing one.
+inline std::string read_text(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+inline void write_text(const std::filesystem::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
 }
 
 // Component-wise |actual - expected| <= tolerance, each component reported on failure.

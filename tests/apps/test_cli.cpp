@@ -53,21 +53,9 @@ constexpr const char* kSmallPaperArgs = "5,5,1,4,1,1400,200,80,5,1";
 constexpr std::size_t kSmallParticles = 25;
 constexpr std::size_t kSmallCentre = 12;
 
-struct Result {
-  int exit_code = -1;  // 128 + signal number if the process was killed by a signal
-  std::string out;
-  std::string err;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out << text;
-}
+using Result = checks::ProcessResult;
+using checks::read_text;
+using checks::write_text;
 
 // Starts clothsim with `args` in folder `cwd`, stdout and stderr going to files in `capture`
 // (outside `cwd`, so they do not count as output). Returns the child's process id.

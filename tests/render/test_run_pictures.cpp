@@ -28,6 +28,7 @@
 #include <nlohmann/json.hpp>
 
 #include "render/image.h"
+#include "test_checks.h"
 
 extern char** environ;
 
@@ -38,16 +39,8 @@ namespace fs = std::filesystem;
 
 constexpr const char* kSmallPaperArgs = "5,5,1,4,1,1400,200,80,5,1";
 
-struct Result {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using Result = checks::ProcessResult;
+using checks::read_text;
 
 std::set<std::string> entries(const fs::path& folder) {
   std::set<std::string> names;

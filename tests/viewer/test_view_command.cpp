@@ -30,6 +30,8 @@
 #include "io/npy.h"
 #include "render/image.h"
 
+#include "test_checks.h"
+
 namespace clothsim {
 namespace {
 
@@ -40,20 +42,9 @@ constexpr const char* kPaperArgs = "7,7,1,4,1,1400,200,80,5,1";
 constexpr std::size_t kParticles = 49;
 constexpr std::size_t kCentre = 24;
 
-struct Result {
-  int exit_code = -1;
-  std::string out;
-  std::string err;
-};
-
-std::string read_text(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
-void write_text(const fs::path& path, const std::string& text) {
-  std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
-}
+using Result = checks::ProcessResult;
+using checks::read_text;
+using checks::write_text;
 
 // A virtual X server for the life of the object.
 class VirtualDisplay {
