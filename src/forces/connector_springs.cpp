@@ -12,7 +12,7 @@ void accumulate_connector_springs(const ClothModel& model, std::span<const Vec3>
   Vec3* slot = buffers.slot_force.data();
   double* power = buffers.element_power.data();
   parallel_for(model.connector_count(), threads, [&](std::size_t e) {
-    if (!elastic) {
+    if (!elastic || model.connector_live[e] == 0) {
       slot[2 * e] = slot[2 * e + 1] = Vec3{};
       power[e] = 0.0;
       return;
@@ -27,13 +27,16 @@ void accumulate_connector_springs(const ClothModel& model, std::span<const Vec3>
   });
 }
 
+double connector_spring_energy(const ClothModel& model, std::span<const Vec3> position, std::size_t e) {
+  if (model.connector_live[e] == 0) return 0.0;
+  const auto [a, b] = model.connector_particles[e];
+  return element::connector_energy(position[a], position[b], model.connector_rest_length[e],
+                                   model.connector_stiffness[e]);
+}
+
 double connector_energy(const ClothModel& model, std::span<const Vec3> position) {
   double energy = 0.0;
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    const auto [a, b] = model.connector_particles[e];
-    energy += element::connector_energy(position[a], position[b], model.connector_rest_length[e],
-                                        model.connector_stiffness[e]);
-  }
+  for (std::size_t e = 0; e < model.connector_count(); ++e) energy += connector_spring_energy(model, position, e);
   return energy;
 }
 

@@ -52,6 +52,7 @@ struct ForceBuffers {
   std::vector<double> element_power;  // [connectors + radials], damping power per element, W
   std::vector<double> block_power;    // partial sums over fixed blocks of element_power
   LatticeKernel lattice;              // scratch of the structured kernel, when it is in use
+  std::uint64_t model_revision = 0;   // ClothModel::revision the buffers were last prepared for
   void resize(const ClothModel& model);
   bool uses_lattice_kernel() const { return lattice.active(); }
   // Bytes of scratch memory held.
@@ -88,6 +89,9 @@ struct EnergyReport {
 };
 
 double connector_energy(const ClothModel& model, std::span<const Vec3> position);
+// Elastic energy of one connector or radial spring (0 once broken), J.
+double connector_spring_energy(const ClothModel& model, std::span<const Vec3> position, std::size_t connector);
+double radial_spring_energy(const ClothModel& model, std::span<const Vec3> position, std::size_t radial);
 // Adds the radial springs' energy into report.radial_adjacent and report.radial_opposite.
 void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report);
 double kinetic_energy(const ClothModel& model, std::span<const Vec3> velocity);

@@ -16,7 +16,7 @@ void accumulate_radial_springs(const ClothModel& model, std::span<const Vec3> po
   parallel_for(model.radial_count(), threads, [&](std::size_t r) {
     const ForceTerms term =
         model.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
-    if ((terms & term) == 0) {
+    if ((terms & term) == 0 || model.radial_live[r] == 0) {
       slot[3 * r] = slot[3 * r + 1] = slot[3 * r + 2] = Vec3{};
       power[r] = 0.0;
       return;
@@ -32,12 +32,17 @@ void accumulate_radial_springs(const ClothModel& model, std::span<const Vec3> po
   });
 }
 
+double radial_spring_energy(const ClothModel& model, std::span<const Vec3> position, std::size_t r) {
+  if (model.radial_live[r] == 0) return 0.0;
+  const auto [centre, b, c] = model.radial_particles[r];
+  return element::radial_energy(position[centre], position[b], position[c], model.radial_rest_angle[r],
+                                model.radial_stiffness[r]);
+}
+
 void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report) {
   for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    const auto [centre, b, c] = model.radial_particles[r];
-    const double energy = element::radial_energy(position[centre], position[b], position[c],
-                                                 model.radial_rest_angle[r], model.radial_stiffness[r]);
-    (model.radial_kind[r] == RadialKind::adjacent ? report.radial_adjacent : report.radial_opposite) += energy;
+    (model.radial_kind[r] == RadialKind::adjacent ? report.radial_adjacent : report.radial_opposite) +=
+        radial_spring_energy(model, position, r);
   }
 }
 

@@ -54,6 +54,9 @@ struct AnchorPath {
 struct Anchor {
   std::uint32_t particle = 0;  // particle index
   AnchorPath path;
+  // When the anchor lets go, s: from then on the particle is free and keeps the velocity its
+  // path gave it. An event between steps (no step crosses it); +inf: never.
+  double release_time = std::numeric_limits<double>::infinity();
 };
 
 }  // namespace clothsim

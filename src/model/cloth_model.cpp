@@ -37,7 +37,41 @@ void build_gather_table(ClothModel& model) {
   for (std::size_t s = 0; s < slots; ++s) model.gather_slot[cursor[slot_owner(s)]++] = static_cast<std::uint32_t>(s);
 }
 
+void build_connector_radial_table(ClothModel& model) {
+  const std::size_t connectors = model.connector_count();
+  std::vector<std::uint32_t> count(connectors + 1, 0);
+  for (const auto& pair : model.radial_connectors) {
+    ++count[pair[0] + 1];
+    ++count[pair[1] + 1];
+  }
+  for (std::size_t e = 0; e < connectors; ++e) count[e + 1] += count[e];
+  model.connector_radial_offset = count;
+  model.radial_of_connector.assign(count.back(), 0);
+  std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    for (std::uint32_t e : model.radial_connectors[r]) model.radial_of_connector[cursor[e]++] = static_cast<std::uint32_t>(r);
+  }
+}
+
 }  // namespace
+
+void finish_model(ClothModel& model) {
+  constexpr double kNever = std::numeric_limits<double>::infinity();
+  const std::size_t connectors = model.connector_count();
+  const std::size_t radials = model.radial_count();
+  if (model.connector_live.size() != connectors) model.connector_live.assign(connectors, 1);
+  if (model.connector_original_length.size() != connectors) model.connector_original_length = model.connector_rest_length;
+  if (model.connector_break_strain.size() != connectors) model.connector_break_strain.assign(connectors, kNever);
+  if (model.connector_yield_strain.size() != connectors) model.connector_yield_strain.assign(connectors, kNever);
+  if (model.radial_live.size() != radials) model.radial_live.assign(radials, 1);
+  if (model.radial_original_angle.size() != radials) model.radial_original_angle = model.radial_rest_angle;
+  if (model.radial_yield_angle.size() != radials) model.radial_yield_angle.assign(radials, kNever);
+  model.broken_connector_count = static_cast<std::size_t>(
+      std::count(model.connector_live.begin(), model.connector_live.end(), std::uint8_t{0}));
+  build_gather_table(model);
+  build_connector_radial_table(model);
+  CLOTHSIM_ASSERT(model.gather_offset.back() == model.force_slot_count(), "gather table covers every slot");
+}
 
 std::string ClothModel::describe_particle(std::size_t particle) const {
   std::string text = "particle " + std::to_string(particle);
@@ -61,6 +95,7 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
   model.rows = lattice.rows;
   model.cols = lattice.cols;
   model.spacing = lattice.spacing;
+  model.layout = ModelLayout::lattice;
   model.environment = environment;
 
   const int rows = lattice.rows;
@@ -138,8 +173,7 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
     model.anchors.push_back(anchor);
   }
 
-  build_gather_table(model);
-  CLOTHSIM_ASSERT(model.gather_offset.back() == model.force_slot_count(), "gather table covers every slot");
+  finish_model(model);
   return model;
 }
 
@@ -152,53 +186,6 @@ ClothState make_rest_state(const ClothModel& model) {
     state.velocity[anchor.particle] = anchor.path.velocity_at(0.0);
   }
   return state;
-}
-
-void set_spring_family(ClothModel& model, SpringFamily family, const SpringParameters& parameters) {
-  CLOTHSIM_ASSERT(parameters.stiffness >= 0.0 && parameters.damping >= 0.0, "spring constants are not negative");
-  if (family == SpringFamily::connector) {
-    std::fill(model.connector_stiffness.begin(), model.connector_stiffness.end(), parameters.stiffness);
-    std::fill(model.connector_damping.begin(), model.connector_damping.end(), parameters.damping);
-    return;
-  }
-  const RadialKind kind = family == SpringFamily::adjacent ? RadialKind::adjacent : RadialKind::opposite;
-  for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    if (model.radial_kind[r] != kind) continue;
-    model.radial_stiffness[r] = parameters.stiffness;
-    model.radial_damping[r] = parameters.damping;
-  }
-}
-
-void set_particle_mass(ClothModel& model, double mass) {
-  CLOTHSIM_ASSERT(mass > 0.0 && std::isfinite(mass), "particle mass is positive");
-  for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    model.particle_mass[p] = mass;
-    model.particle_inverse_mass[p] = model.is_anchored(p) ? 0.0 : 1.0 / mass;
-  }
-}
-
-void set_anchor(ClothModel& model, std::uint32_t particle, const AnchorPath& path) {
-  CLOTHSIM_ASSERT(particle < model.particle_count(), "anchored particle is in the lattice");
-  if (model.is_anchored(particle)) {
-    model.anchors[static_cast<std::size_t>(model.particle_anchor[particle])].path = path;
-    return;
-  }
-  model.particle_anchor[particle] = static_cast<std::int32_t>(model.anchors.size());
-  model.particle_inverse_mass[particle] = 0.0;
-  model.anchors.push_back(Anchor{particle, path});
-}
-
-bool remove_anchor(ClothModel& model, std::uint32_t particle) {
-  CLOTHSIM_ASSERT(particle < model.particle_count(), "freed particle is in the lattice");
-  if (!model.is_anchored(particle)) return false;
-  const auto index = static_cast<std::size_t>(model.particle_anchor[particle]);
-  const Anchor last = model.anchors.back();
-  model.anchors[index] = last;
-  model.particle_anchor[last.particle] = static_cast<std::int32_t>(index);
-  model.anchors.pop_back();
-  model.particle_anchor[particle] = -1;
-  model.particle_inverse_mass[particle] = 1.0 / model.particle_mass[particle];
-  return true;
 }
 
 }  // namespace clothsim

@@ -1,8 +1,10 @@
 // The three kinds of simulation data (after MuJoCo's mjModel/mjData split):
 //
-//   ClothModel  topology and per-element parameters. Built once by build_lattice() and then only
-//               read: integrators take `const ClothModel&`. Events that change the sheet
-//               (tearing, plasticity, creasing) will rewrite it between steps, never inside one.
+//   ClothModel  topology and per-element parameters. Built once by build_lattice(); afterwards
+//               changed only through model/model_edits.h (tearing, plasticity, creasing, live
+//               edits), between steps and never inside one, each change counted in `revision`.
+//               Integrators take `const ClothModel&` and refresh what they cache from it when
+//               the revision moves.
 //   ClothState  what evolves: time, positions, velocities and the work integrals. Cheap to copy.
 //   Workspace   scratch memory owned by an integrator (integrators/).
 //
@@ -23,6 +25,7 @@
 
 #include "core/vec3.h"
 #include "model/anchor.h"
+#include "model/spring_limits.h"
 
 namespace clothsim {
 
@@ -58,11 +61,23 @@ struct Environment {
   double air_drag = 0.0;          // linear drag coefficient per particle, kg/s: f = -air_drag v
 };
 
+// How the element arrays are ordered. build_lattice() records `lattice`: connectors and radial
+// springs in its order (see there), which the structured force kernel (forces/lattice_kernel.h)
+// relies on instead of finding neighbours through the element lists. Anything else is `general`.
+// The layout never changes: a broken spring stays in its place, marked dead.
+enum class ModelLayout : std::uint8_t { general, lattice };
+
 struct ClothModel {
   // Lattice shape, for output and rendering; the physics uses only the element arrays below.
   int rows = 0;
   int cols = 0;
   double spacing = 0.0;  // m
+  ModelLayout layout = ModelLayout::general;
+  // Counts every change made through model/model_edits.h since the model was built. A cache
+  // derived from the model (the lattice kernel's per-spring arrays, implicit Euler's matrix
+  // values, a derivative kept between steps) records the revision it was made for and refreshes
+  // itself when it differs; nothing has to be rebuilt, and integrators keep their state.
+  std::uint64_t revision = 0;
 
   // Particles [particle_count()].
   std::vector<double> particle_mass;          // kg
@@ -75,6 +90,13 @@ struct ClothModel {
   std::vector<double> connector_rest_length;  // L, m
   std::vector<double> connector_stiffness;    // k, N/m
   std::vector<double> connector_damping;      // c, N s/m
+  // Changing parts of a connector (DESIGN.md section 3, events/): whether it is intact, the
+  // strain at which it breaks, and the yield strain of its plastic law. A broken connector and
+  // every radial spring using it exert no force and store no energy; they keep their index.
+  std::vector<std::uint8_t> connector_live;         // 1 intact, 0 broken
+  std::vector<double> connector_original_length;    // L as built, m: strains of tearing and plasticity
+  std::vector<double> connector_break_strain;       // breaks when l / original - 1 > this; +inf: never
+  std::vector<double> connector_yield_strain;       // y_e of the return mapping; grows by hardening; +inf: elastic
 
   // Radial springs [radial_count()]: energy 1/2 k (theta - theta0)^2 of the angle theta between
   // the connectors centre->b and centre->c, plus damping -c dtheta/dt along the same gradient.
@@ -84,6 +106,18 @@ struct ClothModel {
   std::vector<double> radial_rest_angle;  // theta0, rad, in [0, pi]
   std::vector<double> radial_stiffness;   // k, N m / rad
   std::vector<double> radial_damping;     // c, N m s / rad
+  std::vector<std::uint8_t> radial_live;         // 0 once one of its connectors broke
+  std::vector<double> radial_original_angle;     // theta0 as built, rad
+  std::vector<double> radial_yield_angle;        // creasing: largest |theta - theta0| kept elastic, rad; +inf: elastic
+
+  // Radial springs using each connector (CSR): radial_of_connector[connector_radial_offset[e] ..
+  // connector_radial_offset[e + 1]), ascending. Breaking e kills exactly these.
+  std::vector<std::uint32_t> connector_radial_offset;  // [connector_count() + 1]
+  std::vector<std::uint32_t> radial_of_connector;
+
+  // The limits the per-spring thresholds above were set from (model/spring_limits.h); the
+  // hardening of the plastic law is read from here.
+  SpringLimits limits;
 
   // Anchors [anchor_count()].
   std::vector<Anchor> anchors;
@@ -105,6 +139,9 @@ struct ClothModel {
   std::size_t force_slot_count() const { return 2 * connector_count() + 3 * radial_count(); }
 
   bool is_anchored(std::size_t particle) const { return particle_anchor[particle] >= 0; }
+  bool is_intact() const { return broken_connector_count == 0; }
+  // Connectors broken so far (kept by model_edits.h).
+  std::size_t broken_connector_count = 0;
   // "particle 37 (row 1, col 16)" for diagnostics.
   std::string describe_particle(std::size_t particle) const;
 };
@@ -114,35 +151,31 @@ struct ClothState {
   std::vector<Vec3> position;   // [particle_count()], m
   std::vector<Vec3> velocity;   // [particle_count()], m/s
   // Work done on the sheet since t = 0, integrated alongside the motion so that the energy
-  // balance E(t) = E(0) + W_damping + W_drag + W_anchor can be checked at any time.
+  // balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_plastic + W_fracture can be checked.
   double damping_work = 0.0;  // by spring damping, J (never positive)
   double drag_work = 0.0;     // by air drag, J (never positive)
   double anchor_work = 0.0;   // by moving anchors, J
+  // Elastic energy released between steps by the events of events/ (and cuts), J (never
+  // positive): yielding and creasing, and breaking springs.
+  double plastic_work = 0.0;
+  double fracture_work = 0.0;
 };
 
 // Builds the lattice of the paper: particle (i, j) has index i*cols + j and rest position
 // ((j - (cols-1)/2) L, 0, (i - (rows-1)/2) L). Anchors name particles by index; a particle may be
-// anchored once. Throws InputError naming `source` for inconsistent definitions.
+// anchored once. Throws InputError naming `source` for inconsistent definitions. Every spring is
+// intact, unbreakable and elastic (limits +inf); scene/ sets the limits of a material.
 ClothModel build_lattice(const LatticeDef& lattice, const Environment& environment,
                          std::span<const Anchor> anchors, const std::string& source = "lattice");
 
 // The flat lattice at rest, anchors at their path positions at time 0.
 ClothState make_rest_state(const ClothModel& model);
 
-// Edits of a built model, for live editing between steps (Simulation wraps them so that the
-// integrator and the energy balance stay consistent; call these directly only on a model no
-// integrator is using). Each keeps the model's invariants: inverse masses match masses and
-// anchors, particle_anchor indexes `anchors`.
-//
-// Sets the stiffness and damping of every spring of `family` (a per-spring variation is replaced).
-void set_spring_family(ClothModel& model, SpringFamily family, const SpringParameters& parameters);
-// Sets every particle's mass, kg (> 0); anchored particles keep inverse mass 0.
-void set_particle_mass(ClothModel& model, double mass);
-// Anchors `particle` to `path`, replacing the path if it is anchored already.
-void set_anchor(ClothModel& model, std::uint32_t particle, const AnchorPath& path);
-// Frees an anchored particle (its inverse mass is restored from its mass); false if it was free.
-// The last anchor takes the freed one's index in `anchors`.
-bool remove_anchor(ClothModel& model, std::uint32_t particle);
+// Completes a model whose element arrays are filled in: the per-spring state of tearing and
+// plasticity (intact, limits +inf, original rest values) where it is missing, the force gather
+// table and the connector-to-radial table. build_lattice() calls it; so does code that builds a
+// model by hand (tests of irregular sheets).
+void finish_model(ClothModel& model);
 
 // Index of particle (row, col).
 inline std::uint32_t lattice_index(int cols, int row, int col) {

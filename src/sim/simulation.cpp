@@ -8,6 +8,7 @@
 #include "core/assert.h"
 #include "core/parallel.h"
 #include "core/timer.h"
+#include "model/model_edits.h"
 
 namespace clothsim {
 namespace {
@@ -32,7 +33,8 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   CLOTHSIM_ASSERT(state_.velocity.size() == model_->particle_count(), "state matches the model");
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
   integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_, settings.kernel});
-  initial_energy_ = energy().total() - (state_.damping_work + state_.drag_work + state_.anchor_work);
+  initial_energy_ = energy().total() - (state_.damping_work + state_.drag_work + state_.anchor_work +
+                                        state_.plastic_work + state_.fracture_work);
   check_state();
 }
 
@@ -40,41 +42,54 @@ bool Simulation::advance_to(double time) {
   if (failure_) return false;
   CLOTHSIM_ASSERT(time >= state_.time, "advance_to() cannot go back in time");
   while (state_.time < time) {
-    {
-      Stopwatch watch;
-      const double force_before = integrator_->force_seconds();
-      // A driven anchor's arrival is an event: no step crosses it (model/anchor.h).
-      const StepOutcome outcome = integrator_->step(state_, std::min(time, next_anchor_arrival()));
-      const double force = integrator_->force_seconds() - force_before;
-      profile_.forces += force;
-      profile_.integration += watch.seconds() - force;
-
-      if (outcome.status == StepStatus::step_underflow) {
-        const std::string where = model_->describe_particle(outcome.particle);
-        fail(where, std::string(outcome.non_finite_error ? "forces became non-finite" : "step size underflow") +
-                        ": " + std::string(to_string(settings_.integrator.kind)) + " needed a step of " +
-                        format_number(outcome.step) + " s, below min_step = " +
-                        format_number(settings_.integrator.min_step) + " s; the largest error is at " + where +
-                        ". The state is blowing up, or the problem is too stiff for this tolerance.");
-        return false;
-      }
-      if (outcome.status == StepStatus::non_finite) {
-        const std::string where = model_->describe_particle(outcome.particle);
-        fail(where, "the state became non-finite at " + where + " during a step of " + format_number(outcome.step) +
-                        " s; the time step is too large for this material (try a smaller --time-step or rkf45).");
-        return false;
-      }
-    }
-    // Discrete events between accepted steps: driven anchors arriving (tearing, plasticity and
-    // creasing will run here too).
-    stop_arrived_anchors();
-    {
-      ScopedTimer timer(profile_.checks);
-      check_state();
-    }
-    if (failure_) return false;
+    if (!integrate(time)) return false;
+    apply_events();
+    if (!check()) return false;
   }
   return true;
+}
+
+bool Simulation::integrate(double time) {
+  Stopwatch watch;
+  const double force_before = integrator_->force_seconds();
+  // Anchor events (a driven anchor arriving, an anchor letting go) are never crossed by a step.
+  const StepOutcome outcome = integrator_->step(state_, std::min(time, next_anchor_event()));
+  const double force = integrator_->force_seconds() - force_before;
+  profile_.forces += force;
+  profile_.integration += watch.seconds() - force;
+
+  if (outcome.status == StepStatus::step_underflow) {
+    const std::string where = model_->describe_particle(outcome.particle);
+    fail(where, std::string(outcome.non_finite_error ? "forces became non-finite" : "step size underflow") + ": " +
+                    std::string(to_string(settings_.integrator.kind)) + " needed a step of " +
+                    format_number(outcome.step) + " s, below min_step = " +
+                    format_number(settings_.integrator.min_step) + " s; the largest error is at " + where +
+                    ". The state is blowing up, or the problem is too stiff for this tolerance.");
+    return false;
+  }
+  if (outcome.status == StepStatus::non_finite) {
+    const std::string where = model_->describe_particle(outcome.particle);
+    fail(where, "the state became non-finite at " + where + " during a step of " + format_number(outcome.step) +
+                    " s; the time step is too large for this material (try a smaller --time-step or rkf45).");
+    return false;
+  }
+  return true;
+}
+
+void Simulation::apply_events() {
+  ScopedTimer timer(profile_.events);
+  stop_arrived_anchors();
+  release_due_anchors();
+  const SpringEventCounts counts = spring_events_.apply(*model_, state_, threads_);
+  event_totals_.breaks += counts.breaks;
+  event_totals_.yields += counts.yields;
+  event_totals_.creases += counts.creases;
+}
+
+bool Simulation::check() {
+  ScopedTimer timer(profile_.checks);
+  check_state();
+  return !failure_;
 }
 
 void Simulation::check_state() {
@@ -144,7 +159,29 @@ EnergyBalance Simulation::energy_balance() const {
   balance.drag_work = state_.drag_work;
   balance.anchor_work = state_.anchor_work;
   balance.edit_work = edit_work_;
+  balance.plastic_work = state_.plastic_work;
+  balance.fracture_work = state_.fracture_work;
   return balance;
+}
+
+ModelChanges Simulation::model_changes() const {
+  const ClothModel& model = *model_;
+  ModelChanges changes;
+  changes.broken_connectors = model.broken_connector_count;
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    if (model.connector_live[e] == 0) continue;
+    changes.max_plastic_strain = std::max(
+        changes.max_plastic_strain, std::abs(model.connector_rest_length[e] / model.connector_original_length[e] - 1.0));
+  }
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    if (model.radial_live[r] == 0) {
+      ++changes.broken_radials;
+      continue;
+    }
+    changes.max_rest_angle_change =
+        std::max(changes.max_rest_angle_change, std::abs(model.radial_rest_angle[r] - model.radial_original_angle[r]));
+  }
+  return changes;
 }
 
 IntegratorStats Simulation::integrator_stats() const {
@@ -164,14 +201,25 @@ void Simulation::set_spring_parameters(SpringFamily family, const SpringParamete
   const double before = energy().total();
   set_spring_family(*model_, family, parameters);
   edit_work_ += energy().total() - before;
-  restart_integrator();
 }
 
 void Simulation::set_environment(const Environment& environment) {
-  CLOTHSIM_ASSERT(is_finite(environment.gravity) && environment.air_drag >= 0.0, "environment is valid");
   const double before = energy().total();
-  model_->environment = environment;
+  clothsim::set_environment(*model_, environment);
   edit_work_ += energy().total() - before;
+}
+
+void Simulation::set_spring_limits(const SpringLimits& limits) { apply_spring_limits(*model_, limits); }
+
+std::size_t Simulation::cut_connectors(std::span<const std::uint32_t> connectors) {
+  std::size_t cut = 0;
+  for (std::uint32_t e : connectors) {
+    const double released = connector_break_energy(*model_, state_.position, e);
+    if (!break_connector(*model_, e)) continue;
+    state_.fracture_work -= released;
+    ++cut;
+  }
+  return cut;
 }
 
 void Simulation::set_particle_mass(double mass) {
@@ -235,15 +283,25 @@ bool Simulation::release_particle(std::uint32_t particle) {
   return remove_anchor(*model_, particle);
 }
 
-double Simulation::next_anchor_arrival() const {
+double Simulation::next_anchor_event() const {
   double next = std::numeric_limits<double>::infinity();
   for (const Anchor& anchor : model_->anchors) {
     const AnchorPath& path = anchor.path;
     if (path.kind == AnchorPathKind::driven && path.velocity != Vec3{} && path.end_time > state_.time) {
       next = std::min(next, path.end_time);
     }
+    if (anchor.release_time > state_.time) next = std::min(next, anchor.release_time);
   }
   return next;
+}
+
+void Simulation::release_due_anchors() {
+  // remove_anchor() moves the last anchor into the freed slot, so scan from the back.
+  for (std::size_t i = model_->anchors.size(); i-- > 0;) {
+    if (i < model_->anchors.size() && model_->anchors[i].release_time <= state_.time) {
+      remove_anchor(*model_, model_->anchors[i].particle);
+    }
+  }
 }
 
 void Simulation::stop_arrived_anchors() {

@@ -1,29 +1,32 @@
 // Simulation: owns a model, its state and an integrator, and advances to requested times.
 //
-// advance_to(t) reads like the algorithm it runs:
+// advance_to(t) reads like the algorithm it runs, one named stage after another, each with its
+// entry in StepProfile:
 //   while the state is before t:
-//     integrator step (adaptive, never past t)   -> StepProfile::integration / forces
-//     discrete events between steps               -> (tearing, plasticity: later issues)
-//     check the state: finite, not exploding      -> StepProfile::checks
+//     integrate: one accepted step (adaptive, never past t or an anchor event) -> integration, forces
+//     events:    between steps, on the accepted state: anchors arriving or     -> events
+//                released, then tearing, permanent stretching and creasing
+//                (events/), each change through model/model_edits.h
+//     checks:    the state is finite and not exploding                         -> checks
 // sim/profile.h turns the profile into the table `clothsim run --profile` prints.
 // A failed check or integrator stops the simulation with a Diagnosis (time, step, element), and
 // the state stays at the last good step, so a caller can still write what it has.
 //
-// Live editing (the viewer's panel and scripts) goes through the set_* and *_particle members,
-// called between advance_to() calls, so an edit takes effect from the next step on and never
-// inside one. Integrators read masses, the environment and anchors from the model at every force
-// evaluation, so those edits need no rebuild. Spring parameters are different: the structured
-// force kernel (forces/lattice_kernel.h) keeps the material of a uniform lattice, and whether the
-// sheet still is one can change with an edit, so a spring edit restarts the integrator on the
-// current state, exactly as a new run from that state would go on; set_integrator() does the
-// same with new settings. Statistics and the profile count across restarts. Every edit books
-// the energy it adds or removes, so the balance stays exact across edits (docs/viewer.md):
+// Live editing (the viewer's panel and scripts) goes through the set_*, cut_* and *_particle
+// members, called between advance_to() calls, so an edit takes effect from the next step on and
+// never inside one. Every change goes through model/model_edits.h, which moves the model's
+// revision; the integrator refreshes what it caches from the model and keeps its step-size
+// history. Only set_integrator() makes a new integrator; statistics and the profile count across
+// it. Every edit books the energy it adds or removes, so the balance stays exact across edits
+// (docs/viewer.md):
 //   parameter edits (stiffness, gravity, mass): EnergyBalance::edit_work += E_after - E_before,
 //     the jump of potential or kinetic energy the edit causes at fixed positions and velocities;
 //   anchor edits (pin, drive, a driven anchor arriving): the jump of the anchored particle's
 //     velocity is the anchor's impulse, and its work 1/2 m (|v_after|^2 - |v_before|^2) goes into
 //     ClothState::anchor_work like the anchor's continuous work;
-//   release: the particle goes on with the velocity it has, so no energy changes.
+//   release: the particle goes on with the velocity it has, so no energy changes;
+//   cuts and the events' breaks and yields: the elastic energy they release at fixed positions
+//     goes into fracture_work and plastic_work (events/).
 // Rejected: resetting E(0) at each edit. The balance would then say nothing about the run before
 // the edit, and a viewer's energy plot would jump.
 #pragma once
@@ -31,12 +34,15 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
+#include "events/spring_events.h"
 #include "forces/forces.h"
 #include "integrators/integrator.h"
 #include "model/cloth_model.h"
+#include "model/spring_limits.h"
 
 namespace clothsim {
 
@@ -54,6 +60,7 @@ struct SimulationSettings {
 struct StepProfile {
   double forces = 0.0;       // force evaluation (inside the integrator)
   double integration = 0.0;  // the rest of the integrator: stage sums, error control
+  double events = 0.0;       // between steps: anchors, tearing, plasticity, creasing
   double checks = 0.0;       // finiteness and explosion checks
 };
 
@@ -65,17 +72,30 @@ struct Diagnosis {
 };
 
 // Energies and the work done on the sheet; `error()` is how far the run is from the energy
-// balance E(t) = E(0) + W_damping + W_drag + W_anchor, which the exact flow satisfies.
+// balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_edit + W_plastic + W_fracture, which
+// the exact flow satisfies.
 struct EnergyBalance {
   EnergyReport energy;
   double initial_total = 0.0;
   double damping_work = 0.0;
   double drag_work = 0.0;
   double anchor_work = 0.0;
-  double edit_work = 0.0;  // energy added by live parameter edits between steps (Simulation::set_*), J
+  double edit_work = 0.0;      // energy added by live parameter edits between steps (Simulation::set_*), J
+  double plastic_work = 0.0;   // elastic energy released by yielding and creasing, J (never positive)
+  double fracture_work = 0.0;  // elastic energy released by breaking springs, J (never positive)
   double error() const {
-    return energy.total() - (initial_total + damping_work + drag_work + anchor_work + edit_work);
+    return energy.total() -
+           (initial_total + damping_work + drag_work + anchor_work + edit_work + plastic_work + fracture_work);
   }
+};
+
+// How far the sheet has changed from its built model: the statistics of events/ that
+// energy.csv and summary.json report.
+struct ModelChanges {
+  std::size_t broken_connectors = 0;   // so far
+  std::size_t broken_radials = 0;      // so far (each broken connector takes 1 to 3 with it)
+  double max_plastic_strain = 0.0;     // max over intact connectors of |L / L_original - 1|
+  double max_rest_angle_change = 0.0;  // max over intact radial springs of |theta0 - theta0_original|, rad
 };
 
 class Simulation {
@@ -102,6 +122,9 @@ class Simulation {
 
   EnergyReport energy() const;
   EnergyBalance energy_balance() const;
+  ModelChanges model_changes() const;
+  // Breaks, yields and creases applied by the event stage so far (not counting cuts).
+  const SpringEventCounts& event_totals() const { return event_totals_; }
 
   // Live parameter edits, between advance_to() calls (see the top of this file). Values must be
   // valid (the caller checks input against the parameter registry, scene/parameters.h).
@@ -115,6 +138,12 @@ class Simulation {
   // A new integrator (kind, tolerances, step) that goes on from the current state. Statistics
   // and the profile keep counting across the switch.
   void set_integrator(const IntegratorSettings& settings);
+  // Break, yield and crease limits of every spring (model/spring_limits.h). Hardened yields
+  // start again from limits.yield_strain; broken springs stay broken and rest values stay.
+  void set_spring_limits(const SpringLimits& limits);
+  // Breaks the given connectors now, with the radial springs that use them (a cut with the
+  // mouse); their elastic energy goes into fracture_work. Returns how many were intact.
+  std::size_t cut_connectors(std::span<const std::uint32_t> connectors);
 
   // Runtime anchors (the viewer's mouse and pins, scripted drags).
   //
@@ -135,8 +164,11 @@ class Simulation {
  private:
   void check_state();
   void fail(std::string element, std::string message);
-  // The next arrival time of a moving driven anchor after the current time, or +infinity.
-  double next_anchor_arrival() const;
+  // The next anchor event after the current time (a moving driven anchor arriving, an anchor's
+  // release time), or +infinity.
+  double next_anchor_event() const;
+  // Frees the anchors whose release time has come.
+  void release_due_anchors();
   // Stops driven anchors that have arrived (their impulse goes into anchor_work).
   void stop_arrived_anchors();
   // Sets particle's anchor path and its velocity to the path's, booking the velocity jump.
@@ -144,6 +176,11 @@ class Simulation {
   // Replaces the integrator with a new one for the current model and settings_.integrator,
   // keeping the statistics of the old one.
   void restart_integrator();
+
+  // The stages of advance_to(), in order. Each returns false when the simulation failed.
+  bool integrate(double time);
+  void apply_events();
+  bool check();
 
   std::unique_ptr<ClothModel> model_;  // on the heap: the integrator keeps a reference to it
   ClothState state_;
@@ -154,6 +191,8 @@ class Simulation {
   double initial_energy_ = 0.0;
   double edit_work_ = 0.0;  // J, see EnergyBalance::edit_work
   StepProfile profile_;
+  SpringEvents spring_events_;
+  SpringEventCounts event_totals_;  // over the run
   std::optional<Diagnosis> failure_;
 };
 

@@ -1,5 +1,6 @@
 // Lattice topology and layout as the paper and docs/model.md define them.
 #include "model/cloth_model.h"
+#include "model/model_edits.h"
 
 #include <gtest/gtest.h>
 

@@ -1,0 +1,72 @@
+// The event stage: tearing, permanent stretching and creasing, between accepted steps.
+//
+// The laws are those of DESIGN.md section 3, applied to the accepted state after each step, in
+// this order:
+//   1. tearing     connector e breaks when its strain against its original length,
+//                  l / L0_e - 1, exceeds its threshold s_e (model/spring_limits.h); the radial
+//                  springs that use it break with it. All breaks found after a step are applied
+//                  together, in connector index order.
+//   2. stretching  each intact connector: elastic strain eps = l / L_e - 1 against its current
+//                  rest length; if |eps| > y_e, the plastic increment is d = |eps| - y_e, the rest
+//                  length becomes L_e = l / (1 + sign(eps) y_e) and y_e grows by hardening d.
+//   3. creasing    each intact radial spring: if |theta - theta0| > a, theta0 becomes
+//                  theta - sign(theta - theta0) a, kept in [0, pi].
+// Tearing is measured against the original length, not the plastic rest length: the return
+// mapping caps the elastic strain at the yield strain, so a connector that yields would never
+// reach a break strain above its yield (and a yield above the break strain is refused as input);
+// what paper and film tests report as elongation at break (ISO 1924-2, ASTM D882) is the total
+// strain. For an elastic sheet the two are the same (docs/model.md).
+//
+// Determinism: each spring's decision depends only on the state and that spring, so the checks
+// run in parallel into per-spring arrays and the changes are then applied in index order by one
+// thread: the same changes and the same released energy for any thread count.
+//
+// Energy: a change at fixed positions changes the elastic energy by dE = E_after - E_before
+// (never positive here: a break removes a spring's energy, a return mapping moves the rest value
+// towards the current one). dE is added to ClothState::fracture_work (breaks) or plastic_work
+// (stretching, creasing), so the balance of sim/ stays a measure of integration error.
+//
+// A stage whose limit is +infinity in the model's SpringLimits is skipped: an elastic,
+// unbreakable sheet (the paper's) pays nothing here.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/vec3.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+// What one application of the event stage changed.
+struct SpringEventCounts {
+  std::size_t breaks = 0;   // connectors broken
+  std::size_t yields = 0;   // connectors whose rest length changed
+  std::size_t creases = 0;  // radial springs whose rest angle changed
+  bool any() const { return breaks + yields + creases > 0; }
+};
+
+// Elastic energy that breaking connector `connector` releases at `position`: its own and that of
+// its radial springs still intact, J (0 if it is broken already).
+double connector_break_energy(const ClothModel& model, std::span<const Vec3> position, std::uint32_t connector);
+
+// Scratch of the event stage, sized for one model on first use; apply() does not allocate after.
+class SpringEvents {
+ public:
+  // Applies the three laws to `state`'s positions, changing `model` through model/model_edits.h
+  // and adding the released energy to state.fracture_work and state.plastic_work.
+  SpringEventCounts apply(ClothModel& model, ClothState& state, int threads);
+
+ private:
+  void resize(const ClothModel& model);
+  std::vector<std::uint8_t> breaks_;        // [connectors] 1: breaks after this step
+  std::vector<double> connector_rest_;      // [connectors] new rest length, or 0: unchanged
+  std::vector<double> connector_yield_;     // [connectors] new yield strain
+  std::vector<double> radial_rest_;         // [radials] new rest angle, or -1: unchanged
+  std::vector<double> released_;            // [connectors or radials] energy change of that spring, J
+  std::vector<double> block_sums_;
+};
+
+}  // namespace clothsim
