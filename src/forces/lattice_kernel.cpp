@@ -352,7 +352,7 @@ std::optional<LatticeMaterial> detect_lattice(const ClothModel& model) {
   const std::size_t rows = static_cast<std::size_t>(std::max(model.rows, 0));
   const std::size_t cols = static_cast<std::size_t>(std::max(model.cols, 0));
   if (rows == 0 || cols == 0 || rows * cols != model.particle_count()) return std::nullopt;
-  if (model.connector_count() == 0) return std::nullopt;
+  if (model.connector_count() == 0 || !model.is_intact()) return std::nullopt;
   LatticeMaterial m;
   m.rest_length = model.connector_rest_length[0];
   m.connector_stiffness = model.connector_stiffness[0];
