@@ -1,7 +1,9 @@
 // Micro-benchmarks of one force evaluation: the general element-list path and the structured
 // lattice kernel, on square sheets of the paper's material bent into a wave (no singular
 // springs) and flat (every opposite spring singular: *Flat), for 1 and 2 threads. Counters: ns per particle and force
-// evaluations per second.
+// evaluations per second. *Torn: the issue-7 target case, the wavy sheet with 10 % of its
+// connectors broken (a fixed random choice) and every spring's rest value different, as a torn,
+// stretched and creased sheet has them; it must stay within 1.3 times Lattice.
 //
 //   build/bench/bench/clothsim_microbench --benchmark_filter=Lattice --benchmark_repetitions=5
 #include <benchmark/benchmark.h>
@@ -10,6 +12,7 @@
 #include <vector>
 
 #include "forces/forces.h"
+#include "model/model_edits.h"
 
 namespace clothsim {
 namespace {
@@ -22,11 +25,27 @@ struct Sheet {
 
 // A wavy sheet (no singular springs), or a flat one falling with a velocity field that bends it
 // (every opposite spring exactly straight: the singular path, as at the start of most runs).
-Sheet make_sheet(int n, bool flat) {
+Sheet make_sheet(int n, bool flat, bool torn = false) {
   LatticeDef def;
   def.rows = n;
   def.cols = n;
   Sheet sheet{build_lattice(def, Environment{}, {}), {}, {}};
+  if (torn) {
+    // A fixed pseudo-random choice (a 64-bit LCG), so every run measures the same sheet.
+    std::uint64_t z = 12345;
+    const auto next = [&z] {
+      z = z * 6364136223846793005ULL + 1442695040888963407ULL;
+      return static_cast<double>(z >> 11) * 0x1.0p-53;
+    };
+    ClothModel& model = sheet.model;
+    for (std::size_t e = 0; e < model.connector_count(); ++e) {
+      set_connector_rest_length(model, static_cast<std::uint32_t>(e), model.connector_rest_length[e] * (0.95 + 0.1 * next()));
+      if (next() < 0.1) break_connector(model, static_cast<std::uint32_t>(e));
+    }
+    for (std::size_t r = 0; r < model.radial_count(); ++r) {
+      set_radial_rest_angle(model, static_cast<std::uint32_t>(r), model.radial_rest_angle[r] * (0.95 + 0.05 * next()));
+    }
+  }
   sheet.position = sheet.model.particle_rest_position;
   sheet.velocity.assign(sheet.position.size(), Vec3{});
   for (std::size_t p = 0; p < sheet.position.size(); ++p) {
@@ -37,10 +56,10 @@ Sheet make_sheet(int n, bool flat) {
   return sheet;
 }
 
-void force_evaluation(benchmark::State& state, ForceKernel kernel, bool flat) {
+void force_evaluation(benchmark::State& state, ForceKernel kernel, bool flat, bool torn) {
   const int n = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
-  const Sheet sheet = make_sheet(n, flat);
+  const Sheet sheet = make_sheet(n, flat, torn);
   ForceBuffers buffers;
   buffers.kernel = kernel;
   buffers.resize(sheet.model);
@@ -64,10 +83,12 @@ void sizes(benchmark::internal::Benchmark* b) {
   b->ArgNames({"n", "threads"})->UseRealTime()->Unit(benchmark::kMicrosecond);
 }
 
-BENCHMARK_CAPTURE(force_evaluation, General, ForceKernel::general, false)->Apply(sizes);
-BENCHMARK_CAPTURE(force_evaluation, Lattice, ForceKernel::lattice, false)->Apply(sizes);
-BENCHMARK_CAPTURE(force_evaluation, GeneralFlat, ForceKernel::general, true)->Apply(sizes);
-BENCHMARK_CAPTURE(force_evaluation, LatticeFlat, ForceKernel::lattice, true)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, General, ForceKernel::general, false, false)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, Lattice, ForceKernel::lattice, false, false)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, GeneralFlat, ForceKernel::general, true, false)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, LatticeFlat, ForceKernel::lattice, true, false)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, GeneralTorn, ForceKernel::general, false, true)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, LatticeTorn, ForceKernel::lattice, false, true)->Apply(sizes);
 
 }  // namespace
 }  // namespace clothsim

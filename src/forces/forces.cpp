@@ -18,11 +18,10 @@ void ForceBuffers::resize(const ClothModel& model) {
   slot_force.assign(model.force_slot_count(), Vec3{});
   element_power.assign(model.connector_count() + model.radial_count(), 0.0);
   block_power.assign((element_power.size() + kReductionBlock - 1) / kReductionBlock, 0.0);
-  model_revision = model.revision;
   const bool lattice_ready = kernel != ForceKernel::general && lattice.prepare(model);
   if (kernel == ForceKernel::general) lattice = LatticeKernel{};
   CLOTHSIM_ASSERT(kernel != ForceKernel::lattice || lattice_ready,
-                  "ForceKernel::lattice needs an intact lattice with uniform material");
+                  "ForceKernel::lattice needs a model with the lattice layout");
 }
 
 std::size_t ForceBuffers::bytes() const {
@@ -63,7 +62,6 @@ void gather_forces(const ClothModel& model, std::span<const Vec3> velocity, Forc
 ForcePowers evaluate_forces(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                             ForceTerms terms, int threads, ForceBuffers& buffers, std::span<Vec3> force) {
   CLOTHSIM_ASSERT(buffers.slot_force.size() == model.force_slot_count(), "ForceBuffers::resize(model) was called");
-  if (buffers.model_revision != model.revision) buffers.resize(model);
   ForcePowers powers;
   if (buffers.lattice.active()) {
     powers.damping = buffers.lattice.evaluate(model, position, velocity, terms, threads, force);

@@ -10,9 +10,10 @@
 // one extra pass over memory compared with scattered atomic adds, and keeps runs reproducible.
 // The per-element math itself is in element.h.
 //
-// An intact rows x cols lattice with uniform material (what build_lattice makes) takes a second,
-// vectorised path through the same physics: lattice_kernel.h. ForceBuffers::resize() chooses
-// the path once per model; evaluate_forces() then follows it. Both give the same forces up to
+// A sheet with the lattice layout (what build_lattice makes, torn, plastic or creased) takes a
+// second, vectorised path through the same physics: lattice_kernel.h. ForceBuffers::resize()
+// chooses the path once per model; evaluate_forces() then follows it, and both read the model's
+// current per-spring values (the kernel copies them again when the model's revision moves). Both give the same forces up to
 // rounding (tests/forces/test_lattice_kernel.cpp), and each is bit-for-bit independent of the
 // thread count.
 #pragma once
@@ -39,20 +40,20 @@ inline constexpr ForceTerms kAllForceTerms = (1u << 6) - 1;
 
 // Which implementation of the force function evaluate_forces() runs.
 enum class ForceKernel : std::uint8_t {
-  automatic,  // the lattice kernel when the model is an intact lattice, else the general one
-  general,    // element lists and per-element slots: any sheet, torn or irregular
+  automatic,  // the lattice kernel when the model has the lattice layout, else the general one
+  general,    // element lists and per-element slots: any sheet
   lattice,    // the structured kernel; resize() fails an assertion if the model is not a lattice
 };
 
-// Scratch memory for one force evaluation, sized by resize() for a model. A model whose elements
-// change (tearing) needs resize() again before the next evaluation.
+// Scratch memory for one force evaluation, sized by resize() for a model. Changes through
+// model/model_edits.h (tearing, plasticity, live edits) need no resize(): elements keep their
+// index, and the kernel follows the model's revision.
 struct ForceBuffers {
   ForceKernel kernel = ForceKernel::automatic;  // set before resize()
   std::vector<Vec3> slot_force;     // [model.force_slot_count()], N
   std::vector<double> element_power;  // [connectors + radials], damping power per element, W
   std::vector<double> block_power;    // partial sums over fixed blocks of element_power
   LatticeKernel lattice;              // scratch of the structured kernel, when it is in use
-  std::uint64_t model_revision = 0;   // ClothModel::revision the buffers were last prepared for
   void resize(const ClothModel& model);
   bool uses_lattice_kernel() const { return lattice.active(); }
   // Bytes of scratch memory held.

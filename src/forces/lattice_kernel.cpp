@@ -31,7 +31,14 @@ enum Array : std::size_t {
   kToNorthX, kToNorthY, kToNorthZ,
   kPower,  // damping power of everything owned by the particle (2 connectors, 6 radials), W
   kSingular,  // > 0 where one of the particle's radial springs is singular
-  kArrayCount
+  // Per-spring parameters, copied from the model by refresh() whenever its revision moves.
+  // East and south connector: stiffness, damping, rest length, and 1 if intact (0 if broken or
+  // missing). Radial spring i of the particle (i in the order of kPairs: (E,S), (S,W), (W,N),
+  // (N,E), (E,W), (S,N)): stiffness, damping, rest angle; 0, 0 where it is broken or missing.
+  kEastStiffness, kEastDamping, kEastRestLength, kEastLive,
+  kSouthStiffness, kSouthDamping, kSouthRestLength, kSouthLive,
+  kRadialStiffness, kRadialDamping = kRadialStiffness + 6, kRadialRestAngle = kRadialDamping + 6,
+  kArrayCount = kRadialRestAngle + 6
 };
 // clang-format on
 
@@ -41,17 +48,20 @@ constexpr std::size_t kBandParticles = 256;
 // The row and band functions are compiled for AVX-512, AVX2 and baseline x86-64 and chosen at
 // load time (core/multiversion.h).
 
-// Coefficients of one evaluation: the material with switched-off terms zeroed.
+// The radial springs of a particle as pairs of its connectors: directions 0 east, 1 south,
+// 2 west, 3 north; the four adjacent pairs, then the two opposite ones (build_lattice's order).
+constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}}};
+
+// Switches of one evaluation: 1 for a force term that is on, 0 for one that is off, multiplied
+// onto the per-spring constants (multiplying by 1 is exact, so a term that is on gives the same
+// bits as without the switch).
 struct Coefficients {
-  double rest_length = 0.0;
-  double connector_stiffness = 0.0;
-  double connector_damping = 0.0;
-  double adjacent_stiffness = 0.0;
-  double adjacent_damping = 0.0;
-  double adjacent_rest_angle = 0.0;
-  double opposite_stiffness = 0.0;
-  double opposite_damping = 0.0;
-  double opposite_rest_angle = 0.0;
+  double connector_elastic = 0.0;
+  double connector_damped = 0.0;
+  double adjacent_elastic = 0.0;
+  double adjacent_damped = 0.0;
+  double opposite_elastic = 0.0;
+  double opposite_damped = 0.0;
   Vec3 gravity;
   double drag = 0.0;
 };
@@ -153,24 +163,32 @@ CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k,
   double* __restrict uz = s[ux_array + 2];
   double* __restrict inverse_length = s[ux_array + 3];
   double* __restrict tension = s[ux_array + 4];
-  const double stiffness = k.connector_stiffness;
-  const double damping = k.connector_damping;
-  const double rest_length = k.rest_length;
+  // The parameter arrays of this direction (east and south are laid out alike).
+  const std::size_t parameters = ux_array == kEastX ? kEastStiffness : kSouthStiffness;
+  const double* __restrict stiffness = s[parameters];
+  const double* __restrict damping = s[parameters + 1];
+  const double* __restrict rest_length = s[parameters + 2];
+  const double* __restrict live = s[parameters + 3];
+  const double elastic = k.connector_elastic;
+  const double damped = k.connector_damped;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < missing_from; ++p) {
     const Vec3 e = x[p + offset] - x[p];
     const double length = std::sqrt(dot(e, e));
-    const bool exists = length > 0.0;
+    // A broken connector is stored like a missing one: 1/length = 0 and no tension, which also
+    // switches off the radial springs that use it.
+    const bool exists = length > 0.0 && live[p] > 0.0;
     const double inverse = exists ? 1.0 / length : 0.0;
     const Vec3 u = inverse * e;
     const double rate = dot(v[p + offset] - v[p], u);
-    const double t = stiffness * (length - rest_length) + damping * rate;
+    const double c = damped * damping[p];
+    const double t = elastic * stiffness[p] * (length - rest_length[p]) + c * rate;
     ux[p] = u.x;
     uy[p] = u.y;
     uz[p] = u.z;
     inverse_length[p] = inverse;
     tension[p] = exists ? t : 0.0;
-    power[p] += exists ? -damping * rate * rate : 0.0;
+    power[p] += exists ? -c * rate * rate : 0.0;
   }
   // No connector from the last column eastwards, or from the last row southwards.
   for (std::size_t p = missing_from; p < end; ++p) ux[p] = uy[p] = uz[p] = inverse_length[p] = tension[p] = 0.0;
@@ -219,17 +237,29 @@ template <int kDirection>
   return out;
 }
 
-// The spring between arms kB and kC of particle p (adjacent or opposite material).
+// Index of the pair (kB, kC) in kPairs.
+template <int kB, int kC>
+constexpr std::size_t pair_index() {
+  for (std::size_t i = 0; i < kPairs.size(); ++i) {
+    if (kPairs[i][0] == kB && kPairs[i][1] == kC) return i;
+  }
+  return kPairs.size();
+}
+
+// The spring between arms kB and kC of particle p, with its own stiffness, damping and rest angle.
 template <bool kResolveSingular, int kB, int kC>
 [[gnu::always_inline]] inline RadialResult spring_at(const Arrays& s, const Coefficients& k, std::size_t p,
                                                      std::size_t cols) {
   constexpr bool kOpposite = (kB + 2) % 4 == kC;
+  constexpr std::size_t kPair = pair_index<kB, kC>();
+  static_assert(kPair < kPairs.size());
   const Arm b = arm<kB>(s, p, cols);
   const Arm c = arm<kC>(s, p, cols);
+  const double elastic = kOpposite ? k.opposite_elastic : k.adjacent_elastic;
+  const double damped = kOpposite ? k.opposite_damped : k.adjacent_damped;
   return radial_spring<kResolveSingular>(b.unit, b.inverse_length, c.unit, c.inverse_length, b.relative_velocity,
-                                         c.relative_velocity, kOpposite ? k.opposite_stiffness : k.adjacent_stiffness,
-                                         kOpposite ? k.opposite_damping : k.adjacent_damping,
-                                         kOpposite ? k.opposite_rest_angle : k.adjacent_rest_angle);
+                                         c.relative_velocity, elastic * s[kRadialStiffness + kPair][p],
+                                         damped * s[kRadialDamping + kPair][p], s[kRadialRestAngle + kPair][p]);
 }
 
 // The to_<direction> x array of each direction.
@@ -348,125 +378,95 @@ CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients&
 
 }  // namespace
 
-std::optional<LatticeMaterial> detect_lattice(const ClothModel& model) {
-  const std::size_t rows = static_cast<std::size_t>(std::max(model.rows, 0));
-  const std::size_t cols = static_cast<std::size_t>(std::max(model.cols, 0));
-  if (rows == 0 || cols == 0 || rows * cols != model.particle_count()) return std::nullopt;
-  if (model.connector_count() == 0 || !model.is_intact()) return std::nullopt;
-  LatticeMaterial m;
-  m.rest_length = model.connector_rest_length[0];
-  m.connector_stiffness = model.connector_stiffness[0];
-  m.connector_damping = model.connector_damping[0];
-  bool have_adjacent = false;
-  bool have_opposite = false;
-  // Connectors in build_lattice's order: for each particle, east then south neighbour.
-  std::size_t e = 0;
-  std::vector<std::array<std::uint32_t, 4>> around(rows * cols, {~0u, ~0u, ~0u, ~0u});  // E, S, W, N
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t j = 0; j < cols; ++j) {
-      const auto p = static_cast<std::uint32_t>(i * cols + j);
-      for (int direction = 0; direction < 2; ++direction) {
-        const bool exists = direction == 0 ? j + 1 < cols : i + 1 < rows;
-        if (!exists) continue;
-        const auto q = static_cast<std::uint32_t>(direction == 0 ? p + 1 : p + cols);
-        if (e >= model.connector_count()) return std::nullopt;
-        if (model.connector_particles[e] != std::array<std::uint32_t, 2>{p, q}) return std::nullopt;
-        if (model.connector_rest_length[e] != m.rest_length || model.connector_stiffness[e] != m.connector_stiffness ||
-            model.connector_damping[e] != m.connector_damping) {
-          return std::nullopt;
-        }
-        around[p][static_cast<std::size_t>(direction)] = static_cast<std::uint32_t>(e);
-        around[q][static_cast<std::size_t>(direction + 2)] = static_cast<std::uint32_t>(e);
-        ++e;
-      }
-    }
-  }
-  if (e != model.connector_count()) return std::nullopt;
-  // Radial springs: per particle the adjacent pairs (E,S), (S,W), (W,N), (N,E), then the opposite
-  // pairs (E,W), (S,N), each where both connectors exist.
-  constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}}};
-  const auto neighbour = [&](std::uint32_t p, int direction) -> std::uint32_t {
-    switch (direction) {
-      case 0:
-        return p + 1;
-      case 1:
-        return p + static_cast<std::uint32_t>(cols);
-      case 2:
-        return p - 1;
-      default:
-        return p - static_cast<std::uint32_t>(cols);
-    }
-  };
-  std::size_t r = 0;
-  for (std::uint32_t p = 0; p < rows * cols; ++p) {
-    for (std::size_t pair = 0; pair < kPairs.size(); ++pair) {
-      const int d1 = kPairs[pair][0];
-      const int d2 = kPairs[pair][1];
-      const std::uint32_t c1 = around[p][static_cast<std::size_t>(d1)];
-      const std::uint32_t c2 = around[p][static_cast<std::size_t>(d2)];
-      if (c1 == ~0u || c2 == ~0u) continue;
-      if (r >= model.radial_count()) return std::nullopt;
-      const bool adjacent = pair < 4;
-      if (model.radial_particles[r] != std::array<std::uint32_t, 3>{p, neighbour(p, d1), neighbour(p, d2)} ||
-          model.radial_connectors[r] != std::array<std::uint32_t, 2>{c1, c2} ||
-          model.radial_kind[r] != (adjacent ? RadialKind::adjacent : RadialKind::opposite)) {
-        return std::nullopt;
-      }
-      double& stiffness = adjacent ? m.adjacent_stiffness : m.opposite_stiffness;
-      double& damping = adjacent ? m.adjacent_damping : m.opposite_damping;
-      double& rest_angle = adjacent ? m.adjacent_rest_angle : m.opposite_rest_angle;
-      bool& seen = adjacent ? have_adjacent : have_opposite;
-      if (!seen) {
-        stiffness = model.radial_stiffness[r];
-        damping = model.radial_damping[r];
-        rest_angle = model.radial_rest_angle[r];
-        seen = true;
-      } else if (model.radial_stiffness[r] != stiffness || model.radial_damping[r] != damping ||
-                 model.radial_rest_angle[r] != rest_angle) {
-        return std::nullopt;
-      }
-      ++r;
-    }
-  }
-  if (r != model.radial_count()) return std::nullopt;
-  return m;
-}
-
 bool LatticeKernel::prepare(const ClothModel& model) {
-  material_ = detect_lattice(model);
+  active_ = false;
   scratch_.clear();
   scratch_.shrink_to_fit();
-  if (!material_) return false;
+  if (model.layout != ModelLayout::lattice || model.rows < 1 || model.cols < 1 ||
+      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) != model.particle_count()) {
+    return false;
+  }
+  const auto cols = static_cast<std::uint32_t>(model.cols);
+  const std::size_t n = model.particle_count();
+  // Where each spring's parameters go: connector e to its first particle's east or south slot,
+  // radial spring r to its centre's slot of its pair. The layout says the springs are the
+  // lattice's; the check here costs one pass and keeps a model that was edited by hand (and no
+  // longer matches its layout) off the kernel.
+  connector_slot_.assign(model.connector_count(), 0);
+  radial_slot_.assign(model.radial_count(), 0);
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    const auto [a, b] = model.connector_particles[e];
+    const bool east = b == a + 1 && a % cols + 1 < cols;
+    const bool south = b == a + cols && b < n;
+    if (!east && !south) return false;
+    connector_slot_[e] = (a << 1) | (south ? 1u : 0u);
+  }
+  // South and north first: with one column, +-1 is also +-cols, and there is no east or west.
+  const auto direction = [&](std::uint32_t centre, std::uint32_t other) -> int {
+    if (other == centre + cols) return 1;
+    if (other + cols == centre) return 3;
+    if (other == centre + 1) return 0;
+    if (other + 1 == centre) return 2;
+    return -1;
+  };
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const auto [centre, b, c] = model.radial_particles[r];
+    const std::array<int, 2> pair{direction(centre, b), direction(centre, c)};
+    const auto found = std::find(kPairs.begin(), kPairs.end(), pair);
+    if (found == kPairs.end()) return false;
+    radial_slot_[r] = centre * static_cast<std::uint32_t>(kPairs.size()) +
+                      static_cast<std::uint32_t>(found - kPairs.begin());
+  }
   rows_ = model.rows;
   cols_ = model.cols;
-  const std::size_t n = model.particle_count();
   padding_ = static_cast<std::size_t>(cols_) + 8;
   stride_ = (n + 2 * padding_ + 7) / 8 * 8;
   scratch_.assign(kArrayCount * stride_, 0.0);
   block_power_.assign(deterministic_sum_blocks(n), 0.0);
+  active_ = true;
+  refresh(model);
   return true;
+}
+
+void LatticeKernel::refresh(const ClothModel& model) {
+  double* base = scratch_.data() + padding_;
+  const auto array = [&](std::size_t a) { return base + a * stride_; };
+  // Missing springs (borders) keep zeros: no stiffness, no damping, not live.
+  std::fill(scratch_.begin() + static_cast<std::ptrdiff_t>(kEastStiffness * stride_), scratch_.end(), 0.0);
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    const std::size_t p = connector_slot_[e] >> 1;
+    const std::size_t first = (connector_slot_[e] & 1u) != 0 ? kSouthStiffness : kEastStiffness;
+    array(first)[p] = model.connector_stiffness[e];
+    array(first + 1)[p] = model.connector_damping[e];
+    array(first + 2)[p] = model.connector_rest_length[e];
+    array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
+  }
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const std::size_t p = radial_slot_[r] / kPairs.size();
+    const std::size_t pair = radial_slot_[r] % kPairs.size();
+    const bool live = model.radial_live[r] != 0;
+    array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
+    array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
+    array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
+  }
+  revision_ = model.revision;
 }
 
 double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                                std::uint32_t terms, int threads, std::span<Vec3> force) {
-  CLOTHSIM_ASSERT(material_.has_value(), "LatticeKernel::prepare() found an intact lattice");
+  CLOTHSIM_ASSERT(active_, "LatticeKernel::prepare() accepted the model");
   CLOTHSIM_ASSERT(model.rows == rows_ && model.cols == cols_ && force.size() == model.particle_count(),
                   "the kernel was prepared for this model");
-  const LatticeMaterial& m = *material_;
-  const bool connectors = (terms & kConnectorSprings) != 0;
-  const bool damped = (terms & kSpringDamping) != 0;
-  const bool adjacent = (terms & kAdjacentRadialSprings) != 0;
-  const bool opposite = (terms & kOppositeRadialSprings) != 0;
+  if (model.revision != revision_) refresh(model);
+  const auto on = [&](ForceTerms term) { return (terms & term) != 0 ? 1.0 : 0.0; };
+  const double damped = on(kSpringDamping);
   Coefficients k;
-  k.rest_length = m.rest_length;
-  k.connector_stiffness = connectors ? m.connector_stiffness : 0.0;
-  k.connector_damping = connectors && damped ? m.connector_damping : 0.0;
-  k.adjacent_stiffness = adjacent ? m.adjacent_stiffness : 0.0;
-  k.adjacent_damping = adjacent && damped ? m.adjacent_damping : 0.0;
-  k.adjacent_rest_angle = m.adjacent_rest_angle;
-  k.opposite_stiffness = opposite ? m.opposite_stiffness : 0.0;
-  k.opposite_damping = opposite && damped ? m.opposite_damping : 0.0;
-  k.opposite_rest_angle = m.opposite_rest_angle;
+  k.connector_elastic = on(kConnectorSprings);
+  k.connector_damped = k.connector_elastic * damped;
+  k.adjacent_elastic = on(kAdjacentRadialSprings);
+  k.adjacent_damped = k.adjacent_elastic * damped;
+  k.opposite_elastic = on(kOppositeRadialSprings);
+  k.opposite_damped = k.opposite_elastic * damped;
   k.gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
   k.drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
 

@@ -1,14 +1,26 @@
-// The structured force kernel: the whole force function for an intact rows x cols lattice with
-// uniform material, computed without element lists or index indirection.
+// The structured force kernel: the whole force function for a rows x cols lattice, intact or
+// torn, with any per-spring stiffness, damping and rest values, computed without element lists
+// or index indirection.
 //
 // Why a second path. The general path (connector_springs.cpp, radial_springs.cpp, gather in
 // forces.cpp) reads element lists, gathers particles by index, calls std::atan2 and writes one
-// force slot per element end: scalar code, about 350 ns per particle. On an intact lattice every
-// particle's neighbours are at fixed offsets (+-1, +-cols), every element of a kind has the same
-// parameters, and the loops over a row run over contiguous memory, so the compiler can vectorise
-// them. Torn or irregular sheets keep the general path; ForceBuffers::resize() picks the kernel
-// by checking the model against the canonical lattice (detect_lattice), and
-// tests/forces/test_lattice_kernel.cpp checks that both paths agree on random configurations.
+// force slot per element end: scalar code, about 350 ns per particle. On a lattice every
+// particle's neighbours are at fixed offsets (+-1, +-cols) and the loops over a row run over
+// contiguous memory, so the compiler can vectorise them. ForceBuffers::resize() picks the kernel
+// when the model has the lattice layout that build_lattice() records (ClothModel::layout);
+// tests/forces/test_lattice_kernel.cpp checks that both paths agree on random configurations of
+// intact, torn and plastic sheets.
+//
+// Sheets that change (DESIGN.md section 3) stay on this path. Every spring's parameters are
+// copied into particle-indexed arrays (east and south connector of each particle: stiffness,
+// damping, rest length, 1 if intact; each of its six radial springs: stiffness, damping, rest
+// angle), read by the vector loops like the positions. A broken connector is stored like a
+// missing one at the border (1/length 0, no tension), so the radial springs that use it drop out
+// with no extra test. The copy is refreshed when ClothModel::revision moves: O(springs) between
+// steps, nothing per evaluation. Rejected: keeping uniform constants and falling back to the
+// general path on the first change (what this kernel did first: a torn sheet then ran about 14
+// times slower), and per-family constants with a mask only (plasticity and creasing make every
+// rest value different).
 //
 // Passes, each a vectorised loop over particles: row by row for the connectors, over bands of
 // whole rows (at least 256 particles, so that short rows still make long vector loops) for the
@@ -26,10 +38,10 @@
 // Every value is computed by one formula from the same inputs whichever thread computes it, and
 // every sum has a fixed order, so the result is bit-for-bit the same for any thread count; the
 // passes run in one OpenMP region, rows (bands) split statically between threads, with a barrier
-// between passes. Borders need no special code: the arrays have cols + 8 zero entries of padding at both
-// ends, a missing connector is stored with 1/length = 0 and tension 0, and a radial spring with
-// a missing (or zero-length) connector contributes nothing, exactly like a degenerate element of
-// the general path.
+// between passes. Borders need no special code: the arrays have cols + 8 zero entries of padding at
+// both ends, a missing or broken connector is stored with 1/length = 0 and tension 0, and a radial
+// spring with a missing, broken (or zero-length) connector contributes nothing, exactly like a
+// dead or degenerate element of the general path.
 //
 // Vectorisation. GCC 12 -O3 vectorises the column loops of all three passes (checked with
 // -fopt-info-vec: "loop vectorized using 64 byte vectors" in the AVX-512 clone of each, 32 byte
@@ -52,7 +64,6 @@
 
 #include <cstddef>
 #include <cstdint>
-#include <optional>
 #include <span>
 #include <vector>
 
@@ -61,46 +72,39 @@
 
 namespace clothsim {
 
-// Material of an intact lattice: every element of a kind has these parameters.
-struct LatticeMaterial {
-  double rest_length = 0.0;          // connector L, m
-  double connector_stiffness = 0.0;  // N/m
-  double connector_damping = 0.0;    // N s/m
-  double adjacent_stiffness = 0.0;   // N m / rad
-  double adjacent_damping = 0.0;     // N m s / rad
-  double adjacent_rest_angle = 0.0;  // rad
-  double opposite_stiffness = 0.0;   // N m / rad
-  double opposite_damping = 0.0;     // N m s / rad
-  double opposite_rest_angle = 0.0;  // rad
-};
-
-// The material if `model` is exactly the lattice build_lattice() makes for its rows x cols
-// (same connectors and radial springs in the same order, uniform parameters per kind), else
-// nothing. O(elements); run once per model, not per evaluation.
-std::optional<LatticeMaterial> detect_lattice(const ClothModel& model);
-
 // Scratch memory of the structured kernel: padded SoA arrays, allocated by prepare().
 class LatticeKernel {
  public:
-  // Sizes the scratch for `model` and records its material; false (and no scratch) if the model
-  // is not an intact lattice.
+  // Sizes the scratch for `model` and copies its per-spring parameters, if the model has the
+  // lattice layout (ClothModel::layout, recorded by build_lattice; torn, plastic and creased
+  // sheets keep it); false (and no scratch) otherwise.
   bool prepare(const ClothModel& model);
-  bool active() const { return material_.has_value(); }
+  bool active() const { return active_; }
 
   // The force function of forces.h for the prepared lattice; returns the spring damping power
-  // (W). `force` [particle_count()].
+  // (W). `force` [particle_count()]. When the model's revision has moved since the parameters
+  // were copied (an event, a live edit), copies them again first: O(springs), no allocation.
   double evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                   std::uint32_t terms, int threads, std::span<Vec3> force);
 
   // Bytes of scratch memory held.
-  std::size_t bytes() const { return scratch_.capacity() * sizeof(double) + block_power_.capacity() * sizeof(double); }
+  std::size_t bytes() const {
+    return (scratch_.capacity() + block_power_.capacity()) * sizeof(double) +
+           (connector_slot_.capacity() + radial_slot_.capacity()) * sizeof(std::uint32_t);
+  }
 
  private:
-  std::optional<LatticeMaterial> material_;
+  // Copies every spring's stiffness, damping, rest value and liveness into the padded arrays.
+  void refresh(const ClothModel& model);
+
+  bool active_ = false;
   int rows_ = 0;
   int cols_ = 0;
   std::size_t padding_ = 0;  // zero entries before and after each array
   std::size_t stride_ = 0;   // doubles per array (padding + particles + padding, rounded up)
+  std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
+  std::vector<std::uint32_t> connector_slot_;  // [connectors] 2 p + (1 if south): where its parameters go
+  std::vector<std::uint32_t> radial_slot_;     // [radials] 6 centre + pair: where its parameters go
   std::vector<double> scratch_;
   std::vector<double> block_power_;
 };

@@ -162,6 +162,7 @@ ImplicitEuler::Powers ImplicitEuler::evaluate(double time, std::span<const Vec3>
   std::copy(position.begin(), position.end(), evaluated_position_.begin());
   std::copy(velocity.begin(), velocity.end(), evaluated_velocity_.begin());
   evaluated_time_ = time;
+  evaluated_revision_ = model_.revision;
   evaluated_valid_ = true;
   return out;
 }
@@ -173,7 +174,7 @@ void ImplicitEuler::compute_element_jacobians(const ClothState& state) {
   const std::span<const Vec3> x = state.position;
   const std::span<const Vec3> v = state.velocity;
   parallel_for(model_.connector_count(), threads_, [&](std::size_t e) {
-    if (!connectors) {
+    if (!connectors || model_.connector_live[e] == 0) {
       connector_jacobian_[e] = {};
       return;
     }
@@ -185,7 +186,7 @@ void ImplicitEuler::compute_element_jacobians(const ClothState& state) {
   parallel_for(model_.radial_count(), threads_, [&](std::size_t r) {
     const ForceTerms term =
         model_.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
-    if ((terms & term) == 0) {
+    if ((terms & term) == 0 || model_.radial_live[r] == 0) {
       radial_jacobian_[r] = {};
       return;
     }
@@ -462,7 +463,8 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   const double end_time = clipped ? t_limit : state.time + h;
 
   // f0: reuse the forces of the previous step's end when the state is still that one.
-  const bool reusable = evaluated_valid_ && evaluated_time_ == state.time &&
+  // A model changed between steps (an event, a live edit) makes the kept force stale.
+  const bool reusable = evaluated_valid_ && evaluated_time_ == state.time && evaluated_revision_ == model_.revision &&
                         std::equal(state.position.begin(), state.position.end(), evaluated_position_.begin()) &&
                         std::equal(state.velocity.begin(), state.velocity.end(), evaluated_velocity_.begin());
   if (!reusable) evaluate(state.time, state.position, state.velocity);

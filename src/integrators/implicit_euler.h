@@ -120,6 +120,7 @@ class ImplicitEuler final : public Integrator {
   std::vector<Vec3> evaluated_position_;  // [particle_count()]
   std::vector<Vec3> evaluated_velocity_;  // [particle_count()]
   double evaluated_time_ = -1.0;
+  std::uint64_t evaluated_revision_ = 0;  // ClothModel::revision of the kept force
   bool evaluated_valid_ = false;
 
   // Element Jacobians at the start of the step.

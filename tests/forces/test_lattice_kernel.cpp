@@ -1,9 +1,11 @@
 // The structured lattice kernel against the general element-list path: the same forces and
 // damping power up to rounding on random configurations (stretched, bent, folded, flat with
-// motion: the singular case), bit-for-bit thread independence of both paths, detection of
-// intact lattices, and the vectorisable arctangent against std::atan2.
+// motion: the singular case), on intact sheets and on torn and plastic ones, bit-for-bit thread
+// independence of both paths, the choice of the kernel by the recorded layout, edits followed
+// through the model's revision, and the vectorisable arctangent against std::atan2.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -12,6 +14,7 @@
 #include "forces/forces.h"
 #include "forces/lattice_kernel.h"
 #include "forces/vector_math.h"
+#include "model/model_edits.h"
 #include "test_support.h"
 
 namespace clothsim {
@@ -67,10 +70,10 @@ double relative_difference(const std::vector<Vec3>& a, const std::vector<Vec3>& 
 }
 
 void expect_paths_agree(const ClothModel& model, const std::vector<Vec3>& x, const std::vector<Vec3>& v,
-                        ForceTerms terms = kAllForceTerms) {
+                        ForceTerms terms = kAllForceTerms, double tolerance = 1e-13) {
   const Evaluation general = evaluate(model, x, v, ForceKernel::general, 1, terms);
   const Evaluation fast = evaluate(model, x, v, ForceKernel::lattice, 1, terms);
-  EXPECT_LT(relative_difference(fast.force, general.force), 1e-13)
+  EXPECT_LT(relative_difference(fast.force, general.force), tolerance)
       << model.rows << " x " << model.cols << ", terms " << terms;
   EXPECT_NEAR(fast.powers.damping, general.powers.damping, 1e-12 * std::abs(general.powers.damping) + 1e-300);
   EXPECT_EQ(fast.powers.drag, general.powers.drag);
@@ -164,31 +167,100 @@ TEST(LatticeKernel, BothPathsAreBitIdenticalForAnyThreadCount) {
   }
 }
 
-TEST(LatticeKernel, DetectsOnlyIntactUniformLattices) {
-  const ClothModel intact = lattice(5, 4);
-  const std::optional<LatticeMaterial> material = detect_lattice(intact);
-  ASSERT_TRUE(material.has_value());
-  EXPECT_EQ(material->opposite_stiffness, 1400.0);
-  EXPECT_EQ(material->adjacent_rest_angle, std::numbers::pi / 2);
+// A sheet that has torn and changed: `broken_fraction` of its connectors broken (through the
+// model's seam, which takes their radial springs along), and every spring's stiffness, damping and
+// rest value different, as plasticity, creasing and a varying material make them.
+ClothModel torn_and_plastic(int rows, int cols, double broken_fraction, std::uint64_t seed) {
+  ClothModel model = lattice(rows, cols, 0.2);
+  TestRandom random(seed);
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    model.connector_rest_length[e] *= random.uniform(0.8, 1.3);
+    model.connector_stiffness[e] *= random.uniform(0.5, 1.5);
+    model.connector_damping[e] *= random.uniform(0.5, 1.5);
+  }
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    model.radial_rest_angle[r] = std::clamp(model.radial_rest_angle[r] + random.uniform(-0.6, 0.6), 0.0, std::numbers::pi);
+    model.radial_stiffness[r] *= random.uniform(0.5, 1.5);
+    model.radial_damping[r] *= random.uniform(0.5, 1.5);
+  }
+  ++model.revision;
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    if (random.uniform(0.0, 1.0) < broken_fraction) break_connector(model, static_cast<std::uint32_t>(e));
+  }
+  return model;
+}
 
-  ClothModel softer = intact;  // one connector of a different material
-  softer.connector_stiffness[7] *= 0.5;
-  EXPECT_FALSE(detect_lattice(softer).has_value());
+TEST(LatticeKernel, AgreesWithTheGeneralPathOnTornAndPlasticSheets) {
+  std::uint64_t seed = 100;
+  for (const auto& [rows, cols] : std::vector<std::pair<int, int>>{{1, 5}, {3, 3}, {9, 6}, {17, 23}}) {
+    for (double broken : {0.0, 0.1, 0.5}) {
+      const ClothModel model = torn_and_plastic(rows, cols, broken, seed++);
+      for (double amplitude : {0.05, 0.3, 0.9}) {
+        std::vector<Vec3> x, v;
+        randomise(model, amplitude, 2.0, seed++, x, v);
+        expect_paths_agree(model, x, v, kAllForceTerms, 1e-12);
+      }
+      // Flat and moving: every straight spring takes the singular branch.
+      std::vector<Vec3> x, v;
+      randomise(model, 0.0, 1.0, seed++, x, v);
+      expect_paths_agree(model, x, v, kAllForceTerms, 1e-12);
+    }
+  }
+}
 
-  ClothModel torn = intact;  // a connector removed (the radial springs still name it)
-  torn.connector_particles.pop_back();
-  EXPECT_FALSE(detect_lattice(torn).has_value());
+TEST(LatticeKernel, TornAndPlasticSheetsAreBitIdenticalForAnyThreadCount) {
+  const ClothModel model = torn_and_plastic(41, 37, 0.1, 7);
+  std::vector<Vec3> x, v;
+  randomise(model, 0.3, 1.0, 43, x, v);
+  const Evaluation one = evaluate(model, x, v, ForceKernel::lattice, 1);
+  for (int threads : {2, 3, 4}) {
+    const Evaluation many = evaluate(model, x, v, ForceKernel::lattice, threads);
+    EXPECT_EQ(std::memcmp(one.force.data(), many.force.data(), one.force.size() * sizeof(Vec3)), 0)
+        << threads << " threads";
+    EXPECT_EQ(one.powers.damping, many.powers.damping) << threads << " threads";
+  }
+}
 
-  ClothModel reordered = intact;
-  std::swap(reordered.radial_particles[0], reordered.radial_particles[1]);
-  EXPECT_FALSE(detect_lattice(reordered).has_value());
+// The kernel is chosen by the layout build_lattice records, not by looking for uniform values:
+// torn, plastic and varied sheets stay on it; a model whose springs no longer match its layout,
+// or one built in another order, takes the general path.
+TEST(LatticeKernel, IsChosenByTheRecordedLayout) {
+  const auto uses_kernel = [](const ClothModel& model) {
+    ForceBuffers buffers;
+    buffers.resize(model);
+    return buffers.uses_lattice_kernel();
+  };
+  EXPECT_TRUE(uses_kernel(lattice(5, 4)));
+  EXPECT_TRUE(uses_kernel(torn_and_plastic(5, 4, 0.3, 9)));
 
-  // ForceKernel::automatic falls back to the general path for the modified models.
+  ClothModel general = lattice(5, 4);
+  general.layout = ModelLayout::general;
+  EXPECT_FALSE(uses_kernel(general));
+
+  ClothModel mismatched = lattice(5, 4);  // a radial spring moved by hand to a particle's diagonal
+  mismatched.radial_particles[0][1] = mismatched.radial_particles[0][0] + 5 + 1;
+  EXPECT_FALSE(uses_kernel(mismatched));
+}
+
+// An edit between evaluations moves the model's revision; the kernel copies the parameters again
+// without being prepared again.
+TEST(LatticeKernel, FollowsModelEditsThroughTheRevision) {
+  ClothModel model = lattice(6, 5, 0.1);
+  std::vector<Vec3> x, v;
+  randomise(model, 0.3, 1.0, 44, x, v);
   ForceBuffers buffers;
-  buffers.resize(softer);
-  EXPECT_FALSE(buffers.uses_lattice_kernel());
-  buffers.resize(intact);
+  buffers.resize(model);
+  std::vector<Vec3> force(model.particle_count());
+  evaluate_forces(model, x, v, kAllForceTerms, 1, buffers, force);
+  break_connector(model, 7);
+  set_connector_rest_length(model, 3, 1.2);
+  set_radial_rest_angle(model, 11, 2.0);
+  set_spring_family(model, SpringFamily::opposite, {900.0, 100.0});
+  const ForcePowers powers = evaluate_forces(model, x, v, kAllForceTerms, 1, buffers, force);
   EXPECT_TRUE(buffers.uses_lattice_kernel());
+  const Evaluation general = evaluate(model, x, v, ForceKernel::general, 1);
+  EXPECT_LT(relative_difference(force, general.force), 1e-13);
+  EXPECT_NEAR(powers.damping, general.powers.damping, 1e-12 * std::abs(general.powers.damping));
 }
 
 // Distance in units in the last place between two finite doubles of the same sign.
