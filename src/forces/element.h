@@ -150,7 +150,10 @@ inline void resolve_singular_directions(RadialGeometry& g, const Vec3& va, const
   // Folded (u_c = u_b): the angle opens along turn_c - turn_b; p_b points that way, p_c opposite.
   const Vec3 opening = g.obtuse ? turn_b + turn_c : turn_c - turn_b;
   const double rate = norm(opening);
-  if (!(rate > 0.0)) return;
+  // Motion along the springs leaves rounding in turn_b and turn_c, of order 1e-16 of the turning
+  // rates: an opening that small has no direction (normalised, it would point anywhere, even
+  // along the springs, and the damping would push along them).
+  if (!(rate > kSingularSine * (norm(rb) / g.length_b + norm(rc) / g.length_c))) return;
   g.direction_b = opening / rate;
   g.direction_c = g.obtuse ? g.direction_b : -g.direction_b;
 }

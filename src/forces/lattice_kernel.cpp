@@ -120,7 +120,9 @@ template <bool kResolveSingular>
     const Vec3 turn_c = inverse_c * (rc - dot(rc, uc) * uc);
     const Vec3 opening = obtuse ? turn_b + turn_c : turn_c - turn_b;
     const double rate = std::sqrt(dot(opening, opening));
-    const double inverse_rate = rate > 0.0 ? 1.0 / rate : 0.0;
+    // Rounding-sized openings have no direction (element::resolve_singular_directions).
+    const double turning = inverse_b * std::sqrt(dot(rb, rb)) + inverse_c * std::sqrt(dot(rc, rc));
+    const double inverse_rate = rate > element::kSingularSine * turning ? 1.0 / rate : 0.0;
     const Vec3 pb = inverse_rate * opening;
     const Vec3 pc = obtuse ? pb : -pb;
     Vec3 singular_fb = kb * (smooth * wb + constant * pb);
