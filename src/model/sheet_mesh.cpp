@@ -183,14 +183,15 @@ std::uint32_t cell_corner_particle(int cols, int cell_row, int cell_col, int cor
 // smallest corner index of corner k's component.
 std::array<int, 4> cell_components(const ClothModel& model, const std::array<std::uint32_t, 4>& edge) {
   std::array<int, 4> label = {0, 1, 2, 3};
-  // Two passes around the cycle of 4 settle every label (a component is an arc of the cycle).
-  for (int pass = 0; pass < 2; ++pass) {
-    for (int k = 0; k < 4; ++k) {
-      const int next = (k + 1) % 4;
-      if (!edge_live(model, edge[static_cast<std::size_t>(k)])) continue;
-      const int low = std::min(label[static_cast<std::size_t>(k)], label[static_cast<std::size_t>(next)]);
-      label[static_cast<std::size_t>(k)] = low;
-      label[static_cast<std::size_t>(next)] = low;
+  // Spread the smallest label along intact edges until nothing changes (at most 4 sweeps of the
+  // cycle of 4).
+  for (bool changed = true; changed;) {
+    changed = false;
+    for (std::size_t k = 0; k < 4; ++k) {
+      const std::size_t next = (k + 1) % 4;
+      if (!edge_live(model, edge[k]) || label[k] == label[next]) continue;
+      label[k] = label[next] = std::min(label[k], label[next]);
+      changed = true;
     }
   }
   return label;

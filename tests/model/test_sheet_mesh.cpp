@@ -8,7 +8,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -455,6 +457,48 @@ TEST(TornSheetMesh, OneBrokenConnectorSlitsItsCellsWithoutSeparatingThem) {
   EXPECT_EQ(halves, 2u);
   EXPECT_EQ(centres, 2u);  // the two cells on either side of the connector
   EXPECT_NEAR(total_area(mesh), 4 * 0.25, 1e-12);
+}
+
+TEST(TornSheetMesh, CellComponentsFollowTheIntactEdges) {
+  // One cell (2 x 2 particles): each set of broken edges gives the components of its corners
+  // joined through the intact ones, one centre vertex each.
+  const ClothModel intact = make_sheet(2, 2);
+  // The cell's edges in kCellCorners order: (0,0)-(1,0), (1,0)-(1,1), (1,1)-(0,1), (0,1)-(0,0).
+  const std::array<std::uint32_t, 4> edge = {connector_between(intact, 0, 2), connector_between(intact, 2, 3),
+                                             connector_between(intact, 3, 1), connector_between(intact, 1, 0)};
+  for (unsigned broken = 1; broken < 16; ++broken) {
+    ClothModel model = intact;
+    for (std::size_t k = 0; k < 4; ++k) {
+      if ((broken & (1u << k)) != 0) {
+        ASSERT_TRUE(break_connector(model, edge[k]));
+      }
+    }
+    SheetMesh mesh;
+    build_sheet_mesh(model, model.particle_rest_position, SheetMeshMode::particles, mesh);
+    // Expected: corners k and k+1 are together when edge k is intact; count the arcs.
+    const int broken_edges = std::popcount(broken);
+    const std::size_t components = broken_edges <= 1 ? 1u : static_cast<std::size_t>(broken_edges);
+    std::vector<std::uint8_t> centres;
+    for (const SheetVertexSource& source : mesh.vertex_source) {
+      if (source.kind == SheetVertexKind::cell_centre) centres.push_back(source.corners);
+    }
+    ASSERT_EQ(centres.size(), components) << "broken edges " << broken;
+    std::uint8_t all = 0;
+    for (const std::uint8_t corners : centres) {
+      EXPECT_EQ(all & corners, 0) << "each corner in one component";
+      all = static_cast<std::uint8_t>(all | corners);
+      // Neighbouring corners in one component exactly when the edge between them is intact.
+      for (std::size_t k = 0; k < 4; ++k) {
+        const bool here = (corners & (1u << k)) != 0;
+        const bool next = (corners & (1u << ((k + 1) % 4))) != 0;
+        if (here && (broken & (1u << k)) == 0) {
+          EXPECT_TRUE(next) << "broken edges " << broken;
+        }
+      }
+    }
+    EXPECT_EQ(all, 0xF);
+    EXPECT_NEAR(total_area(mesh), 0.25, 1e-15);
+  }
 }
 
 TEST(TornSheetMesh, CellCentreFacesKeepToTheirParticle) {
