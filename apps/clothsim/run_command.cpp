@@ -260,8 +260,10 @@ std::string run_footer() {
   text += "\n\n";
   text += wrap_text(
       "The output folder (default out/<scene name>) holds positions.npy and velocities.npy (float64 [frames, "
-      "particles, 3]; frame k at t = k/fps, frame 0 the initial state), energy.csv, summary.json, final.obj, "
-      "scene.json (run it to reproduce the run), and unless --render none, final.png (the last frame) and "
+      "particles, 3]; frame k at t = k/fps, frame 0 the initial state), energy.csv, summary.json, final.obj "
+      "(split along any tears), scene.json (run it to reproduce the run), connectors.npy and "
+      "connector_break_time.npy (each connector's particles and when it broke), and unless --render none, "
+      "final.png (the last frame) and "
       "animation.mp4 (H.264, one video frame per output frame, at --fps). It is written as <out>.partial-<pid> and renamed into place at "
       "the end; an existing <out> is replaced only if a clothsim run wrote it.",
       100, 0);

@@ -81,8 +81,10 @@ bool element_count(std::span<const std::size_t> shape, std::size_t& count) {
 // Magic, version 1.0, header length and the dict padded with spaces to `total_bytes` (or to the
 // next multiple of 64 when that is smaller than the minimum), ending in '\n'. Returns an empty
 // string when the header would not fit a version 1.0 length field.
-std::string make_header(std::span<const std::size_t> shape, std::size_t total_bytes = 0) {
-  const std::string dict = "{'descr': '<f8', 'fortran_order': False, 'shape': " + shape_text(shape) + ", }";
+std::string make_header(std::span<const std::size_t> shape, std::size_t total_bytes = 0,
+                        std::string_view descr = "<f8") {
+  const std::string dict =
+      "{'descr': '" + std::string(descr) + "', 'fortran_order': False, 'shape': " + shape_text(shape) + ", }";
   const std::size_t minimum = kPreambleBytes_v1 + dict.size() + 1;  // + '\n'
   const std::size_t aligned = (minimum + kAlignment - 1) / kAlignment * kAlignment;
   const std::size_t total = std::max(total_bytes, aligned);
@@ -383,6 +385,26 @@ void write_npy(const std::string& path, std::span<const double> data, std::span<
   if (std::fclose(file.release()) != 0) throw io_error(path, "close failed", errno);
 }
 
+void write_npy(const std::string& path, std::span<const std::int32_t> data, std::span<const std::size_t> shape) {
+  std::size_t count = 0;
+  if (!element_count(shape, count) || count != data.size()) {
+    throw io_error(path, "write_npy: " + std::to_string(data.size()) + " values do not fill shape " +
+                             shape_text(shape), 0);
+  }
+  const std::string header = make_header(shape, 0, "<i4");
+  if (header.empty()) throw io_error(path, "write_npy: header too long for shape " + shape_text(shape), 0);
+
+  FilePointer file(std::fopen(path.c_str(), "wb"));
+  if (file == nullptr) throw io_error(path, "cannot create file", errno);
+  errno = 0;
+  if (std::fwrite(header.data(), 1, header.size(), file.get()) != header.size() ||
+      (count > 0 && std::fwrite(data.data(), sizeof(std::int32_t), count, file.get()) != count)) {
+    throw io_error(path, "write failed", errno);
+  }
+  errno = 0;
+  if (std::fclose(file.release()) != 0) throw io_error(path, "close failed", errno);
+}
+
 NpyArray read_npy(const std::string& path) {
   FilePointer file(std::fopen(path.c_str(), "rb"));
   if (file == nullptr) throw io_error(path, "cannot open file", errno);
@@ -422,9 +444,12 @@ NpyArray read_npy(const std::string& path) {
   bool fortran_order = false;
   NpyArray array;
   HeaderParser(header, path).parse(descr, fortran_order, array.shape);
-  if (descr != "<f8") {
-    throw io_error(path, "dtype '" + descr + "' is not supported: read_npy reads little-endian float64 ('<f8') only", 0);
+  if (descr != "<f8" && descr != "<i4") {
+    throw io_error(path, "dtype '" + descr +
+                             "' is not supported: read_npy reads little-endian float64 ('<f8') and int32 ('<i4') only",
+                   0);
   }
+  const std::size_t value_bytes = descr == "<f8" ? sizeof(double) : sizeof(std::int32_t);
   if (fortran_order) throw io_error(path, "Fortran-order arrays are not supported (C order only)", 0);
 
   std::size_t count = 0;
@@ -437,13 +462,19 @@ NpyArray read_npy(const std::string& path) {
   const std::uintmax_t file_bytes = std::filesystem::file_size(path, error);
   if (error) throw io_error(path, "cannot determine the file size: " + error.message(), 0);
   const std::uintmax_t data_bytes = file_bytes >= data_offset ? file_bytes - data_offset : 0;
-  if (data_bytes < count * sizeof(double)) {
+  if (data_bytes < count * value_bytes) {
     throw io_error(path, "truncated .npy file: shape " + shape_text(array.shape) + " needs " +
-                             std::to_string(count * sizeof(double)) + " data bytes, the file has " +
+                             std::to_string(count * value_bytes) + " data bytes, the file has " +
                              std::to_string(data_bytes), 0);
   }
   array.data.resize(count);
-  read_exactly(array.data.data(), count * sizeof(double), "data");
+  if (value_bytes == sizeof(double)) {
+    read_exactly(array.data.data(), count * sizeof(double), "data");
+  } else {
+    std::vector<std::int32_t> values(count);
+    read_exactly(values.data(), count * sizeof(std::int32_t), "data");
+    std::copy(values.begin(), values.end(), array.data.begin());
+  }
   return array;
 }
 

@@ -4,8 +4,9 @@
 // A file is the magic "\x93NUMPY", a version (1, 0), a little-endian uint16 header length, then an
 // ASCII Python dict literal {'descr': '<f8', 'fortran_order': False, 'shape': (...), } padded with
 // spaces and ended by '\n' so that the data starts at a multiple of 64 bytes, then the raw values
-// in C order. We write only float64 ('<f8'): positions are integrated in double precision and
-// float32 would throw away the digits the RKF45 error control works with.
+// in C order. We write float64 ('<f8'): positions are integrated in double precision and
+// float32 would throw away the digits the RKF45 error control works with. Index tables (a run's
+// connectors.npy) are int32 ('<i4'), which NumPy indexes with directly.
 //
 // NpyWriter streams frames of shape [items, components] into an array of shape
 // [frames, items, components] whose frame count is known only at the end (a run can stop early on
@@ -21,6 +22,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <cstdio>
 #include <span>
 #include <string>
@@ -85,13 +87,17 @@ class NpyWriter {
 // path on a size mismatch or an I/O failure.
 void write_npy(const std::string& path, std::span<const double> data, std::span<const std::size_t> shape);
 
+// Writes a whole int32 ('<i4') array the same way: indices (connectors.npy of a run).
+void write_npy(const std::string& path, std::span<const std::int32_t> data, std::span<const std::size_t> shape);
+
 // A float64 array read from a .npy file. data holds the values in C order, product(shape) of them.
 struct NpyArray {
   std::vector<std::size_t> shape;
   std::vector<double> data;
 };
 
-// Reads a version 1.0 or 2.0 file holding little-endian float64 ('<f8') in C order. Anything
+// Reads a version 1.0 or 2.0 file holding little-endian float64 ('<f8'), or int32 ('<i4',
+// converted to double, which is exact), in C order. Anything
 // else (other dtype, Fortran order, other versions, a malformed header, too few data bytes)
 // throws std::runtime_error naming the path and what is wrong. Bytes past the array's end are
 // ignored, as numpy.load does.

@@ -6,12 +6,14 @@
 // message quotes errno as left by the failing call, which is the reason in practice (ENOSPC).
 #include "io/obj.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
 #include <memory>
 #include <stdexcept>
+#include <vector>
 
 #include "core/assert.h"
 
@@ -48,7 +50,8 @@ void write_obj(const std::string& path, const ClothModel& model, std::span<const
     throw io_error(path, "write_obj: " + std::to_string(position.size()) + " positions for a model of " +
                              std::to_string(n) + " particles", 0);
   }
-  const std::vector<std::array<std::uint32_t, 3>> triangles = lattice_triangles(model);
+  SheetMesh mesh;
+  build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);
 
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "w"));
   if (file == nullptr) throw io_error(path, "cannot create file", errno);
@@ -57,28 +60,43 @@ void write_obj(const std::string& path, const ClothModel& model, std::span<const
 
   std::fprintf(out, "# clothsim sheet: %d x %d particles (rows x cols), spacing %.9g m, positions in m\n",
                model.rows, model.cols, model.spacing);
+  if (mesh.vertex_count() > n) {
+    std::fprintf(out, "# torn along %zu broken connectors: %zu vertices, the first %zu are the particles\n",
+                 model.broken_connector_count, mesh.vertex_count(), n);
+  }
   if (!comment.empty()) write_comment(out, comment);
   std::fprintf(out, "o clothsim_sheet\n");
-  for (const Vec3& p : position) std::fprintf(out, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
-  // Texture coordinates span [0, 1] across the lattice; a 1-wide axis maps to 0.
+  for (const Vec3& p : mesh.vertex_position) std::fprintf(out, "v %.9g %.9g %.9g\n", p.x, p.y, p.z);
+  // Texture coordinates span [0, 1] across the lattice; a 1-wide axis maps to 0. A split vertex
+  // takes the lattice coordinates of where it sits at rest.
   const double u_step = model.cols > 1 ? 1.0 / (model.cols - 1) : 0.0;
   const double v_step = model.rows > 1 ? 1.0 / (model.rows - 1) : 0.0;
-  for (int i = 0; i < model.rows; ++i) {
-    for (int j = 0; j < model.cols; ++j) std::fprintf(out, "vt %.9g %.9g\n", j * u_step, i * v_step);
+  for (const SheetVertexSource& source : mesh.vertex_source) {
+    const auto [row, col] = sheet_vertex_lattice_coordinate(model, source);
+    std::fprintf(out, "vt %.9g %.9g\n", col * u_step, row * v_step);
   }
 
-  if (triangles.empty()) {
-    // A 1-wide lattice is a chain of particles: a polyline through them in index order.
-    std::fprintf(out, "l");
-    for (std::size_t p = 1; p <= n; ++p) std::fprintf(out, " %zu/%zu", p, p);
+  if (mesh.triangle_vertices.empty()) {
+    // A 1-wide lattice is a chain of particles: a polyline through them in index order, broken
+    // where a connector is.
+    std::vector<std::uint8_t> joined(n, 0);  // joined[p]: particles p and p+1 share an intact connector
+    for (std::size_t e = 0; e < model.connector_count(); ++e) {
+      const auto [a, b] = model.connector_particles[e];
+      if (model.connector_live[e] != 0 && std::max(a, b) == std::min(a, b) + 1) joined[std::min(a, b)] = 1;
+    }
+    std::fprintf(out, "l 1/1");
+    for (std::size_t p = 2; p <= n; ++p) {
+      if (joined[p - 2] == 0) std::fprintf(out, "\nl");
+      std::fprintf(out, " %zu/%zu", p, p);
+    }
     std::fprintf(out, "\n");
   } else {
-    for (const Vec3& normal : vertex_normals(model, position, triangles)) {
+    for (const Vec3& normal : mesh.vertex_normal) {
       std::fprintf(out, "vn %.9g %.9g %.9g\n", normal.x, normal.y, normal.z);
     }
     std::fprintf(out, "s 1\n");
-    for (const auto& triangle : triangles) {
-      // OBJ indices are 1-based; v, vt and vn share the particle's index.
+    for (const auto& triangle : mesh.triangle_vertices) {
+      // OBJ indices are 1-based; v, vt and vn share the vertex's index.
       const std::uint32_t a = triangle[0] + 1;
       const std::uint32_t b = triangle[1] + 1;
       const std::uint32_t c = triangle[2] + 1;

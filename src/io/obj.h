@@ -1,10 +1,13 @@
 // Wavefront OBJ snapshots of the sheet, and the triangle mesh behind them.
 //
-// The mesh (triangulation, winding, vertex normals) is model/sheet_mesh.h's particle-mode mesh.
+// The mesh (triangulation, winding, vertex normals, splitting along tears) is
+// model/sheet_mesh.h's particle-mode mesh.
 //
-// The OBJ file has one v, vt and vn line per particle, in particle order, so a face corner's
-// v/vt/vn indices are all particle index + 1. A 1-wide lattice (rows == 1 or
-// cols == 1) has no faces and is written as a polyline (`l`).
+// The OBJ file has one v, vt and vn line per mesh vertex, so a face corner's v/vt/vn indices are
+// all vertex index + 1. The first rows*cols vertices are the particles in particle order; a torn
+// sheet's split vertices (connector midpoints and halves, quad centres) follow, and a second
+// comment line says how many there are. A 1-wide lattice (rows == 1 or cols == 1) has no faces
+// and is written as a polyline (`l`), one per piece when connectors are broken.
 #pragma once
 
 #include <array>
@@ -21,8 +24,9 @@
 namespace clothsim {
 
 // Writes the sheet at `position` [particle_count()], m, to `path` (created or truncated):
-// comment lines (a clothsim line, then `comment` split at '\n'), `o clothsim_sheet`, then v, vt
-// (u = col/(cols-1), v = row/(rows-1); 0 along a 1-wide axis) and vn per particle, `s 1` and
+// comment lines (a clothsim line, for a torn sheet a line counting its vertices, then `comment`
+// split at '\n'), `o clothsim_sheet`, then v, vt (u = col/(cols-1), v = row/(rows-1) of the
+// vertex's rest-lattice coordinates; 0 along a 1-wide axis) and vn per vertex, `s 1` and
 // `f v/vt/vn` triangles, or `l` for a 1-wide lattice. Coordinates are written with 9 significant
 // digits (round-trip precision for float, what renderers load). Throws std::runtime_error naming
 // the path and the reason on a size mismatch or an I/O failure; a failed write may leave a

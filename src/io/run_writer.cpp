@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <array>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -82,7 +83,9 @@ ordered_json energy_json(const EnergyBalance& balance, double time) {
               {"damping_work", balance.damping_work},
               {"drag_work", balance.drag_work},
               {"anchor_work", balance.anchor_work},
-              {"balance_error", balance.error()}};
+              {"balance_error", balance.error()},
+              {"plastic_work", balance.plastic_work},
+              {"fracture_work", balance.fracture_work}};
 }
 
 // A finite number, or null (JSON has no infinity; nlohmann would write null anyway, this says so).
@@ -196,11 +199,25 @@ void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
       throw OutputError(message);
     }
     std::fprintf(energy_file_, "%.*s\n", static_cast<int>(kEnergyColumns.size()), kEnergyColumns.data());
+
+    // The connector table, once: connector e's particles, in index order (int32, which NumPy
+    // indexes with directly).
+    const ClothModel& model = simulation.model();
+    std::vector<std::int32_t> pairs;
+    pairs.reserve(2 * model.connector_count());
+    for (const auto& [a, b] : model.connector_particles) {
+      pairs.push_back(static_cast<std::int32_t>(a));
+      pairs.push_back(static_cast<std::int32_t>(b));
+    }
+    const std::array<std::size_t, 2> shape = {model.connector_count(), 2};
+    write_npy((partial_ / kConnectorsFile).string(), pairs, shape);
   } catch (...) {
     rethrow_as_output_error("cannot create the output folder");
   }
   initial_energy_ = simulation.energy_balance();
   last_position_.reserve(simulation.model().particle_count());
+  break_time_.assign(simulation.model().connector_count(), std::numeric_limits<double>::infinity());
+  broken_seen_ = 0;
 }
 
 void RunWriter::write_frame(const Simulation& simulation) {
@@ -210,6 +227,17 @@ void RunWriter::write_frame(const Simulation& simulation) {
   const EnergyBalance balance = simulation.energy_balance();
   const EnergyReport& e = balance.energy;
   const IntegratorStats& stats = simulation.integrator_stats();
+  const ModelChanges changes = simulation.model_changes();
+  const ClothModel& model = simulation.model();
+  if (model.broken_connector_count != broken_seen_) {
+    // Breaks since the last frame: they happened in (that frame's time, this one's].
+    for (std::size_t connector = 0; connector < break_time_.size(); ++connector) {
+      if (model.connector_live[connector] == 0 && std::isinf(break_time_[connector])) {
+        break_time_[connector] = state.time;
+      }
+    }
+    broken_seen_ = model.broken_connector_count;
+  }
   try {
     positions_->append(state.position);
     velocities_->append(state.velocity);
@@ -217,10 +245,13 @@ void RunWriter::write_frame(const Simulation& simulation) {
     rethrow_as_output_error("cannot write a frame");
   }
   const int written = std::fprintf(
-      energy_file_, "%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%llu,%llu\n", frames_,
-      state.time, e.kinetic, e.gravitational, e.connector, e.radial_adjacent, e.radial_opposite, e.total(),
+      energy_file_,
+      "%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%llu,%llu,%zu,%.17g,%.17g,%.17g,%.17g\n",
+      frames_, state.time, e.kinetic, e.gravitational, e.connector, e.radial_adjacent, e.radial_opposite, e.total(),
       balance.damping_work, balance.drag_work, balance.anchor_work, balance.error(),
-      static_cast<unsigned long long>(stats.accepted_steps), static_cast<unsigned long long>(stats.rejected_steps));
+      static_cast<unsigned long long>(stats.accepted_steps), static_cast<unsigned long long>(stats.rejected_steps),
+      changes.broken_connectors, changes.max_plastic_strain, changes.max_rest_angle_change, balance.plastic_work,
+      balance.fracture_work);
   if (written < 0) {
     std::string message = (partial_ / kEnergyFile).string();
     message += ": cannot write file: ";
@@ -254,6 +285,8 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
         comment += " s";
         write_obj((partial_ / kFinalMeshFile).string(), model, last_position_, comment);
       }
+      const std::array<std::size_t, 1> shape = {break_time_.size()};
+      write_npy((partial_ / kBreakTimeFile).string(), break_time_, shape);
     } catch (...) {
       rethrow_as_output_error("cannot finish the output folder");
     }
@@ -308,9 +341,22 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
                         : ordered_json(nullptr)}};
   summary["energy"] = ordered_json{{"initial", energy_json(initial_energy_, 0.0)},
                                    {"final", energy_json(last_energy_, last_time_)}};
+  // Tearing, permanent stretching and creasing (DESIGN.md section 3), over the whole run.
+  const ModelChanges changes = simulation.model_changes();
+  const SpringEventCounts& events = simulation.event_totals();
+  summary["sheet_changes"] = ordered_json{{"breaks", events.breaks},
+                                          {"yields", events.yields},
+                                          {"creases", events.creases},
+                                          {"broken_connectors", changes.broken_connectors},
+                                          {"broken_radials", changes.broken_radials},
+                                          {"max_plastic_strain", changes.max_plastic_strain},
+                                          {"max_rest_angle_change", changes.max_rest_angle_change},
+                                          {"plastic_work", last_energy_.plastic_work},
+                                          {"fracture_work", last_energy_.fracture_work}};
   summary["timings"] = ordered_json{{"wall_seconds", wall_seconds},
                             {"forces", profile.forces},
                             {"integration", profile.integration},
+                            {"events", profile.events},
                             {"checks", profile.checks},
                             {"output", output_seconds_},
                             {"realtime_factor", wall_seconds > 0.0 ? number_or_null(last_time_ / wall_seconds)
@@ -328,7 +374,11 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       {std::string(kEnergyFile), ordered_json{{"rows", frames_}}},
       {std::string(kFinalMeshFile),
        ordered_json{{"frame", frames_ > 0 ? ordered_json(frames_ - 1) : ordered_json(nullptr)}}},
-      {std::string(kSceneFile), ordered_json::object()}};
+      {std::string(kSceneFile), ordered_json::object()},
+      {std::string(kConnectorsFile),
+       ordered_json{{"shape", ordered_json::array({model.connector_count(), 2})}, {"dtype", "int32"}}},
+      {std::string(kBreakTimeFile),
+       ordered_json{{"shape", ordered_json::array({model.connector_count()})}, {"dtype", "float64"}, {"unit", "s"}}}};
   for (const auto& [name, details] : extra_files_) summary["files"][name] = details;
 
   ScopedTimer timer(output_seconds_);

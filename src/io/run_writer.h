@@ -5,8 +5,14 @@
 //   velocities.npy   float64 [frames, particles, 3], m/s
 //   energy.csv       one row per frame: energies, works, balance error, step counts (%.17g)
 //   summary.json     version, command line, status, diagnosis, scene, counts, statistics, timings
-//   final.obj        the sheet at the last frame written
+//   final.obj        the sheet at the last frame written, split along its tears (model/sheet_mesh.h)
 //   scene.json       the scene as run; `clothsim run <folder>/scene.json` reproduces the run
+//   connectors.npy            int32 [connectors, 2]: the particles of each connector, in index order
+//   connector_break_time.npy  float64 [connectors], s: the time of the first frame at which the
+//                             connector is broken, +inf if it never broke
+// The last two let a reader rebuild any frame's live connectors (and so its torn mesh) without
+// storing the mask per frame: connector e is intact at frame k iff break_time[e] > time[k].
+// A break is seen at frame resolution: it happened during the frame interval before that time.
 //
 // Everything is written into a sibling folder `<out>.partial-<pid>` and renamed to `<out>` by
 // finish(), so that a reader sees either the previous folder or the complete new one. On Linux the
@@ -16,7 +22,8 @@
 // still calls finish() with status "failed", and the frames up to the last good one are kept.
 //
 // Frames are streamed to disk as they come (NpyWriter), never held in memory: a trajectory of a
-// large sheet does not fit. Only the last frame's positions are kept, for final.obj.
+// large sheet does not fit. Only the last frame's positions are kept, for final.obj, and one
+// break time per connector.
 //
 // Rejected alternatives: writing straight into `<out>` (an interrupted or failed run leaves a mix
 // of old and new files), and deleting an existing `<out>` up front (a typo in --out could delete
@@ -77,11 +84,14 @@ class RunWriter {
   static constexpr std::string_view kSummaryFile = "summary.json";
   static constexpr std::string_view kFinalMeshFile = "final.obj";
   static constexpr std::string_view kSceneFile = "scene.json";
+  static constexpr std::string_view kConnectorsFile = "connectors.npy";
+  static constexpr std::string_view kBreakTimeFile = "connector_break_time.npy";
 
   // The header line of energy.csv.
   static constexpr std::string_view kEnergyColumns =
       "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
-      "anchor_work,balance_error,accepted_steps,rejected_steps";
+      "anchor_work,balance_error,accepted_steps,rejected_steps,broken_connectors,max_plastic_strain,"
+      "max_rest_angle_change,plastic_work,fracture_work";
 
   // Checks that `out` may receive the run and creates nothing: `out` must not exist, or be a
   // folder holding a summary.json with a "clothsim_version" key (a previous run, which finish()
@@ -146,6 +156,8 @@ class RunWriter {
   EnergyBalance last_energy_;        // of the last frame written
   double last_time_ = 0.0;           // s, of the last frame written
   std::vector<Vec3> last_position_;  // [particles], m, of the last frame written
+  std::vector<double> break_time_;   // [connectors], s: first frame time at which it was broken, or +inf
+  std::size_t broken_seen_ = 0;      // broken connectors at the last frame written
   std::vector<std::pair<std::string, nlohmann::ordered_json>> extra_files_;  // add_file()
   std::size_t frames_ = 0;
   double output_seconds_ = 0.0;

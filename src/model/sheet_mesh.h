@@ -25,6 +25,50 @@
 // Cell (i, j) of the cell-centre mesh plays the role of particle (i, j) of a (rows-1) x (cols-1)
 // lattice, so both modes share the triangulation code.
 //
+// Torn sheets (DESIGN.md section 3): the mesh splits along broken connectors, so that no face
+// spans a broken spring and, where springs remain, no cloth disappears. The particles are never
+// split (model/model_edits.h); the mesh duplicates vertices instead, which is what NVIDIA FleX's
+// cloth tearing does with its particles. Every connector is crossed by its dual edge, from the
+// centre of one lattice quad through the connector's midpoint to the centre of the other; a
+// broken connector cuts its dual edge. So in particle mode:
+//   - an intact sheet (broken_connector_count == 0) keeps the mesh above exactly;
+//   - on a torn sheet, a quad whose 4 edges are intact is still 2 triangles of particle
+//     vertices, and a quad with a broken edge is drawn as 4 quarter cells, one per corner
+//     particle p: the quadrilateral (p, m1, c, m2) of p, the midpoints m1 and m2 of p's two edges
+//     of the quad and the quad's centre c, as 2 triangles (p, m1, c), (p, c, m2);
+//   - the midpoint of an intact connector is one vertex, at (x_a + x_b) / 2, shared by the faces
+//     on both sides; a broken connector has one vertex per end, at x_a + 1/2 min(l, L) u from its
+//     own end (u the unit vector to the other end, L its rest length), so a gap opens between
+//     the two halves as the ends separate and closes up as they come together;
+//   - the quad's centre is one vertex per connected component of its corners (connected
+//     through the quad's intact edges), at the mean over the component's corners p of
+//     m1 + m2 - x_p (the fourth corner of the parallelogram on p, m1, m2). With one broken edge
+//     the quad stays one piece with a slit from the edge to the centre; with two broken opposite
+//     edges it falls into two halves.
+// At rest every quarter cell is an L/2 x L/2 square, so the faces always cover the sheet's area
+// (rows-1) (cols-1) L^2, and the particle vertices keep their indices: vertex p is particle p,
+// the split vertices follow (SheetMesh::vertex_source says what each one is). An intact quad next
+// to a quartered one has a T-junction at the shared edge's midpoint, which lies on that edge, so
+// no crack opens. Normals do not average across a tear, because the faces on its two sides share
+// no vertex there; a particle that the tear leaves attached on both sides of a slit is one point
+// of the cloth, and its one vertex is right. Rejected: splitting every quad into quarter cells
+// once the sheet is torn (4 times the faces for a single cut), and splitting particle vertices
+// (a particle's faces are all attached to it: the tear runs along dual edges, between particles).
+//
+// The cell-centre mode of a torn sheet keeps the paper's picture, one face per interior particle
+// P spanning the 4 cells around it, but a cell's vertex is split like the quad centre above: one
+// copy per component of its corners, at the same place, and P's face uses, in each of its 4
+// cells, the copy of the component that holds P. Two faces share a vertex exactly when their
+// particles are joined within that cell, so the faces of particles that a tear separates part.
+// A cell with 4 intact edges keeps its vertex at the mean of its corners, as for an intact sheet.
+// The first (rows-1) (cols-1) vertices are the cells (the copy holding the cell's top-left
+// corner), the other copies follow. The mode still shows half a cell less on every side.
+//
+// The topology (which vertices, which triangles) is rebuilt only when the set of broken
+// connectors, the mode or the lattice changes (build_sheet_mesh compares the live mask it was
+// built for); the positions and normals of every frame reuse the arrays, so a viewer or a video
+// allocates nothing per frame until the next break.
+//
 // Vertex normals are area-weighted means of the face normals (the unnormalised cross product of
 // a triangle is twice its area times its normal), which weights large faces more and needs no
 // angle computations.
@@ -65,22 +109,66 @@ std::vector<Vec3> vertex_normals(const ClothModel& model, std::span<const Vec3> 
 // Grid size of the mesh in `mode`: {rows, cols} or {rows-1, cols-1} (0 where a side is 1).
 std::array<int, 2> sheet_mesh_grid(const ClothModel& model, SheetMeshMode mode);
 
+// What a vertex of a sheet mesh stands for (SheetMesh::vertex_source).
+enum class SheetVertexKind : std::uint8_t {
+  particle,            // particle `index`, at the particle
+  connector_midpoint,  // intact connector `index`, at the midpoint of its ends
+  connector_end,       // broken connector `index`, the half at its end `side` (0: a, 1: b)
+  cell_centre,         // lattice quad (cell) `index` = i (cols-1) + j: the copy of its centre for
+                       // the corners in `corners`, bit k for corner k of (i,j), (i+1,j), (i+1,j+1), (i,j+1)
+};
+
+struct SheetVertexSource {
+  SheetVertexKind kind = SheetVertexKind::particle;
+  std::uint32_t index = 0;  // particle, connector or cell, by kind
+  std::uint8_t side = 0;    // connector_end: which end's half
+  std::uint8_t corners = 0; // cell_centre: the corners of the component, 4 bits (see above)
+  bool operator==(const SheetVertexSource&) const = default;
+};
+
+// Corners of a lattice cell in the order of SheetVertexSource::corners, counter-clockwise seen
+// from +y at rest: (i,j), (i+1,j), (i+1,j+1), (i,j+1). Edge k of the cell joins corner k and
+// corner k+1 (mod 4).
+inline constexpr std::array<std::array<int, 2>, 4> kCellCorners = {{{0, 0}, {1, 0}, {1, 1}, {0, 1}}};
+
 // A triangle mesh of the sheet in one of the two modes.
 struct SheetMesh {
-  int grid_rows = 0;                                   // vertex grid: vertex (i, j) is i*grid_cols + j
+  int grid_rows = 0;                                   // the grid: its vertex (i, j) is i*grid_cols + j
   int grid_cols = 0;
-  std::vector<Vec3> vertex_position;                   // [grid_rows * grid_cols], m
-  std::vector<Vec3> vertex_normal;                     // [grid_rows * grid_cols], unit
-  std::vector<std::array<std::uint32_t, 3>> triangle_vertices;  // [2 (grid_rows-1) (grid_cols-1)]
+  std::vector<Vec3> vertex_position;                   // [vertices], m; the grid's first, then split vertices
+  std::vector<Vec3> vertex_normal;                     // [vertices], unit
+  std::vector<std::array<std::uint32_t, 3>> triangle_vertices;  // [triangles]; intact: 2 (grid_rows-1) (grid_cols-1)
+  std::vector<SheetVertexSource> vertex_source;        // [vertices]: what each vertex is
+  // Counts the rebuilds of the topology (vertex_source, triangle_vertices): a renderer re-uploads
+  // its index buffer when this moves.
+  std::uint64_t topology_version = 0;
+
+  // What the topology was built for, and its scratch (build_sheet_mesh's, not for callers).
+  SheetMeshMode built_mode = SheetMeshMode::particles;
+  int built_rows = -1;
+  int built_cols = -1;
+  std::size_t built_connectors = 0;
+  bool built_torn = false;
+  std::vector<std::uint8_t> built_live;                 // [connectors] the live mask of a torn build
+  std::vector<std::array<std::uint32_t, 4>> cell_edge;  // [cells] connector of each cell edge, or kNoEdge
+
+  static constexpr std::uint32_t kNoEdge = 0xFFFFFFFFu;
+  std::size_t vertex_count() const { return vertex_position.size(); }
 };
+
+// Rest-lattice coordinates (row, col) of a mesh vertex, in particle spacings: particle (i, j) is
+// (i, j), a connector's midpoint or half (a broken connector's halves meet there at rest) is
+// the mean of its ends', a cell centre is (i + 1/2, j + 1/2). io/obj's texture coordinates.
+std::array<double, 2> sheet_vertex_lattice_coordinate(const ClothModel& model, const SheetVertexSource& source);
 
 // Cell-centre positions [(rows-1) * (cols-1)]: cell (i, j) at the mean of particles (i, j),
 // (i, j+1), (i+1, j), (i+1, j+1) of `position` [particle_count()].
 std::vector<Vec3> cell_centre_positions(const ClothModel& model, std::span<const Vec3> position);
 
-// The mesh of the sheet at `position` [particle_count()] in `mode`. `mesh` is reused: its
-// triangles are rebuilt only when the grid changes, so calling this every frame allocates nothing
-// after the first call.
+// The mesh of the sheet at `position` [particle_count()] in `mode`, split along the model's
+// broken connectors (see the top of this file). `mesh` is reused: its topology is rebuilt only
+// when the grid, the mode or the set of broken connectors changes, so calling this every frame
+// allocates nothing after the first call until the next break.
 void build_sheet_mesh(const ClothModel& model, std::span<const Vec3> position, SheetMeshMode mode, SheetMesh& mesh);
 
 }  // namespace clothsim

@@ -289,11 +289,10 @@ struct Renderer::Impl {
   Buffers lines;
   Buffers ground_quad;
 
-  // The mesh and its triangles as uploaded; rebuilt when the grid changes.
+  // The mesh and its triangles as uploaded; re-uploaded when the mesh's topology changes (a new
+  // grid, a new mode, a tear).
   SheetMesh mesh;
-  std::size_t uploaded_triangle_count = std::numeric_limits<std::size_t>::max();
-  int uploaded_grid_rows = -1;
-  int uploaded_grid_cols = -1;
+  std::uint64_t uploaded_topology = std::numeric_limits<std::uint64_t>::max();
 
   // Per-frame scratch, kept to avoid allocation.
   std::vector<float> vertex_data;
@@ -446,13 +445,10 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
       push(impl.vertex_data, mesh.vertex_normal[v]);
     }
     impl.sheet.upload(impl.vertex_data, {0, 3}, 6);
-    if (mesh.grid_rows != impl.uploaded_grid_rows || mesh.grid_cols != impl.uploaded_grid_cols ||
-        mesh.triangle_vertices.size() != impl.uploaded_triangle_count) {
+    if (mesh.topology_version != impl.uploaded_topology) {
       impl.sheet.upload_elements(mesh.triangle_vertices.data(),
                                  mesh.triangle_vertices.size() * sizeof(mesh.triangle_vertices[0]));
-      impl.uploaded_grid_rows = mesh.grid_rows;
-      impl.uploaded_grid_cols = mesh.grid_cols;
-      impl.uploaded_triangle_count = mesh.triangle_vertices.size();
+      impl.uploaded_topology = mesh.topology_version;
     }
     const auto index_count = static_cast<GLsizei>(mesh.triangle_vertices.size() * 3);
     glBindVertexArray(impl.sheet.array);
@@ -483,20 +479,26 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
   // --- Springs ---
   if (options.show_connectors) {
     impl.line_data.clear();
-    for (const auto& [a, b] : model.connector_particles) {
+    // Broken connectors exert no force and are not drawn.
+    for (std::size_t e = 0; e < model.connector_count(); ++e) {
+      if (model.connector_live[e] == 0) continue;
+      const auto [a, b] = model.connector_particles[e];
       push(impl.line_data, position[a]);
       push(impl.line_data, position[b]);
     }
     impl.draw_lines(impl.line_data, options.connector_colour, view_projection);
   }
   if (options.show_radials && model.radial_count() > 0) {
-    // Normals at the particles orient the half circles of opposite pairs.
+    // Normals at the particles orient the half circles of opposite pairs; in particle mode the
+    // mesh's first vertices are the particles, torn or not.
     const std::vector<Vec3> particle_normal =
-        mesh.vertex_position.size() == position.size() && options.mesh_mode == SheetMeshMode::particles
-            ? mesh.vertex_normal
+        mesh.vertex_position.size() >= position.size() && options.mesh_mode == SheetMeshMode::particles
+            ? std::vector<Vec3>(mesh.vertex_normal.begin(),
+                                mesh.vertex_normal.begin() + static_cast<std::ptrdiff_t>(position.size()))
             : vertex_normals(model, position, lattice_triangles(model));
     impl.line_data.clear();
     for (std::size_t r = 0; r < model.radial_count(); ++r) {
+      if (model.radial_live[r] == 0) continue;
       const auto [centre_index, b, c] = model.radial_particles[r];
       const Vec3& centre = position[centre_index];
       const Vec3 to_b = unit_or(position[b] - centre, {1, 0, 0});

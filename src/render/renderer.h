@@ -9,7 +9,9 @@
 //
 // Per frame, draw() rebuilds the mesh on the CPU (model/sheet_mesh: positions, area-weighted
 // normals) and streams it into one vertex buffer (GL_STREAM_DRAW, orphaned each frame); the
-// triangle index buffer is uploaded once per grid size. The surface is drawn without face culling,
+// triangle index buffer is uploaded again only when the mesh's topology changes (grid size, mode,
+// a tear: SheetMesh::topology_version). A torn sheet is drawn from the split mesh, so its pieces
+// part on screen; broken springs are not drawn. The surface is drawn without face culling,
 // and the fragment shader flips the normal and picks the back colour where gl_FrontFacing is
 // false, so both sides are lit.
 #pragma once

@@ -273,7 +273,7 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   // Exactly the documented files, and no partial folder left next to them.
   std::set<std::string> expected = {"run",           "run/positions.npy", "run/velocities.npy",
                                     "run/energy.csv", "run/summary.json",  "run/final.obj",
-                                    "run/scene.json"};
+                                    "run/scene.json", "run/connectors.npy", "run/connector_break_time.npy"};
 #if CLOTHSIM_HAVE_RENDER
   // The pictures, by default (tests/render/test_run_pictures.cpp checks their contents).
   expected.insert({"run/final.png", "run/animation.mp4"});
@@ -304,11 +304,12 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   const Csv energy = read_csv(work_ / "run" / "energy.csv");
   EXPECT_EQ(energy.header,
             "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
-            "anchor_work,balance_error,accepted_steps,rejected_steps");
+            "anchor_work,balance_error,accepted_steps,rejected_steps,broken_connectors,max_plastic_strain,"
+            "max_rest_angle_change,plastic_work,fracture_work");
   ASSERT_EQ(energy.rows.size(), 11u);
   for (std::size_t frame = 0; frame < energy.rows.size(); ++frame) {
     const std::vector<double>& row = energy.rows[frame];
-    ASSERT_EQ(row.size(), 14u) << "frame " << frame;
+    ASSERT_EQ(row.size(), 19u) << "frame " << frame;
     EXPECT_EQ(row[0], static_cast<double>(frame));
     EXPECT_EQ(row[1], static_cast<double>(frame) / 20.0) << "frame k at t = k / fps, exactly";
     EXPECT_LT(std::abs(row[11]), 1e-4) << "energy balance error, frame " << frame;
@@ -327,7 +328,7 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   EXPECT_FALSE(run.contains("diagnosis"));
   EXPECT_EQ(run["scene"]["output"]["fps"], 20);
   EXPECT_TRUE(contains(run["command_line"].get<std::string>(), "--paper-args"));
-  for (const char* key : {"wall_seconds", "forces", "integration", "checks", "output", "realtime_factor"}) {
+  for (const char* key : {"wall_seconds", "forces", "integration", "events", "checks", "output", "realtime_factor"}) {
     EXPECT_TRUE(run["timings"].contains(key)) << key;
   }
   for (const char* key : {"kinetic", "gravitational", "connector", "radial_adjacent", "radial_opposite", "total",
@@ -335,6 +336,17 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
     EXPECT_TRUE(run["energy"]["final"].contains(key)) << key;
   }
   EXPECT_EQ(run["energy"]["final"]["kinetic"].get<double>(), energy.rows.back()[kKineticColumn]);
+  // An elastic, unbreakable sheet: nothing broke or yielded, and the topology files say so.
+  EXPECT_EQ(run["sheet_changes"]["broken_connectors"], 0);
+  EXPECT_EQ(run["sheet_changes"]["breaks"], 0);
+  EXPECT_EQ(run["sheet_changes"]["fracture_work"], 0.0);
+  const NpyArray connectors = read_npy((work_ / "run" / "connectors.npy").string());
+  ASSERT_EQ(connectors.shape, (std::vector<std::size_t>{40, 2}));
+  EXPECT_EQ(connectors.data[0], 0.0);  // connector 0: particle 0 and its east neighbour 1
+  EXPECT_EQ(connectors.data[1], 1.0);
+  const NpyArray break_time = read_npy((work_ / "run" / "connector_break_time.npy").string());
+  ASSERT_EQ(break_time.shape, (std::vector<std::size_t>{40}));
+  for (const double time : break_time.data) EXPECT_TRUE(std::isinf(time));
 
   const std::string mesh = read_text(work_ / "run" / "final.obj");
   std::size_t vertices = 0;
@@ -650,8 +662,8 @@ TEST_F(CliTest, BenchRejectsBadFlagsAndRunsNothing) {
 TEST_F(CliTest, ProfileListsEveryPhaseOfTheRun) {
   const Result result = small_run("run", {"--duration", "0.2", "--profile"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
-  for (const char* phase : {"forces", "integration", "stage sums", "solution update", "error control", "checks",
-                            "output", "total", "evaluations"}) {
+  for (const char* phase : {"forces", "integration", "stage sums", "solution update", "error control", "events",
+                            "checks", "output", "total", "evaluations"}) {
     EXPECT_TRUE(contains(result.out, phase)) << phase;
   }
   const json s = summary("run");

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -170,6 +171,21 @@ std::vector<double> numpy_load(const std::string& path, const std::string& pytho
 }
 
 // --- Streaming writer ---
+
+TEST(WriteNpy, Int32ArrayRoundTripsAndSaysItsDtype) {
+  const std::string path = scratch_path("int32.npy");
+  const std::vector<std::int32_t> values = {0, 1, -7, 2147483647, -2147483647 - 1, 42};
+  const std::array<std::size_t, 2> shape = {3, 2};
+  write_npy(path, values, shape);
+  std::ifstream in(path, std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  EXPECT_NE(bytes.find("'descr': '<i4'"), std::string::npos);
+  EXPECT_EQ((bytes.size() - values.size() * 4u) % 64u, 0u) << "4 bytes a value after an aligned header";
+  const NpyArray array = read_npy(path);
+  EXPECT_EQ(array.shape, (std::vector<std::size_t>{3, 2}));
+  ASSERT_EQ(array.data.size(), values.size());
+  for (std::size_t k = 0; k < values.size(); ++k) EXPECT_EQ(array.data[k], static_cast<double>(values[k]));
+}
 
 TEST(NpyWriter, StreamedVec3FramesRoundTripBitExact) {
   const std::string path = scratch_path("streamed_vec3.npy");

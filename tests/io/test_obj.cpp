@@ -1,5 +1,5 @@
 // Tests of io/obj: the OBJ file read back line by line (counts, index ranges, values), including
-// flipped and 1-wide sheets. The triangulation and normals it writes are tested in
+// flipped, 1-wide and torn sheets. The triangulation and normals it writes are tested in
 // tests/model/test_sheet_mesh.cpp.
 #include "io/obj.h"
 
@@ -17,6 +17,7 @@
 #include <utility>
 #include <vector>
 
+#include "model/model_edits.h"
 #include "test_checks.h"
 #include "test_support.h"
 
@@ -188,6 +189,77 @@ TEST(WriteObj, OneWideLatticeIsAPolyline) {
       }
     }
   }
+}
+
+TEST(WriteObj, TornSheetHasSplitVerticesAndReadsBack) {
+  constexpr int rows = 4;
+  constexpr int cols = 5;
+  ClothModel model = make_sheet(rows, cols, 0.5);
+  // A tear across the sheet between rows 1 and 2: the connectors from (1, j) south to (2, j).
+  for (std::uint32_t e = 0; e < model.connector_count(); ++e) {
+    const auto [a, b] = model.connector_particles[e];
+    if (a / cols == 1 && b == a + cols) {
+      ASSERT_TRUE(break_connector(model, e));
+    }
+  }
+  std::vector<Vec3> position = model.particle_rest_position;
+  for (std::size_t p = 2 * cols; p < position.size(); ++p) position[p].z += 0.4;  // the lower part moves away
+  const std::string path = scratch_path("torn_sheet.obj");
+  write_obj(path, model, position, "torn");
+  const ObjFile obj = read_obj(path);
+  EXPECT_TRUE(obj.unknown.empty()) << obj.unknown.front();
+  ASSERT_GE(obj.comments.size(), 3U);
+  EXPECT_TRUE(contains(obj.comments[1], "torn along 5 broken connectors"));
+  EXPECT_EQ(obj.comments[2], "torn");
+
+  SheetMesh mesh;
+  build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);
+  const std::size_t n = model.particle_count();
+  ASSERT_GT(mesh.vertex_count(), n);
+  ASSERT_EQ(obj.vertices.size(), mesh.vertex_count());
+  ASSERT_EQ(obj.texture_coordinates.size(), mesh.vertex_count());
+  ASSERT_EQ(obj.normals.size(), mesh.vertex_count());
+  ASSERT_EQ(obj.faces.size(), mesh.triangle_vertices.size());
+  for (std::size_t p = 0; p < n; ++p) expect_near(obj.vertices[p], position[p], 1e-9);
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    expect_near(obj.vertices[v], mesh.vertex_position[v], 1e-8);
+    EXPECT_NEAR(norm(obj.normals[v]), 1.0, 1e-8);
+    for (const double coordinate : obj.texture_coordinates[v]) EXPECT_TRUE(coordinate >= 0.0 && coordinate <= 1.0);
+  }
+  // The two halves of a broken connector are two vertices, 0.4 m apart (half a rest length each
+  // from their ends, which are 0.9 m apart).
+  std::size_t halves = 0;
+  for (std::size_t v = 0; v < mesh.vertex_count(); ++v) {
+    if (mesh.vertex_source[v].kind != SheetVertexKind::connector_end || mesh.vertex_source[v].side != 0) continue;
+    for (std::size_t w = 0; w < mesh.vertex_count(); ++w) {
+      if (mesh.vertex_source[w].kind == SheetVertexKind::connector_end &&
+          mesh.vertex_source[w].index == mesh.vertex_source[v].index && mesh.vertex_source[w].side == 1) {
+        EXPECT_NEAR(norm(obj.vertices[w] - obj.vertices[v]), 0.4, 1e-8);
+        ++halves;
+      }
+    }
+  }
+  EXPECT_EQ(halves, 5U);
+  for (std::size_t f = 0; f < obj.faces.size(); ++f) {
+    for (std::size_t corner = 0; corner < 3; ++corner) {
+      EXPECT_EQ(obj.faces[f][corner][0], static_cast<long>(mesh.triangle_vertices[f][corner]) + 1);
+      EXPECT_EQ(obj.faces[f][corner][1], obj.faces[f][corner][0]);
+      EXPECT_EQ(obj.faces[f][corner][2], obj.faces[f][corner][0]);
+    }
+  }
+}
+
+TEST(WriteObj, TornStripIsOnePolylinePerPiece) {
+  ClothModel model = make_sheet(1, 6);
+  ASSERT_TRUE(break_connector(model, 2));  // between particles 2 and 3
+  const std::string path = scratch_path("torn_strip.obj");
+  write_obj(path, model, model.particle_rest_position);
+  const ObjFile obj = read_obj(path);
+  EXPECT_TRUE(obj.unknown.empty()) << obj.unknown.front();
+  ASSERT_EQ(obj.lines.size(), 2U);
+  EXPECT_EQ(obj.lines[0].size(), 3U);
+  EXPECT_EQ(obj.lines[1].size(), 3U);
+  EXPECT_EQ(obj.lines[1][0][0], 4);
 }
 
 TEST(WriteObj, ErrorsNameThePath) {

@@ -5,7 +5,8 @@
 //   - on a folded sheet both the front and the back colour show, told apart by hue;
 //   - the anchor marker shows at the anchor's projected position, even in the paper's
 //     cell-centre mesh mode, which has no vertex there;
-//   - overlays draw in their colours; the image size and orientation (top row first) are right.
+//   - overlays draw in their colours; the image size and orientation (top row first) are right;
+//   - a torn sheet shows a gap along its tear, also when the tear comes after a first picture.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -16,6 +17,7 @@
 
 #include "render/headless.h"
 #include "render/image.h"
+#include "model/model_edits.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"
@@ -287,6 +289,56 @@ TEST(Headless, CellCentreModeShowsTheAnchorAndASmallerSheet) {
   EXPECT_GT(sheet_cells, 0.65 * sheet_particles);
   const Vec3 anchor = sheet.position[sheet.model.anchors[0].particle];
   EXPECT_GT(marker_pixels_near(by_cells, anchor, cells.anchor_colour), 40);
+}
+
+// A sheet torn across between rows 4 and 5, its lower part moved 2 spacings away: seen from
+// above, the gap between the parts is background, where the intact sheet drawn just before by
+// the same renderer (same grid, so only the break tells it to upload new triangles) spans it.
+TEST(Headless, TornSheetShowsAGapAlongItsTear) {
+  const SceneSpec spec = builtin_scene("paper-fig5");  // 11 x 11
+  ClothModel model = build_model(spec);
+  const double spacing = model.spacing;
+  std::vector<Vec3> position = model.particle_rest_position;
+  for (std::size_t p = 5 * 11; p < position.size(); ++p) position[p].z += 2.0 * spacing;
+  Camera camera;
+  camera.elevation = 1.5;
+  camera.fit(position, static_cast<double>(kWidth) / kHeight);
+  // The middle of the gap: half a spacing beyond row 4 each half of a broken connector reaches.
+  const Vec3 gap{0.5 * spacing, 0.0, position[4 * 11].z + 1.5 * spacing};
+  const Projection at = camera.project(gap, kWidth, kHeight);
+  ASSERT_TRUE(at.visible);
+  const RenderOptions options;
+  const auto front_near_gap = [&](const Image& image) {
+    int front = 0;
+    for (int dy = -2; dy <= 2; ++dy) {
+      for (int dx = -2; dx <= 2; ++dx) {
+        const int x = static_cast<int>(at.x) + dx;
+        const int y = static_cast<int>(at.y) + dy;
+        front += matches_hue(pixel_hsv(image, x, y), options.front_colour) ? 1 : 0;
+      }
+    }
+    return front;
+  };
+
+  HeadlessContext context(kWidth, kHeight);
+  Renderer renderer;
+  context.bind();
+  Image intact;
+  renderer.draw(model, position, options, camera, kWidth, kHeight);
+  context.read(intact);
+  for (std::uint32_t e = 0; e < model.connector_count(); ++e) {
+    const auto [a, b] = model.connector_particles[e];
+    if (a / 11 == 4 && b == a + 11) break_connector(model, e);
+  }
+  ASSERT_EQ(model.broken_connector_count, 11u);
+  Image torn;
+  renderer.draw(model, position, options, camera, kWidth, kHeight);
+  context.read(torn);
+  write_png(scratch_path("torn_sheet.png"), torn);
+  EXPECT_EQ(front_near_gap(intact), 25) << "the intact sheet is stretched across the gap";
+  EXPECT_EQ(front_near_gap(torn), 0) << "the torn sheet leaves the gap open";
+  // Both parts are still drawn in full.
+  EXPECT_GT(pixels_of_hue(torn, options.front_colour), kWidth * kHeight / 10);
 }
 
 // Overlays draw in their own colours when enabled, and not at all otherwise.

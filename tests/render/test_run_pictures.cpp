@@ -190,7 +190,8 @@ TEST_F(RunPictures, OddSizesArePaddedInTheVideoOnly) {
 
 TEST_F(RunPictures, RenderFlagWritesExactlyTheNamedFiles) {
   const std::set<std::string> data = {"run",          "run/positions.npy", "run/velocities.npy", "run/energy.csv",
-                                      "run/summary.json", "run/final.obj", "run/scene.json"};
+                                      "run/summary.json", "run/final.obj", "run/scene.json", "run/connectors.npy",
+                                      "run/connector_break_time.npy"};
   struct Case {
     const char* render;
     std::vector<std::string> pictures;

@@ -1,11 +1,13 @@
 // Picking and dragging geometry (apps/clothsim/viewer/interaction.h) on the renderer's Camera:
 // a particle is picked where it appears on screen, within a pixel radius, the nearer one winning
-// a tie; a dragged particle's target lies under the cursor, on the plane facing the camera.
+// a tie; a dragged particle's target lies under the cursor, on the plane facing the camera; a
+// cut breaks the intact connectors its screen segment (or its rest-lattice segment) crosses.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
 
+#include "model/model_edits.h"
 #include "viewer/interaction.h"
 
 namespace clothsim::viewer {
@@ -71,6 +73,42 @@ TEST(Dragging, TheTargetIsUnderTheCursorOnThePlaneFacingTheCamera) {
   const std::optional<Vec3> same = drag_target(camera, grabbed, here.x, here.y, kWidth, kHeight);
   ASSERT_TRUE(same.has_value());
   EXPECT_LT(norm(*same - grabbed), 1e-9);
+}
+
+// The connectors from row `row` south to row `row` + 1, ascending.
+std::vector<std::uint32_t> south_connectors(const ClothModel& model, int row) {
+  std::vector<std::uint32_t> connectors;
+  for (std::uint32_t e = 0; e < model.connector_count(); ++e) {
+    const auto [a, b] = model.connector_particles[e];
+    if (static_cast<int>(a) / model.cols == row && b == a + static_cast<std::uint32_t>(model.cols)) {
+      connectors.push_back(e);
+    }
+  }
+  return connectors;
+}
+
+TEST(Cutting, AScreenSegmentCutsTheConnectorsItCrosses) {
+  const render::Camera camera = test_camera();
+  ClothModel model = build_lattice(LatticeDef{.rows = 5, .cols = 5, .spacing = 1.0}, Environment{}, {});
+  const std::vector<Vec3>& points = model.particle_rest_position;  // rows at z = -2 .. 2
+  // A segment drawn on the screen over the line z = 0.5, across the whole sheet: between rows 2
+  // and 3.
+  const render::Projection from = camera.project({-3.0, 0.0, 0.5}, kWidth, kHeight);
+  const render::Projection to = camera.project({3.0, 0.0, 0.5}, kWidth, kHeight);
+  const std::vector<std::uint32_t> expected = south_connectors(model, 2);
+  ASSERT_EQ(expected.size(), 5u);
+  EXPECT_EQ(connectors_crossed_on_screen(camera, model, points, from.x, from.y, to.x, to.y, kWidth, kHeight), expected);
+  // The same cut in rest-lattice coordinates.
+  EXPECT_EQ(connectors_crossed_in_lattice(model, {2.5, -1.0}, {2.5, 5.0}), expected);
+  // Half way across: the connectors of columns 0..2 only.
+  EXPECT_EQ(connectors_crossed_in_lattice(model, {2.5, -1.0}, {2.5, 2.2}),
+            (std::vector<std::uint32_t>{expected[0], expected[1], expected[2]}));
+  // A broken connector is not cut again; a segment off the sheet cuts nothing.
+  ASSERT_TRUE(break_connector(model, expected[1]));
+  EXPECT_EQ(connectors_crossed_in_lattice(model, {2.5, -1.0}, {2.5, 2.2}),
+            (std::vector<std::uint32_t>{expected[0], expected[2]}));
+  EXPECT_TRUE(connectors_crossed_in_lattice(model, {-1.0, -1.0}, {-1.0, 9.0}).empty());
+  EXPECT_TRUE(connectors_crossed_on_screen(camera, model, points, 1.0, 1.0, 5.0, 3.0, kWidth, kHeight).empty());
 }
 
 }  // namespace

@@ -3,6 +3,8 @@
 // the event and the field.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <string>
 
 #include "core/error.h"
@@ -87,6 +89,29 @@ TEST(Script, EveryActionParses) {
                                         {"at": 1, "drag": {"row": 4, "col": 4, "to": [0, 0, 0], "duration": 1}}]})",
                         five_by_five()),
             "");
+}
+
+TEST(Script, CutParsesAndItsErrorsNameTheField) {
+  const Script script =
+      parse_script(R"({"events": [{"at": 1.5, "cut": {"from": [2.5, -1], "to": [2.5, 30]}}]})", kFile);
+  ASSERT_EQ(script.events.size(), 1u);
+  EXPECT_EQ(script.events[0].action, ScriptAction::cut);
+  EXPECT_EQ(script.events[0].cut_from, (std::array<double, 2>{2.5, -1.0}));
+  EXPECT_EQ(script.events[0].cut_to, (std::array<double, 2>{2.5, 30.0}));
+  EXPECT_EQ(check_error(R"({"events": [{"at": 1, "cut": {"from": [0, 0], "to": [9, 9]}}]})", five_by_five()), "");
+  EXPECT_NE(parse_error(R"({"events": [{"at": 1, "cut": [1, 2]}]})").find("field 'events[0].cut': must be an object"),
+            std::string::npos);
+  EXPECT_NE(parse_error(R"({"events": [{"at": 1, "cut": {"from": [1, 2]}}]})").find("'events[0].cut.to': is required"),
+            std::string::npos);
+  EXPECT_NE(parse_error(R"({"events": [{"at": 1, "cut": {"from": [1], "to": [1, 2]}}]})")
+                .find("'events[0].cut.from': must be an array of 2 numbers"),
+            std::string::npos);
+  EXPECT_NE(parse_error(R"({"events": [{"at": 1, "cut": {"from": [1, "x"], "to": [1, 2]}}]})")
+                .find("'events[0].cut.from[1]': must be a number"),
+            std::string::npos);
+  EXPECT_NE(parse_error(R"({"events": [{"at": 1, "cut": {"from": [1, 2], "to": [1, 2], "by": 3}}]})")
+                .find("'events[0].cut.by': unknown field"),
+            std::string::npos);
 }
 
 TEST(Script, TimesMapOntoTheFirstFrameAtOrAfterThem) {

@@ -1,12 +1,14 @@
 // The viewer's window-free core (apps/clothsim/viewer/session.h): what a script or the mouse does
 // to the simulation, without a display. A scripted drag ends at its target, a scripted run is
 // reproducible, "set" changes the running simulation and survives a reset, the hand restores
-// what it found, and the work budget bounds one frame's simulation.
+// what it found, the work budget bounds one frame's simulation, a scripted cut breaks the
+// connectors it crosses, and edited spring limits survive a reset.
 #include <gtest/gtest.h>
 
 #include <cmath>
 
 #include "core/error.h"
+#include "model/sheet_mesh.h"
 #include "viewer/session.h"
 
 namespace clothsim::viewer {
@@ -189,6 +191,63 @@ TEST(Session, PauseAndPlayEventsAndQuit) {
   const ScriptPlayer::FrameRequests third = player.fire(3, session);
   EXPECT_TRUE(third.quit);
   EXPECT_FALSE(session.playing());  // 0.05 s is frame 3, in the same frame as the quit
+}
+
+TEST(Session, ScriptedCutBreaksTheConnectorsItCrosses) {
+  Session session(small_scene());  // 5 x 5, the centre (2, 2) anchored
+  const Script script = parse_script(R"({"events": [{"at": 0.1, "cut": {"from": [2.5, -1], "to": [2.5, 9]}}]})",
+                                     "cut.json");
+  check_script(script, session.scene());
+  ScriptPlayer player(script, kFrameTime);
+  play(session, player, 30);
+  const ClothModel& model = session.simulation().model();
+  // Exactly the 5 connectors from row 2 south to row 3 are broken, with their radial springs.
+  EXPECT_EQ(model.broken_connector_count, 5u);
+  for (std::uint32_t e = 0; e < model.connector_count(); ++e) {
+    const auto [a, b] = model.connector_particles[e];
+    const bool crossed = a / 5 == 2 && b == a + 5;
+    EXPECT_EQ(model.connector_live[e] == 0, crossed) << "connector " << e;
+  }
+  // Each broken connector takes the radial springs using it at both ends: 3 + 3 inside the sheet,
+  // 2 + 2 at its sides.
+  EXPECT_EQ(session.simulation().model_changes().broken_radials, 3u * 6u + 2u * 4u);
+  EXPECT_LT(session.simulation().energy_balance().fracture_work, 0.0);
+  // The lower rows fall away from the anchored part, and the mesh shows two pieces apart.
+  const std::vector<Vec3>& position = session.simulation().state().position;
+  EXPECT_LT(position[session.particle(3, 2)].y, position[session.particle(2, 2)].y - 0.1);
+  SheetMesh mesh;
+  build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);
+  EXPECT_GT(mesh.vertex_count(), model.particle_count());
+  // A reset mends the sheet.
+  session.reset();
+  EXPECT_TRUE(session.simulation().model().is_intact());
+}
+
+TEST(Session, SpringLimitsAreCheckedAndSurviveAReset) {
+  Session session(small_scene());
+  SpringLimits limits;
+  limits.break_strain = 0.5;
+  limits.yield_strain = 0.1;
+  limits.hardening = 0.2;
+  limits.opposite_yield_angle = 0.3;
+  ASSERT_EQ(check_spring_limits(limits), "");
+  session.set_spring_limits(limits);
+  EXPECT_EQ(session.spring_limits(), limits);
+  EXPECT_EQ(session.simulation().model().connector_yield_strain[0], 0.1);
+  session.reset();
+  EXPECT_EQ(session.spring_limits(), limits);
+  EXPECT_EQ(session.simulation().model().connector_break_strain[3], 0.5);
+
+  SpringLimits bad = limits;
+  bad.yield_strain = 0.8;
+  EXPECT_EQ(check_spring_limits(bad), "the yield strain must not exceed the break strain");
+  bad = limits;
+  bad.break_strain_variation = 1.0;
+  EXPECT_EQ(check_spring_limits(bad), "break strain variation must be in [0, 1)");
+  bad = limits;
+  bad.adjacent_yield_angle = -1.0;
+  EXPECT_EQ(check_spring_limits(bad), "yield angles must be >= 0");
+  EXPECT_EQ(check_spring_limits(SpringLimits{}), "") << "never tearing nor yielding is valid";
 }
 
 }  // namespace

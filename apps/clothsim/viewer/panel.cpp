@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <vector>
 
 #include "core/error.h"
@@ -221,6 +222,89 @@ void parameters_section(PanelState& state, Session& session) {
   }
 }
 
+// A limit that may be +infinity ("never"): a checkbox that turns it on (at `on_value`) or off,
+// and, when on, a slider over [low, high] (log-scaled when `logarithmic`), shown in `scale` units
+// (180/pi for degrees). True when the value changed.
+bool limit_editor(const char* label, double& value, double on_value, double low, double high, bool logarithmic,
+                  double scale, const char* tooltip_text) {
+  bool enabled = value != SpringLimits::kNever;
+  bool changed = false;
+  ImGui::PushID(label);
+  if (ImGui::Checkbox("##on", &enabled)) {
+    value = enabled ? on_value : SpringLimits::kNever;
+    changed = true;
+  }
+  tooltip(tooltip_text, "");
+  ImGui::SameLine();
+  if (enabled) {
+    double shown = value * scale;
+    const double shown_low = low * scale;
+    const double shown_high = high * scale;
+    ImGuiSliderFlags flags = ImGuiSliderFlags_AlwaysClamp;
+    if (logarithmic) flags |= ImGuiSliderFlags_Logarithmic;
+    if (ImGui::SliderScalar(label, ImGuiDataType_Double, &shown, &shown_low, &shown_high, "%.4g", flags)) {
+      value = shown / scale;
+      changed = true;
+    }
+  } else {
+    ImGui::TextDisabled("%s: never", label);
+  }
+  tooltip(tooltip_text, "");
+  ImGui::PopID();
+  return changed;
+}
+
+// Where the sheet tears, stretches for good and creases (model/spring_limits.h), edited live, and
+// what it has done so far.
+void tearing_section(PanelState& state, Session& session) {
+  if (!ImGui::CollapsingHeader("Tearing and plasticity")) return;
+  SpringLimits limits = session.spring_limits();
+  constexpr double kDegree = 180.0 / std::numbers::pi;
+  bool changed = false;
+  changed |= limit_editor("break strain", limits.break_strain, 0.3, 1e-3, 10.0, true, 1.0,
+                          "a connector breaks when l / L0 - 1 exceeds this (dimensionless)");
+  if (limits.break_strain != SpringLimits::kNever) {
+    double variation = limits.break_strain_variation;
+    const double low = 0.0;
+    const double high = 0.99;
+    if (ImGui::SliderScalar("variation", ImGuiDataType_Double, &variation, &low, &high, "%.3g",
+                            ImGuiSliderFlags_AlwaysClamp)) {
+      limits.break_strain_variation = variation;
+      changed = true;
+    }
+    tooltip("relative spread of the break strain over the springs, in [0, 1)", "");
+  }
+  changed |= limit_editor("yield strain", limits.yield_strain, 0.05, 1e-4, 10.0, true, 1.0,
+                          "a connector stretched beyond this keeps the excess (dimensionless)");
+  if (limits.yield_strain != SpringLimits::kNever) {
+    double hardening = limits.hardening;
+    const double low = 0.0;
+    const double high = 10.0;
+    if (ImGui::SliderScalar("hardening", ImGuiDataType_Double, &hardening, &low, &high, "%.3g",
+                            ImGuiSliderFlags_AlwaysClamp)) {
+      limits.hardening = hardening;
+      changed = true;
+    }
+    tooltip("growth of the yield strain per unit of plastic strain (dimensionless)", "");
+  }
+  changed |= limit_editor("shear yield", limits.adjacent_yield_angle, 20.0 / kDegree, 0.0, std::numbers::pi, false,
+                          kDegree, "in-plane shear beyond this angle stays (adjacent radial springs, degrees)");
+  changed |= limit_editor("fold yield", limits.opposite_yield_angle, 20.0 / kDegree, 0.0, std::numbers::pi, false,
+                          kDegree, "folds beyond this angle stay (opposite radial springs, degrees)");
+  if (changed) {
+    state.limits_error = check_spring_limits(limits);
+    if (state.limits_error.empty()) session.set_spring_limits(limits);
+  }
+  if (!state.limits_error.empty()) ImGui::TextColored(kWarningColour, "%s", state.limits_error.c_str());
+  const ModelChanges sheet = session.simulation().model_changes();
+  const EnergyBalance balance = session.simulation().energy_balance();
+  ImGui::TextDisabled("broken: %zu connectors, %zu radial springs", sheet.broken_connectors, sheet.broken_radials);
+  ImGui::TextDisabled("max plastic strain %.3g, max rest angle change %.3g deg", sheet.max_plastic_strain,
+                      sheet.max_rest_angle_change * kDegree);
+  ImGui::TextDisabled("plastic work %.4g J, fracture work %.4g J", balance.plastic_work, balance.fracture_work);
+  ImGui::TextDisabled("ctrl+drag across the sheet to cut it");
+}
+
 void display_section(PanelState& state) {
   if (!ImGui::CollapsingHeader("Display")) return;
   render::RenderOptions& options = state.render;
@@ -246,6 +330,7 @@ void help_section() {
       "left drag: orbit; on a particle: drag it\n"
       "right drag / middle drag: pan   wheel: zoom\n"
       "right click or shift+click a particle: pin/unpin\n"
+      "ctrl+left drag: cut the sheet along the drag\n"
       "space: play/pause   N: step one frame   R: reset\n"
       "S: screenshot   F: frame the sheet   H: hide panel\n"
       "arrows: orbit (shift: pan)   +/-: zoom   Q/Esc: quit");
@@ -270,6 +355,7 @@ void draw_panel(PanelState& state, Session& session, const FramePacer& pacer) {
       ImGui::TextDisabled("balance error %.3g J (edits %.4g J)", balance.error(), balance.edit_work);
     }
     parameters_section(state, session);
+    tearing_section(state, session);
     display_section(state);
     help_section();
     ImGui::PopItemWidth();

@@ -6,7 +6,8 @@
 // three decades), its tooltip the registry's description and unit. Edits go to a copy of the
 // session's scene, are checked with validate_scene(), and reach the simulation through
 // Session::set_live_parameters(), between steps. An edit that breaks a cross-field rule is shown
-// in red and not applied.
+// in red and not applied. The spring limits (tearing, yielding, creasing) are not scene keys yet:
+// their section edits Session::spring_limits() directly, checked by check_spring_limits().
 #pragma once
 
 #include <string>
@@ -30,6 +31,7 @@ struct PanelState {
   render::RenderOptions render;  // display options edited in the panel
   std::string status;            // the last action's message ("saved shot.png")
   std::string edit_error;        // why the last parameter edit was refused
+  std::string limits_error;      // why the last edit of the spring limits was refused
 };
 
 // Draws the panel inside an ImGui frame (between ImGui::NewFrame and ImGui::Render).

@@ -25,6 +25,7 @@ constexpr double kLatestEvent = 86400.0;           // s
 constexpr double kLongestDrag = 86400.0;           // s
 constexpr double kFarthestTarget = 1e6;            // m, the scene's anchor coordinate bound
 constexpr double kLatestFrame = 1e9;               // frames
+constexpr double kFarthestLatticePoint = 1e6;      // spacings, a cut's ends
 
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& reason) {
   throw InputError(source, field, reason);
@@ -47,8 +48,8 @@ std::string describe_json(const json& value) {
   }
 }
 
-constexpr std::array<std::string_view, 9> kActionNames = {"drag",  "release", "pin",        "unpin", "pause",
-                                                          "play",  "set",     "screenshot", "quit"};
+constexpr std::array<std::string_view, 10> kActionNames = {"drag", "release", "pin",        "unpin", "pause",
+                                                           "play", "set",     "screenshot", "quit",  "cut"};
 
 std::string action_list() {
   std::string text;
@@ -202,6 +203,27 @@ ScriptEvent read_event(const json& value, std::size_t index, const std::string& 
                                        assignment_text(member.value(), source, action_field + "." + member.key()));
       }
       break;
+    case ScriptAction::cut:
+      if (!body.is_object()) {
+        fail(source, action_field,
+             "must be an object {\"from\": [row, col], \"to\": [row, col]} (rest-lattice points), got " +
+                 describe_json(body));
+      }
+      check_keys(body, {"from", "to"}, source, action_field);
+      for (const char* end : {"from", "to"}) {
+        const std::string end_field = action_field + "." + end;
+        if (!body.contains(end)) fail(source, end_field, "is required (a rest-lattice point [row, col])");
+        const json& point = body.at(end);
+        if (!point.is_array() || point.size() != 2) {
+          fail(source, end_field, "must be an array of 2 numbers [row, col], got " + describe_json(point));
+        }
+        std::array<double, 2>& target = std::string_view(end) == "from" ? event.cut_from : event.cut_to;
+        for (std::size_t axis = 0; axis < 2; ++axis) {
+          target[axis] = read_number(point[axis], -kFarthestLatticePoint, kFarthestLatticePoint, true, source,
+                                     end_field + "[" + std::to_string(axis) + "]");
+        }
+      }
+      break;
     case ScriptAction::screenshot:
       if (!body.is_string() || body.get<std::string>().empty()) {
         fail(source, action_field, "must be the path of a PNG file, got " + describe_json(body));
@@ -310,6 +332,7 @@ void check_script(const Script& script, const SceneSpec& scene) {
       case ScriptAction::play:
       case ScriptAction::screenshot:
       case ScriptAction::quit:
+      case ScriptAction::cut:  // a segment off the sheet cuts nothing
         break;
     }
   }

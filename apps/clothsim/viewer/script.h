@@ -8,6 +8,7 @@
 //   {"at": 0.5, "pin": {"row": 4, "col": 4}}      {"at": 2.5, "unpin": {"row": 4, "col": 4}}
 //   {"at": 2.0, "pause": true}                    {"at": 2.5, "play": true}
 //   {"at": 1.0, "set": {"springs.connector.stiffness": 200, "environment.gravity": [0, -5, 0]}}
+//   {"at": 1.5, "cut": {"from": [2.5, -1], "to": [2.5, 30]}}
 //   {"frame": 120, "screenshot": "out/shot.png"}
 //   {"at": 4.0, "quit": true}
 //
@@ -19,6 +20,11 @@
 // file order. The frame clock runs while the simulation is paused, so a script can pause and
 // play again; "at" equals simulated time until the first pause.
 //
+// A "cut" breaks every intact connector that the segment between two rest-lattice points
+// (row, col, in particle spacings, fractions allowed) crosses, whatever the sheet's shape then:
+// [2.5, -1] to [2.5, 30] tears a sheet of up to 30 columns between rows 2 and 3. Lattice
+// coordinates rather than screen ones keep a scripted cut independent of the camera.
+//
 // Rejected: event times in simulated time. A paused simulation's time stands still, so a "play"
 // event could never fire.
 //
@@ -28,6 +34,7 @@
 // while running, values in their ranges).
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -39,7 +46,7 @@
 
 namespace clothsim::viewer {
 
-enum class ScriptAction : std::uint8_t { drag, release, pin, unpin, pause, play, set, screenshot, quit };
+enum class ScriptAction : std::uint8_t { drag, release, pin, unpin, pause, play, set, screenshot, quit, cut };
 
 std::string_view to_string(ScriptAction action);
 
@@ -55,6 +62,8 @@ struct ScriptEvent {
   double duration = 0.0;     // drag: s of simulated time to get there (> 0)
   std::vector<std::pair<std::string, std::string>> assignments;  // set: key and value as --set text
   std::string path;          // screenshot: PNG file
+  std::array<double, 2> cut_from{};  // cut: rest-lattice points (row, col), in spacings
+  std::array<double, 2> cut_to{};
 
   // The frame at whose start this event fires, for frames of `frame_time` seconds.
   std::uint64_t firing_frame(double frame_time) const;

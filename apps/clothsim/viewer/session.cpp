@@ -1,11 +1,13 @@
 #include "viewer/session.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 
 #include "core/assert.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "viewer/interaction.h"
 #include "viewer/live_parameters.h"
 
 namespace clothsim::viewer {
@@ -19,6 +21,37 @@ void Session::build() {
   settings.integrator = scene_.integrator;
   settings.threads = scene_.threads;
   simulation_ = std::make_unique<Simulation>(std::move(model), std::move(initial), settings);
+  if (edited_limits_) simulation_->set_spring_limits(*edited_limits_);
+}
+
+std::size_t Session::cut(std::span<const std::uint32_t> connectors) { return simulation_->cut_connectors(connectors); }
+
+std::size_t Session::cut_in_lattice(const std::array<double, 2>& from, const std::array<double, 2>& to) {
+  return cut(connectors_crossed_in_lattice(simulation_->model(), from, to));
+}
+
+void Session::set_spring_limits(const SpringLimits& limits) {
+  CLOTHSIM_ASSERT(check_spring_limits(limits).empty(), "spring limits are checked by the caller");
+  simulation_->set_spring_limits(limits);
+  edited_limits_ = limits;
+}
+
+std::string check_spring_limits(const SpringLimits& limits) {
+  if (!(limits.break_strain > 0.0)) return "break strain must be > 0";
+  if (!(limits.break_strain_variation >= 0.0 && limits.break_strain_variation < 1.0)) {
+    return "break strain variation must be in [0, 1)";
+  }
+  if (!(limits.yield_strain > 0.0)) return "yield strain must be > 0";
+  if (!(limits.hardening >= 0.0) || std::isinf(limits.hardening)) return "hardening must be a number >= 0";
+  if (!(limits.adjacent_yield_angle >= 0.0) || !(limits.opposite_yield_angle >= 0.0)) {
+    return "yield angles must be >= 0";
+  }
+  // Tearing is measured against the original length; a yield above the break strain would never
+  // be reached (events/spring_events.h).
+  if (limits.yield_strain != SpringLimits::kNever && limits.yield_strain > limits.break_strain) {
+    return "the yield strain must not exceed the break strain";
+  }
+  return {};
 }
 
 void Session::reset() {
@@ -159,6 +192,9 @@ ScriptPlayer::FrameRequests ScriptPlayer::fire(std::uint64_t frame, Session& ses
         break;
       case ScriptAction::set:
         session.set_parameters(event.assignments, script_.source + ": events[" + std::to_string(event.index) + "].set");
+        break;
+      case ScriptAction::cut:
+        session.cut_in_lattice(event.cut_from, event.cut_to);
         break;
       case ScriptAction::screenshot:
         requests.screenshots.push_back(event.path);

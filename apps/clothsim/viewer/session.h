@@ -10,12 +10,21 @@
 // release it is freed with the velocity it has, or, if it was pinned before the drag, pinned
 // where it was let go. In a paused simulation there is no time to move in, so a drag places the
 // particle at once (Simulation::place_particle).
+//
+// The knife: a cut breaks connectors now (Simulation::cut_connectors), by the mouse (the screen
+// segments of viewer/interaction.h) or by a script's "cut" (a segment in rest-lattice
+// coordinates). Spring limits (where the sheet tears, yields and creases) are edited live with
+// set_spring_limits(); the edited limits outlive a reset, like the other live edits, until the
+// scene itself carries them.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <deque>
 #include <map>
 #include <memory>
+#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -78,6 +87,17 @@ class Session {
   void unpin(std::uint32_t particle);
   bool is_pinned(std::uint32_t particle) const;
 
+  // The knife. Breaks the given connectors now (those still intact); returns how many broke.
+  std::size_t cut(std::span<const std::uint32_t> connectors);
+  // Breaks every intact connector that the segment between the rest-lattice points `from` and
+  // `to` (row, col, in spacings; viewer/interaction.h) crosses; returns how many broke.
+  std::size_t cut_in_lattice(const std::array<double, 2>& from, const std::array<double, 2>& to);
+
+  // Break, yield and crease limits of every spring, live (Simulation::set_spring_limits); kept
+  // across reset(). The caller checks them (check_spring_limits).
+  void set_spring_limits(const SpringLimits& limits);
+  const SpringLimits& spring_limits() const { return simulation_->model().limits; }
+
   // Appends the current energies to the history, keeping `window` s of simulated time.
   void record_energy(double window = 10.0);
   const std::deque<EnergySample>& energy_history() const { return energy_history_; }
@@ -92,8 +112,13 @@ class Session {
   std::unique_ptr<Simulation> simulation_;
   bool playing_ = true;
   std::map<std::uint32_t, bool> held_;  // held particle -> whether it was pinned before the drag
+  std::optional<SpringLimits> edited_limits_;  // set_spring_limits(), applied again after a reset
   std::deque<EnergySample> energy_history_;
 };
+
+// Why `limits` cannot be applied (a break strain below the yield strain, values out of range), or
+// empty when they are valid: the panel's check before set_spring_limits().
+std::string check_spring_limits(const SpringLimits& limits);
 
 // Fires a script's events into a session. One call per displayed frame, frame numbers from 0.
 class ScriptPlayer {

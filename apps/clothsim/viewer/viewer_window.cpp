@@ -82,7 +82,7 @@ class Viewer {
   int run();
 
  private:
-  enum class MouseMode { none, orbit, pan, drag };
+  enum class MouseMode { none, orbit, pan, drag, cut };
 
   static Viewer& of(GLFWwindow* window) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(window)); }
   static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
@@ -135,6 +135,7 @@ class Viewer {
   long grabbed_ = -1;
   Vec3 grab_plane_point_;
   long hovered_ = -1;
+  std::size_t cut_count_ = 0;  // connectors broken by the current cut
   bool quit_ = false;
   std::uint64_t screenshot_count_ = 0;
 };
@@ -288,6 +289,12 @@ void Viewer::mouse_button(int button, int action, int mods) {
     }
     return;
   }
+  if (button == GLFW_MOUSE_BUTTON_LEFT && (mods & GLFW_MOD_CONTROL) != 0) {
+    // The knife: every cursor motion until the release cuts what it crosses (see cursor()).
+    mouse_mode_ = MouseMode::cut;
+    cut_count_ = 0;
+    return;
+  }
   if (button == GLFW_MOUSE_BUTTON_LEFT && picked >= 0) {
     grabbed_ = picked;
     grab_plane_point_ = positions[static_cast<std::size_t>(picked)];
@@ -311,6 +318,17 @@ void Viewer::cursor(double /*window_x*/, double /*window_y*/) {
       camera_.pan(dx / height_, -dy / height_);  // the picture follows the cursor
       keep_in_view_ = false;
       break;
+    case MouseMode::cut: {
+      // The segment the cursor just moved along, in pixels, against the connectors as drawn.
+      const std::vector<std::uint32_t> crossed =
+          connectors_crossed_on_screen(camera_, session_.simulation().model(), session_.simulation().state().position,
+                                       x - dx, y - dy, x, y, width_, height_);
+      if (!crossed.empty()) {
+        cut_count_ += session_.cut(crossed);
+        panel_.status = "cut " + std::to_string(cut_count_) + " connector" + (cut_count_ == 1 ? "" : "s");
+      }
+      break;
+    }
     case MouseMode::drag:  // the target follows the cursor in drag_grabbed(), once per frame
     case MouseMode::none:
       break;
