@@ -57,7 +57,7 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
       if (breaks_[e] == 0) continue;
       const auto connector = static_cast<std::uint32_t>(e);
       state.fracture_work -= connector_break_energy(model, x, connector);
-      break_connector(model, connector);
+      break_connector(model, connector, state.time);
       ++counts.breaks;
     }
   }

@@ -216,8 +216,6 @@ void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
   }
   initial_energy_ = simulation.energy_balance();
   last_position_.reserve(simulation.model().particle_count());
-  break_time_.assign(simulation.model().connector_count(), std::numeric_limits<double>::infinity());
-  broken_seen_ = 0;
 }
 
 void RunWriter::write_frame(const Simulation& simulation) {
@@ -228,16 +226,6 @@ void RunWriter::write_frame(const Simulation& simulation) {
   const EnergyReport& e = balance.energy;
   const IntegratorStats& stats = simulation.integrator_stats();
   const ModelChanges changes = simulation.model_changes();
-  const ClothModel& model = simulation.model();
-  if (model.broken_connector_count != broken_seen_) {
-    // Breaks since the last frame: they happened in (that frame's time, this one's].
-    for (std::size_t connector = 0; connector < break_time_.size(); ++connector) {
-      if (model.connector_live[connector] == 0 && std::isinf(break_time_[connector])) {
-        break_time_[connector] = state.time;
-      }
-    }
-    broken_seen_ = model.broken_connector_count;
-  }
   try {
     positions_->append(state.position);
     velocities_->append(state.velocity);
@@ -285,8 +273,8 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
         comment += " s";
         write_obj((partial_ / kFinalMeshFile).string(), model, last_position_, comment);
       }
-      const std::array<std::size_t, 1> shape = {break_time_.size()};
-      write_npy((partial_ / kBreakTimeFile).string(), break_time_, shape);
+      const std::array<std::size_t, 1> shape = {simulation.model().connector_break_time.size()};
+      write_npy((partial_ / kBreakTimeFile).string(), simulation.model().connector_break_time, shape);
     } catch (...) {
       rethrow_as_output_error("cannot finish the output folder");
     }

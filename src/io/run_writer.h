@@ -8,11 +8,10 @@
 //   final.obj        the sheet at the last frame written, split along its tears (model/sheet_mesh.h)
 //   scene.json       the scene as run; `clothsim run <folder>/scene.json` reproduces the run
 //   connectors.npy            int32 [connectors, 2]: the particles of each connector, in index order
-//   connector_break_time.npy  float64 [connectors], s: the time of the first frame at which the
-//                             connector is broken, +inf if it never broke
+//   connector_break_time.npy  float64 [connectors], s: the simulated time at which the connector
+//                             broke (the end of the step after which it broke), +inf if it never did
 // The last two let a reader rebuild any frame's live connectors (and so its torn mesh) without
 // storing the mask per frame: connector e is intact at frame k iff break_time[e] > time[k].
-// A break is seen at frame resolution: it happened during the frame interval before that time.
 //
 // Everything is written into a sibling folder `<out>.partial-<pid>` and renamed to `<out>` by
 // finish(), so that a reader sees either the previous folder or the complete new one. On Linux the
@@ -156,8 +155,6 @@ class RunWriter {
   EnergyBalance last_energy_;        // of the last frame written
   double last_time_ = 0.0;           // s, of the last frame written
   std::vector<Vec3> last_position_;  // [particles], m, of the last frame written
-  std::vector<double> break_time_;   // [connectors], s: first frame time at which it was broken, or +inf
-  std::size_t broken_seen_ = 0;      // broken connectors at the last frame written
   std::vector<std::pair<std::string, nlohmann::ordered_json>> extra_files_;  // add_file()
   std::size_t frames_ = 0;
   double output_seconds_ = 0.0;

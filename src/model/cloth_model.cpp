@@ -60,6 +60,7 @@ void finish_model(ClothModel& model) {
   const std::size_t connectors = model.connector_count();
   const std::size_t radials = model.radial_count();
   if (model.connector_live.size() != connectors) model.connector_live.assign(connectors, 1);
+  if (model.connector_break_time.size() != connectors) model.connector_break_time.assign(connectors, kNever);
   if (model.connector_original_length.size() != connectors) model.connector_original_length = model.connector_rest_length;
   if (model.connector_break_strain.size() != connectors) model.connector_break_strain.assign(connectors, kNever);
   if (model.connector_yield_strain.size() != connectors) model.connector_yield_strain.assign(connectors, kNever);

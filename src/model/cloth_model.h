@@ -94,6 +94,7 @@ struct ClothModel {
   // strain at which it breaks, and the yield strain of its plastic law. A broken connector and
   // every radial spring using it exert no force and store no energy; they keep their index.
   std::vector<std::uint8_t> connector_live;         // 1 intact, 0 broken
+  std::vector<double> connector_break_time;         // simulated time it broke, s; +inf while intact
   std::vector<double> connector_original_length;    // L as built, m: strains of tearing and plasticity
   std::vector<double> connector_break_strain;       // breaks when l / original - 1 > this; +inf: never
   std::vector<double> connector_yield_strain;       // y_e of the return mapping; grows by hardening; +inf: elastic

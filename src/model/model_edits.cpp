@@ -8,10 +8,11 @@
 
 namespace clothsim {
 
-bool break_connector(ClothModel& model, std::uint32_t connector) {
+bool break_connector(ClothModel& model, std::uint32_t connector, double time) {
   CLOTHSIM_ASSERT(connector < model.connector_count(), "broken connector is in the model");
   if (model.connector_live[connector] == 0) return false;
   model.connector_live[connector] = 0;
+  model.connector_break_time[connector] = time;
   for (std::uint32_t k = model.connector_radial_offset[connector]; k < model.connector_radial_offset[connector + 1];
        ++k) {
     model.radial_live[model.radial_of_connector[k]] = 0;

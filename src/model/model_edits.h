@@ -31,9 +31,9 @@
 
 namespace clothsim {
 
-// Breaks connector `connector` and every radial spring that uses it. Returns false (and changes
-// nothing) if it was broken already.
-bool break_connector(ClothModel& model, std::uint32_t connector);
+// Breaks connector `connector` and every radial spring that uses it, recording `time` (s) as
+// its break time. Returns false (and changes nothing) if it was broken already.
+bool break_connector(ClothModel& model, std::uint32_t connector, double time = 0.0);
 
 // Rest length of a connector, m (> 0).
 void set_connector_rest_length(ClothModel& model, std::uint32_t connector, double rest_length);

@@ -215,7 +215,7 @@ std::size_t Simulation::cut_connectors(std::span<const std::uint32_t> connectors
   std::size_t cut = 0;
   for (std::uint32_t e : connectors) {
     const double released = connector_break_energy(*model_, state_.position, e);
-    if (!break_connector(*model_, e)) continue;
+    if (!break_connector(*model_, e, state_.time)) continue;
     state_.fracture_work -= released;
     ++cut;
   }
