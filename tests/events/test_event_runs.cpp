@@ -6,6 +6,8 @@
 #include <cstring>
 
 #include "event_fixtures.h"
+#include "integrators/explicit_runge_kutta.h"
+#include "model/model_edits.h"
 
 namespace clothsim {
 namespace {
@@ -86,6 +88,47 @@ TEST(EventRuns, TornAndPlasticRunsAreBitIdenticalForAnyThreadCount) {
       EXPECT_EQ(a.fracture_work, b.fracture_work);
     }
   }
+}
+
+}  // namespace
+}  // namespace clothsim
+
+namespace clothsim {
+namespace {
+
+using namespace clothsim::testing;
+
+// A change between steps (here a break through the model's seam) reaches the integrator
+// through the model's revision: RKF45 goes on with the step its controller proposed and the
+// forces of the changed sheet. The next step (its trials included) equals that of a new
+// integrator made for the changed model and started with that step, bit for bit.
+TEST(EventRuns, AnIntegratorKeepsItsStepSizeAcrossAModelChange) {
+  LatticeDef def;
+  def.rows = 6;
+  def.cols = 5;
+  ClothModel model = build_lattice(def, Environment{}, std::vector<Anchor>{held(2, {0, 0, -2.5})});
+  ClothState state = make_rest_state(model);
+  IntegratorSettings settings;
+  ForceOptions options;
+  AdaptiveRungeKutta integrator(model, settings, options, kFehlberg45);
+  for (int i = 0; i < 20; ++i) ASSERT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
+  const double proposed = integrator.proposed_step();
+
+  break_connector(model, 3, state.time);
+  set_connector_rest_length(model, 10, 1.1);
+  ClothState kept = state;
+  const std::uint64_t rejected_before = integrator.stats().rejected_steps;
+  ASSERT_EQ(integrator.step(kept, 10.0).status, StepStatus::ok);
+
+  settings.time_step = proposed;
+  AdaptiveRungeKutta fresh(model, settings, options, kFehlberg45);
+  ClothState reference = state;
+  ASSERT_EQ(fresh.step(reference, 10.0).status, StepStatus::ok);
+  // The same trials (the break makes the first one fail here) and the same accepted step.
+  EXPECT_EQ(integrator.stats().rejected_steps - rejected_before, fresh.stats().rejected_steps);
+  EXPECT_EQ(integrator.stats().last_step, fresh.stats().last_step);
+  EXPECT_EQ(std::memcmp(kept.position.data(), reference.position.data(), kept.position.size() * sizeof(Vec3)), 0);
+  EXPECT_EQ(std::memcmp(kept.velocity.data(), reference.velocity.data(), kept.velocity.size() * sizeof(Vec3)), 0);
 }
 
 }  // namespace
