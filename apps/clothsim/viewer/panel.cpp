@@ -263,29 +263,22 @@ void tearing_section(PanelState& state, Session& session) {
   bool changed = false;
   changed |= limit_editor("break strain", limits.break_strain, 0.3, 1e-3, 10.0, true, 1.0,
                           "a connector breaks when l / L0 - 1 exceeds this (dimensionless)");
-  if (limits.break_strain != SpringLimits::kNever) {
-    double variation = limits.break_strain_variation;
-    const double low = 0.0;
-    const double high = 0.99;
-    if (ImGui::SliderScalar("variation", ImGuiDataType_Double, &variation, &low, &high, "%.3g",
-                            ImGuiSliderFlags_AlwaysClamp)) {
-      limits.break_strain_variation = variation;
+  // A clamped slider for a dimensionless companion of a limit.
+  const auto slider = [&changed](const char* label, double& value, double low, double high, const char* help) {
+    if (ImGui::SliderScalar(label, ImGuiDataType_Double, &value, &low, &high, "%.3g", ImGuiSliderFlags_AlwaysClamp)) {
       changed = true;
     }
-    tooltip("relative spread of the break strain over the springs, in [0, 1)", "");
+    tooltip(help, "");
+  };
+  if (limits.break_strain != SpringLimits::kNever) {
+    slider("variation", limits.break_strain_variation, 0.0, 0.99,
+           "relative spread of the break strain over the springs, in [0, 1)");
   }
   changed |= limit_editor("yield strain", limits.yield_strain, 0.05, 1e-4, 10.0, true, 1.0,
                           "a connector stretched beyond this keeps the excess (dimensionless)");
   if (limits.yield_strain != SpringLimits::kNever) {
-    double hardening = limits.hardening;
-    const double low = 0.0;
-    const double high = 10.0;
-    if (ImGui::SliderScalar("hardening", ImGuiDataType_Double, &hardening, &low, &high, "%.3g",
-                            ImGuiSliderFlags_AlwaysClamp)) {
-      limits.hardening = hardening;
-      changed = true;
-    }
-    tooltip("growth of the yield strain per unit of plastic strain (dimensionless)", "");
+    slider("hardening", limits.hardening, 0.0, 10.0,
+           "growth of the yield strain per unit of plastic strain (dimensionless)");
   }
   changed |= limit_editor("shear yield", limits.adjacent_yield_angle, 20.0 / kDegree, 0.0, std::numbers::pi, false,
                           kDegree, "in-plane shear beyond this angle stays (adjacent radial springs, degrees)");
