@@ -29,8 +29,18 @@ void SpringEvents::resize(const ClothModel& model) {
   connector_rest_.assign(connectors, 0.0);
   connector_yield_.assign(connectors, 0.0);
   radial_rest_.assign(radials, -1.0);
+  cos_upper_.assign(radials, -2.0);
+  cos_lower_.assign(radials, 2.0);
+  bounds_revision_ = ~0ull;
   released_.assign(std::max(connectors, radials), 0.0);
   block_sums_.assign(deterministic_sum_blocks(released_.size()), 0.0);
+}
+
+void SpringEvents::set_crease_bounds(const ClothModel& model, std::size_t r) {
+  const double rest = model.radial_rest_angle[r];
+  const double yield = model.radial_yield_angle[r];
+  cos_upper_[r] = rest + yield < std::numbers::pi ? std::cos(rest + yield) : -2.0;
+  cos_lower_[r] = rest - yield > 0.0 ? std::cos(rest - yield) : 2.0;
 }
 
 SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int threads) {
@@ -96,14 +106,25 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
     }
   }
 
-  // 3. Creasing: the same mapping on the rest angle of each intact radial spring.
+  // 3. Creasing: the same mapping on the rest angle of each intact radial spring, after the
+  // cosine test of the file comment.
   if (creasing) {
+    if (bounds_revision_ != model.revision) {
+      parallel_for(radials, threads, [&](std::size_t r) { set_crease_bounds(model, r); });
+    }
+    constexpr double kMargin = 1e-12;
     parallel_for(radials, threads, [&](std::size_t r) {
       radial_rest_[r] = -1.0;
       released_[r] = 0.0;
-      const double yield = model.radial_yield_angle[r];
-      if (model.radial_live[r] == 0 || yield == SpringLimits::kNever) return;
+      if (model.radial_live[r] == 0) return;
       const auto [centre, b, c] = model.radial_particles[r];
+      const Vec3 eb = x[b] - x[centre];
+      const Vec3 ec = x[c] - x[centre];
+      const double lengths = std::sqrt(dot(eb, eb) * dot(ec, ec));
+      if (!(lengths > 0.0)) return;
+      const double cosine = dot(eb, ec) / lengths;
+      if (cosine > cos_upper_[r] + kMargin && cosine < cos_lower_[r] - kMargin) return;
+      const double yield = model.radial_yield_angle[r];
       const double angle = element::radial_angle(x[centre], x[b], x[c]);
       const double rest = model.radial_rest_angle[r];
       if (std::abs(angle - rest) <= yield) return;
@@ -118,9 +139,12 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
     for (std::size_t r = 0; r < radials; ++r) {
       if (radial_rest_[r] < 0.0) continue;
       set_radial_rest_angle(model, static_cast<std::uint32_t>(r), radial_rest_[r]);
+      set_crease_bounds(model, r);
       ++counts.creases;
     }
   }
+  // Every change from here on comes from outside (a live edit, a cut): it recomputes the bounds.
+  bounds_revision_ = model.revision;
   return counts;
 }
 

@@ -28,6 +28,15 @@
 //
 // A stage whose limit is +infinity in the model's SpringLimits is skipped: an elastic,
 // unbreakable sheet (the paper's) pays nothing here.
+//
+// Cost. Creasing needs every radial spring's angle after every step, and an arctangent per
+// spring costs about as much as a force evaluation. Since cos is decreasing on [0, pi],
+// |theta - theta0| > a exactly when cos(theta) < cos(theta0 + a) or cos(theta) > cos(theta0 - a);
+// the stage keeps those two bounds per spring (recomputed when the model changes from outside, and
+// for each spring it creases) and compares cos(theta), a dot product and a square root, against
+// them with a margin of 1e-12, far above cos(theta)'s rounding. Only the springs within the
+// margin or past a bound get the arctangent and the law; a spring the test skips is at least
+// ~1e-6 rad inside its yield angle.
 #pragma once
 
 #include <cstddef>
@@ -61,10 +70,15 @@ class SpringEvents {
 
  private:
   void resize(const ClothModel& model);
+  // The crease bounds of radial spring r from its rest and yield angles.
+  void set_crease_bounds(const ClothModel& model, std::size_t r);
   std::vector<std::uint8_t> breaks_;        // [connectors] 1: breaks after this step
   std::vector<double> connector_rest_;      // [connectors] new rest length, or 0: unchanged
   std::vector<double> connector_yield_;     // [connectors] new yield strain
   std::vector<double> radial_rest_;         // [radials] new rest angle, or -1: unchanged
+  std::vector<double> cos_upper_;           // [radials] cos(theta0 + a): below it the spring creases (-2: never)
+  std::vector<double> cos_lower_;           // [radials] cos(theta0 - a): above it the spring creases (+2: never)
+  std::uint64_t bounds_revision_ = ~0ull;   // model revision the bounds were computed at
   std::vector<double> released_;            // [connectors or radials] energy change of that spring, J
   std::vector<double> block_sums_;
 };
