@@ -834,11 +834,12 @@ SceneSpec parse_scene(std::string_view json_text, const std::string& source) {
   }
   SceneReader reader{source, SceneSpec{}};
   reader.read_object(document, "");
-  if (reader.material != nullptr) {
+  json others;  // outlives the reader's pointer to its anchors
+  if (reader.material != nullptr && !reader.material->is_null()) {
     // The material sets the mass, springs, rest angles and limits at the spacing the file gives;
     // keys given beside it override it, so the file is read again on top of it.
     set_scene_material(reader.spec, read_material(*reader.material, source, "material"), source);
-    json others = document;
+    others = document;
     others.erase("material");
     reader.read_object(others, "");
   }
@@ -901,6 +902,8 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
     }
   } else if (key == "paper_args") {
     apply_paper_arguments(spec, read_text_paper_arguments(value, source));
+  } else if (key == "material" && trim(value) == "none") {
+    spec.material.reset();  // a record only: the lattice keeps its values
   } else if (key == "material") {
     const std::string_view text = trim(value);
     const json material = text.starts_with('{') ? parse_json(text, source) : json(std::string(text));
@@ -1018,7 +1021,8 @@ json scene_to_json(const SceneSpec& spec) {
     }
   }
   // Written with the keys it set: on reading, those keys override it with the same values.
-  if (spec.material) out["material"] = material_to_json(*spec.material);
+  // null: no material, the lattice's own constants.
+  out["material"] = spec.material ? material_to_json(*spec.material) : json(nullptr);
   for (const VectorParameter& parameter : vector_parameters()) {
     const Vec3 value = parameter.get(spec);
     at(parameter.key) = json::array({value.x, value.y, value.z});
