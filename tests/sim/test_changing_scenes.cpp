@@ -2,6 +2,7 @@
 // descriptions say, run through the Simulation as `clothsim run` runs them; plus the scene-level
 // anchor events: keyframes and release_time.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <numeric>
@@ -9,6 +10,7 @@
 
 #include <gtest/gtest.h>
 
+#include "model/material.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"
 
@@ -120,6 +122,64 @@ TEST(ChangingScenes, ClothShakeNeitherBreaksNorYields) {
     max_strain = std::max(max_strain, length / model.connector_rest_length[e] - 1.0);
   }
   EXPECT_LT(max_strain, 0.01);
+}
+
+}  // namespace
+}  // namespace clothsim
+
+namespace clothsim {
+namespace {
+
+// The same physical sheet, 40 cm of cotton held by the two corners of row 0, at rest on 21 x 21
+// and on 41 x 41 lattices (implicit Euler at 1/60 s for 4 s, which brings it to rest). Sag: the
+// drop of the middle of row 0 and of the lowest point. Tolerance 1.5 cm, 4 % of the side: the
+// mapping stores the continuum's energy per area whatever L is, but each particle stands for an
+// L x L patch, so the coarse sheet carries 10 % more mass than its span (5 % on the fine one, the
+// O(1/n) of docs/materials.md), and boundary particles miss springs; both move the hanging shape
+// a little, while a mapping that ignored the spacing would change mass and shear stiffness 4-fold.
+TEST(ChangingScenes, CottonSagAgreesOn21And41Lattices) {
+  const auto sag = [](int n) {
+    SceneSpec spec;
+    spec.lattice.rows = n;
+    spec.lattice.cols = n;
+    spec.lattice.spacing = 0.4 / (n - 1);
+    set_scene_material(spec, cotton_material(), "test");
+    parse_anchor_preset("edge-corners", spec.lattice, spec.anchors);
+    spec.integrator.kind = IntegratorKind::implicit_euler;
+    spec.integrator.time_step = 1.0 / 60.0;
+    const Simulation sheet = simulate(spec, 4.0);
+    double lowest = 0.0;
+    for (const Vec3& p : sheet.state().position) lowest = std::min(lowest, p.y);
+    const double middle = sheet.state().position[lattice_index(n, 0, n / 2)].y;
+    return std::array<double, 2>{middle, lowest};
+  };
+  const std::array<double, 2> coarse = sag(21);
+  const std::array<double, 2> fine = sag(41);
+  EXPECT_LT(coarse[1], -0.2);  // it hangs
+  EXPECT_NEAR(coarse[0], fine[0], 0.015) << "middle of the held edge";
+  EXPECT_NEAR(coarse[1], fine[1], 0.015) << "lowest point";
+}
+
+// release_time: the particle follows its path until then, and afterwards flies free with the
+// velocity the path gave it (no gravity, no springs: a 1 x 2 lattice with zero stiffness).
+TEST(ChangingScenes, ReleasedAnchorKeepsItsVelocity) {
+  SceneSpec spec = parse_scene(R"({"lattice": {"rows": 1, "cols": 2},
+      "springs": {"connector": {"stiffness": 0, "damping": 0}, "adjacent": {"stiffness": 0, "damping": 0},
+                  "opposite": {"stiffness": 0, "damping": 0}},
+      "environment": {"gravity": [0, 0, 0]}, "integrator": {"method": "rk4", "time_step": 0.01},
+      "output": {"duration": 1},
+      "anchors": [{"row": 0, "col": 0, "release_time": 0.25,
+                   "path": {"type": "keyframes", "keys": [[0, 0, 0, 0], [0.5, 0, 1, 0]]}}]})",
+                               "test");
+  const Vec3 start = lattice_rest_position(spec.lattice, 0, 0);
+  Simulation simulation(build_model(spec), build_initial_state(build_model(spec), spec), settings_of(spec));
+  ASSERT_TRUE(simulation.advance_to(0.25));
+  EXPECT_EQ(simulation.model().anchor_count(), 0u);
+  EXPECT_NEAR(simulation.state().position[0].y - start.y, 0.5, 1e-12);
+  ASSERT_TRUE(simulation.advance_to(0.75));
+  // Released at 0.25 s moving at 2 m/s: 1 m further at 0.75 s, past where the path stopped.
+  EXPECT_NEAR(simulation.state().velocity[0].y, 2.0, 1e-12);
+  EXPECT_NEAR(simulation.state().position[0].y - start.y, 1.5, 1e-9);
 }
 
 }  // namespace
