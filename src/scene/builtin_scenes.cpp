@@ -129,7 +129,7 @@ SceneSpec tear_pull() {
   SceneSpec spec = material_sheet("tear-pull", "paper", 21, 0.2);
   spec.description =
       "A 20 cm square of office paper (21 x 21) held along two opposite edges, which keyframes pull 1 cm apart "
-      "each in 0.5 s: the paper yields, then tears across into two pieces (breaks near 2 % strain). With "
+      "each in 0.5 s: the paper yields, then tears (connectors break near 2 % strain). With "
       "--set springs.connector.break_strain=1000 it stretches but stays whole. Implicit Euler, 1 ms, 1 s.";
   const int last = spec.lattice.rows - 1;
   anchor_row(spec, 0, keyframes({{0.0, {}}, {0.5, {0.0, 0.0, -0.01}}}));
