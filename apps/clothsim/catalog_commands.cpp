@@ -58,6 +58,10 @@ ParameterRow special_row(std::string_view key, const SceneSpec& defaults) {
   } else if (key == "anchors") {
     row = {row.key, "", "preset or JSON list", defaults.anchors.empty() ? "none" : "",
            "anchored particles: center, corners, edge-corners, none, or a JSON list (--anchor)"};
+  } else if (key == "material") {
+    row = {row.key, "", material_preset_names() + " or JSON object", "-",
+           "sets mass, springs and limits from physical units at lattice.spacing (--material; "
+           "docs/materials.md)"};
   } else if (key == "paper_args") {
     row = {row.key, "", "10 numbers", "-",
            "the paper's argument vector: sets the lattice and springs, anchors the centre (--paper-args)"};
@@ -73,8 +77,7 @@ std::vector<ParameterRow> parameter_rows() {
   for (std::string_view key : all_scene_keys()) {
     if (const ScalarParameter* parameter = find_scalar_parameter(key)) {
       const double value = parameter->get(defaults);
-      std::string default_text = parameter->type == ParameterType::boolean ? (value != 0.0 ? "true" : "false")
-                                                                            : format_number(value);
+      std::string default_text = format_parameter_value(parameter->type, value);
       rows.push_back({std::string(key), std::string(parameter->unit),
                       without_article(describe_allowed(parameter->type, parameter->range)), default_text,
                       std::string(parameter->description)});

@@ -32,6 +32,10 @@ void add_scene_options(CLI::App& app, SceneOptions& options, std::initializer_li
                  "instead of SCENE, the paper's 10 numbers: rows,cols,mass,k_adj,c_adj,k_opp,c_opp,k_conn,"
                  "c_conn,length")
       ->type_name("N,N,...");
+  app.add_option("--material", options.material,
+                 "sheet material: a preset (" + material_preset_names() +
+                     ") or a JSON object of material fields; applied at the scene's spacing, before --set")
+      ->type_name("NAME");
   for (const FieldFlagChoice& choice : field_flags) {
     std::size_t i = 0;
     while (i < kFieldFlags.size() && kFieldFlags[i].flag != choice.flag) ++i;
@@ -61,6 +65,10 @@ SceneSpec make_scene(const SceneOptions& options, const std::function<bool(Scene
   SceneSpec spec = has_scene ? load_scene(options.scene) : scene_from_paper_args(options.paper_args, source);
 
   bool overridden = false;
+  if (options.given("--material")) {
+    set_scene_field(spec, "material", options.material, "--material");
+    overridden = true;
+  }
   for (const std::string& assignment : options.assignments) {
     const std::size_t equals = assignment.find('=');
     if (equals == std::string::npos || equals == 0) {

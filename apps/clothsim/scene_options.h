@@ -1,8 +1,10 @@
 // The options that choose a scene and override its fields, shared by `clothsim run` and
 // `clothsim view` so that both read a scene and its flags the same way, with the same messages.
 //
-// SCENE (a file or a built-in name) or --paper-args picks the scene; --set KEY=VALUE sets any
-// registry field (scene/parameters.h), in order; then the named field flags (--integrator,
+// SCENE (a file or a built-in name) or --paper-args picks the scene; --material replaces its
+// material (at the scene's spacing), before the other flags so that they can override its values;
+// --set KEY=VALUE sets any registry field (scene/parameters.h), in order; then the named field
+// flags (--integrator,
 // --gravity, ...) each set one field. Every value goes through set_scene_field with the flag as
 // its source, so "--fps: field 'output.fps': must be ..." reads like the scene file's message.
 // A subcommand registers only the field flags that mean something to it (FieldFlagSet).
@@ -53,6 +55,7 @@ struct SceneOptions {
   std::string command;     // "run", "view": names the subcommand in messages
   std::string scene;       // file or built-in name
   std::string paper_args;  // the paper's ten numbers
+  std::string material;    // --material: a preset name or a JSON object, applied before --set
   std::array<std::string, kFieldFlags.size()> field_values;
   std::vector<std::string> assignments;  // --set KEY=VALUE, in order
 

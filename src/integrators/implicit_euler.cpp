@@ -109,6 +109,7 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
   preconditioner_.resize(n);
   free_.resize(n);
   for (std::size_t p = 0; p < n; ++p) free_[p] = model.is_anchored(p) ? 0 : 1;
+  revision_ = model.revision;
   for (std::vector<Vec3>* vector :
        {&displacement_, &rhs_, &dv_, &residual_, &preconditioned_, &direction_, &product_}) {
     vector->assign(n, Vec3{});
@@ -162,7 +163,6 @@ ImplicitEuler::Powers ImplicitEuler::evaluate(double time, std::span<const Vec3>
   std::copy(position.begin(), position.end(), evaluated_position_.begin());
   std::copy(velocity.begin(), velocity.end(), evaluated_velocity_.begin());
   evaluated_time_ = time;
-  evaluated_revision_ = model_.revision;
   evaluated_valid_ = true;
   return out;
 }
@@ -462,9 +462,15 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
   const double end_time = clipped ? t_limit : state.time + h;
 
-  // f0: reuse the forces of the previous step's end when the state is still that one.
-  // A model changed between steps (an event, a live edit) makes the kept force stale.
-  const bool reusable = evaluated_valid_ && evaluated_time_ == state.time && evaluated_revision_ == model_.revision &&
+  // A model edit between steps (an anchor released, a spring broken or yielded) changes which
+  // particles are integrated and the forces of the previous step's end.
+  if (model_.revision != revision_) {
+    for (std::size_t p = 0; p < n; ++p) free_[p] = model_.is_anchored(p) ? 0 : 1;
+    evaluated_valid_ = false;
+    revision_ = model_.revision;
+  }
+  // f0: reuse the forces of the previous step's end when the state and the model are still those.
+  const bool reusable = evaluated_valid_ && evaluated_time_ == state.time &&
                         std::equal(state.position.begin(), state.position.end(), evaluated_position_.begin()) &&
                         std::equal(state.velocity.begin(), state.velocity.end(), evaluated_velocity_.begin());
   if (!reusable) evaluate(state.time, state.position, state.velocity);

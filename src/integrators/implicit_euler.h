@@ -120,7 +120,6 @@ class ImplicitEuler final : public Integrator {
   std::vector<Vec3> evaluated_position_;  // [particle_count()]
   std::vector<Vec3> evaluated_velocity_;  // [particle_count()]
   double evaluated_time_ = -1.0;
-  std::uint64_t evaluated_revision_ = 0;  // ClothModel::revision of the kept force
   bool evaluated_valid_ = false;
 
   // Element Jacobians at the start of the step.
@@ -136,6 +135,7 @@ class ImplicitEuler final : public Integrator {
   std::vector<std::array<std::uint32_t, 3>> radial_block_;     // [3 radial_count()]
   std::vector<Mat3> preconditioner_;        // [particle_count()], inverse diagonal blocks (0 if anchored)
   std::vector<std::uint8_t> free_;          // [particle_count()], 1 for integrated particles
+  std::uint64_t revision_ = 0;              // model revision free_ and the reused forces were made for
 
   // Right-hand side and CG vectors [particle_count()].
   std::vector<Vec3> displacement_;  // z: h v0 (free) or the anchor path's displacement, m

@@ -15,6 +15,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <vector>
 
 #include "core/vec3.h"
 
@@ -24,7 +25,21 @@ enum class AnchorPathKind : std::uint8_t {
   fixed,     // x(t) = origin
   linear,    // x(t) = origin + velocity t
   sinusoid,  // x(t) = origin + amplitude (sin(2 pi f t + phase) - sin(phase))
+  keyframes, // x(t) = origin + the keys' offsets interpolated linearly in t (see AnchorKey)
   driven,    // x(t) = origin + velocity (min(t, end_time) - start_time); runtime only, never in a scene
+};
+
+// One key of a keyframed path: where the particle is at `time`, as an offset from the path's
+// origin (so one key list moves a whole row of anchors together). Between keys the particle moves
+// in a straight line at the segment's constant velocity; before the first key it holds the first,
+// after the last it holds the last. Keys are velocity discontinuities: the Simulation makes each
+// key time an anchor event that no step crosses (next_key_after), so every step sees one
+// straight segment.
+struct AnchorKey {
+  double time = 0.0;  // s; keys are in strictly increasing time
+  Vec3 offset{};      // displacement from the path's origin, m
+
+  bool operator==(const AnchorKey&) const = default;
 };
 
 struct AnchorPath {
@@ -36,6 +51,7 @@ struct AnchorPath {
   double phase = 0.0;      // sinusoid: rad
   double start_time = 0.0;  // driven: s, when the particle is at `origin`
   double end_time = std::numeric_limits<double>::infinity();  // driven: s, arrival at the target
+  std::vector<AnchorKey> keys{};  // keyframes: at least one, strictly increasing in time
 
   // A path that stays at `origin`.
   static AnchorPath fixed_at(const Vec3& origin) {
@@ -47,8 +63,16 @@ struct AnchorPath {
   Vec3 position(double t) const;
   // A driven path has its moving velocity up to and including end_time (the limit from inside
   // the last step before the stop) and zero after it.
+  // A keyframed path has, exactly at a key, the velocity of the segment that starts there (the
+  // right limit; zero at and after the last key): a step never crosses a key, so the steps after
+  // a key see that segment's velocity from their first stage on, and an anchor released at a key
+  // keeps the velocity it was about to follow (a release at the last key lets go of a held,
+  // motionless particle).
   Vec3 velocity_at(double t) const;
-  Vec3 acceleration(double t) const;
+  Vec3 acceleration(double t) const;  // keyframes: zero (between keys the motion is uniform)
+  // Keyframes: the time of the first key after `t` (strictly), +inf if none; +inf for every other
+  // kind. The Simulation stops steps there (Simulation::next_anchor_event).
+  double next_key_after(double t) const;
 };
 
 struct Anchor {

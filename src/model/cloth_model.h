@@ -53,6 +53,10 @@ struct LatticeDef {
   double adjacent_rest_angle = std::numbers::pi / 2.0;  // rad
   SpringParameters opposite{1400.0, 200.0};
   double opposite_rest_angle = std::numbers::pi;  // rad
+  // Tearing, permanent stretching and creasing (model/spring_limits.h); +inf: never, the paper's
+  // sheet. build_lattice() leaves every spring unlimited; scene/ applies these to the built model
+  // with the scene's seed as variation_seed.
+  SpringLimits limits{};
 };
 
 // Forces from outside the sheet.

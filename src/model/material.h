@@ -24,6 +24,8 @@
 // mapping would then hold for one lattice only).
 #pragma once
 
+#include <span>
+#include <string>
 #include <string_view>
 
 #include "model/cloth_model.h"
@@ -31,21 +33,45 @@
 namespace clothsim {
 
 struct MaterialDef {
-  std::string_view name;
+  std::string name{};              // preset name, or what a scene calls its own material
   double areal_density = 0.0;      // rho, kg/m^2
   double stretch_stiffness = 0.0;  // Y, N/m: tension per unit width per unit strain (E times thickness)
   double shear_stiffness = 0.0;    // G, N/m per rad: shear force per unit length per radian of shear
   double bending_rigidity = 0.0;   // B, N m: bending moment per unit width per unit curvature
   double damping_time = 0.0;       // s: every spring's damping is damping_time times its stiffness
+  // Where the sheet changes for good (model/spring_limits.h; +inf: never). Strains are
+  // dimensionless and scale-free; the yield angles are per radial spring, rad: a crease is a kink
+  // at one line of springs whatever the spacing, so its angle is what a fold keeps
+  // (docs/materials.md discusses what this means for smooth bends).
+  double break_strain = SpringLimits::kNever;     // > 0: a connector breaks beyond it
+  double break_strain_variation = 0.0;            // [0, 1): relative spread of the break strain
+  double yield_strain = SpringLimits::kNever;     // > 0, <= break_strain: stretches for good beyond it
+  double hardening = 0.0;                         // >= 0: yield strain growth per unit plastic strain
+  double adjacent_yield_angle = SpringLimits::kNever;  // rad, [0, pi]: in-plane shear that stays
+  double opposite_yield_angle = SpringLimits::kNever;  // rad, [0, pi]: folds that stay
+
+  bool operator==(const MaterialDef&) const = default;
 };
 
-// A cotton shirting fabric (plain weave, about 130 g/m^2) from KES-F data; docs/materials.md
-// gives the source and the unit conversions.
+// The presets, in a fixed order: cotton, silk, denim, paper, plastic-film. docs/materials.md
+// gives every value's source and unit conversion.
+std::span<const MaterialDef> material_presets();
+// nullptr for an unknown name.
+const MaterialDef* find_material_preset(std::string_view name);
+// "cotton, silk, denim, paper, plastic-film".
+std::string material_preset_names();
+
+// A cotton shirting fabric (plain weave, about 130 g/m^2) from KES-F data.
 MaterialDef cotton_material();
 
-// Sets the spacing, particle mass, spring constants and rest angles of `lattice` (keeping rows
-// and cols) for `material` at connector rest length `spacing` (m). Throws InputError naming
-// `source` for a non-positive spacing or density or a negative stiffness.
+// The spring limits of `material` with `seed` as the seed of the break-strain variation.
+SpringLimits material_limits(const MaterialDef& material, std::uint64_t seed);
+
+// Sets the spacing, particle mass, spring constants, rest angles and spring limits of `lattice`
+// (keeping rows, cols and the limits' variation seed) for `material` at connector rest length
+// `spacing` (m). Throws InputError naming `source` and the field for a non-positive spacing or
+// density, a negative stiffness, or a limit out of its range (yield strain above break strain
+// included).
 void apply_material(const MaterialDef& material, double spacing, LatticeDef& lattice,
                     const std::string& source = "material");
 

@@ -3,6 +3,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -12,6 +13,10 @@ namespace {
 constexpr ValueRange kCountRange = closed_range(1.0, 4096.0);       // lattice rows and columns
 constexpr ValueRange kSpringRange = closed_range(0.0, 1e9);         // stiffness and damping
 constexpr ValueRange kRestAngleRange = closed_range(0.0, 180.0);    // degrees
+constexpr ValueRange kStrainLimitRange = left_open_range(0.0, 1e6);  // break and yield strains
+constexpr ValueRange kVariationRange = {0.0, 1.0, true, false};      // [0, 1)
+constexpr ValueRange kHardeningRange = closed_range(0.0, 1e6);
+constexpr ValueRange kYieldAngleRange = closed_range(0.0, 180.0);    // degrees
 
 // The table. Accessors are captureless lambdas (converted to function pointers); setters receive
 // values already checked against the range, so the casts to int cannot overflow.
@@ -42,6 +47,25 @@ constexpr std::array kScalarParameters = {
                     "damping c of the connector springs",
                     [](const SceneSpec& s) { return s.lattice.connector.damping; },
                     [](SceneSpec& s, double v) { s.lattice.connector.damping = v; }},
+    ScalarParameter{"springs.connector.break_strain", ParameterType::limit, "", kStrainLimitRange,
+                    "tearing: a connector breaks when l / L0 - 1 exceeds this (varied by break_strain_variation); "
+                    "none: never",
+                    [](const SceneSpec& s) { return s.lattice.limits.break_strain; },
+                    [](SceneSpec& s, double v) { s.lattice.limits.break_strain = v; }},
+    ScalarParameter{"springs.connector.break_strain_variation", ParameterType::real, "", kVariationRange,
+                    "relative spread of the break strain: connector e breaks at break_strain (1 + variation u_e), "
+                    "u_e uniform in [-1, 1] from initial.seed",
+                    [](const SceneSpec& s) { return s.lattice.limits.break_strain_variation; },
+                    [](SceneSpec& s, double v) { s.lattice.limits.break_strain_variation = v; }},
+    ScalarParameter{"springs.connector.yield_strain", ParameterType::limit, "", kStrainLimitRange,
+                    "permanent stretching: beyond this strain a connector's rest length follows it (return "
+                    "mapping); none: elastic",
+                    [](const SceneSpec& s) { return s.lattice.limits.yield_strain; },
+                    [](SceneSpec& s, double v) { s.lattice.limits.yield_strain = v; }},
+    ScalarParameter{"springs.connector.hardening", ParameterType::real, "", kHardeningRange,
+                    "linear hardening: the yield strain grows by hardening times each plastic strain increment",
+                    [](const SceneSpec& s) { return s.lattice.limits.hardening; },
+                    [](SceneSpec& s, double v) { s.lattice.limits.hardening = v; }},
     ScalarParameter{"springs.adjacent.stiffness", ParameterType::real, "N m/rad", kSpringRange,
                     "stiffness k of the radial springs between adjacent (perpendicular) connectors",
                     [](const SceneSpec& s) { return s.lattice.adjacent.stiffness; },
@@ -54,6 +78,10 @@ constexpr std::array kScalarParameters = {
                     "rest angle of the adjacent radial springs",
                     [](const SceneSpec& s) { return radians_to_degrees(s.lattice.adjacent_rest_angle); },
                     [](SceneSpec& s, double v) { s.lattice.adjacent_rest_angle = degrees_to_radians(v); }},
+    ScalarParameter{"springs.adjacent.yield_angle_deg", ParameterType::limit, "deg", kYieldAngleRange,
+                    "in-plane shear that stays: an adjacent spring's rest angle follows beyond this; none: elastic",
+                    [](const SceneSpec& s) { return radians_to_degrees(s.lattice.limits.adjacent_yield_angle); },
+                    [](SceneSpec& s, double v) { s.lattice.limits.adjacent_yield_angle = degrees_to_radians(v); }},
     ScalarParameter{"springs.opposite.stiffness", ParameterType::real, "N m/rad", kSpringRange,
                     "stiffness k of the radial springs between opposite (collinear) connectors",
                     [](const SceneSpec& s) { return s.lattice.opposite.stiffness; },
@@ -66,6 +94,10 @@ constexpr std::array kScalarParameters = {
                     "rest angle of the opposite radial springs",
                     [](const SceneSpec& s) { return radians_to_degrees(s.lattice.opposite_rest_angle); },
                     [](SceneSpec& s, double v) { s.lattice.opposite_rest_angle = degrees_to_radians(v); }},
+    ScalarParameter{"springs.opposite.yield_angle_deg", ParameterType::limit, "deg", kYieldAngleRange,
+                    "creasing: folds that stay; an opposite spring's rest angle follows beyond this; none: elastic",
+                    [](const SceneSpec& s) { return radians_to_degrees(s.lattice.limits.opposite_yield_angle); },
+                    [](SceneSpec& s, double v) { s.lattice.limits.opposite_yield_angle = degrees_to_radians(v); }},
     // Environment.
     ScalarParameter{"environment.air_drag", ParameterType::real, "kg/s", closed_range(0.0, 1e6),
                     "linear air drag per particle: f = -air_drag v",
@@ -173,8 +205,55 @@ constexpr std::array kVectorParameters = {
                     [](SceneSpec& s, const Vec3& v) { s.initial.angular_velocity = v; }},
 };
 
-constexpr std::array<std::string_view, 5> kSpecialKeys = {"name", "description", "paper_args", "anchors",
-                                                          "integrator.method"};
+constexpr std::array kMaterialParameters = {
+    MaterialParameter{"areal_density", ParameterType::real, "kg/m^2", left_open_range(0.0, 1000.0),
+                      "mass per unit area (rho)",
+                      [](const MaterialDef& m) { return m.areal_density; },
+                      [](MaterialDef& m, double v) { m.areal_density = v; }},
+    MaterialParameter{"stretch_stiffness", ParameterType::real, "N/m", kSpringRange,
+                      "tension per unit width per unit strain (Y = E t)",
+                      [](const MaterialDef& m) { return m.stretch_stiffness; },
+                      [](MaterialDef& m, double v) { m.stretch_stiffness = v; }},
+    MaterialParameter{"shear_stiffness", ParameterType::real, "N/m per rad", kSpringRange,
+                      "in-plane shear force per unit length per radian of shear (G)",
+                      [](const MaterialDef& m) { return m.shear_stiffness; },
+                      [](MaterialDef& m, double v) { m.shear_stiffness = v; }},
+    MaterialParameter{"bending_rigidity", ParameterType::real, "N m", kSpringRange,
+                      "bending moment per unit width per unit curvature (B)",
+                      [](const MaterialDef& m) { return m.bending_rigidity; },
+                      [](MaterialDef& m, double v) { m.bending_rigidity = v; }},
+    MaterialParameter{"damping_time", ParameterType::real, "s", closed_range(0.0, 10.0),
+                      "every spring's damping is damping_time times its stiffness",
+                      [](const MaterialDef& m) { return m.damping_time; },
+                      [](MaterialDef& m, double v) { m.damping_time = v; }},
+    MaterialParameter{"break_strain", ParameterType::limit, "", kStrainLimitRange,
+                      "strain at which the sheet tears; none: never",
+                      [](const MaterialDef& m) { return m.break_strain; },
+                      [](MaterialDef& m, double v) { m.break_strain = v; }},
+    MaterialParameter{"break_strain_variation", ParameterType::real, "", kVariationRange,
+                      "relative spread of the break strain over the connectors",
+                      [](const MaterialDef& m) { return m.break_strain_variation; },
+                      [](MaterialDef& m, double v) { m.break_strain_variation = v; }},
+    MaterialParameter{"yield_strain", ParameterType::limit, "", kStrainLimitRange,
+                      "strain beyond which the sheet stretches for good; none: elastic",
+                      [](const MaterialDef& m) { return m.yield_strain; },
+                      [](MaterialDef& m, double v) { m.yield_strain = v; }},
+    MaterialParameter{"hardening", ParameterType::real, "", kHardeningRange,
+                      "growth of the yield strain per unit plastic strain",
+                      [](const MaterialDef& m) { return m.hardening; },
+                      [](MaterialDef& m, double v) { m.hardening = v; }},
+    MaterialParameter{"adjacent_yield_angle_deg", ParameterType::limit, "deg", kYieldAngleRange,
+                      "in-plane shear angle that stays; none: elastic",
+                      [](const MaterialDef& m) { return radians_to_degrees(m.adjacent_yield_angle); },
+                      [](MaterialDef& m, double v) { m.adjacent_yield_angle = degrees_to_radians(v); }},
+    MaterialParameter{"opposite_yield_angle_deg", ParameterType::limit, "deg", kYieldAngleRange,
+                      "fold angle that stays (creasing); none: elastic",
+                      [](const MaterialDef& m) { return radians_to_degrees(m.opposite_yield_angle); },
+                      [](MaterialDef& m, double v) { m.opposite_yield_angle = degrees_to_radians(v); }},
+};
+
+constexpr std::array<std::string_view, 6> kSpecialKeys = {"name", "description", "paper_args", "material",
+                                                          "anchors", "integrator.method"};
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".
 std::string compact_exponent(std::string text) {
@@ -203,6 +282,15 @@ std::span<const std::string_view> special_keys() { return kSpecialKeys; }
 
 const ScalarParameter* find_scalar_parameter(std::string_view key) {
   for (const ScalarParameter& parameter : kScalarParameters) {
+    if (parameter.key == key) return &parameter;
+  }
+  return nullptr;
+}
+
+std::span<const MaterialParameter> material_parameters() { return kMaterialParameters; }
+
+const MaterialParameter* find_material_parameter(std::string_view key) {
+  for (const MaterialParameter& parameter : kMaterialParameters) {
     if (parameter.key == key) return &parameter;
   }
   return nullptr;
@@ -245,6 +333,8 @@ std::string describe_allowed(ParameterType type, const ValueRange& range) {
       return "a boolean (true or false)";
     case ParameterType::integer:
       return "an integer in " + describe_range(range);
+    case ParameterType::limit:
+      return "a number in " + describe_range(range) + " or none (never)";
     case ParameterType::real:
       break;
   }
@@ -252,9 +342,16 @@ std::string describe_allowed(ParameterType type, const ValueRange& range) {
 }
 
 bool is_allowed(ParameterType type, const ValueRange& range, double value) {
+  if (type == ParameterType::limit && value == std::numeric_limits<double>::infinity()) return true;
   if (!range.contains(value)) return false;
   if (type == ParameterType::integer || type == ParameterType::boolean) return std::floor(value) == value;
   return true;
+}
+
+std::string format_parameter_value(ParameterType type, double value) {
+  if (type == ParameterType::boolean) return value != 0.0 ? "true" : "false";
+  if (type == ParameterType::limit && value == std::numeric_limits<double>::infinity()) return "none";
+  return format_number(value);
 }
 
 double degrees_to_radians(double degrees) { return degrees / 180.0 * std::numbers::pi; }

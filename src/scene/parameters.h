@@ -10,7 +10,8 @@
 //
 // Values that are not one scalar have their own small tables or constants here: the 3-vectors
 // (gravity, initial velocity and spin), the ranges of per-anchor fields, and the keys handled by
-// hand in scene.cpp (name, description, integrator.method, anchors, paper_args).
+// hand in scene.cpp (name, description, integrator.method, anchors, paper_args, material), and the
+// fields of a material object.
 //
 // Rejected alternative: an X-macro list (MuJoCo's mjxmacro.h). A constexpr array of structs with
 // lambdas keeps every entry plain C++ that reads and debugs like any other code.
@@ -22,6 +23,7 @@
 #include <string_view>
 
 #include "core/vec3.h"
+#include "model/material.h"
 #include "scene/scene.h"
 
 namespace clothsim {
@@ -30,6 +32,9 @@ enum class ParameterType : std::uint8_t {
   real,     // any finite number in the range
   integer,  // a whole number in the range (2.5 is rejected, 3.0 accepted)
   boolean,  // JSON true/false; "true"/"false" in --set text
+  // A threshold that may be absent: a finite number in the range, or +inf for "never" (written
+  // JSON null in files, "none" in --set text; an absent key keeps the default, never).
+  limit,
 };
 
 // An interval of allowed values; each end closed ("[") or open ("(").
@@ -66,11 +71,25 @@ struct VectorParameter {
   void (*set)(SceneSpec& spec, const Vec3& value);
 };
 
+// A field of a material object (`"material": {...}` in a scene; model/material.h): key as
+// written inside the object, with the same type, unit, range and description conventions.
+struct MaterialParameter {
+  std::string_view key;  // "areal_density", ...; the docs list it as material.<key>
+  ParameterType type;
+  std::string_view unit;
+  ValueRange range;
+  std::string_view description;
+  double (*get)(const MaterialDef& material);
+  void (*set)(MaterialDef& material, double value);
+};
+
 std::span<const ScalarParameter> scalar_parameters();
 std::span<const VectorParameter> vector_parameters();
 // nullptr when `key` is not in the table.
 const ScalarParameter* find_scalar_parameter(std::string_view key);
 const VectorParameter* find_vector_parameter(std::string_view key);
+std::span<const MaterialParameter> material_parameters();
+const MaterialParameter* find_material_parameter(std::string_view key);
 
 // Keys parsed by hand in scene.cpp: strings, the integrator enum, the anchor list and the paper's
 // argument vector. Listed so that unknown-key suggestions and the docs-sync test see every key.
@@ -83,6 +102,7 @@ std::span<const std::string_view> all_scene_keys();
 inline constexpr ValueRange kAnchorComponentRange = closed_range(-1e6, 1e6);  // origin m, velocity m/s, amplitude m
 inline constexpr ValueRange kAnchorFrequencyRange = closed_range(0.0, 1e4);   // Hz
 inline constexpr ValueRange kAnchorPhaseRange = closed_range(-1e6, 1e6);      // rad
+inline constexpr ValueRange kAnchorKeyTimeRange = closed_range(0.0, 1e7);     // s, keyframe times
 
 // Largest integer a double holds exactly, 2^53: the upper bound of the seed, so that the seed
 // survives its trip through the registry's double accessors and through JSON readers in any
@@ -97,8 +117,12 @@ std::string describe_range(const ValueRange& range);
 // What a value must be: "an integer in [1, 4096]", "a number in (0, 1000]",
 // "a boolean (true or false)".
 std::string describe_allowed(ParameterType type, const ValueRange& range);
-// True when `value` is allowed for a parameter of this type and range (whole for integers).
+// True when `value` is allowed for a parameter of this type and range (whole for integers; +inf,
+// never, for limits).
 bool is_allowed(ParameterType type, const ValueRange& range, double value);
+// A value as the docs and `clothsim params` write it: "true"/"false" for booleans, "none" for a
+// limit that is never reached, the number otherwise.
+std::string format_parameter_value(ParameterType type, double value);
 
 // Rest angles are degrees in scene files and radians in LatticeDef. Dividing by the straight
 // angle first keeps the common angles exact both ways: 90 <-> pi/2 and 180 <-> pi round-trip bit

@@ -39,6 +39,7 @@
 #include "core/assert.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "model/spring_limits.h"
 #include "scene/parameters.h"
 
 namespace clothsim {
@@ -215,11 +216,12 @@ double read_value(const json& value, ParameterType type, const ValueRange& range
     if (!value.is_boolean()) fail(source, field, "must be a boolean (true or false), got " + describe_json(value));
     return value.get<bool>() ? 1.0 : 0.0;
   }
+  // A limit's "never" is JSON null; a number must be finite (an integer beyond 2^53 is not).
+  if (type == ParameterType::limit && value.is_null()) return kInfinity;
   if (!value.is_number()) fail(source, field, "must be a number, got " + describe_json(value));
   const double number = json_number(value);
-  if (!is_allowed(type, range, number)) {
-    fail(source, field, "must be " + describe_allowed(type, range) + ", got " + describe_json(value));
-  }
+  const bool allowed = type == ParameterType::limit ? range.contains(number) : is_allowed(type, range, number);
+  if (!allowed) fail(source, field, "must be " + describe_allowed(type, range) + ", got " + describe_json(value));
   return number;
 }
 
@@ -276,9 +278,11 @@ double read_text_value(std::string_view text, ParameterType type, const ValueRan
     if (word == "false") return 0.0;
     fail(source, field, "must be a boolean (true or false), got " + quoted(text));
   }
+  // A limit's "never" is the word none; "inf" and overflowing numbers stay errors, as everywhere.
+  if (type == ParameterType::limit && trim(text) == "none") return kInfinity;
   const std::optional<double> number = parse_number_text(text);
   if (!number) fail(source, field, "must be a number, got " + quoted(text));
-  if (!is_allowed(type, range, *number)) {
+  if (type == ParameterType::limit ? !range.contains(*number) : !is_allowed(type, range, *number)) {
     fail(source, field, "must be " + describe_allowed(type, range) + ", got " + quoted(trim(text)));
   }
   return *number;
@@ -322,7 +326,7 @@ std::string preset_choices() { return join_names(kAnchorPresets); }
 
 // Indexed by AnchorPathKind. Driven paths (the viewer's runtime anchors, model/anchor.h) are
 // made between steps by Simulation and have no scene-file form.
-constexpr std::array<std::string_view, 3> kPathKindNames = {"fixed", "linear", "sinusoid"};
+constexpr std::array<std::string_view, 4> kPathKindNames = {"fixed", "linear", "sinusoid", "keyframes"};
 
 std::string_view path_kind_name(AnchorPathKind kind) {
   CLOTHSIM_ASSERT(kind != AnchorPathKind::driven, "a scene holds no driven anchor path");
@@ -338,6 +342,8 @@ std::vector<std::string> path_keys(AnchorPathKind kind) {
       return {"type", "velocity"};
     case AnchorPathKind::sinusoid:
       return {"type", "amplitude", "frequency", "phase"};
+    case AnchorPathKind::keyframes:
+      return {"type", "keys"};
     case AnchorPathKind::driven:
       break;  // not a scene-file path (path_kind_name)
   }
@@ -352,7 +358,45 @@ AnchorPathKind read_path_kind(const json& path, const std::string& source, const
       if (type->get<std::string>() == kPathKindNames[k]) return static_cast<AnchorPathKind>(k);
     }
   }
-  fail(source, field + ".type", "must be one of fixed, linear, sinusoid, got " + describe_choice(*type));
+  fail(source, field + ".type", "must be one of " + join_names(kPathKindNames) + ", got " + describe_choice(*type));
+}
+
+// The order of keys; the values are checked where they are read (and again in validate_anchor).
+void check_key_order(const std::vector<AnchorKey>& keys, const std::string& source, const std::string& field) {
+  if (keys.empty()) fail(source, field, "must hold at least one key [t, x, y, z]");
+  for (std::size_t k = 1; k < keys.size(); ++k) {
+    if (!(keys[k].time > keys[k - 1].time)) {
+      fail(source, field + "[" + std::to_string(k) + "]",
+           "time " + format_number(keys[k].time) + " s must be after the previous key's (" +
+               format_number(keys[k - 1].time) + " s): keys are in strictly increasing time");
+    }
+  }
+}
+
+// [[t, x, y, z], ...]: time in s, offset from the path's origin in m.
+std::vector<AnchorKey> read_keys(const json& value, const std::string& source, const std::string& field) {
+  if (!value.is_array()) {
+    fail(source, field, "must be a list of keys [t, x, y, z] (s, m), got " + describe_json(value));
+  }
+  std::vector<AnchorKey> keys;
+  for (std::size_t k = 0; k < value.size(); ++k) {
+    const std::string key_field = field + "[" + std::to_string(k) + "]";
+    const json& item = value[k];
+    if (!item.is_array() || item.size() != 4) {
+      fail(source, key_field, "must be an array of 4 numbers [t, x, y, z] (s, m), got " + describe_json(item));
+    }
+    AnchorKey key;
+    key.time = read_value(item[0], ParameterType::real, kAnchorKeyTimeRange, source, key_field + "[0]");
+    std::array<double, 3> offset{};
+    for (std::size_t axis = 0; axis < 3; ++axis) {
+      offset[axis] = read_value(item[axis + 1], ParameterType::real, kAnchorComponentRange, source,
+                                key_field + "[" + std::to_string(axis + 1) + "]");
+    }
+    key.offset = {offset[0], offset[1], offset[2]};
+    keys.push_back(key);
+  }
+  check_key_order(keys, source, field);
+  return keys;
 }
 
 AnchorPath read_path(const json& value, const std::string& source, const std::string& field) {
@@ -361,12 +405,12 @@ AnchorPath read_path(const json& value, const std::string& source, const std::st
   path.kind = read_path_kind(value, source, field);
   // A key of another path type is an error rather than ignored: "amplitude" on a fixed path means
   // the author expected the anchor to move.
-  check_keys(value, {"type", "velocity", "amplitude", "frequency", "phase"}, field, source);
+  check_keys(value, {"type", "velocity", "amplitude", "frequency", "phase", "keys"}, field, source);
   const std::vector<std::string> allowed = path_keys(path.kind);
   const std::string kind(path_kind_name(path.kind));
   for (const auto& member : value.items()) {
     if (contains_name(allowed, member.key())) continue;
-    const std::string owner = member.key() == "velocity" ? "linear" : "sinusoid";
+    const std::string owner = member.key() == "velocity" ? "linear" : member.key() == "keys" ? "keyframes" : "sinusoid";
     fail(source, join_key(field, member.key()), "belongs to a " + owner + " path, not a " + kind + " one (keys of a " +
                                                     kind + " path: " + join_names(allowed) + ")");
   }
@@ -383,6 +427,12 @@ AnchorPath read_path(const json& value, const std::string& source, const std::st
   if (value.contains("phase")) {
     path.phase = read_value(value.at("phase"), ParameterType::real, kAnchorPhaseRange, source, field + ".phase");
   }
+  if (path.kind == AnchorPathKind::keyframes) {
+    if (!value.contains("keys")) {
+      fail(source, field + ".keys", "is required for a keyframes path: a list of [t, x, y, z] (s, m)");
+    }
+    path.keys = read_keys(value.at("keys"), source, field + ".keys");
+  }
   return path;
 }
 
@@ -396,7 +446,7 @@ AnchorSpec read_anchor(const json& value, const LatticeDef& lattice, const std::
   if (!value.is_object()) {
     fail(source, field, "must be an object {\"row\": ..., \"col\": ...}, got " + describe_json(value));
   }
-  check_keys(value, {"row", "col", "origin", "path"}, field, source);
+  check_keys(value, {"row", "col", "origin", "path", "release_time"}, field, source);
   AnchorSpec anchor;
   if (value.contains("row")) anchor.row = read_index(value.at("row"), lattice.rows, source, field + ".row");
   if (value.contains("col")) anchor.col = read_index(value.at("col"), lattice.cols, source, field + ".col");
@@ -404,6 +454,11 @@ AnchorSpec read_anchor(const json& value, const LatticeDef& lattice, const std::
   if (value.contains("origin")) {
     anchor.path.origin = read_vector(value.at("origin"), kAnchorComponentRange, source, field + ".origin");
     anchor.origin_given = true;
+  }
+  // The upper end, output.duration, is checked by validate_scene(): the duration may come later.
+  if (value.contains("release_time")) {
+    anchor.release_time = read_value(value.at("release_time"), ParameterType::limit, kAnchorKeyTimeRange, source,
+                                     field + ".release_time");
   }
   return anchor;
 }
@@ -438,6 +493,12 @@ json anchor_to_json(const AnchorSpec& anchor) {
       path["frequency"] = anchor.path.frequency;
       path["phase"] = anchor.path.phase;
       break;
+    case AnchorPathKind::keyframes:
+      path["keys"] = json::array();
+      for (const AnchorKey& key : anchor.path.keys) {
+        path["keys"].push_back(json::array({key.time, key.offset.x, key.offset.y, key.offset.z}));
+      }
+      break;
     case AnchorPathKind::driven:
       break;  // unreachable: path_kind_name() rejects it above
   }
@@ -445,10 +506,12 @@ json anchor_to_json(const AnchorSpec& anchor) {
   // Written only when given: its absence means "the particle's rest position", which follows the
   // lattice if rows, cols or spacing change later.
   if (anchor.origin_given) out["origin"] = vector_json(anchor.path.origin);
+  // Written only when the anchor lets go: absent means never.
+  if (anchor.release_time != kInfinity) out["release_time"] = anchor.release_time;
   return out;
 }
 
-void validate_anchor(const AnchorSpec& anchor, const LatticeDef& lattice, const std::string& source,
+void validate_anchor(const AnchorSpec& anchor, const LatticeDef& lattice, double duration, const std::string& source,
                      const std::string& field) {
   const auto check = [&](double value, ParameterType type, const ValueRange& range, const std::string& name) {
     if (!is_allowed(type, range, value)) {
@@ -467,6 +530,80 @@ void validate_anchor(const AnchorSpec& anchor, const LatticeDef& lattice, const 
   check_vector(anchor.path.amplitude, ".path.amplitude");
   check(anchor.path.frequency, ParameterType::real, kAnchorFrequencyRange, ".path.frequency");
   check(anchor.path.phase, ParameterType::real, kAnchorPhaseRange, ".path.phase");
+  if (anchor.path.kind == AnchorPathKind::keyframes) {
+    for (std::size_t k = 0; k < anchor.path.keys.size(); ++k) {
+      const std::string key = ".path.keys[" + std::to_string(k) + "]";
+      check(anchor.path.keys[k].time, ParameterType::real, kAnchorKeyTimeRange, key + "[0]");
+      const Vec3& offset = anchor.path.keys[k].offset;
+      for (int axis = 0; axis < 3; ++axis) {
+        check(offset[axis], ParameterType::real, kAnchorComponentRange, key + "[" + std::to_string(axis + 1) + "]");
+      }
+    }
+    check_key_order(anchor.path.keys, source, field + ".path.keys");
+  }
+  // Within the run: a release at or after the end would never happen, which is surely not meant.
+  if (anchor.release_time != kInfinity && !(anchor.release_time >= 0.0 && anchor.release_time < duration)) {
+    fail(source, field + ".release_time",
+         "must be within the run, in [0, output.duration) = [0, " + format_number(duration) + "), got " +
+             format_number(anchor.release_time));
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Materials.
+
+std::string material_choices() { return material_preset_names(); }
+
+// The cross-field rule of a material object (the per-field ranges are checked while reading).
+void check_material(const MaterialDef& material, const std::string& source, const std::string& field) {
+  if (!(material.areal_density > 0.0)) {
+    fail(source, field + ".areal_density", "is required: a material object needs its mass per area (kg/m^2)");
+  }
+  if (material.yield_strain > material.break_strain) {
+    fail(source, field + ".yield_strain",
+         "must be <= " + field + ".break_strain (" + format_number(material.break_strain) + "), got " +
+             format_number(material.yield_strain) + ": the sheet would tear before it stretches for good");
+  }
+}
+
+// A preset name, or an object of material fields (scene/parameters.h); fields not given keep
+// MaterialDef's defaults (0, and never for the limits).
+MaterialDef read_material(const json& value, const std::string& source, const std::string& field) {
+  const std::string allowed = "must be one of " + material_choices() + " or an object of material fields, got ";
+  if (value.is_string()) {
+    const MaterialDef* preset = find_material_preset(value.get<std::string>());
+    if (preset == nullptr) fail(source, field, allowed + describe_choice(value));
+    return *preset;
+  }
+  if (!value.is_object()) fail(source, field, allowed + describe_json(value));
+  std::vector<std::string> keys = {"name"};
+  for (const MaterialParameter& parameter : material_parameters()) keys.emplace_back(parameter.key);
+  check_keys(value, keys, field, source);
+  MaterialDef material;
+  material.name = "custom";
+  for (const auto& member : value.items()) {
+    const std::string member_field = join_key(field, member.key());
+    if (member.key() == "name") {
+      material.name = read_string(member.value(), source, member_field);
+      continue;
+    }
+    const MaterialParameter& parameter = *find_material_parameter(member.key());
+    parameter.set(material, read_value(member.value(), parameter.type, parameter.range, source, member_field));
+  }
+  check_material(material, source, field);
+  return material;
+}
+
+// A preset as its name; anything else as the full object, limits never written as null.
+json material_to_json(const MaterialDef& material) {
+  const MaterialDef* preset = find_material_preset(material.name);
+  if (preset != nullptr && *preset == material) return material.name;
+  json out = {{"name", material.name}};
+  for (const MaterialParameter& parameter : material_parameters()) {
+    const double value = parameter.get(material);
+    out[std::string(parameter.key)] = value == kInfinity ? json(nullptr) : json(value);
+  }
+  return out;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -630,6 +767,7 @@ struct SceneReader {
   const std::string& source;
   SceneSpec spec;
   const json* anchors = nullptr;  // read last: presets and index ranges need the final lattice
+  const json* material = nullptr;  // applied after the first pass: it needs the final spacing
 
   void read_object(const json& object, const std::string& prefix);
   void read_member(const std::string& key, const json& value);
@@ -667,6 +805,8 @@ void SceneReader::read_member(const std::string& key, const json& value) {
     apply_paper_arguments(spec, read_paper_arguments(value, source));
   } else if (key == "anchors") {
     anchors = &value;
+  } else if (key == "material") {
+    material = &value;
   } else {
     read_object(value, key);  // a group: child_names() listed it, so it has known keys below
   }
@@ -687,8 +827,22 @@ SceneSpec parse_scene(std::string_view json_text, const std::string& source) {
          "cannot be combined with 'lattice' or 'springs': the paper's arguments already define the lattice and "
          "springs");
   }
+  if (document.contains("paper_args") && document.contains("material")) {
+    fail(source, "paper_args",
+         "cannot be combined with 'material': the paper's arguments are raw spring constants, the material "
+         "sets them from physical units");
+  }
   SceneReader reader{source, SceneSpec{}};
   reader.read_object(document, "");
+  json others;  // outlives the reader's pointer to its anchors
+  if (reader.material != nullptr && !reader.material->is_null()) {
+    // The material sets the mass, springs, rest angles and limits at the spacing the file gives;
+    // keys given beside it override it, so the file is read again on top of it.
+    set_scene_material(reader.spec, read_material(*reader.material, source, "material"), source);
+    others = document;
+    others.erase("material");
+    reader.read_object(others, "");
+  }
   // Without an "anchors" key, anchors stay as paper_args left them (the centre) or empty.
   if (reader.anchors != nullptr) reader.spec.anchors = read_anchors(*reader.anchors, reader.spec.lattice, source);
   validate_scene(reader.spec, source);
@@ -748,6 +902,12 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
     }
   } else if (key == "paper_args") {
     apply_paper_arguments(spec, read_text_paper_arguments(value, source));
+  } else if (key == "material" && trim(value) == "none") {
+    spec.material.reset();  // a record only: the lattice keeps its values
+  } else if (key == "material") {
+    const std::string_view text = trim(value);
+    const json material = text.starts_with('{') ? parse_json(text, source) : json(std::string(text));
+    set_scene_material(spec, read_material(material, source, field), source);
   } else if (key == "anchors") {
     const std::string_view text = trim(value);
     if (text.starts_with('[')) {
@@ -788,6 +948,21 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     fail(source, "lattice.rows", "lattice.rows x lattice.cols must be at least 2 particles, got " +
                                      std::to_string(lattice.rows) + " x " + std::to_string(lattice.cols));
   }
+  if (lattice.limits.yield_strain > lattice.limits.break_strain) {
+    fail(source, "springs.connector.yield_strain",
+         "must be <= springs.connector.break_strain (" + format_number(lattice.limits.break_strain) + "), got " +
+             format_number(lattice.limits.yield_strain) + ": a connector would break before it stretches for good");
+  }
+  if (spec.material) {
+    for (const MaterialParameter& parameter : material_parameters()) {
+      const double value = parameter.get(*spec.material);
+      if (!is_allowed(parameter.type, parameter.range, value)) {
+        fail(source, "material." + std::string(parameter.key),
+             "must be " + describe_allowed(parameter.type, parameter.range) + ", got " + format_number(value));
+      }
+    }
+    check_material(*spec.material, source, "material");
+  }
   const IntegratorSettings& integrator = spec.integrator;
   if (integrator.min_step > integrator.max_step) {
     fail(source, "integrator.min_step", "must be <= integrator.max_step (" + format_number(integrator.max_step) +
@@ -803,7 +978,7 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
   for (std::size_t i = 0; i < spec.anchors.size(); ++i) {
     const AnchorSpec& anchor = spec.anchors[i];
     const std::string field = "anchors[" + std::to_string(i) + "]";
-    validate_anchor(anchor, lattice, source, field);
+    validate_anchor(anchor, lattice, spec.output.duration, source, field);
     const std::uint32_t particle = lattice_index(lattice.cols, anchor.row, anchor.col);
     const auto [previous, inserted] = anchor_of_particle.emplace(particle, i);
     if (!inserted) {
@@ -840,8 +1015,14 @@ json scene_to_json(const SceneSpec& spec) {
       case ParameterType::real:
         at(parameter.key) = value;
         break;
+      case ParameterType::limit:
+        at(parameter.key) = value == kInfinity ? json(nullptr) : json(value);
+        break;
     }
   }
+  // Written with the keys it set: on reading, those keys override it with the same values.
+  // null: no material, the lattice's own constants.
+  out["material"] = spec.material ? material_to_json(*spec.material) : json(nullptr);
   for (const VectorParameter& parameter : vector_parameters()) {
     const Vec3 value = parameter.get(spec);
     at(parameter.key) = json::array({value.x, value.y, value.z});
@@ -864,14 +1045,24 @@ std::vector<Anchor> resolve_anchors(const SceneSpec& spec) {
   for (const AnchorSpec& anchor : spec.anchors) {
     AnchorPath path = anchor.path;
     if (!anchor.origin_given) path.origin = lattice_rest_position(spec.lattice, anchor.row, anchor.col);
-    anchors.push_back(Anchor{lattice_index(spec.lattice.cols, anchor.row, anchor.col), path});
+    anchors.push_back(Anchor{lattice_index(spec.lattice.cols, anchor.row, anchor.col), path, anchor.release_time});
   }
   return anchors;
 }
 
+void set_scene_material(SceneSpec& spec, const MaterialDef& material, const std::string& source) {
+  apply_material(material, spec.lattice.spacing, spec.lattice, source);
+  spec.material = material;
+}
+
 ClothModel build_model(const SceneSpec& spec) {
   const std::vector<Anchor> anchors = resolve_anchors(spec);
-  return build_lattice(spec.lattice, spec.environment, anchors, "scene '" + spec.name + "'");
+  ClothModel model = build_lattice(spec.lattice, spec.environment, anchors, "scene '" + spec.name + "'");
+  // The scene's seed varies the break strains, as it varies the initial perturbation.
+  SpringLimits limits = spec.lattice.limits;
+  limits.variation_seed = spec.initial.seed;
+  apply_spring_limits(model, limits);
+  return model;
 }
 
 ClothState build_initial_state(const ClothModel& model, const SceneSpec& spec) {

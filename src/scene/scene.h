@@ -8,6 +8,8 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -18,6 +20,7 @@
 #include "model/anchor.h"
 #include "model/cloth_model.h"
 #include "model/initial_conditions.h"
+#include "model/material.h"
 
 namespace clothsim {
 
@@ -28,6 +31,8 @@ struct AnchorSpec {
   int col = 0;
   AnchorPath path;
   bool origin_given = false;
+  // When the anchor lets go, s, in [0, output.duration); +inf: never (Anchor::release_time).
+  double release_time = std::numeric_limits<double>::infinity();
 };
 
 struct OutputSettings {
@@ -45,6 +50,11 @@ struct SceneSpec {
   std::string name = "untitled";
   std::string description;
   LatticeDef lattice;
+  // The material the lattice's mass, spring constants, rest angles and limits were last set from
+  // (set_scene_material), or none: the lattice's own constants, the paper's by default. A record:
+  // the lattice holds the values the model is built from, including any key set after the
+  // material (such keys override it).
+  std::optional<MaterialDef> material{};
   Environment environment;
   std::vector<AnchorSpec> anchors;
   InitialConditions initial;
@@ -79,10 +89,17 @@ bool parse_anchor_preset(std::string_view text, const LatticeDef& lattice, std::
 // Sets one field by its dotted key ("lattice.rows", "output.fps", "integrator.method", ...) from
 // text, with the same validation as the scene file; `source` names the flag in messages.
 // Vectors are written "x,y,z", booleans "true"/"false", "anchors" takes a preset name or a JSON
-// list, "paper_args" the ten numbers. Only the field itself is checked: call validate_scene()
-// after the last one (cross-field rules). An anchor preset is resolved against the lattice as it
-// is when the preset is set, so set lattice.rows and lattice.cols first.
+// list, "paper_args" the ten numbers, limits a number or "none" (never), "material" a preset
+// name or a JSON object of material fields. Only the field itself is checked: call
+// validate_scene() after the last one (cross-field rules). An anchor preset is resolved against
+// the lattice as it is when the preset is set, so set lattice.rows and lattice.cols first; a
+// material is applied at the spacing as it is then, so set lattice.spacing first.
 void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view value, const std::string& source);
+
+// Sets the lattice's particle mass, spring constants, rest angles and spring limits from
+// `material` at the lattice's current spacing (rows, cols and spacing stay), and records it in
+// spec.material. Throws InputError naming `source` for an invalid material.
+void set_scene_material(SceneSpec& spec, const MaterialDef& material, const std::string& source);
 
 // Checks cross-field constraints (anchors inside the lattice, ...). Throws InputError.
 void validate_scene(const SceneSpec& spec, const std::string& source);

@@ -291,6 +291,8 @@ double Simulation::next_anchor_event() const {
       next = std::min(next, path.end_time);
     }
     if (anchor.release_time > state_.time) next = std::min(next, anchor.release_time);
+    // A keyframed path's keys are velocity discontinuities (+inf for other kinds).
+    next = std::min(next, path.next_key_after(state_.time));
   }
   return next;
 }

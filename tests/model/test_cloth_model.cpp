@@ -220,3 +220,37 @@ TEST(ModelEdits, AddingAndRemovingAnchorsKeepsTheIndexConsistent) {
 
 }  // namespace
 }  // namespace clothsim
+
+namespace clothsim {
+namespace {
+
+// Keyframes: exact positions and velocities against hand values; keys hold before the first and
+// after the last; at a key the velocity is the outgoing segment's.
+TEST(AnchorPath, KeyframesAreExactAndHoldOutsideTheKeys) {
+  AnchorPath path;
+  path.kind = AnchorPathKind::keyframes;
+  path.origin = {1.0, 0.0, -1.0};
+  path.keys = {{1.0, {0.0, 0.0, 0.0}}, {2.0, {2.0, 4.0, 0.0}}, {2.5, {2.0, 4.0, 1.0}}};
+  EXPECT_EQ(path.position(0.0), (Vec3{1.0, 0.0, -1.0}));  // before the first key: the first
+  EXPECT_EQ(path.position(1.0), (Vec3{1.0, 0.0, -1.0}));
+  EXPECT_EQ(path.position(1.5), (Vec3{2.0, 2.0, -1.0}));
+  EXPECT_EQ(path.position(1.75), (Vec3{2.5, 3.0, -1.0}));
+  EXPECT_EQ(path.position(2.0), (Vec3{3.0, 4.0, -1.0}));
+  EXPECT_EQ(path.position(2.25), (Vec3{3.0, 4.0, -0.5}));
+  EXPECT_EQ(path.position(9.0), (Vec3{3.0, 4.0, 0.0}));  // after the last: the last
+  EXPECT_EQ(path.velocity_at(0.5), (Vec3{}));
+  EXPECT_EQ(path.velocity_at(1.0), (Vec3{2.0, 4.0, 0.0}));  // at a key: the segment starting there
+  EXPECT_EQ(path.velocity_at(1.5), (Vec3{2.0, 4.0, 0.0}));
+  EXPECT_EQ(path.velocity_at(2.0), (Vec3{0.0, 0.0, 2.0}));
+  EXPECT_EQ(path.velocity_at(2.5), (Vec3{}));  // at the last key: holding
+  EXPECT_EQ(path.acceleration(1.5), (Vec3{}));
+  EXPECT_EQ(path.next_key_after(0.0), 1.0);
+  EXPECT_EQ(path.next_key_after(1.0), 2.0);
+  EXPECT_EQ(path.next_key_after(2.2), 2.5);
+  EXPECT_EQ(path.next_key_after(2.5), std::numeric_limits<double>::infinity());
+  AnchorPath still;
+  EXPECT_EQ(still.next_key_after(0.0), std::numeric_limits<double>::infinity());
+}
+
+}  // namespace
+}  // namespace clothsim

@@ -118,3 +118,55 @@ TEST(Material, BadInputIsAnInputErrorNamingTheField) {
 
 }  // namespace
 }  // namespace clothsim
+
+namespace clothsim {
+namespace {
+
+// The presets carry the values docs/materials.md tabulates, and apply_material maps them onto the
+// documented spring constants and limits.
+TEST(MaterialPresets, ValuesAndMapping) {
+  EXPECT_EQ(material_preset_names(), "cotton, silk, denim, paper, plastic-film");
+  EXPECT_EQ(find_material_preset("wool"), nullptr);
+  const MaterialDef& paper = *find_material_preset("paper");
+  EXPECT_EQ(paper.areal_density, 0.08);
+  EXPECT_NEAR(paper.stretch_stiffness, 3.795e5, 1e2);
+  EXPECT_NEAR(paper.shear_stiffness, 1.471e5, 1e2);
+  EXPECT_NEAR(paper.bending_rigidity, 3.162e-4, 1e-7);
+  EXPECT_EQ(paper.break_strain, 0.02);
+  EXPECT_EQ(paper.yield_strain, 0.005);
+  EXPECT_NEAR(paper.opposite_yield_angle, 20.0 * std::numbers::pi / 180.0, 1e-15);
+  const MaterialDef& film = *find_material_preset("plastic-film");
+  EXPECT_NEAR(film.areal_density, 0.023, 1e-15);
+  EXPECT_NEAR(film.stretch_stiffness, 5000.0, 1e-9);
+  EXPECT_NEAR(film.shear_stiffness, 1785.714, 1e-3);
+  EXPECT_NEAR(film.bending_rigidity, 3.1002e-7, 1e-11);
+  EXPECT_EQ(film.yield_strain, 0.05);
+  EXPECT_EQ(film.break_strain, 4.0);
+  EXPECT_NEAR(find_material_preset("silk")->stretch_stiffness, 6129.16, 0.01);
+  EXPECT_NEAR(find_material_preset("denim")->shear_stiffness, 122.49, 0.01);
+  EXPECT_EQ(find_material_preset("cotton")->break_strain, SpringLimits::kNever);
+  EXPECT_EQ(cotton_material(), *find_material_preset("cotton"));
+
+  LatticeDef lattice;
+  lattice.limits.variation_seed = 9;
+  apply_material(paper, 0.01, lattice);
+  EXPECT_DOUBLE_EQ(lattice.particle_mass, 0.08 * 1e-4);
+  EXPECT_EQ(lattice.connector.stiffness, paper.stretch_stiffness);
+  EXPECT_DOUBLE_EQ(lattice.adjacent.stiffness, paper.shear_stiffness * 1e-4 / 4.0);
+  EXPECT_EQ(lattice.opposite.stiffness, paper.bending_rigidity);
+  EXPECT_EQ(lattice.limits, material_limits(paper, 9));
+}
+
+TEST(MaterialPresets, LimitChecks) {
+  MaterialDef material = cotton_material();
+  material.break_strain = 0.01;
+  material.yield_strain = 0.02;
+  LatticeDef lattice;
+  EXPECT_THROW(apply_material(material, 0.01, lattice), InputError);
+  material.yield_strain = 0.005;
+  material.break_strain_variation = 1.0;
+  EXPECT_THROW(apply_material(material, 0.01, lattice), InputError);
+}
+
+}  // namespace
+}  // namespace clothsim

@@ -35,7 +35,7 @@ std::size_t expected_radial_count(int rows, int cols) {
   return count;
 }
 
-TEST(BuiltinScenes, ListsTheSixScenes) {
+TEST(BuiltinScenes, ListsTheTenScenes) {
   const std::vector<BuiltinScene> scenes = builtin_scenes();
   std::vector<std::string> names;
   for (const BuiltinScene& scene : scenes) {
@@ -43,7 +43,8 @@ TEST(BuiltinScenes, ListsTheSixScenes) {
     EXPECT_FALSE(scene.description.empty()) << scene.name;
   }
   EXPECT_EQ(names, (std::vector<std::string>{"paper-fig4", "paper-fig5", "paper-fig6", "drape-corners", "free-spin",
-                                              "cotton-drape"}));
+                                              "cotton-drape", "tear-pull", "paper-crease", "film-stretch",
+                                              "cloth-shake"}));
   EXPECT_FALSE(is_builtin_scene("paper-fig7"));
   expect_input_error([] { builtin_scene("paper-fig7"); }, {"paper-fig7", "not a built-in scene", "paper-fig4"});
 }

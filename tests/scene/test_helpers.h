@@ -62,7 +62,11 @@ inline void expect_same_scene(const SceneSpec& a, const SceneSpec& b) {
     expect_same_vector(x.path.amplitude, y.path.amplitude, what + ".amplitude");
     EXPECT_EQ(x.path.frequency, y.path.frequency) << what;
     EXPECT_EQ(x.path.phase, y.path.phase) << what;
+    EXPECT_EQ(x.path.keys, y.path.keys) << what;
+    EXPECT_EQ(x.release_time, y.release_time) << what;
   }
+  EXPECT_EQ(a.lattice.limits, b.lattice.limits);
+  EXPECT_EQ(a.material, b.material);
 }
 
 }  // namespace clothsim::testing

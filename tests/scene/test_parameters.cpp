@@ -116,14 +116,20 @@ TEST(Parameters, DocumentationListsEveryKeyWithRangeAndDefault) {
           << parameter.key << ": the row should state the range " << describe_range(parameter.range) << "\n" << row;
     }
     const double value = parameter.get(defaults);
-    const std::string default_text =
-        parameter.type == ParameterType::boolean ? (value != 0.0 ? "true" : "false") : format_number(value);
+    const std::string default_text = format_parameter_value(parameter.type, value);
     EXPECT_NE(row.find("| " + default_text + " |"), std::string::npos)
         << parameter.key << ": the row should state the default " << default_text << "\n" << row;
   }
   for (const VectorParameter& parameter : vector_parameters()) {
     const std::string row = row_of(parameter.key);
     EXPECT_NE(row.find(describe_range(parameter.component_range)), std::string::npos) << parameter.key << "\n" << row;
+  }
+  // The fields of a material object, as material.<field>.
+  for (const MaterialParameter& parameter : material_parameters()) {
+    const std::string key = "material." + std::string(parameter.key);
+    const std::string row = row_of(key);
+    EXPECT_FALSE(row.empty()) << "no table row for `" << key << "` in docs/scene-format.md";
+    EXPECT_NE(row.find(describe_range(parameter.range)), std::string::npos) << key << "\n" << row;
   }
 }
 
