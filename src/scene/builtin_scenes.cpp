@@ -128,12 +128,17 @@ AnchorPath keyframes(std::vector<AnchorKey> keys) {
 SceneSpec tear_pull() {
   SceneSpec spec = material_sheet("tear-pull", "paper", 21, 0.2);
   spec.description =
-      "A 20 cm square of office paper (21 x 21) held along two opposite edges, which keyframes pull 1 cm apart "
-      "each in 0.5 s: the paper yields, then tears (connectors break near 2 % strain). With "
-      "--set springs.connector.break_strain=1000 it stretches but stays whole. Implicit Euler, 1 ms, 1 s.";
+      "A 20 cm square of office paper (21 x 21) with a 5-spacing notch in its left edge, held along two opposite "
+      "edges which keyframes pull 1 cm apart each in 0.5 s: the paper yields, then tears from the notch across "
+      "into two pieces (connectors break near 2 % strain). With --set springs.connector.break_strain=1000 it "
+      "stretches but stays whole. Implicit Euler, 1 ms, 1 s.";
   const int last = spec.lattice.rows - 1;
   anchor_row(spec, 0, keyframes({{0.0, {}}, {0.5, {0.0, 0.0, -0.01}}}));
   anchor_row(spec, last, keyframes({{0.0, {}}, {0.5, {0.0, 0.0, 0.01}}}));
+  // A notch, as tear tests cut one (single-edge-notch tension): without it a uniform pull breaks
+  // springs scattered over the sheet, as in a bundle of fibres, and no crack runs across.
+  const double middle = (spec.lattice.rows - 1) / 2.0 - 0.5;
+  spec.cuts.push_back({{middle, -1.0}, {middle, 4.5}});
   spec.output.duration = 1.0;
   return spec;
 }

@@ -252,8 +252,8 @@ constexpr std::array kMaterialParameters = {
                       [](MaterialDef& m, double v) { m.opposite_yield_angle = degrees_to_radians(v); }},
 };
 
-constexpr std::array<std::string_view, 6> kSpecialKeys = {"name", "description", "paper_args", "material",
-                                                          "anchors", "integrator.method"};
+constexpr std::array<std::string_view, 7> kSpecialKeys = {"name", "description", "paper_args", "material",
+                                                          "anchors", "cuts", "integrator.method"};
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".
 std::string compact_exponent(std::string text) {

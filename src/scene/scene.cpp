@@ -39,6 +39,8 @@
 #include "core/assert.h"
 #include "core/error.h"
 #include "core/input_file.h"
+#include "model/lattice_cuts.h"
+#include "model/model_edits.h"
 #include "model/spring_limits.h"
 #include "scene/parameters.h"
 
@@ -463,6 +465,38 @@ AnchorSpec read_anchor(const json& value, const LatticeDef& lattice, const std::
   return anchor;
 }
 
+// Points of cuts: in a generous box around any lattice (a cut may start outside the sheet).
+constexpr ValueRange kCutPointRange = closed_range(-1e6, 1e6);
+
+std::vector<CutSpec> read_cuts(const json& value, const std::string& source) {
+  if (!value.is_array()) {
+    fail(source, "cuts", "must be a list of cuts {\"from\": [row, col], \"to\": [row, col]}, got " + describe_json(value));
+  }
+  std::vector<CutSpec> cuts;
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const std::string field = "cuts[" + std::to_string(i) + "]";
+    const json& item = value[i];
+    if (!item.is_object()) fail(source, field, "must be an object {\"from\": [row, col], \"to\": [row, col]}, got " + describe_json(item));
+    check_keys(item, {"from", "to"}, field, source);
+    CutSpec cut;
+    for (const char* end : {"from", "to"}) {
+      const std::string end_field = field + "." + end;
+      if (!item.contains(end)) fail(source, end_field, "is required: a rest-lattice point [row, col] in particle spacings");
+      const json& point = item.at(end);
+      if (!point.is_array() || point.size() != 2) {
+        fail(source, end_field, "must be an array of 2 numbers [row, col], got " + describe_json(point));
+      }
+      std::array<double, 2>& target = std::string_view(end) == "from" ? cut.from : cut.to;
+      for (std::size_t axis = 0; axis < 2; ++axis) {
+        target[axis] = read_value(point[axis], ParameterType::real, kCutPointRange, source,
+                                  end_field + "[" + std::to_string(axis) + "]");
+      }
+    }
+    cuts.push_back(cut);
+  }
+  return cuts;
+}
+
 std::vector<AnchorSpec> read_anchors(const json& value, const LatticeDef& lattice, const std::string& source) {
   const std::string allowed = "must be one of " + preset_choices() + " or a list of anchors, got ";
   std::vector<AnchorSpec> anchors;
@@ -805,6 +839,8 @@ void SceneReader::read_member(const std::string& key, const json& value) {
     apply_paper_arguments(spec, read_paper_arguments(value, source));
   } else if (key == "anchors") {
     anchors = &value;
+  } else if (key == "cuts") {
+    spec.cuts = read_cuts(value, source);
   } else if (key == "material") {
     material = &value;
   } else {
@@ -908,6 +944,8 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
     const std::string_view text = trim(value);
     const json material = text.starts_with('{') ? parse_json(text, source) : json(std::string(text));
     set_scene_material(spec, read_material(material, source, field), source);
+  } else if (key == "cuts") {
+    spec.cuts = read_cuts(parse_json(trim(value), source), source);
   } else if (key == "anchors") {
     const std::string_view text = trim(value);
     if (text.starts_with('[')) {
@@ -1030,6 +1068,10 @@ json scene_to_json(const SceneSpec& spec) {
   at("integrator.method") = std::string(to_string(spec.integrator.kind));
   out["anchors"] = json::array();
   for (const AnchorSpec& anchor : spec.anchors) out["anchors"].push_back(anchor_to_json(anchor));
+  out["cuts"] = json::array();
+  for (const CutSpec& cut : spec.cuts) {
+    out["cuts"].push_back({{"from", {cut.from[0], cut.from[1]}}, {"to", {cut.to[0], cut.to[1]}}});
+  }
   return out;
 }
 
@@ -1062,6 +1104,12 @@ ClothModel build_model(const SceneSpec& spec) {
   SpringLimits limits = spec.lattice.limits;
   limits.variation_seed = spec.initial.seed;
   apply_spring_limits(model, limits);
+  // Notches: broken before the run starts (t = 0), so they store no energy and book no work.
+  for (const CutSpec& cut : spec.cuts) {
+    for (std::uint32_t connector : connectors_crossed_in_lattice(model, cut.from, cut.to)) {
+      break_connector(model, connector, 0.0);
+    }
+  }
   return model;
 }
 

@@ -7,6 +7,7 @@
 // output is created. docs/scene-format.md documents the format.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -35,6 +36,15 @@ struct AnchorSpec {
   double release_time = std::numeric_limits<double>::infinity();
 };
 
+// A cut made before the run (a notch): every connector crossed by the segment between two
+// rest-lattice points (row, col), in particle spacings (model/lattice_cuts.h), is broken at t = 0.
+// (10.5, -1) to (10.5, 4) cuts the first 5 columns between rows 10 and 11.
+struct CutSpec {
+  std::array<double, 2> from{};
+  std::array<double, 2> to{};
+  bool operator==(const CutSpec&) const = default;
+};
+
 struct OutputSettings {
   double duration = 20.0;        // simulated time to run, s; with until_rest, the upper limit
   int fps = 60;                  // frames written per simulated second
@@ -57,6 +67,7 @@ struct SceneSpec {
   std::optional<MaterialDef> material{};
   Environment environment;
   std::vector<AnchorSpec> anchors;
+  std::vector<CutSpec> cuts;  // notches cut before the run
   InitialConditions initial;
   IntegratorSettings integrator;
   OutputSettings output;

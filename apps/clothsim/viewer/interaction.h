@@ -12,8 +12,8 @@
 // crosses, whatever the depth, as a knife drawn across the picture would. Testing in 2D against
 // the projections needs no ray casting against a moving, folded sheet, and a cut across a folded
 // sheet goes through every layer under it, which is what a cut through a fold does. Scripts cut
-// the same way in rest-lattice coordinates instead (connectors_crossed with the lattice's own
-// coordinates), so that a test does not depend on the camera.
+// the same way in rest-lattice coordinates instead (model/lattice_cuts.h, which scenes use for
+// their initial cuts too), so that a test does not depend on the camera.
 #pragma once
 
 #include <array>
@@ -24,6 +24,7 @@
 
 #include "core/vec3.h"
 #include "model/cloth_model.h"
+#include "model/lattice_cuts.h"
 #include "render/camera.h"
 
 namespace clothsim::viewer {
@@ -38,22 +39,10 @@ long pick_particle(const render::Camera& camera, std::span<const Vec3> positions
 std::optional<Vec3> drag_target(const render::Camera& camera, const Vec3& plane_point, double x, double y, int width,
                                 int height);
 
-// Intact connectors of `model` whose segment between the 2D points of its particles,
-// `point` [particle_count()], crosses the segment from `from` to `to` (touching counts; a
-// connector whose particle has no point, NaN, is skipped). In connector index order.
-std::vector<std::uint32_t> connectors_crossed(const ClothModel& model, std::span<const std::array<double, 2>> point,
-                                              const std::array<double, 2>& from, const std::array<double, 2>& to);
-
 // Intact connectors whose projection on a width x height view crosses the pixel segment from
 // (x0, y0) to (x1, y1) (connectors with an end behind the eye are skipped).
 std::vector<std::uint32_t> connectors_crossed_on_screen(const render::Camera& camera, const ClothModel& model,
                                                         std::span<const Vec3> positions, double x0, double y0,
                                                         double x1, double y1, int width, int height);
-
-// Intact connectors crossed by the segment between two rest-lattice points (row, col), in
-// particle spacings: (2.5, -1) to (2.5, 9) crosses every connector between rows 2 and 3 of a
-// 10-column sheet. A scripted "cut".
-std::vector<std::uint32_t> connectors_crossed_in_lattice(const ClothModel& model, const std::array<double, 2>& from,
-                                                         const std::array<double, 2>& to);
 
 }  // namespace clothsim::viewer
