@@ -68,6 +68,16 @@ Vec3 AnchorPath::velocity_at(double t) const {
   return {};
 }
 
+Vec3 AnchorPath::velocity_before(double t) const {
+  if (kind != AnchorPathKind::keyframes) return velocity_at(t);
+  if (keys.size() < 2 || t <= keys.front().time || t > keys.back().time) return {};
+  // The segment (keys[k].time, keys[k + 1].time] that holds t.
+  const auto end = std::lower_bound(keys.begin(), keys.end(), t,
+                                    [](const AnchorKey& key, double time) { return key.time < time; });
+  const std::size_t k = static_cast<std::size_t>(end - keys.begin()) - 1;
+  return (keys[k + 1].offset - keys[k].offset) / (keys[k + 1].time - keys[k].time);
+}
+
 Vec3 AnchorPath::acceleration(double t) const {
   if (kind != AnchorPathKind::sinusoid) return {};
   const double omega = 2.0 * std::numbers::pi * frequency;

@@ -69,6 +69,10 @@ struct AnchorPath {
   // keeps the velocity it was about to follow (a release at the last key lets go of a held,
   // motionless particle).
   Vec3 velocity_at(double t) const;
+  // The velocity just before t (the left limit). The same as velocity_at(t) except at a key of a
+  // keyframed path, where the particle's velocity jumps: the Simulation books that jump's kinetic
+  // energy as anchor work at the key (an impulse the anchor gives its particle).
+  Vec3 velocity_before(double t) const;
   Vec3 acceleration(double t) const;  // keyframes: zero (between keys the motion is uniform)
   // Keyframes: the time of the first key after `t` (strictly), +inf if none; +inf for every other
   // kind. The Simulation stops steps there (Simulation::next_anchor_event).

@@ -79,6 +79,7 @@ bool Simulation::integrate(double time) {
 void Simulation::apply_events() {
   ScopedTimer timer(profile_.events);
   stop_arrived_anchors();
+  book_anchor_keys();
   release_due_anchors();
   const SpringEventCounts counts = spring_events_.apply(*model_, state_, threads_);
   event_totals_.breaks += counts.breaks;
@@ -295,6 +296,17 @@ double Simulation::next_anchor_event() const {
     next = std::min(next, path.next_key_after(state_.time));
   }
   return next;
+}
+
+void Simulation::book_anchor_keys() {
+  for (const Anchor& anchor : model_->anchors) {
+    const Vec3 before = anchor.path.velocity_before(state_.time);
+    const Vec3 after = anchor.path.velocity_at(state_.time);
+    if (before == after) continue;
+    // The step that ended here left the particle on the new segment's velocity (its path's
+    // velocity at this time); the jump is the anchor's impulse.
+    state_.anchor_work += 0.5 * model_->particle_mass[anchor.particle] * (squared_norm(after) - squared_norm(before));
+  }
 }
 
 void Simulation::release_due_anchors() {

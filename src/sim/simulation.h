@@ -169,6 +169,8 @@ class Simulation {
   double next_anchor_event() const;
   // Frees the anchors whose release time has come.
   void release_due_anchors();
+  // Books the kinetic energy of keyframed anchors' velocity jumps at a key (anchor work).
+  void book_anchor_keys();
   // Stops driven anchors that have arrived (their impulse goes into anchor_work).
   void stop_arrived_anchors();
   // Sets particle's anchor path and its velocity to the path's, booking the velocity jump.
