@@ -17,9 +17,10 @@
 // what paper and film tests report as elongation at break (ISO 1924-2, ASTM D882) is the total
 // strain. For an elastic sheet the two are the same (docs/model.md).
 //
-// Determinism: each spring's decision depends only on the state and that spring, so the checks
-// run in parallel into per-spring arrays and the changes are then applied in index order by one
-// thread: the same changes and the same released energy for any thread count.
+// Determinism: each spring's check depends only on the state and that spring, so the checks run
+// in parallel into one flag byte per spring, and the laws then act in index order on one thread
+// (on most steps on no spring at all): the same changes and the same released energy, summed in
+// the same order, for any thread count.
 //
 // Energy: a change at fixed positions changes the elastic energy by dE = E_after - E_before
 // (never positive here: a break removes a spring's energy, a return mapping moves the rest value
@@ -33,13 +34,16 @@
 // spring costs about as much as a force evaluation. Since cos is decreasing on [0, pi],
 // |theta - theta0| > a exactly when cos(theta) < cos(theta0 + a) or cos(theta) > cos(theta0 - a);
 // the stage keeps those two bounds per spring (recomputed when the model changes from outside, and
-// for each spring it creases) and compares cos(theta), a dot product and a square root, against
-// them with a margin of 1e-12, far above cos(theta)'s rounding. Only the springs within the
-// margin or past a bound get the arctangent and the law; a spring the test skips is at least
-// ~1e-6 rad inside its yield angle.
+// for each spring it creases) and compares cos(theta) against them with a margin of 1e-12, far
+// above cos(theta)'s rounding. Only the springs within the margin or past a bound get the
+// arctangent and the law; a spring the test skips is at least ~1e-6 rad inside its yield angle.
+// cos(theta) is the dot product of the two connectors' unit vectors, which one pass over the
+// connectors computes (with their lengths, for the other two laws): one square root per
+// connector, not one per radial spring.
 #pragma once
 
 #include <cstddef>
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -72,15 +76,16 @@ class SpringEvents {
   void resize(const ClothModel& model);
   // The crease bounds of radial spring r from its rest and yield angles.
   void set_crease_bounds(const ClothModel& model, std::size_t r);
-  std::vector<std::uint8_t> breaks_;        // [connectors] 1: breaks after this step
-  std::vector<double> connector_rest_;      // [connectors] new rest length, or 0: unchanged
-  std::vector<double> connector_yield_;     // [connectors] new yield strain
-  std::vector<double> radial_rest_;         // [radials] new rest angle, or -1: unchanged
+  // What the parallel checks found, per spring: the laws that may act on it.
+  static constexpr std::uint8_t kBreaks = 1;
+  static constexpr std::uint8_t kYields = 2;
+  std::vector<std::uint8_t> connector_flag_;  // [connectors] kBreaks | kYields
+  std::vector<std::uint8_t> radial_flag_;     // [radials] 1: check the crease law
+  std::vector<Vec3> connector_unit_;          // [connectors] from its first particle to its second (creasing only)
+  std::vector<double> radial_orientation_;    // [radials] sign that turns the connectors' dot product into cos(theta)
   std::vector<double> cos_upper_;           // [radials] cos(theta0 + a): below it the spring creases (-2: never)
   std::vector<double> cos_lower_;           // [radials] cos(theta0 - a): above it the spring creases (+2: never)
   std::uint64_t bounds_revision_ = ~0ull;   // model revision the bounds were computed at
-  std::vector<double> released_;            // [connectors or radials] energy change of that spring, J
-  std::vector<double> block_sums_;
 };
 
 }  // namespace clothsim
