@@ -105,7 +105,7 @@ void check_limits(const MaterialDef& material, const std::string& source) {
   }
   angle_or_never("adjacent_yield_angle", material.adjacent_yield_angle);
   angle_or_never("opposite_yield_angle", material.opposite_yield_angle);
-  if (material.yield_strain > material.break_strain) {
+  if (yields_after_breaking(material.yield_strain, material.break_strain)) {
     throw InputError(source, "yield_strain",
                      "must be <= break_strain (" + std::to_string(material.break_strain) + "), got " +
                          std::to_string(material.yield_strain) + ": the sheet would tear before it yields");

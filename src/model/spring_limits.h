@@ -37,6 +37,13 @@ struct SpringLimits {
   bool operator==(const SpringLimits&) const = default;
 };
 
+// The one rule between the limits: a finite yield strain above the break strain would never be
+// reached (tearing is measured against the original length, events/spring_events.h), so it is
+// refused. An elastic connector (yield +inf) may have any break strain.
+inline bool yields_after_breaking(double yield_strain, double break_strain) {
+  return yield_strain != SpringLimits::kNever && yield_strain > break_strain;
+}
+
 // u_e in [-1, 1]: a fixed function of (seed, connector) (SplitMix64 of their combination).
 double break_strain_offset(std::uint64_t seed, std::uint64_t connector);
 

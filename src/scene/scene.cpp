@@ -593,7 +593,7 @@ void check_material(const MaterialDef& material, const std::string& source, cons
   if (!(material.areal_density > 0.0)) {
     fail(source, field + ".areal_density", "is required: a material object needs its mass per area (kg/m^2)");
   }
-  if (material.yield_strain > material.break_strain) {
+  if (yields_after_breaking(material.yield_strain, material.break_strain)) {
     fail(source, field + ".yield_strain",
          "must be <= " + field + ".break_strain (" + format_number(material.break_strain) + "), got " +
              format_number(material.yield_strain) + ": the sheet would tear before it stretches for good");
@@ -986,7 +986,7 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     fail(source, "lattice.rows", "lattice.rows x lattice.cols must be at least 2 particles, got " +
                                      std::to_string(lattice.rows) + " x " + std::to_string(lattice.cols));
   }
-  if (lattice.limits.yield_strain > lattice.limits.break_strain) {
+  if (yields_after_breaking(lattice.limits.yield_strain, lattice.limits.break_strain)) {
     fail(source, "springs.connector.yield_strain",
          "must be <= springs.connector.break_strain (" + format_number(lattice.limits.break_strain) + "), got " +
              format_number(lattice.limits.yield_strain) + ": a connector would break before it stretches for good");

@@ -70,6 +70,13 @@ TEST(SpringLimitKeys, BadValuesNameFileFieldAndRange) {
   expect_input_error(
       [] { parse_scene(R"({"springs": {"connector": {"break_strain": 0.02, "yield_strain": 0.05}}})", "s.json"); },
       {"s.json", "springs.connector.yield_strain", "must be <= springs.connector.break_strain (0.02)", "got 0.05"});
+  // An elastic connector (no yield strain) may break at any strain: a breakable cloth.
+  EXPECT_EQ(parse_scene(R"({"springs": {"connector": {"break_strain": 0.05}}})", "s.json").lattice.limits.break_strain,
+            0.05);
+  SceneSpec silk = builtin_scene("drape-corners");
+  set_scene_field(silk, "material", "silk", "--material");
+  set_scene_field(silk, "springs.connector.break_strain", "0.05", "--set");
+  EXPECT_NO_THROW(validate_scene(silk, "--set"));
 }
 
 TEST(SpringLimitKeys, BuildModelAppliesThemWithTheScenesSeed) {

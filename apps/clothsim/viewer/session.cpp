@@ -48,7 +48,7 @@ std::string check_spring_limits(const SpringLimits& limits) {
   }
   // Tearing is measured against the original length; a yield above the break strain would never
   // be reached (events/spring_events.h).
-  if (limits.yield_strain != SpringLimits::kNever && limits.yield_strain > limits.break_strain) {
+  if (yields_after_breaking(limits.yield_strain, limits.break_strain)) {
     return "the yield strain must not exceed the break strain";
   }
   return {};
