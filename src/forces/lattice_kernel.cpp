@@ -1,4 +1,4 @@
-// The structured force kernel for an intact lattice; the design is in lattice_kernel.h.
+// The structured force kernel for a lattice, intact or torn; the design is in lattice_kernel.h.
 #include "forces/lattice_kernel.h"
 
 #include <algorithm>

@@ -189,7 +189,7 @@ class Simulation {
   SimulationSettings settings_;
   int threads_ = 1;
   std::unique_ptr<Integrator> integrator_;
-  IntegratorStats retired_stats_;  // summed over integrators replaced by restart_integrator()
+  IntegratorStats retired_stats_;  // summed over integrators replaced by set_integrator()
   double initial_energy_ = 0.0;
   double edit_work_ = 0.0;  // J, see EnergyBalance::edit_work
   StepProfile profile_;
