@@ -104,6 +104,8 @@ void Simulation::check_state() {
     }
   }
   for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    // The ends of a broken connector may drift apart without limit: torn pieces fall away.
+    if (model.connector_live[e] == 0) continue;
     const auto [a, b] = model.connector_particles[e];
     const double stretch = norm(state_.position[b] - state_.position[a]) / model.connector_rest_length[e];
     if (stretch > settings_.explosion_stretch) {
@@ -140,7 +142,11 @@ std::size_t model_bytes(const ClothModel& m) {
          vector_bytes(m.connector_damping) + vector_bytes(m.radial_particles) + vector_bytes(m.radial_connectors) +
          vector_bytes(m.radial_kind) + vector_bytes(m.radial_rest_angle) + vector_bytes(m.radial_stiffness) +
          vector_bytes(m.radial_damping) + vector_bytes(m.anchors) + vector_bytes(m.gather_offset) +
-         vector_bytes(m.gather_slot);
+         vector_bytes(m.gather_slot) + vector_bytes(m.connector_live) + vector_bytes(m.connector_break_time) +
+         vector_bytes(m.connector_original_length) + vector_bytes(m.connector_break_strain) +
+         vector_bytes(m.connector_yield_strain) + vector_bytes(m.radial_live) + vector_bytes(m.radial_original_angle) +
+         vector_bytes(m.radial_yield_angle) + vector_bytes(m.connector_radial_offset) +
+         vector_bytes(m.radial_of_connector);
 }
 
 }  // namespace

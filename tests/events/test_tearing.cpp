@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <numeric>
 
 #include "event_fixtures.h"
@@ -89,6 +90,21 @@ TEST(Tearing, ThePiecesSeparateAndMassIsConserved) {
                                             simulation.model().particle_mass.end(), 0.0);
   EXPECT_EQ(mass_after, mass_before);
   EXPECT_EQ(simulation.model().particle_count(), 5u);
+}
+
+// A piece torn off may fall as far as it likes: a broken connector is no measure of an explosion
+// (the check of a connector stretched past 1000 times its rest length skips it).
+TEST(Tearing, APieceThatFallsAwayIsNotAnExplosion) {
+  ClothModel model = strip(3, {held(0, {-1, 0, 0})});
+  model.environment.gravity = {0.0, -9.81, 0.0};
+  ClothState state = make_rest_state(model);
+  SimulationSettings settings = event_settings();
+  settings.explosion_stretch = 10.0;
+  Simulation simulation(std::move(model), std::move(state), settings);
+  const std::array<std::uint32_t, 1> cut = {0};
+  ASSERT_EQ(simulation.cut_connectors(cut), 1u);
+  ASSERT_TRUE(simulation.advance_to(3.0)) << simulation.failure()->message;  // falls 44 m
+  EXPECT_GT(distance(simulation.state(), 0, 1), 40.0);
 }
 
 TEST(Tearing, ThresholdsVaryBySeedWithinTheirSpread) {
