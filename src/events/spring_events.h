@@ -71,6 +71,11 @@ class SpringEvents {
   // Applies the three laws to `state`'s positions, changing `model` through model/model_edits.h
   // and adding the released energy to state.fracture_work and state.plastic_work.
   SpringEventCounts apply(ClothModel& model, ClothState& state, int threads);
+  // Bytes of scratch memory held.
+  std::size_t bytes() const {
+    return connector_flag_.capacity() + radial_flag_.capacity() + connector_unit_.capacity() * sizeof(Vec3) +
+           (radial_orientation_.capacity() + cos_upper_.capacity() + cos_lower_.capacity()) * sizeof(double);
+  }
 
  private:
   void resize(const ClothModel& model);

@@ -153,7 +153,7 @@ std::size_t model_bytes(const ClothModel& m) {
 
 std::size_t Simulation::memory_bytes() const {
   return model_bytes(*model_) + vector_bytes(state_.position) + vector_bytes(state_.velocity) +
-         integrator_->workspace_bytes();
+         integrator_->workspace_bytes() + spring_events_.bytes();
 }
 
 EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms); }
