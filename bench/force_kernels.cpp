@@ -39,7 +39,8 @@ Sheet make_sheet(int n, bool flat, bool torn = false) {
     };
     ClothModel& model = sheet.model;
     for (std::size_t e = 0; e < model.connector_count(); ++e) {
-      set_connector_rest_length(model, static_cast<std::uint32_t>(e), model.connector_rest_length[e] * (0.95 + 0.1 * next()));
+      set_connector_rest_length(model, static_cast<std::uint32_t>(e),
+                                model.connector_rest_length[e] * (0.95 + 0.1 * next()));
       if (next() < 0.1) break_connector(model, static_cast<std::uint32_t>(e));
     }
     for (std::size_t r = 0; r < model.radial_count(); ++r) {

@@ -264,7 +264,8 @@ std::string run_footer() {
       "(split along any tears), scene.json (run it to reproduce the run), connectors.npy and "
       "connector_break_time.npy (each connector's particles and when it broke), and unless --render none, "
       "final.png (the last frame) and "
-      "animation.mp4 (H.264, one video frame per output frame, at --fps). It is written as <out>.partial-<pid> and renamed into place at "
+      "animation.mp4 (H.264, one video frame per output frame, at --fps). It is written as <out>.partial-<pid> and "
+      "renamed into place at "
       "the end; an existing <out> is replaced only if a clothsim run wrote it.",
       100, 0);
   text +=

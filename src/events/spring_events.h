@@ -42,8 +42,8 @@
 // connector, not one per radial spring.
 #pragma once
 
-#include <cstddef>
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -88,9 +88,9 @@ class SpringEvents {
   std::vector<std::uint8_t> radial_flag_;     // [radials] 1: check the crease law
   std::vector<Vec3> connector_unit_;          // [connectors] from its first particle to its second (creasing only)
   std::vector<double> radial_orientation_;    // [radials] sign that turns the connectors' dot product into cos(theta)
-  std::vector<double> cos_upper_;           // [radials] cos(theta0 + a): below it the spring creases (-2: never)
-  std::vector<double> cos_lower_;           // [radials] cos(theta0 - a): above it the spring creases (+2: never)
-  std::uint64_t bounds_revision_ = ~0ull;   // model revision the bounds were computed at
+  std::vector<double> cos_upper_;             // [radials] cos(theta0 + a): below it the spring creases (-2: never)
+  std::vector<double> cos_lower_;             // [radials] cos(theta0 - a): above it the spring creases (+2: never)
+  std::uint64_t bounds_revision_ = ~0ull;     // model revision the bounds were computed at
 };
 
 }  // namespace clothsim

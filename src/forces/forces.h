@@ -13,9 +13,8 @@
 // A sheet with the lattice layout (what build_lattice makes, torn, plastic or creased) takes a
 // second, vectorised path through the same physics: lattice_kernel.h. ForceBuffers::resize()
 // chooses the path once per model; evaluate_forces() then follows it, and both read the model's
-// current per-spring values (the kernel copies them again when the model's revision moves). Both give the same forces up to
-// rounding (tests/forces/test_lattice_kernel.cpp), and each is bit-for-bit independent of the
-// thread count.
+// current per-spring values (the kernel copies them again when the model's revision moves). Both give the same forces
+// up to rounding (tests/forces/test_lattice_kernel.cpp), and each is bit-for-bit independent of the thread count.
 #pragma once
 
 #include <cstdint>

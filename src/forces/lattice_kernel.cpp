@@ -416,8 +416,8 @@ bool LatticeKernel::prepare(const ClothModel& model) {
     const std::array<int, 2> pair{direction(centre, b), direction(centre, c)};
     const auto found = std::find(kPairs.begin(), kPairs.end(), pair);
     if (found == kPairs.end()) return false;
-    radial_slot_[r] = centre * static_cast<std::uint32_t>(kPairs.size()) +
-                      static_cast<std::uint32_t>(found - kPairs.begin());
+    radial_slot_[r] =
+        centre * static_cast<std::uint32_t>(kPairs.size()) + static_cast<std::uint32_t>(found - kPairs.begin());
   }
   rows_ = model.rows;
   cols_ = model.cols;

@@ -102,7 +102,7 @@ class LatticeKernel {
   int cols_ = 0;
   std::size_t padding_ = 0;  // zero entries before and after each array
   std::size_t stride_ = 0;   // doubles per array (padding + particles + padding, rounded up)
-  std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
+  std::uint64_t revision_ = 0;                 // ClothModel::revision the parameters were copied at
   std::vector<std::uint32_t> connector_slot_;  // [connectors] 2 p + (1 if south): where its parameters go
   std::vector<std::uint32_t> radial_slot_;     // [radials] 6 centre + pair: where its parameters go
   std::vector<double> scratch_;

@@ -388,8 +388,8 @@ void write_npy(const std::string& path, std::span<const double> data, std::span<
 void write_npy(const std::string& path, std::span<const std::int32_t> data, std::span<const std::size_t> shape) {
   std::size_t count = 0;
   if (!element_count(shape, count) || count != data.size()) {
-    throw io_error(path, "write_npy: " + std::to_string(data.size()) + " values do not fill shape " +
-                             shape_text(shape), 0);
+    throw io_error(path, "write_npy: " + std::to_string(data.size()) + " values do not fill shape " + shape_text(shape),
+                   0);
   }
   const std::string header = make_header(shape, 0, "<i4");
   if (header.empty()) throw io_error(path, "write_npy: header too long for shape " + shape_text(shape), 0);
@@ -445,9 +445,10 @@ NpyArray read_npy(const std::string& path) {
   NpyArray array;
   HeaderParser(header, path).parse(descr, fortran_order, array.shape);
   if (descr != "<f8" && descr != "<i4") {
-    throw io_error(path, "dtype '" + descr +
-                             "' is not supported: read_npy reads little-endian float64 ('<f8') and int32 ('<i4') only",
-                   0);
+    throw io_error(
+        path,
+        "dtype '" + descr + "' is not supported: read_npy reads little-endian float64 ('<f8') and int32 ('<i4') only",
+        0);
   }
   const std::size_t value_bytes = descr == "<f8" ? sizeof(double) : sizeof(std::int32_t);
   if (fortran_order) throw io_error(path, "Fortran-order arrays are not supported (C order only)", 0);
@@ -463,9 +464,10 @@ NpyArray read_npy(const std::string& path) {
   if (error) throw io_error(path, "cannot determine the file size: " + error.message(), 0);
   const std::uintmax_t data_bytes = file_bytes >= data_offset ? file_bytes - data_offset : 0;
   if (data_bytes < count * value_bytes) {
-    throw io_error(path, "truncated .npy file: shape " + shape_text(array.shape) + " needs " +
-                             std::to_string(count * value_bytes) + " data bytes, the file has " +
-                             std::to_string(data_bytes), 0);
+    throw io_error(path,
+                   "truncated .npy file: shape " + shape_text(array.shape) + " needs " +
+                       std::to_string(count * value_bytes) + " data bytes, the file has " + std::to_string(data_bytes),
+                   0);
   }
   array.data.resize(count);
   if (value_bytes == sizeof(double)) {

@@ -14,9 +14,8 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
-#include <system_error>
-
 #include <nlohmann/json.hpp>
+#include <system_error>
 
 #include "core/assert.h"
 #include "core/error.h"
@@ -74,18 +73,18 @@ void write_text_file(const fs::path& path, const std::string& text) {
 ordered_json energy_json(const EnergyBalance& balance, double time) {
   const EnergyReport& e = balance.energy;
   return ordered_json{{"time", time},
-              {"kinetic", e.kinetic},
-              {"gravitational", e.gravitational},
-              {"connector", e.connector},
-              {"radial_adjacent", e.radial_adjacent},
-              {"radial_opposite", e.radial_opposite},
-              {"total", e.total()},
-              {"damping_work", balance.damping_work},
-              {"drag_work", balance.drag_work},
-              {"anchor_work", balance.anchor_work},
-              {"balance_error", balance.error()},
-              {"plastic_work", balance.plastic_work},
-              {"fracture_work", balance.fracture_work}};
+                      {"kinetic", e.kinetic},
+                      {"gravitational", e.gravitational},
+                      {"connector", e.connector},
+                      {"radial_adjacent", e.radial_adjacent},
+                      {"radial_opposite", e.radial_opposite},
+                      {"total", e.total()},
+                      {"damping_work", balance.damping_work},
+                      {"drag_work", balance.drag_work},
+                      {"anchor_work", balance.anchor_work},
+                      {"balance_error", balance.error()},
+                      {"plastic_work", balance.plastic_work},
+                      {"fracture_work", balance.fracture_work}};
 }
 
 // A finite number, or null (JSON has no infinity; nlohmann would write null anyway, this says so).
@@ -341,14 +340,14 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
                                           {"max_rest_angle_change", changes.max_rest_angle_change},
                                           {"plastic_work", last_energy_.plastic_work},
                                           {"fracture_work", last_energy_.fracture_work}};
-  summary["timings"] = ordered_json{{"wall_seconds", wall_seconds},
-                            {"forces", profile.forces},
-                            {"integration", profile.integration},
-                            {"events", profile.events},
-                            {"checks", profile.checks},
-                            {"output", output_seconds_},
-                            {"realtime_factor", wall_seconds > 0.0 ? number_or_null(last_time_ / wall_seconds)
-                                                                   : ordered_json(nullptr)}};
+  summary["timings"] = ordered_json{
+      {"wall_seconds", wall_seconds},
+      {"forces", profile.forces},
+      {"integration", profile.integration},
+      {"events", profile.events},
+      {"checks", profile.checks},
+      {"output", output_seconds_},
+      {"realtime_factor", wall_seconds > 0.0 ? number_or_null(last_time_ / wall_seconds) : ordered_json(nullptr)}};
   ordered_json phases = ordered_json::object();
   for (const PhaseTime& phase : simulation.integration_phases()) phases[std::string(phase.name)] = phase.seconds;
   summary["timings"]["integration_phases"] = phases;

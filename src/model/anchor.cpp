@@ -11,8 +11,8 @@ namespace {
 // Index of the key that starts the segment containing t: keys[k].time <= t < keys[k + 1].time.
 // Only for keys.front().time <= t < keys.back().time.
 std::size_t segment_of(const std::vector<AnchorKey>& keys, double t) {
-  const auto after = std::upper_bound(keys.begin(), keys.end(), t,
-                                      [](double time, const AnchorKey& key) { return time < key.time; });
+  const auto after =
+      std::upper_bound(keys.begin(), keys.end(), t, [](double time, const AnchorKey& key) { return time < key.time; });
   return static_cast<std::size_t>(after - keys.begin()) - 1;
 }
 
@@ -72,8 +72,8 @@ Vec3 AnchorPath::velocity_before(double t) const {
   if (kind != AnchorPathKind::keyframes) return velocity_at(t);
   if (keys.size() < 2 || t <= keys.front().time || t > keys.back().time) return {};
   // The segment (keys[k].time, keys[k + 1].time] that holds t.
-  const auto end = std::lower_bound(keys.begin(), keys.end(), t,
-                                    [](const AnchorKey& key, double time) { return key.time < time; });
+  const auto end =
+      std::lower_bound(keys.begin(), keys.end(), t, [](const AnchorKey& key, double time) { return key.time < time; });
   const std::size_t k = static_cast<std::size_t>(end - keys.begin()) - 1;
   return (keys[k + 1].offset - keys[k].offset) / (keys[k + 1].time - keys[k].time);
 }
@@ -86,8 +86,8 @@ Vec3 AnchorPath::acceleration(double t) const {
 
 double AnchorPath::next_key_after(double t) const {
   if (kind != AnchorPathKind::keyframes) return std::numeric_limits<double>::infinity();
-  const auto after = std::upper_bound(keys.begin(), keys.end(), t,
-                                      [](double time, const AnchorKey& key) { return time < key.time; });
+  const auto after =
+      std::upper_bound(keys.begin(), keys.end(), t, [](double time, const AnchorKey& key) { return time < key.time; });
   return after == keys.end() ? std::numeric_limits<double>::infinity() : after->time;
 }
 

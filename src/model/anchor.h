@@ -22,11 +22,11 @@
 namespace clothsim {
 
 enum class AnchorPathKind : std::uint8_t {
-  fixed,     // x(t) = origin
-  linear,    // x(t) = origin + velocity t
-  sinusoid,  // x(t) = origin + amplitude (sin(2 pi f t + phase) - sin(phase))
-  keyframes, // x(t) = origin + the keys' offsets interpolated linearly in t (see AnchorKey)
-  driven,    // x(t) = origin + velocity (min(t, end_time) - start_time); runtime only, never in a scene
+  fixed,      // x(t) = origin
+  linear,     // x(t) = origin + velocity t
+  sinusoid,   // x(t) = origin + amplitude (sin(2 pi f t + phase) - sin(phase))
+  keyframes,  // x(t) = origin + the keys' offsets interpolated linearly in t (see AnchorKey)
+  driven,     // x(t) = origin + velocity (min(t, end_time) - start_time); runtime only, never in a scene
 };
 
 // One key of a keyframed path: where the particle is at `time`, as an offset from the path's
@@ -51,7 +51,7 @@ struct AnchorPath {
   double phase = 0.0;      // sinusoid: rad
   double start_time = 0.0;  // driven: s, when the particle is at `origin`
   double end_time = std::numeric_limits<double>::infinity();  // driven: s, arrival at the target
-  std::vector<AnchorKey> keys{};  // keyframes: at least one, strictly increasing in time
+  std::vector<AnchorKey> keys{};                              // keyframes: at least one, strictly increasing in time
 
   // A path that stays at `origin`.
   static AnchorPath fixed_at(const Vec3& origin) {

@@ -49,7 +49,8 @@ void build_connector_radial_table(ClothModel& model) {
   model.radial_of_connector.assign(count.back(), 0);
   std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
   for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    for (std::uint32_t e : model.radial_connectors[r]) model.radial_of_connector[cursor[e]++] = static_cast<std::uint32_t>(r);
+    for (std::uint32_t e : model.radial_connectors[r])
+      model.radial_of_connector[cursor[e]++] = static_cast<std::uint32_t>(r);
   }
 }
 
@@ -61,14 +62,15 @@ void finish_model(ClothModel& model) {
   const std::size_t radials = model.radial_count();
   if (model.connector_live.size() != connectors) model.connector_live.assign(connectors, 1);
   if (model.connector_break_time.size() != connectors) model.connector_break_time.assign(connectors, kNever);
-  if (model.connector_original_length.size() != connectors) model.connector_original_length = model.connector_rest_length;
+  if (model.connector_original_length.size() != connectors)
+    model.connector_original_length = model.connector_rest_length;
   if (model.connector_break_strain.size() != connectors) model.connector_break_strain.assign(connectors, kNever);
   if (model.connector_yield_strain.size() != connectors) model.connector_yield_strain.assign(connectors, kNever);
   if (model.radial_live.size() != radials) model.radial_live.assign(radials, 1);
   if (model.radial_original_angle.size() != radials) model.radial_original_angle = model.radial_rest_angle;
   if (model.radial_yield_angle.size() != radials) model.radial_yield_angle.assign(radials, kNever);
-  model.broken_connector_count = static_cast<std::size_t>(
-      std::count(model.connector_live.begin(), model.connector_live.end(), std::uint8_t{0}));
+  model.broken_connector_count =
+      static_cast<std::size_t>(std::count(model.connector_live.begin(), model.connector_live.end(), std::uint8_t{0}));
   build_gather_table(model);
   build_connector_radial_table(model);
   CLOTHSIM_ASSERT(model.gather_offset.back() == model.force_slot_count(), "gather table covers every slot");

@@ -97,11 +97,11 @@ struct ClothModel {
   // Changing parts of a connector (DESIGN.md section 3, events/): whether it is intact, the
   // strain at which it breaks, and the yield strain of its plastic law. A broken connector and
   // every radial spring using it exert no force and store no energy; they keep their index.
-  std::vector<std::uint8_t> connector_live;         // 1 intact, 0 broken
-  std::vector<double> connector_break_time;         // simulated time it broke, s; +inf while intact
-  std::vector<double> connector_original_length;    // L as built, m: strains of tearing and plasticity
-  std::vector<double> connector_break_strain;       // breaks when l / original - 1 > this; +inf: never
-  std::vector<double> connector_yield_strain;       // y_e of the return mapping; grows by hardening; +inf: elastic
+  std::vector<std::uint8_t> connector_live;       // 1 intact, 0 broken
+  std::vector<double> connector_break_time;       // simulated time it broke, s; +inf while intact
+  std::vector<double> connector_original_length;  // L as built, m: strains of tearing and plasticity
+  std::vector<double> connector_break_strain;     // breaks when l / original - 1 > this; +inf: never
+  std::vector<double> connector_yield_strain;     // y_e of the return mapping; grows by hardening; +inf: elastic
 
   // Radial springs [radial_count()]: energy 1/2 k (theta - theta0)^2 of the angle theta between
   // the connectors centre->b and centre->c, plus damping -c dtheta/dt along the same gradient.
@@ -111,9 +111,9 @@ struct ClothModel {
   std::vector<double> radial_rest_angle;  // theta0, rad, in [0, pi]
   std::vector<double> radial_stiffness;   // k, N m / rad
   std::vector<double> radial_damping;     // c, N m s / rad
-  std::vector<std::uint8_t> radial_live;         // 0 once one of its connectors broke
-  std::vector<double> radial_original_angle;     // theta0 as built, rad
-  std::vector<double> radial_yield_angle;        // creasing: largest |theta - theta0| kept elastic, rad; +inf: elastic
+  std::vector<std::uint8_t> radial_live;  // 0 once one of its connectors broke
+  std::vector<double> radial_original_angle;  // theta0 as built, rad
+  std::vector<double> radial_yield_angle;     // creasing: largest |theta - theta0| kept elastic, rad; +inf: elastic
 
   // Radial springs using each connector (CSR): radial_of_connector[connector_radial_offset[e] ..
   // connector_radial_offset[e + 1]), ascending. Breaking e kills exactly these.

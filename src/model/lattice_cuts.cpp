@@ -46,7 +46,6 @@ std::vector<std::uint32_t> connectors_crossed(const ClothModel& model, std::span
   return crossed;
 }
 
-
 std::vector<std::uint32_t> connectors_crossed_in_lattice(const ClothModel& model, const std::array<double, 2>& from,
                                                          const std::array<double, 2>& to) {
   std::vector<Point> lattice(model.particle_count());

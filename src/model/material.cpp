@@ -39,8 +39,8 @@ void set_plate_stiffness(MaterialDef& sheet, double young, double poisson, doubl
 std::array<MaterialDef, 5> make_presets() {
   // Woven fabrics (docs/materials.md): representative KES-F values. Under everyday loads cloth
   // neither tears nor keeps a stretch or a fold in this model: its limits stay +inf.
-  MaterialDef cotton = from_kawabata("cotton", 13.0, 0.04, 0.8, 0.08);    // shirting, plain weave
-  MaterialDef silk = from_kawabata("silk", 5.0, 0.08, 0.4, 0.03);         // thin dress silk (habutae)
+  MaterialDef cotton = from_kawabata("cotton", 13.0, 0.04, 0.8, 0.08);   // shirting, plain weave
+  MaterialDef silk = from_kawabata("silk", 5.0, 0.08, 0.4, 0.03);        // thin dress silk (habutae)
   MaterialDef denim = from_kawabata("denim", 40.7, 0.055, 2.18, 0.172);  // 12 oz/yd^2 twill
 
   // Office paper, 80 g/m^2, 0.1 mm: tensile stiffness the geometric mean of machine and cross

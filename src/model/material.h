@@ -43,10 +43,10 @@ struct MaterialDef {
   // dimensionless and scale-free; the yield angles are per radial spring, rad: a crease is a kink
   // at one line of springs whatever the spacing, so its angle is what a fold keeps
   // (docs/materials.md discusses what this means for smooth bends).
-  double break_strain = SpringLimits::kNever;     // > 0: a connector breaks beyond it
-  double break_strain_variation = 0.0;            // [0, 1): relative spread of the break strain
-  double yield_strain = SpringLimits::kNever;     // > 0, <= break_strain: stretches for good beyond it
-  double hardening = 0.0;                         // >= 0: yield strain growth per unit plastic strain
+  double break_strain = SpringLimits::kNever;          // > 0: a connector breaks beyond it
+  double break_strain_variation = 0.0;                 // [0, 1): relative spread of the break strain
+  double yield_strain = SpringLimits::kNever;          // > 0, <= break_strain: stretches for good beyond it
+  double hardening = 0.0;                              // >= 0: yield strain growth per unit plastic strain
   double adjacent_yield_angle = SpringLimits::kNever;  // rad, [0, pi]: in-plane shear that stays
   double opposite_yield_angle = SpringLimits::kNever;  // rad, [0, pi]: folds that stay
 

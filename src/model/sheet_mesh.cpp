@@ -159,10 +159,9 @@ void find_cell_edges(const ClothModel& model, SheetMesh& mesh) {
                       "a torn sheet has a connector along every lattice edge");
       // Edge k joins corner k and k+1 of kCellCorners: (i,j)-(i+1,j), (i+1,j)-(i+1,j+1),
       // (i+1,j+1)-(i,j+1), (i,j+1)-(i,j).
-      mesh.cell_edge[lattice_index(cols - 1, i, j)] = {south[lattice_index(cols, i, j)],
-                                                       east[lattice_index(cols, i + 1, j)],
-                                                       south[lattice_index(cols, i, j + 1)],
-                                                       east[lattice_index(cols, i, j)]};
+      mesh.cell_edge[lattice_index(cols - 1, i, j)] = {
+          south[lattice_index(cols, i, j)], east[lattice_index(cols, i + 1, j)], south[lattice_index(cols, i, j + 1)],
+          east[lattice_index(cols, i, j)]};
     }
   }
 }

@@ -120,9 +120,9 @@ enum class SheetVertexKind : std::uint8_t {
 
 struct SheetVertexSource {
   SheetVertexKind kind = SheetVertexKind::particle;
-  std::uint32_t index = 0;  // particle, connector or cell, by kind
-  std::uint8_t side = 0;    // connector_end: which end's half
-  std::uint8_t corners = 0; // cell_centre: the corners of the component, 4 bits (see above)
+  std::uint32_t index = 0;   // particle, connector or cell, by kind
+  std::uint8_t side = 0;     // connector_end: which end's half
+  std::uint8_t corners = 0;  // cell_centre: the corners of the component, 4 bits (see above)
   bool operator==(const SheetVertexSource&) const = default;
 };
 
@@ -133,12 +133,12 @@ inline constexpr std::array<std::array<int, 2>, 4> kCellCorners = {{{0, 0}, {1, 
 
 // A triangle mesh of the sheet in one of the two modes.
 struct SheetMesh {
-  int grid_rows = 0;                                   // the grid: its vertex (i, j) is i*grid_cols + j
+  int grid_rows = 0;  // the grid: its vertex (i, j) is i*grid_cols + j
   int grid_cols = 0;
-  std::vector<Vec3> vertex_position;                   // [vertices], m; the grid's first, then split vertices
-  std::vector<Vec3> vertex_normal;                     // [vertices], unit
+  std::vector<Vec3> vertex_position;                            // [vertices], m; the grid's first, then split vertices
+  std::vector<Vec3> vertex_normal;                              // [vertices], unit
   std::vector<std::array<std::uint32_t, 3>> triangle_vertices;  // [triangles]; intact: 2 (grid_rows-1) (grid_cols-1)
-  std::vector<SheetVertexSource> vertex_source;        // [vertices]: what each vertex is
+  std::vector<SheetVertexSource> vertex_source;                 // [vertices]: what each vertex is
   // Counts the rebuilds of the topology (vertex_source, triangle_vertices): a renderer re-uploads
   // its index buffer when this moves.
   std::uint64_t topology_version = 0;

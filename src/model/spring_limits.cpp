@@ -25,7 +25,8 @@ double break_strain_offset(std::uint64_t seed, std::uint64_t connector) {
 
 double connector_break_threshold(const SpringLimits& limits, std::uint64_t connector) {
   if (limits.break_strain == SpringLimits::kNever) return SpringLimits::kNever;
-  return limits.break_strain * (1.0 + limits.break_strain_variation * break_strain_offset(limits.variation_seed, connector));
+  return limits.break_strain *
+         (1.0 + limits.break_strain_variation * break_strain_offset(limits.variation_seed, connector));
 }
 
 void apply_spring_limits(ClothModel& model, const SpringLimits& limits) {

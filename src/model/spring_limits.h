@@ -23,9 +23,9 @@ struct SpringLimits {
   static constexpr double kNever = std::numeric_limits<double>::infinity();
   // Tearing: connector e breaks when its strain against its original length, l / L0_e - 1,
   // exceeds s_e = break_strain (1 + break_strain_variation u_e).
-  double break_strain = kNever;          // dimensionless, > 0
-  double break_strain_variation = 0.0;   // relative spread of s_e, in [0, 1)
-  std::uint64_t variation_seed = 1;      // the scene's initial.seed
+  double break_strain = kNever;         // dimensionless, > 0
+  double break_strain_variation = 0.0;  // relative spread of s_e, in [0, 1)
+  std::uint64_t variation_seed = 1;     // the scene's initial.seed
   // Permanent stretching: return mapping with yield strain y_e (initially yield_strain), which
   // grows by hardening times each plastic increment.
   double yield_strain = kNever;  // dimensionless, > 0

@@ -104,8 +104,9 @@ AnchorPath read_path(const json& value, const std::string& source, const std::st
   for (const auto& member : value.items()) {
     if (contains_name(allowed, member.key())) continue;
     const std::string owner = member.key() == "velocity" ? "linear" : member.key() == "keys" ? "keyframes" : "sinusoid";
-    fail(source, join_key(field, member.key()), "belongs to a " + owner + " path, not a " + kind + " one (keys of a " +
-                                                    kind + " path: " + join_names(allowed) + ")");
+    fail(source, join_key(field, member.key()),
+         "belongs to a " + owner + " path, not a " + kind + " one (keys of a " + kind +
+             " path: " + join_names(allowed) + ")");
   }
   if (value.contains("velocity")) {
     path.velocity = read_vector(value.at("velocity"), kAnchorComponentRange, source, field + ".velocity");
@@ -163,18 +164,21 @@ constexpr ValueRange kCutPointRange = closed_range(-1e6, 1e6);
 
 std::vector<CutSpec> read_cuts(const json& value, const std::string& source) {
   if (!value.is_array()) {
-    fail(source, "cuts", "must be a list of cuts {\"from\": [row, col], \"to\": [row, col]}, got " + describe_json(value));
+    fail(source, "cuts",
+         "must be a list of cuts {\"from\": [row, col], \"to\": [row, col]}, got " + describe_json(value));
   }
   std::vector<CutSpec> cuts;
   for (std::size_t i = 0; i < value.size(); ++i) {
     const std::string field = "cuts[" + std::to_string(i) + "]";
     const json& item = value[i];
-    if (!item.is_object()) fail(source, field, "must be an object {\"from\": [row, col], \"to\": [row, col]}, got " + describe_json(item));
+    if (!item.is_object())
+      fail(source, field, "must be an object {\"from\": [row, col], \"to\": [row, col]}, got " + describe_json(item));
     check_keys(item, {"from", "to"}, field, source);
     CutSpec cut;
     for (const char* end : {"from", "to"}) {
       const std::string end_field = field + "." + end;
-      if (!item.contains(end)) fail(source, end_field, "is required: a rest-lattice point [row, col] in particle spacings");
+      if (!item.contains(end))
+        fail(source, end_field, "is required: a rest-lattice point [row, col] in particle spacings");
       const json& point = item.at(end);
       if (!point.is_array() || point.size() != 2) {
         fail(source, end_field, "must be an array of 2 numbers [row, col], got " + describe_json(point));

@@ -192,8 +192,8 @@ Vec3 read_vector(const json& value, const ValueRange& range, const std::string& 
   }
   std::array<double, 3> components{};
   for (std::size_t axis = 0; axis < 3; ++axis) {
-    components[axis] = read_value(value[axis], ParameterType::real, range, source,
-                                  field + "[" + std::to_string(axis) + "]");
+    components[axis] =
+        read_value(value[axis], ParameterType::real, range, source, field + "[" + std::to_string(axis) + "]");
   }
   return {components[0], components[1], components[2]};
 }
@@ -270,8 +270,8 @@ Vec3 read_text_vector(std::string_view text, const ValueRange& range, const std:
   if (items.size() != 3) fail(source, field, "must be 3 numbers x,y,z, got " + quoted(text));
   std::array<double, 3> components{};
   for (std::size_t axis = 0; axis < 3; ++axis) {
-    components[axis] = read_text_value(items[axis], ParameterType::real, range, source,
-                                       field + "[" + std::to_string(axis) + "]");
+    components[axis] =
+        read_text_value(items[axis], ParameterType::real, range, source, field + "[" + std::to_string(axis) + "]");
   }
   return {components[0], components[1], components[2]};
 }

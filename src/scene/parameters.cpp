@@ -16,7 +16,7 @@ constexpr ValueRange kRestAngleRange = closed_range(0.0, 180.0);    // degrees
 constexpr ValueRange kStrainLimitRange = left_open_range(0.0, 1e6);  // break and yield strains
 constexpr ValueRange kVariationRange = {0.0, 1.0, true, false};      // [0, 1)
 constexpr ValueRange kHardeningRange = closed_range(0.0, 1e6);
-constexpr ValueRange kYieldAngleRange = closed_range(0.0, 180.0);    // degrees
+constexpr ValueRange kYieldAngleRange = closed_range(0.0, 180.0);  // degrees
 
 // The table. Accessors are captureless lambdas (converted to function pointers); setters receive
 // values already checked against the range, so the casts to int cannot overflow.
@@ -35,8 +35,7 @@ constexpr std::array kScalarParameters = {
                     [](const SceneSpec& s) { return s.lattice.spacing; },
                     [](SceneSpec& s, double v) { s.lattice.spacing = v; }},
     ScalarParameter{"lattice.particle_mass", ParameterType::real, "kg", left_open_range(0.0, 1e6),
-                    "mass of every particle",
-                    [](const SceneSpec& s) { return s.lattice.particle_mass; },
+                    "mass of every particle", [](const SceneSpec& s) { return s.lattice.particle_mass; },
                     [](SceneSpec& s, double v) { s.lattice.particle_mass = v; }},
     // Springs.
     ScalarParameter{"springs.connector.stiffness", ParameterType::real, "N/m", kSpringRange,
@@ -134,12 +133,10 @@ constexpr std::array kScalarParameters = {
                     [](const SceneSpec& s) { return s.integrator.min_step; },
                     [](SceneSpec& s, double v) { s.integrator.min_step = v; }},
     ScalarParameter{"integrator.max_step", ParameterType::real, "s", left_open_range(0.0, 1000.0),
-                    "RKF45: largest step",
-                    [](const SceneSpec& s) { return s.integrator.max_step; },
+                    "RKF45: largest step", [](const SceneSpec& s) { return s.integrator.max_step; },
                     [](SceneSpec& s, double v) { s.integrator.max_step = v; }},
     ScalarParameter{"integrator.safety", ParameterType::real, "", left_open_range(0.0, 1.0),
-                    "RKF45: safety factor on the optimal step",
-                    [](const SceneSpec& s) { return s.integrator.safety; },
+                    "RKF45: safety factor on the optimal step", [](const SceneSpec& s) { return s.integrator.safety; },
                     [](SceneSpec& s, double v) { s.integrator.safety = v; }},
     ScalarParameter{"integrator.max_growth", ParameterType::real, "", closed_range(1.0, 100.0),
                     "RKF45: largest step increase factor per step",
@@ -167,8 +164,7 @@ constexpr std::array kScalarParameters = {
                     [](const SceneSpec& s) { return s.output.duration; },
                     [](SceneSpec& s, double v) { s.output.duration = v; }},
     ScalarParameter{"output.fps", ParameterType::integer, "1/s", closed_range(1.0, 10000.0),
-                    "frames written per simulated second",
-                    [](const SceneSpec& s) { return double(s.output.fps); },
+                    "frames written per simulated second", [](const SceneSpec& s) { return double(s.output.fps); },
                     [](SceneSpec& s, double v) { s.output.fps = static_cast<int>(v); }},
     ScalarParameter{"output.until_rest", ParameterType::boolean, "", closed_range(0.0, 1.0),
                     "stop once the kinetic energy has stayed below rest_kinetic_energy for rest_duration",
@@ -207,8 +203,7 @@ constexpr std::array kVectorParameters = {
 
 constexpr std::array kMaterialParameters = {
     MaterialParameter{"areal_density", ParameterType::real, "kg/m^2", left_open_range(0.0, 1000.0),
-                      "mass per unit area (rho)",
-                      [](const MaterialDef& m) { return m.areal_density; },
+                      "mass per unit area (rho)", [](const MaterialDef& m) { return m.areal_density; },
                       [](MaterialDef& m, double v) { m.areal_density = v; }},
     MaterialParameter{"stretch_stiffness", ParameterType::real, "N/m", kSpringRange,
                       "tension per unit width per unit strain (Y = E t)",
@@ -226,10 +221,9 @@ constexpr std::array kMaterialParameters = {
                       "every spring's damping is damping_time times its stiffness",
                       [](const MaterialDef& m) { return m.damping_time; },
                       [](MaterialDef& m, double v) { m.damping_time = v; }},
-    MaterialParameter{"break_strain", ParameterType::limit, "", kStrainLimitRange,
-                      "strain at which the sheet tears; none: never",
-                      [](const MaterialDef& m) { return m.break_strain; },
-                      [](MaterialDef& m, double v) { m.break_strain = v; }},
+    MaterialParameter{
+        "break_strain", ParameterType::limit, "", kStrainLimitRange, "strain at which the sheet tears; none: never",
+        [](const MaterialDef& m) { return m.break_strain; }, [](MaterialDef& m, double v) { m.break_strain = v; }},
     MaterialParameter{"break_strain_variation", ParameterType::real, "", kVariationRange,
                       "relative spread of the break strain over the connectors",
                       [](const MaterialDef& m) { return m.break_strain_variation; },
@@ -238,10 +232,9 @@ constexpr std::array kMaterialParameters = {
                       "strain beyond which the sheet stretches for good; none: elastic",
                       [](const MaterialDef& m) { return m.yield_strain; },
                       [](MaterialDef& m, double v) { m.yield_strain = v; }},
-    MaterialParameter{"hardening", ParameterType::real, "", kHardeningRange,
-                      "growth of the yield strain per unit plastic strain",
-                      [](const MaterialDef& m) { return m.hardening; },
-                      [](MaterialDef& m, double v) { m.hardening = v; }},
+    MaterialParameter{
+        "hardening", ParameterType::real, "", kHardeningRange, "growth of the yield strain per unit plastic strain",
+        [](const MaterialDef& m) { return m.hardening; }, [](MaterialDef& m, double v) { m.hardening = v; }},
     MaterialParameter{"adjacent_yield_angle_deg", ParameterType::limit, "deg", kYieldAngleRange,
                       "in-plane shear angle that stays; none: elastic",
                       [](const MaterialDef& m) { return radians_to_degrees(m.adjacent_yield_angle); },
@@ -252,8 +245,8 @@ constexpr std::array kMaterialParameters = {
                       [](MaterialDef& m, double v) { m.opposite_yield_angle = degrees_to_radians(v); }},
 };
 
-constexpr std::array<std::string_view, 7> kSpecialKeys = {"name", "description", "paper_args", "material",
-                                                          "anchors", "cuts", "integrator.method"};
+constexpr std::array<std::string_view, 7> kSpecialKeys = {"name",    "description", "paper_args",       "material",
+                                                          "anchors", "cuts",        "integrator.method"};
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".
 std::string compact_exponent(std::string text) {

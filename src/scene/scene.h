@@ -10,12 +10,11 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
-
-#include <nlohmann/json_fwd.hpp>
 
 #include "integrators/integrator.h"
 #include "model/anchor.h"

@@ -60,11 +60,11 @@ bool Simulation::integrate(double time) {
 
   if (outcome.status == StepStatus::step_underflow) {
     const std::string where = model_->describe_particle(outcome.particle);
-    fail(where, std::string(outcome.non_finite_error ? "forces became non-finite" : "step size underflow") + ": " +
-                    std::string(to_string(settings_.integrator.kind)) + " needed a step of " +
-                    format_number(outcome.step) + " s, below min_step = " +
-                    format_number(settings_.integrator.min_step) + " s; the largest error is at " + where +
-                    ". The state is blowing up, or the problem is too stiff for this tolerance.");
+    fail(where,
+         std::string(outcome.non_finite_error ? "forces became non-finite" : "step size underflow") + ": " +
+             std::string(to_string(settings_.integrator.kind)) + " needed a step of " + format_number(outcome.step) +
+             " s, below min_step = " + format_number(settings_.integrator.min_step) + " s; the largest error is at " +
+             where + ". The state is blowing up, or the problem is too stiff for this tolerance.");
     return false;
   }
   if (outcome.status == StepStatus::non_finite) {
@@ -177,8 +177,9 @@ ModelChanges Simulation::model_changes() const {
   changes.broken_connectors = model.broken_connector_count;
   for (std::size_t e = 0; e < model.connector_count(); ++e) {
     if (model.connector_live[e] == 0) continue;
-    changes.max_plastic_strain = std::max(
-        changes.max_plastic_strain, std::abs(model.connector_rest_length[e] / model.connector_original_length[e] - 1.0));
+    changes.max_plastic_strain =
+        std::max(changes.max_plastic_strain,
+                 std::abs(model.connector_rest_length[e] / model.connector_original_length[e] - 1.0));
   }
   for (std::size_t r = 0; r < model.radial_count(); ++r) {
     if (model.radial_live[r] == 0) {

@@ -74,8 +74,8 @@ TEST(Tearing, ABrokenConnectorTakesItsRadialSpringsAlongAndExertsNoForce) {
 
 TEST(Tearing, ThePiecesSeparateAndMassIsConserved) {
   Simulation simulation = pulled_strip(0.10, 0.6);
-  const double mass_before = std::accumulate(simulation.model().particle_mass.begin(),
-                                             simulation.model().particle_mass.end(), 0.0);
+  const double mass_before =
+      std::accumulate(simulation.model().particle_mass.begin(), simulation.model().particle_mass.end(), 0.0);
   ASSERT_GE(simulation.model_changes().broken_connectors, 1u);
   // Keep pulling: the piece on the pulled side follows the anchor, the other stays behind.
   std::size_t broken = 0;
@@ -86,8 +86,8 @@ TEST(Tearing, ThePiecesSeparateAndMassIsConserved) {
   const double gap_before = distance(simulation.state(), a, b);
   ASSERT_TRUE(simulation.advance_to(2.0));
   EXPECT_GT(distance(simulation.state(), a, b), gap_before + 0.5);
-  const double mass_after = std::accumulate(simulation.model().particle_mass.begin(),
-                                            simulation.model().particle_mass.end(), 0.0);
+  const double mass_after =
+      std::accumulate(simulation.model().particle_mass.begin(), simulation.model().particle_mass.end(), 0.0);
   EXPECT_EQ(mass_after, mass_before);
   EXPECT_EQ(simulation.model().particle_count(), 5u);
 }
@@ -138,7 +138,7 @@ TEST(Tearing, BreaksReleaseTheirElasticEnergyAsFractureWork) {
   apply_spring_limits(model, limits);
   ClothState state = make_rest_state(model);
   for (std::size_t p = 0; p < 6; ++p) state.position[p].x *= 1.2;  // every connector at 20 % strain
-  state.position[3].y = 0.3;                                      // and a kink
+  state.position[3].y = 0.3;                                       // and a kink
   EnergyReport before = compute_energy(model, state);
   SpringEvents events;
   const SpringEventCounts counts = events.apply(model, state, 1);

@@ -138,10 +138,13 @@ TEST(LatticeKernel, AgreesWithTheGeneralPathOnAFlatSheetInMotion) {
 // and the damping of the straight springs then pushed along the strip).
 TEST(LatticeKernel, AgreesWithTheGeneralPathOnAStripMovingAlongItsLine) {
   const ClothModel strip = lattice(1, 5);
-  const std::vector<Vec3> x = {{-2, 0, 0}, {-1.006807798466935, 0, 0}, {-0.0096464390858170164, 0, 0},
-                               {0.99047308355091668, 0, 0}, {2.92, 0, 0}};
-  const std::vector<Vec3> v = {{0, 0, 0}, {-0.2083870101907717, 0, 0}, {-0.4033382470181983, 0, 0},
-                               {-0.5297294810059696, 0, 0}, {1, 0, 0}};
+  const std::vector<Vec3> x = {{-2, 0, 0},
+                               {-1.006807798466935, 0, 0},
+                               {-0.0096464390858170164, 0, 0},
+                               {0.99047308355091668, 0, 0},
+                               {2.92, 0, 0}};
+  const std::vector<Vec3> v = {
+      {0, 0, 0}, {-0.2083870101907717, 0, 0}, {-0.4033382470181983, 0, 0}, {-0.5297294810059696, 0, 0}, {1, 0, 0}};
   expect_paths_agree(strip, x, v);
 }
 
@@ -192,7 +195,8 @@ ClothModel torn_and_plastic(int rows, int cols, double broken_fraction, std::uin
     model.connector_damping[e] *= random.uniform(0.5, 1.5);
   }
   for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    model.radial_rest_angle[r] = std::clamp(model.radial_rest_angle[r] + random.uniform(-0.6, 0.6), 0.0, std::numbers::pi);
+    model.radial_rest_angle[r] =
+        std::clamp(model.radial_rest_angle[r] + random.uniform(-0.6, 0.6), 0.0, std::numbers::pi);
     model.radial_stiffness[r] *= random.uniform(0.5, 1.5);
     model.radial_damping[r] *= random.uniform(0.5, 1.5);
   }

@@ -5,8 +5,6 @@
 // The numpy tests run the real numpy.load, the reader our users have, rather than a
 // reimplementation of it. They must not skip: scripts/install-deps.sh installs python3-numpy, and
 // a missing numpy fails with a message saying how to fix it.
-#include "io/npy.h"
-
 #include <gtest/gtest.h>
 
 #include <array>
@@ -26,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/npy.h"
 #include "test_checks.h"
 
 namespace clothsim {

@@ -1,8 +1,6 @@
 // Tests of io/obj: the OBJ file read back line by line (counts, index ranges, values), including
 // flipped, 1-wide and torn sheets. The triangulation and normals it writes are tested in
 // tests/model/test_sheet_mesh.cpp.
-#include "io/obj.h"
-
 #include <gtest/gtest.h>
 
 #include <array>
@@ -17,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "io/obj.h"
 #include "model/model_edits.h"
 #include "test_checks.h"
 #include "test_support.h"

@@ -2,21 +2,19 @@
 // the tearing columns of energy.csv, the sheet_changes of summary.json, connectors.npy and
 // connector_break_time.npy (enough to rebuild each frame's live connectors), and a split
 // final.obj. The files of an intact run are tested end to end in tests/apps/test_cli.cpp.
-#include "io/run_writer.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "io/npy.h"
+#include "io/run_writer.h"
 #include "scene/scene.h"
 #include "test_checks.h"
 

@@ -1,7 +1,4 @@
 // Lattice topology and layout as the paper and docs/model.md define them.
-#include "model/cloth_model.h"
-#include "model/model_edits.h"
-
 #include <gtest/gtest.h>
 
 #include <limits>
@@ -9,7 +6,9 @@
 #include <vector>
 
 #include "core/error.h"
+#include "model/cloth_model.h"
 #include "model/initial_conditions.h"
+#include "model/model_edits.h"
 
 namespace clothsim {
 namespace {

@@ -4,8 +4,6 @@
 // spring, no cloth disappears (the rest area is the sheet's), a tear along a line parts the mesh
 // in two, normals do not average across a tear, broken halves open a gap, and the topology is
 // rebuilt only when a connector breaks.
-#include "model/sheet_mesh.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -19,6 +17,7 @@
 #include <vector>
 
 #include "model/model_edits.h"
+#include "model/sheet_mesh.h"
 #include "test_checks.h"
 #include "test_support.h"
 
@@ -222,8 +221,8 @@ std::uint32_t connector_between(const ClothModel& model, std::uint32_t a, std::u
 // Breaks the connectors between rows `row` and `row` + 1: a tear straight across the sheet.
 void tear_between_rows(ClothModel& model, int row) {
   for (int j = 0; j < model.cols; ++j) {
-    ASSERT_TRUE(break_connector(model, connector_between(model, lattice_index(model.cols, row, j),
-                                                         lattice_index(model.cols, row + 1, j))));
+    ASSERT_TRUE(break_connector(
+        model, connector_between(model, lattice_index(model.cols, row, j), lattice_index(model.cols, row + 1, j))));
   }
 }
 
@@ -268,9 +267,8 @@ bool joined_within_a_cell(const ClothModel& model, const std::set<std::uint32_t>
       for (std::size_t k = 0; k < 4; ++k) {
         corner[k] = lattice_index(model.cols, i + kCellCorners[k][0], j + kCellCorners[k][1]);
       }
-      if (!std::all_of(particles.begin(), particles.end(), [&](std::uint32_t p) {
-            return std::find(corner.begin(), corner.end(), p) != corner.end();
-          })) {
+      if (!std::all_of(particles.begin(), particles.end(),
+                       [&](std::uint32_t p) { return std::find(corner.begin(), corner.end(), p) != corner.end(); })) {
         continue;
       }
       // Flood from one particle through the cell's live edges.
@@ -514,9 +512,8 @@ TEST(TornSheetMesh, CellCentreFacesKeepToTheirParticle) {
     std::vector<std::uint32_t> common = vertex_particles(model, mesh.vertex_source[triangle[0]]);
     for (std::size_t k = 1; k < 3; ++k) {
       const std::vector<std::uint32_t> particles = vertex_particles(model, mesh.vertex_source[triangle[k]]);
-      std::erase_if(common, [&](std::uint32_t p) {
-        return std::find(particles.begin(), particles.end(), p) == particles.end();
-      });
+      std::erase_if(
+          common, [&](std::uint32_t p) { return std::find(particles.begin(), particles.end(), p) == particles.end(); });
     }
     EXPECT_FALSE(common.empty());
   }

@@ -15,9 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "model/model_edits.h"
 #include "render/headless.h"
 #include "render/image.h"
-#include "model/model_edits.h"
 #include "render/renderer.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"

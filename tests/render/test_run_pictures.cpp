@@ -189,8 +189,14 @@ TEST_F(RunPictures, OddSizesArePaddedInTheVideoOnly) {
 }
 
 TEST_F(RunPictures, RenderFlagWritesExactlyTheNamedFiles) {
-  const std::set<std::string> data = {"run",          "run/positions.npy", "run/velocities.npy", "run/energy.csv",
-                                      "run/summary.json", "run/final.obj", "run/scene.json", "run/connectors.npy",
+  const std::set<std::string> data = {"run",
+                                      "run/positions.npy",
+                                      "run/velocities.npy",
+                                      "run/energy.csv",
+                                      "run/summary.json",
+                                      "run/final.obj",
+                                      "run/scene.json",
+                                      "run/connectors.npy",
                                       "run/connector_break_time.npy"};
   struct Case {
     const char* render;

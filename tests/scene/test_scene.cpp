@@ -445,8 +445,8 @@ TEST(SetSceneField, EveryRegistryParameterReadsBackWhatWasSet) {
   for (const ScalarParameter& parameter : scalar_parameters()) {
     SceneSpec spec;
     // An allowed value that differs from most defaults: the upper end, or the lower if open.
-    const double value = parameter.range.max_inclusive ? parameter.range.max
-                                                       : 0.5 * (parameter.range.min + parameter.range.max);
+    const double value =
+        parameter.range.max_inclusive ? parameter.range.max : 0.5 * (parameter.range.min + parameter.range.max);
     const std::string text = parameter.type == ParameterType::boolean ? "true" : format_number(value);
     set_scene_field(spec, parameter.key, text, "--set");
     EXPECT_EQ(parameter.get(spec), value) << parameter.key;

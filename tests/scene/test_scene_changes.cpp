@@ -4,10 +4,9 @@
 #include <gtest/gtest.h>
 
 #include <limits>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "model/material.h"
 #include "scene/scene.h"
@@ -91,8 +90,8 @@ TEST(SpringLimitKeys, BuildModelAppliesThemWithTheScenesSeed) {
     EXPECT_EQ(model.connector_yield_strain[e], 0.1);
   }
   for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    EXPECT_EQ(model.radial_yield_angle[r], model.radial_kind[r] == RadialKind::opposite ? std::numbers::pi / 2.0
-                                                                                       : kNever);
+    EXPECT_EQ(model.radial_yield_angle[r],
+              model.radial_kind[r] == RadialKind::opposite ? std::numbers::pi / 2.0 : kNever);
   }
   // A scene without limits builds the unlimited model of the paper.
   const ClothModel paper = build_model(SceneSpec{});
@@ -125,8 +124,8 @@ TEST(KeyframedAnchors, ParseRoundTripAndResolve) {
 
 TEST(KeyframedAnchors, BadKeysNameTheKey) {
   const auto scene = [](const std::string& keys) {
-    return R"({"anchors": [{"row": 0, "col": 0}, {"row": 1, "col": 1, "path": {"type": "keyframes", "keys": )" +
-           keys + "}}]}";
+    return R"({"anchors": [{"row": 0, "col": 0}, {"row": 1, "col": 1, "path": {"type": "keyframes", "keys": )" + keys +
+           "}}]}";
   };
   expect_input_error([&] { parse_scene(scene("[]"), "s.json"); },
                      {"s.json", "anchors[1].path.keys", "at least one key"});
@@ -151,9 +150,8 @@ TEST(KeyframedAnchors, BadKeysNameTheKey) {
 }
 
 TEST(ReleaseTime, MustLieWithinTheRun) {
-  expect_input_error(
-      [] { parse_scene(R"({"output": {"duration": 2}, "anchors": [{"release_time": 2}]})", "s.json"); },
-      {"s.json", "anchors[0].release_time", "within the run", "[0, output.duration) = [0, 2)", "got 2"});
+  expect_input_error([] { parse_scene(R"({"output": {"duration": 2}, "anchors": [{"release_time": 2}]})", "s.json"); },
+                     {"s.json", "anchors[0].release_time", "within the run", "[0, output.duration) = [0, 2)", "got 2"});
   expect_input_error([] { parse_scene(R"({"anchors": [{"release_time": -1}]})", "s.json"); },
                      {"s.json", "anchors[0].release_time"});
   EXPECT_EQ(parse_scene(R"({"anchors": [{"release_time": null}]})", "s.json").anchors[0].release_time, kNever);

@@ -1,14 +1,14 @@
 // The built-in scenes of issue 7 (tearing, permanent stretching, creasing) do what their
 // descriptions say, run through the Simulation as `clothsim run` runs them; plus the scene-level
 // anchor events: keyframes and release_time.
+#include <gtest/gtest.h>
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
 #include <numeric>
 #include <vector>
-
-#include <gtest/gtest.h>
 
 #include "model/material.h"
 #include "scene/scene.h"

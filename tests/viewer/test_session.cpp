@@ -195,8 +195,8 @@ TEST(Session, PauseAndPlayEventsAndQuit) {
 
 TEST(Session, ScriptedCutBreaksTheConnectorsItCrosses) {
   Session session(small_scene());  // 5 x 5, the centre (2, 2) anchored
-  const Script script = parse_script(R"({"events": [{"at": 0.1, "cut": {"from": [2.5, -1], "to": [2.5, 9]}}]})",
-                                     "cut.json");
+  const Script script =
+      parse_script(R"({"events": [{"at": 0.1, "cut": {"from": [2.5, -1], "to": [2.5, 9]}}]})", "cut.json");
   check_script(script, session.scene());
   ScriptPlayer player(script, kFrameTime);
   play(session, player, 30);
