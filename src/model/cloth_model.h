@@ -25,6 +25,7 @@
 
 #include "core/vec3.h"
 #include "model/anchor.h"
+#include "model/collider.h"
 #include "model/spring_limits.h"
 
 namespace clothsim {
@@ -128,6 +129,10 @@ struct ClothModel {
   std::vector<Anchor> anchors;
 
   Environment environment;
+
+  // Obstacles and collision settings (model/collider.h; collision/ responds to them).
+  std::vector<Collider> colliders;
+  CollisionSettings collision;
 
   // Force gather table (CSR). Element forces are written to per-element slots, then each
   // particle sums its slots in ascending order; this is what makes results independent of the
