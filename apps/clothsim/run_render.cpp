@@ -202,9 +202,12 @@ std::shared_ptr<const RenderPlan> parse_render_flags(const RenderFlags& flags) {
         plan->options.show_ground = false;
       } else if (item == "no-anchors") {
         plan->options.show_anchors = false;
+      } else if (item == "no-colliders") {
+        plan->options.show_colliders = false;
       } else {
         throw InputError("--show", "",
-                         "expects a comma-separated list of connectors, radials, wireframe, no-ground, no-anchors; "
+                         "expects a comma-separated list of connectors, radials, wireframe, no-ground, no-anchors, "
+                         "no-colliders; "
                          "got \"" + item + "\"");
       }
     }
@@ -272,7 +275,7 @@ struct RunRecorder::Impl {
     director->update(model, frame.position, frame.time);
     options.ground_height = director->ground_height();
     context->bind();
-    renderer->draw(model, frame.position, options, director->camera(), plan->width, plan->height);
+    renderer->draw(model, frame.position, options, director->camera(), plan->width, plan->height, frame.time);
     context->read(image);
     if (video) video->write_frame(image);
     ++frames;

@@ -10,7 +10,9 @@ std::string field_flag_help(const FieldFlag& flag, std::string_view what) {
   std::string text(what.empty() ? flag.what : what);
   text += " (";
   text += flag.key;
-  if (const ScalarParameter* parameter = find_scalar_parameter(flag.key)) {
+  if (flag.value_name == "on|off") {
+    // The value is the switch itself; the registry's "a boolean (true or false)" would mislead.
+  } else if (const ScalarParameter* parameter = find_scalar_parameter(flag.key)) {
     text += ": ";
     text += describe_allowed(parameter->type, parameter->range);
   } else if (const VectorParameter* vector = find_vector_parameter(flag.key)) {
@@ -19,6 +21,14 @@ std::string field_flag_help(const FieldFlag& flag, std::string_view what) {
   }
   text += ")";
   return text;
+}
+
+// The text set_scene_field() takes for a flag's value: --self-collision's on|off become true|false.
+std::string field_flag_value(const FieldFlag& flag, const std::string& value) {
+  if (flag.flag != "--self-collision") return value;
+  if (value == "on") return "true";
+  if (value == "off") return "false";
+  throw InputError(std::string(flag.flag), std::string(flag.key), "must be on or off, got \"" + value + "\"");
 }
 
 }  // namespace
@@ -85,7 +95,7 @@ SceneSpec make_scene(const SceneOptions& options, const std::function<bool(Scene
     const FieldFlag& flag = kFieldFlags[i];
     // A flag the subcommand did not register has no option: app->count() would throw.
     if (options.app->get_option_no_throw(std::string(flag.flag)) == nullptr || !options.given(flag.flag)) continue;
-    set_scene_field(spec, flag.key, options.field_values[i], std::string(flag.flag));
+    set_scene_field(spec, flag.key, field_flag_value(flag, options.field_values[i]), std::string(flag.flag));
     overridden = true;
   }
   if (extra && extra(spec)) overridden = true;

@@ -30,7 +30,7 @@ struct FieldFlag {
   std::string_view what;  // help text; the allowed range is appended from the registry
 };
 
-inline constexpr std::array<FieldFlag, 10> kFieldFlags = {{
+inline constexpr std::array<FieldFlag, 12> kFieldFlags = {{
     {"--duration", "output.duration", "SECONDS", "simulated time to run"},
     {"--fps", "output.fps", "N", "frames written per simulated second"},
     {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler or implicit-euler"},
@@ -41,6 +41,9 @@ inline constexpr std::array<FieldFlag, 10> kFieldFlags = {{
     {"--anchor", "anchors", "PRESET", "anchored particles: center, corners, edge-corners or none"},
     {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size and the idle cores"},
     {"--rest-energy", "output.rest_kinetic_energy", "JOULES", "kinetic energy below which --until-rest stops"},
+    // on|off rather than the registry's true|false: a switch reads better on the command line.
+    {"--self-collision", "collision.self", "on|off", "self-collision: keep the sheet from passing through itself"},
+    {"--thickness", "collision.thickness", "M", "collision thickness: distance kept from colliders (and the sheet), m"},
 }};
 
 // Which of kFieldFlags a subcommand offers, by flag name, with optional help text replacing the

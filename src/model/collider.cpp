@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
+#include <utility>
 
 #include "core/assert.h"
 
@@ -51,7 +53,134 @@ SurfaceDistance capsule_distance(const Collider& c, const Vec3& x) {
   return sphere_distance(c.a + s * axis, c.radius, x);
 }
 
+Vec3 unit_or_zero(const Vec3& v) {
+  const double length = norm(v);
+  return length > 0.0 ? v / length : Vec3{};
+}
+
+// The feature of a triangle a point's nearest point lies on: corner k, edge k (corner k to corner
+// (k + 1) % 3), or the face's interior.
+enum class TriangleFeature : std::uint8_t { vertex, edge, face };
+
+struct TrianglePoint {
+  Vec3 point;
+  TriangleFeature feature = TriangleFeature::face;
+  int index = 0;  // corner or edge number
+};
+
+// Closest point on triangle (a, b, c) to p, by Voronoi regions: Ericson, Real-Time Collision
+// Detection, section 5.1.5 (ClosestPtPointTriangle), which also names the region it ends in.
+TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 ab = b - a;
+  const Vec3 ac = c - a;
+  const Vec3 ap = p - a;
+  const double d1 = dot(ab, ap);
+  const double d2 = dot(ac, ap);
+  if (d1 <= 0.0 && d2 <= 0.0) return {a, TriangleFeature::vertex, 0};
+  const Vec3 bp = p - b;
+  const double d3 = dot(ab, bp);
+  const double d4 = dot(ac, bp);
+  if (d3 >= 0.0 && d4 <= d3) return {b, TriangleFeature::vertex, 1};
+  const double vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return {a + (d1 / (d1 - d3)) * ab, TriangleFeature::edge, 0};
+  const Vec3 cp = p - c;
+  const double d5 = dot(ab, cp);
+  const double d6 = dot(ac, cp);
+  if (d6 >= 0.0 && d5 <= d6) return {c, TriangleFeature::vertex, 2};
+  const double vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return {a + (d2 / (d2 - d6)) * ac, TriangleFeature::edge, 2};
+  const double va = d3 * d6 - d5 * d4;
+  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
+    return {b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b), TriangleFeature::edge, 1};
+  }
+  const double inverse = 1.0 / (va + vb + vc);
+  return {a + (vb * inverse) * ab + (vc * inverse) * ac, TriangleFeature::face, 0};
+}
+
+// Brute force over the triangles: O(triangles) per query. Enough for the few hundred triangles
+// of a table or a coarse obstacle; a bounding-volume hierarchy is the next step for scanned
+// meshes (the query's interface stays the same).
+SurfaceDistance mesh_distance(const TriangleMesh& mesh, const Vec3& x) {
+  CLOTHSIM_ASSERT(mesh.triangle_normal.size() == mesh.triangle.size() &&
+                      mesh.edge_pseudonormal.size() == 3 * mesh.triangle.size() &&
+                      mesh.vertex_pseudonormal.size() == mesh.vertex.size(),
+                  "mesh collider without pseudonormals (compute_pseudonormals)");
+  double best = std::numeric_limits<double>::infinity();
+  Vec3 nearest;
+  Vec3 pseudonormal{0.0, 1.0, 0.0};
+  TriangleFeature feature = TriangleFeature::face;
+  for (std::size_t t = 0; t < mesh.triangle.size(); ++t) {
+    // Degenerate triangles have no face and their edges belong to their neighbours.
+    if (squared_norm(mesh.triangle_normal[t]) == 0.0) continue;
+    const auto& corner = mesh.triangle[t];
+    const TrianglePoint candidate =
+        closest_point_on_triangle(x, mesh.vertex[corner[0]], mesh.vertex[corner[1]], mesh.vertex[corner[2]]);
+    const double distance_squared = squared_norm(x - candidate.point);
+    if (distance_squared >= best) continue;
+    best = distance_squared;
+    nearest = candidate.point;
+    feature = candidate.feature;
+    switch (candidate.feature) {
+      case TriangleFeature::vertex:
+        pseudonormal = mesh.vertex_pseudonormal[corner[candidate.index]];
+        break;
+      case TriangleFeature::edge:
+        pseudonormal = mesh.edge_pseudonormal[3 * t + candidate.index];
+        break;
+      case TriangleFeature::face:
+        pseudonormal = mesh.triangle_normal[t];
+        break;
+    }
+  }
+  if (!std::isfinite(best)) return {std::numeric_limits<double>::infinity(), {0.0, 1.0, 0.0}, {}};
+  const Vec3 offset = x - nearest;
+  const double distance = std::sqrt(best);
+  const bool inside = dot(offset, pseudonormal) < 0.0;
+  // Nearest to a face's interior the outward normal is the face's, exactly; computing it from the
+  // offset would turn the rounding of the nearest point into the normal's direction for points
+  // on or very near the face. At an edge or a corner the offset's direction is the normal, except
+  // on the surface itself, where it is undefined and the pseudonormal serves.
+  const bool on_surface = distance <= 1e-12 * (1.0 + norm(x));
+  const Vec3 normal = feature == TriangleFeature::face || on_surface ? pseudonormal
+                                                                      : (inside ? -offset : offset) / distance;
+  return {inside ? -distance : distance, normal, {}};
+}
+
 }  // namespace
+
+void compute_pseudonormals(TriangleMesh& mesh) {
+  const std::size_t triangle_count = mesh.triangle.size();
+  mesh.triangle_normal.assign(triangle_count, Vec3{});
+  mesh.vertex_pseudonormal.assign(mesh.vertex.size(), Vec3{});
+  mesh.edge_pseudonormal.assign(3 * triangle_count, Vec3{});
+  // Sum of the face normals at each undirected edge (smaller vertex index first).
+  std::map<std::pair<std::uint32_t, std::uint32_t>, Vec3> edge_sum;
+  const auto edge_key = [](std::uint32_t i, std::uint32_t j) { return std::pair{std::min(i, j), std::max(i, j)}; };
+  for (std::size_t t = 0; t < triangle_count; ++t) {
+    const auto& corner = mesh.triangle[t];
+    for (std::uint32_t index : corner) {
+      CLOTHSIM_ASSERT(index < mesh.vertex.size(), "mesh triangle corner out of range");
+    }
+    const Vec3 normal = unit_or_zero(cross(mesh.vertex[corner[1]] - mesh.vertex[corner[0]],
+                                           mesh.vertex[corner[2]] - mesh.vertex[corner[0]]));
+    mesh.triangle_normal[t] = normal;
+    for (int k = 0; k < 3; ++k) {
+      const Vec3& here = mesh.vertex[corner[k]];
+      const Vec3 to_next = unit_or_zero(mesh.vertex[corner[(k + 1) % 3]] - here);
+      const Vec3 to_previous = unit_or_zero(mesh.vertex[corner[(k + 2) % 3]] - here);
+      const double angle = std::acos(std::clamp(dot(to_next, to_previous), -1.0, 1.0));
+      mesh.vertex_pseudonormal[corner[k]] += angle * normal;
+      edge_sum[edge_key(corner[k], corner[(k + 1) % 3])] += normal;
+    }
+  }
+  for (Vec3& normal : mesh.vertex_pseudonormal) normal = unit_or_zero(normal);
+  for (std::size_t t = 0; t < triangle_count; ++t) {
+    const auto& corner = mesh.triangle[t];
+    for (int k = 0; k < 3; ++k) {
+      mesh.edge_pseudonormal[3 * t + k] = unit_or_zero(edge_sum[edge_key(corner[k], corner[(k + 1) % 3])]);
+    }
+  }
+}
 
 SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double time) {
   // The shape moves rigidly: query the point in the shape's frame at t = 0.
@@ -72,7 +201,8 @@ SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double 
       out = capsule_distance(collider, local);
       break;
     case ColliderShape::mesh:
-      CLOTHSIM_ASSERT(false, "mesh colliders are not implemented yet");
+      CLOTHSIM_ASSERT(collider.mesh != nullptr, "mesh collider without a mesh");
+      out = mesh_distance(*collider.mesh, local);
       break;
   }
   out.velocity = collider.path.velocity_at(time);

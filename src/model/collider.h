@@ -15,8 +15,9 @@
 //   capsule  d = distance to the segment ab - r
 //   mesh     distance to the nearest triangle, signed by the angle-weighted pseudonormal of the
 //            nearest feature (Baerentzen and Aanaes 2005), which is exact for a closed,
-//            consistently wound mesh; an open mesh (a table top alone) is inside only below the
-//            faces' fronts within the thickness.
+//            consistently wound mesh. An open mesh (a table top alone) gets the same rule, so a
+//            point behind its faces is inside at any distance; the collision stage limits how
+//            deep that matters. Brute force over the triangles for now (no hierarchy yet).
 // Rejected: sampled distance fields (grids). They blur edges and corners by a cell, and a table's
 // edge is exactly where a tablecloth folds.
 #pragma once
@@ -35,10 +36,26 @@ namespace clothsim {
 enum class ColliderShape : std::uint8_t { plane, sphere, box, capsule, mesh };
 
 // A triangle mesh, already scaled and translated into world coordinates.
+//
+// The pseudonormals sign mesh distances (Baerentzen and Aanaes 2005): the sign of a point is that
+// of (x - c) . n where c is the nearest surface point and n the angle-weighted pseudonormal of the
+// feature c lies on (face: its normal; edge: the sum of its two faces' normals; vertex: the sum of
+// its faces' normals weighted by their angles at the vertex). Unlike the nearest face's normal,
+// this is correct near edges and corners of closed meshes. They are filled by
+// compute_pseudonormals(), which the mesh reader calls once; signed_distance() asserts they are
+// there.
 struct TriangleMesh {
   std::vector<Vec3> vertex;                               // m
   std::vector<std::array<std::uint32_t, 3>> triangle;     // counter-clockwise seen from outside
+  std::vector<Vec3> triangle_normal;                      // [triangle count], unit (zero if degenerate)
+  std::vector<Vec3> vertex_pseudonormal;                  // [vertex count], unit
+  // [3 per triangle]: edge k of triangle t runs from corner k to corner (k + 1) % 3; unit. A
+  // boundary edge (one face) takes that face's normal.
+  std::vector<Vec3> edge_pseudonormal;
 };
+
+// Fills triangle_normal, vertex_pseudonormal and edge_pseudonormal from vertex and triangle.
+void compute_pseudonormals(TriangleMesh& mesh);
 
 struct Collider {
   ColliderShape shape = ColliderShape::plane;

@@ -28,6 +28,7 @@ struct RenderOptions {
   bool show_wireframe = false;   // the triangle edges over the surface
   bool show_connectors = false;  // connector springs as lines between particles
   bool show_radials = false;     // radial springs as a line between the midpoints of their two connectors
+  bool show_colliders = true;    // the model's obstacles (model.colliders), shaded, where they are at the time
 
   // Height of the ground plane, m. Unset: a little below the lowest point drawn (set per frame
   // by the caller for a steady ground; see Renderer::draw).
@@ -49,6 +50,8 @@ struct RenderOptions {
   Colour radial_colour{0.75f, 0.10f, 0.75f};
   Colour wireframe_colour{0.05f, 0.05f, 0.05f};
   Colour ground_colour{0.55f, 0.57f, 0.60f};
+  // Obstacles: a warm neutral grey, lighter than the ground, apart from both sides of the sheet.
+  Colour collider_colour{0.72f, 0.70f, 0.66f};
   Colour background_colour{0.93f, 0.94f, 0.96f};
 };
 

@@ -4,12 +4,17 @@
 //   1. clear to the background colour;
 //   2. ground: one quad at the ground height, grid lines computed per fragment (anti-aliased
 //      with fwidth) and faded out with distance so the plane has no visible edge;
-//   3. sheet: indexed triangles, per-vertex positions and normals streamed each frame, two-sided
+//   3. colliders (obstacles): triangles built on the CPU each frame at the colliders' positions
+//      at the frame's time (spheres and capsules tessellated, boxes and meshes with flat faces,
+//      planes as a large quad around the sheet), lit like the sheet in one neutral colour. An
+//      upward horizontal plane is the floor: it replaces the ground grid, which would otherwise
+//      float above or hide below it;
+//   4. sheet: indexed triangles, per-vertex positions and normals streamed each frame, two-sided
 //      lighting in the fragment shader; pushed back slightly (polygon offset) so overlay lines
 //      on the surface win the depth test;
-//   4. overlays: wireframe (the triangles again as lines), connector springs (lines), radial
+//   5. overlays: wireframe (the triangles again as lines), connector springs (lines), radial
 //      springs (arcs near their centre particle, see below);
-//   5. anchor markers and the highlighted particle: instanced shaded spheres, drawn once with the
+//   6. anchor markers and the highlighted particle: instanced shaded spheres, drawn once with the
 //      depth test and once more where hidden (depth GREATER) at reduced opacity, so a marker shows
 //      through a sheet folded over it.
 //
@@ -34,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "model/collider.h"
 #include "model/sheet_mesh.h"
 
 namespace clothsim::render {
@@ -274,6 +280,115 @@ void make_sphere(int slices, int stacks, std::vector<float>& vertices, std::vect
   }
 }
 
+// Collider triangles: position and normal per vertex (6 floats), three vertices per triangle,
+// counter-clockwise seen from outside. Shapes are tessellated finely enough that a sphere of a
+// third of the picture looks round (48 x 24); this runs per frame, but for a few colliders it is
+// far below the sheet's cost.
+struct ColliderTriangles {
+  std::vector<float>& out;
+  void vertex(const Vec3& position, const Vec3& normal) {
+    push(out, position);
+    push(out, normal);
+  }
+  void flat(const Vec3& a, const Vec3& b, const Vec3& c) {
+    const Vec3 normal = unit_or(cross(b - a, c - a), {0, 1, 0});
+    vertex(a, normal);
+    vertex(b, normal);
+    vertex(c, normal);
+  }
+  // A sphere of `radius` around the segment from `bottom` to `top` along the unit `axis`, with
+  // `side` and `front` completing a right-handed frame (side x front = axis; perpendicular_frame()),
+  // which makes the triangles below counter-clockwise from outside: the upper hemisphere at `top`, the lower at
+  // `bottom`, and the cylinder between them (a sphere when top == bottom).
+  void capsule(const Vec3& bottom, const Vec3& top, double radius, const Vec3& axis, const Vec3& side,
+               const Vec3& front) {
+    constexpr int kSlices = 48;
+    constexpr int kStacks = 24;  // even: the equator is a ring, drawn once at each end
+    const auto point = [&](int ring, int slice) {
+      // Rings 0..kStacks/2 on the top hemisphere, kStacks/2 + 1..kStacks + 1 on the bottom one
+      // (ring kStacks/2 + 1 is the equator again, at the bottom end).
+      const int stack = ring <= kStacks / 2 ? ring : ring - 1;
+      const double polar = kPi * stack / kStacks;
+      const double around = 2.0 * kPi * slice / kSlices;
+      const Vec3 normal =
+          std::cos(polar) * axis + std::sin(polar) * (std::cos(around) * side + std::sin(around) * front);
+      return std::pair{(ring <= kStacks / 2 ? top : bottom) + radius * normal, normal};
+    };
+    for (int ring = 0; ring <= kStacks; ++ring) {
+      for (int slice = 0; slice < kSlices; ++slice) {
+        const auto p00 = point(ring, slice), p01 = point(ring, slice + 1);
+        const auto p10 = point(ring + 1, slice), p11 = point(ring + 1, slice + 1);
+        for (const auto& [position, normal] : {p00, p10, p01, p01, p10, p11}) vertex(position, normal);
+      }
+    }
+  }
+};
+
+// The frame of a unit axis: two unit vectors perpendicular to it and to each other.
+std::pair<Vec3, Vec3> perpendicular_frame(const Vec3& axis) {
+  const Vec3 helper = std::abs(axis.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
+  const Vec3 side = unit_or(cross(helper, axis), {1, 0, 0});
+  return {side, cross(axis, side)};
+}
+
+// Appends the triangles of `collider` translated by `shift`. Planes become a square of half-width
+// `plane_extent` centred on the point of the plane nearest `focus` (the sheet's centre).
+void append_collider(const Collider& collider, const Vec3& shift, const Vec3& focus, double plane_extent,
+                     std::vector<float>& out) {
+  ColliderTriangles triangles{out};
+  switch (collider.shape) {
+    case ColliderShape::plane: {
+      const Vec3 normal = unit_or(collider.normal, {0, 1, 0});
+      const Vec3 point = collider.point + shift;
+      const Vec3 centre = focus - dot(focus - point, normal) * normal;
+      const auto [u, v] = perpendicular_frame(normal);
+      const Vec3 a = centre + plane_extent * (-u - v), b = centre + plane_extent * (u - v);
+      const Vec3 c = centre + plane_extent * (u + v), d = centre + plane_extent * (-u + v);
+      for (const Vec3& p : {a, b, c, a, c, d}) triangles.vertex(p, normal);
+      break;
+    }
+    case ColliderShape::sphere: {
+      const Vec3 centre = collider.center + shift;
+      const auto [side, front] = perpendicular_frame({0, 1, 0});
+      triangles.capsule(centre, centre, collider.radius, {0, 1, 0}, side, front);
+      break;
+    }
+    case ColliderShape::capsule: {
+      const Vec3 axis = unit_or(collider.b - collider.a, {0, 1, 0});
+      const auto [side, front] = perpendicular_frame(axis);
+      triangles.capsule(collider.a + shift, collider.b + shift, collider.radius, axis, side, front);
+      break;
+    }
+    case ColliderShape::box: {
+      const Vec3 centre = collider.center + shift;
+      const Vec3& h = collider.half_extents;
+      const auto corner = [&](int i) {
+        return centre + Vec3{(i & 1 ? 1 : -1) * h.x, (i & 2 ? 1 : -1) * h.y, (i & 4 ? 1 : -1) * h.z};
+      };
+      // Each face's corners counter-clockwise seen from outside (bit 0: +x, bit 1: +y, bit 2: +z).
+      constexpr std::array<std::array<int, 4>, 6> kFaces = {
+          {{1, 3, 7, 5}, {0, 4, 6, 2}, {2, 6, 7, 3}, {0, 1, 5, 4}, {4, 5, 7, 6}, {0, 2, 3, 1}}};
+      for (const auto& face : kFaces) {
+        triangles.flat(corner(face[0]), corner(face[1]), corner(face[2]));
+        triangles.flat(corner(face[0]), corner(face[2]), corner(face[3]));
+      }
+      break;
+    }
+    case ColliderShape::mesh:
+      if (collider.mesh == nullptr) break;
+      for (const auto& [a, b, c] : collider.mesh->triangle) {
+        triangles.flat(collider.mesh->vertex[a] + shift, collider.mesh->vertex[b] + shift,
+                       collider.mesh->vertex[c] + shift);
+      }
+      break;
+  }
+}
+
+// An upward horizontal plane: the floor, drawn instead of the ground grid.
+bool is_floor(const Collider& collider) {
+  return collider.shape == ColliderShape::plane && collider.normal.y > 0.999;
+}
+
 }  // namespace
 
 struct Renderer::Impl {
@@ -288,6 +403,7 @@ struct Renderer::Impl {
   GLsizei sphere_index_count = 0;
   Buffers lines;
   Buffers ground_quad;
+  Buffers colliders;
 
   // The mesh and its triangles as uploaded; re-uploaded when the mesh's topology changes (a new
   // grid, a new mode, a tear).
@@ -325,6 +441,7 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
   impl.sphere.create();
   impl.lines.create();
   impl.ground_quad.create();
+  impl.colliders.create();
   glGenBuffers(1, &impl.sphere_instances);
 
   std::vector<float> sphere_vertices;
@@ -344,6 +461,7 @@ Renderer::~Renderer() {
   Impl& impl = *impl_;
   glDeleteBuffers(1, &impl.sphere_instances);
   impl.ground_quad.destroy();
+  impl.colliders.destroy();
   impl.lines.destroy();
   impl.sphere.destroy();
   impl.sheet.destroy();
@@ -367,7 +485,7 @@ double Renderer::automatic_ground_height(const ClothModel& model, std::span<cons
 }
 
 void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, const RenderOptions& options,
-                    const Camera& camera, int width, int height) {
+                    const Camera& camera, int width, int height, double time) {
   if (position.size() != model.particle_count()) {
     throw RenderError("Renderer::draw: " + std::to_string(position.size()) + " positions for a model of " +
                       std::to_string(model.particle_count()) + " particles");
@@ -408,7 +526,9 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
                                       any_finite ? high.z - low.z : 0.0});
 
   // --- Ground ---
-  if (options.show_ground && any_finite) {
+  const bool floor_drawn =
+      options.show_colliders && std::any_of(model.colliders.begin(), model.colliders.end(), is_floor);
+  if (options.show_ground && any_finite && !floor_drawn) {
     const double ground_y = options.ground_height ? *options.ground_height : automatic_ground_height(model, position);
     const double extent = options.ground_extent > 0.0 ? options.ground_extent : 1.5 * sheet_size;
     const Vec3 centre{0.5 * (low.x + high.x), ground_y, 0.5 * (low.z + high.z)};
@@ -432,6 +552,26 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
     glDrawArrays(GL_TRIANGLE_STRIP, 0, 4);
     glDepthMask(GL_TRUE);
     glDisable(GL_BLEND);
+  }
+
+  // --- Colliders ---
+  if (options.show_colliders && !model.colliders.empty()) {
+    const Vec3 focus = any_finite ? 0.5 * (low + high) : Vec3{};
+    impl.vertex_data.clear();
+    for (const Collider& collider : model.colliders) {
+      const Vec3 shift = collider.path.position(time) - collider.path.position(0.0);
+      append_collider(collider, shift, focus, 1.5 * sheet_size, impl.vertex_data);
+    }
+    impl.colliders.upload(impl.vertex_data, {0, 3}, 6);
+    glUseProgram(impl.lit_sheet);
+    set_matrix(impl.lit_sheet, "view_projection", view_projection);
+    set_colour(impl.lit_sheet, "front_colour", options.collider_colour);
+    set_colour(impl.lit_sheet, "back_colour", options.collider_colour);
+    set_vec3(impl.lit_sheet, "eye", eye);
+    set_vec3(impl.lit_sheet, "key_direction", key_direction);
+    set_vec3(impl.lit_sheet, "fill_direction", fill_direction);
+    glUniform1f(glGetUniformLocation(impl.lit_sheet, "opacity"), 1.0f);
+    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(impl.vertex_data.size() / 6));
   }
 
   // --- Sheet ---

@@ -1,5 +1,5 @@
-// Draws a sheet with OpenGL 3.3 core: shaded two-sided surface, anchors, ground grid and optional
-// spring and wireframe overlays. Design and lighting model: docs/rendering.md.
+// Draws a sheet with OpenGL 3.3 core: shaded two-sided surface, anchors, obstacles (colliders),
+// ground grid and optional spring and wireframe overlays. Design and lighting model: docs/rendering.md.
 //
 // The Renderer owns GL objects (shaders, buffers) and so needs a current OpenGL 3.3 core context
 // for its whole life, from construction to destruction: a window's (the viewer's GLFW context)
@@ -37,10 +37,11 @@ class Renderer {
   Renderer& operator=(const Renderer&) = delete;
 
   // Clears and draws the sheet of `model` at `position` [particle_count()], m, into the bound
-  // framebuffer's rectangle (0, 0, width, height). Non-finite positions are drawn as they are
-  // (the GPU discards such triangles); they never raise.
+  // framebuffer's rectangle (0, 0, width, height), with the model's colliders where their paths
+  // put them at `time` (s; the state's time). Non-finite positions are drawn as they are (the GPU
+  // discards such triangles); they never raise.
   void draw(const ClothModel& model, std::span<const Vec3> position, const RenderOptions& options,
-            const Camera& camera, int width, int height);
+            const Camera& camera, int width, int height, double time = 0.0);
 
   // The ground height draw() uses when options.ground_height is unset: the lowest y of
   // `position` minus a small gap (5% of the sheet's extent, at least one spacing).

@@ -210,30 +210,39 @@ std::vector<AnchorSpec> read_anchors(const json& value, const LatticeDef& lattic
   return anchors;
 }
 
-json anchor_to_json(const AnchorSpec& anchor) {
+AnchorPath read_anchor_path(const json& value, const std::string& source, const std::string& field) {
+  return read_path(value, source, field);
+}
+
+json anchor_path_to_json(const AnchorPath& anchor_path) {
   const auto vector_json = [](const Vec3& v) { return json::array({v.x, v.y, v.z}); };
-  json path = {{"type", path_kind_name(anchor.path.kind)}};
-  switch (anchor.path.kind) {
+  json path = {{"type", path_kind_name(anchor_path.kind)}};
+  switch (anchor_path.kind) {
     case AnchorPathKind::fixed:
       break;
     case AnchorPathKind::linear:
-      path["velocity"] = vector_json(anchor.path.velocity);
+      path["velocity"] = vector_json(anchor_path.velocity);
       break;
     case AnchorPathKind::sinusoid:
-      path["amplitude"] = vector_json(anchor.path.amplitude);
-      path["frequency"] = anchor.path.frequency;
-      path["phase"] = anchor.path.phase;
+      path["amplitude"] = vector_json(anchor_path.amplitude);
+      path["frequency"] = anchor_path.frequency;
+      path["phase"] = anchor_path.phase;
       break;
     case AnchorPathKind::keyframes:
       path["keys"] = json::array();
-      for (const AnchorKey& key : anchor.path.keys) {
+      for (const AnchorKey& key : anchor_path.keys) {
         path["keys"].push_back(json::array({key.time, key.offset.x, key.offset.y, key.offset.z}));
       }
       break;
     case AnchorPathKind::driven:
       break;  // unreachable: path_kind_name() rejects it above
   }
-  json out = {{"row", anchor.row}, {"col", anchor.col}, {"path", path}};
+  return path;
+}
+
+json anchor_to_json(const AnchorSpec& anchor) {
+  const auto vector_json = [](const Vec3& v) { return json::array({v.x, v.y, v.z}); };
+  json out = {{"row", anchor.row}, {"col", anchor.col}, {"path", anchor_path_to_json(anchor.path)}};
   // Written only when given: its absence means "the particle's rest position", which follows the
   // lattice if rows, cols or spacing change later.
   if (anchor.origin_given) out["origin"] = vector_json(anchor.path.origin);
@@ -242,36 +251,48 @@ json anchor_to_json(const AnchorSpec& anchor) {
   return out;
 }
 
-void validate_anchor(const AnchorSpec& anchor, const LatticeDef& lattice, double duration, const std::string& source,
-                     const std::string& field) {
-  const auto check = [&](double value, ParameterType type, const ValueRange& range, const std::string& name) {
-    if (!is_allowed(type, range, value)) {
-      fail(source, field + name, "must be " + describe_allowed(type, range) + ", got " + format_number(value));
-    }
-  };
-  const auto check_vector = [&](const Vec3& v, const std::string& name) {
-    for (int axis = 0; axis < 3; ++axis) {
-      check(v[axis], ParameterType::real, kAnchorComponentRange, name + "[" + std::to_string(axis) + "]");
-    }
-  };
-  check(anchor.row, ParameterType::integer, closed_range(0.0, lattice.rows - 1.0), ".row");
-  check(anchor.col, ParameterType::integer, closed_range(0.0, lattice.cols - 1.0), ".col");
-  if (anchor.origin_given) check_vector(anchor.path.origin, ".origin");
-  check_vector(anchor.path.velocity, ".path.velocity");
-  check_vector(anchor.path.amplitude, ".path.amplitude");
-  check(anchor.path.frequency, ParameterType::real, kAnchorFrequencyRange, ".path.frequency");
-  check(anchor.path.phase, ParameterType::real, kAnchorPhaseRange, ".path.phase");
-  if (anchor.path.kind == AnchorPathKind::keyframes) {
-    for (std::size_t k = 0; k < anchor.path.keys.size(); ++k) {
-      const std::string key = ".path.keys[" + std::to_string(k) + "]";
-      check(anchor.path.keys[k].time, ParameterType::real, kAnchorKeyTimeRange, key + "[0]");
-      const Vec3& offset = anchor.path.keys[k].offset;
+namespace {
+
+void check_field(double value, ParameterType type, const ValueRange& range, const std::string& source,
+                 const std::string& field) {
+  if (!is_allowed(type, range, value)) {
+    fail(source, field, "must be " + describe_allowed(type, range) + ", got " + format_number(value));
+  }
+}
+
+void check_vector_field(const Vec3& v, const std::string& source, const std::string& field) {
+  for (int axis = 0; axis < 3; ++axis) {
+    check_field(v[axis], ParameterType::real, kAnchorComponentRange, source, field + "[" + std::to_string(axis) + "]");
+  }
+}
+
+}  // namespace
+
+void validate_anchor_path(const AnchorPath& path, const std::string& source, const std::string& field) {
+  check_vector_field(path.velocity, source, field + ".velocity");
+  check_vector_field(path.amplitude, source, field + ".amplitude");
+  check_field(path.frequency, ParameterType::real, kAnchorFrequencyRange, source, field + ".frequency");
+  check_field(path.phase, ParameterType::real, kAnchorPhaseRange, source, field + ".phase");
+  if (path.kind == AnchorPathKind::keyframes) {
+    for (std::size_t k = 0; k < path.keys.size(); ++k) {
+      const std::string key = field + ".keys[" + std::to_string(k) + "]";
+      check_field(path.keys[k].time, ParameterType::real, kAnchorKeyTimeRange, source, key + "[0]");
+      const Vec3& offset = path.keys[k].offset;
       for (int axis = 0; axis < 3; ++axis) {
-        check(offset[axis], ParameterType::real, kAnchorComponentRange, key + "[" + std::to_string(axis + 1) + "]");
+        check_field(offset[axis], ParameterType::real, kAnchorComponentRange, source,
+                    key + "[" + std::to_string(axis + 1) + "]");
       }
     }
-    check_key_order(anchor.path.keys, source, field + ".path.keys");
+    check_key_order(path.keys, source, field + ".keys");
   }
+}
+
+void validate_anchor(const AnchorSpec& anchor, const LatticeDef& lattice, double duration, const std::string& source,
+                     const std::string& field) {
+  check_field(anchor.row, ParameterType::integer, closed_range(0.0, lattice.rows - 1.0), source, field + ".row");
+  check_field(anchor.col, ParameterType::integer, closed_range(0.0, lattice.cols - 1.0), source, field + ".col");
+  if (anchor.origin_given) check_vector_field(anchor.path.origin, source, field + ".origin");
+  validate_anchor_path(anchor.path, source, field + ".path");
   // Within the run: a release at or after the end would never happen, which is surely not meant.
   if (anchor.release_time != kInfinity && !(anchor.release_time >= 0.0 && anchor.release_time < duration)) {
     fail(source, field + ".release_time",

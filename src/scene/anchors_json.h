@@ -22,6 +22,13 @@ std::string preset_choices();
 std::vector<CutSpec> read_cuts(const json& value, const std::string& source);
 // "anchors": a preset name or a list of anchor objects, with rows and columns inside `lattice`.
 std::vector<AnchorSpec> read_anchors(const json& value, const LatticeDef& lattice, const std::string& source);
+// A path object ("fixed", "linear", "sinusoid", "keyframes"), as anchors and colliders take it;
+// `field` is its place ("colliders[1].path"). The origin is not part of the object.
+AnchorPath read_anchor_path(const json& value, const std::string& source, const std::string& field);
+// The path object as read_anchor_path() reads it (no origin).
+json anchor_path_to_json(const AnchorPath& path);
+// The path's fields checked again (scenes built in code); `field` is its place.
+void validate_anchor_path(const AnchorPath& path, const std::string& source, const std::string& field);
 // An anchor as scene_to_json() writes it: row, col and path, origin and release_time when given.
 json anchor_to_json(const AnchorSpec& anchor);
 

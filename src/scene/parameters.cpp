@@ -179,6 +179,19 @@ constexpr std::array kScalarParameters = {
                     "the sheet to count as at rest (0: the first frame below)",
                     [](const SceneSpec& s) { return s.output.rest_duration; },
                     [](SceneSpec& s, double v) { s.output.rest_duration = v; }},
+    // Collisions (issue 8; the obstacles themselves are the "colliders" list).
+    ScalarParameter{"collision.thickness", ParameterType::real, "m", left_open_range(0.0, 1.0),
+                    "particles are kept this far outside every collider, and (with self) the sheet from itself",
+                    [](const SceneSpec& s) { return s.collision.thickness; },
+                    [](SceneSpec& s, double v) { s.collision.thickness = v; }},
+    ScalarParameter{"collision.self", ParameterType::boolean, "", closed_range(0.0, 1.0),
+                    "self-collision: the sheet is kept from passing through itself",
+                    [](const SceneSpec& s) { return s.collision.self ? 1.0 : 0.0; },
+                    [](SceneSpec& s, double v) { s.collision.self = v != 0.0; }},
+    ScalarParameter{"collision.friction", ParameterType::real, "", closed_range(0.0, 10.0),
+                    "Coulomb friction coefficient of cloth on cloth, and of colliders without their own friction",
+                    [](const SceneSpec& s) { return s.collision.friction; },
+                    [](SceneSpec& s, double v) { s.collision.friction = v; }},
     // Execution.
     ScalarParameter{"threads", ParameterType::integer, "", closed_range(0.0, 1024.0),
                     "worker threads; 0 chooses from the lattice size and the idle cores",
@@ -245,8 +258,8 @@ constexpr std::array kMaterialParameters = {
                       [](MaterialDef& m, double v) { m.opposite_yield_angle = degrees_to_radians(v); }},
 };
 
-constexpr std::array<std::string_view, 7> kSpecialKeys = {"name",    "description", "paper_args",       "material",
-                                                          "anchors", "cuts",        "integrator.method"};
+constexpr std::array<std::string_view, 8> kSpecialKeys = {"name", "description", "paper_args", "material",
+                                                          "anchors", "cuts", "colliders", "integrator.method"};
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".
 std::string compact_exponent(std::string text) {

@@ -27,6 +27,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <filesystem>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -37,6 +38,7 @@
 #include "model/model_edits.h"
 #include "model/spring_limits.h"
 #include "scene/anchors_json.h"
+#include "scene/colliders_json.h"
 #include "scene/json_fields.h"
 #include "scene/material_json.h"
 #include "scene/parameters.h"
@@ -119,8 +121,10 @@ std::array<double, 10> read_text_paper_arguments(std::string_view text, const st
 
 struct SceneReader {
   const std::string& source;
+  const std::string& base_folder;  // where mesh files are found
   SceneSpec spec;
   const json* anchors = nullptr;  // read last: presets and index ranges need the final lattice
+  const json* colliders = nullptr;  // read once after both passes: meshes are files
   const json* material = nullptr;  // applied after the first pass: it needs the final spacing
 
   void read_object(const json& object, const std::string& prefix);
@@ -161,6 +165,8 @@ void SceneReader::read_member(const std::string& key, const json& value) {
     anchors = &value;
   } else if (key == "cuts") {
     spec.cuts = read_cuts(value, source);
+  } else if (key == "colliders") {
+    colliders = &value;
   } else if (key == "material") {
     material = &value;
   } else {
@@ -173,7 +179,7 @@ void SceneReader::read_member(const std::string& key, const json& value) {
 // -----------------------------------------------------------------------------------------------
 // Public API.
 
-SceneSpec parse_scene(std::string_view json_text, const std::string& source) {
+SceneSpec parse_scene(std::string_view json_text, const std::string& source, const std::string& base_folder) {
   const json document = parse_json(json_text, source);
   if (!document.is_object()) {
     fail(source, "", "the top level must be a JSON object {...}, got " + describe_json(document));
@@ -188,7 +194,7 @@ SceneSpec parse_scene(std::string_view json_text, const std::string& source) {
          "cannot be combined with 'material': the paper's arguments are raw spring constants, the material "
          "sets them from physical units");
   }
-  SceneReader reader{source, SceneSpec{}};
+  SceneReader reader{source, base_folder, SceneSpec{}};
   reader.read_object(document, "");
   json others;  // outlives the reader's pointer to its anchors
   if (reader.material != nullptr && !reader.material->is_null()) {
@@ -201,12 +207,13 @@ SceneSpec parse_scene(std::string_view json_text, const std::string& source) {
   }
   // Without an "anchors" key, anchors stay as paper_args left them (the centre) or empty.
   if (reader.anchors != nullptr) reader.spec.anchors = read_anchors(*reader.anchors, reader.spec.lattice, source);
+  if (reader.colliders != nullptr) reader.spec.colliders = read_colliders(*reader.colliders, source, base_folder);
   validate_scene(reader.spec, source);
   return reader.spec;
 }
 
 SceneSpec load_scene_file(const std::string& path) {
-  return parse_scene(read_input_file(path), path);
+  return parse_scene(read_input_file(path), path, std::filesystem::path(path).parent_path().string());
 }
 
 SceneSpec scene_from_paper_args(std::string_view text, const std::string& source) {
@@ -266,6 +273,9 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
     set_scene_material(spec, read_material(material, source, field), source);
   } else if (key == "cuts") {
     spec.cuts = read_cuts(parse_json(trim(value), source), source);
+  } else if (key == "colliders") {
+    // Mesh files named on the command line are found from the working directory.
+    spec.colliders = read_colliders(parse_json(trim(value), source), source, "");
   } else if (key == "anchors") {
     const std::string_view text = trim(value);
     if (text.starts_with('[')) {
@@ -344,6 +354,9 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
                               ") is anchored twice (also by anchors[" + std::to_string(previous->second) + "])");
     }
   }
+  for (std::size_t i = 0; i < spec.colliders.size(); ++i) {
+    validate_collider(spec.colliders[i], source, "colliders[" + std::to_string(i) + "]");
+  }
 }
 
 json scene_to_json(const SceneSpec& spec) {
@@ -392,6 +405,8 @@ json scene_to_json(const SceneSpec& spec) {
   for (const CutSpec& cut : spec.cuts) {
     out["cuts"].push_back({{"from", {cut.from[0], cut.from[1]}}, {"to", {cut.to[0], cut.to[1]}}});
   }
+  out["colliders"] = json::array();
+  for (const ColliderSpec& collider : spec.colliders) out["colliders"].push_back(collider_to_json(collider));
   return out;
 }
 
@@ -430,6 +445,8 @@ ClothModel build_model(const SceneSpec& spec) {
       break_connector(model, connector, 0.0);
     }
   }
+  for (const ColliderSpec& collider : spec.colliders) model.colliders.push_back(collider.collider);
+  model.collision = spec.collision;
   return model;
 }
 

@@ -19,6 +19,7 @@
 #include "integrators/integrator.h"
 #include "model/anchor.h"
 #include "model/cloth_model.h"
+#include "model/collider.h"
 #include "model/initial_conditions.h"
 #include "model/material.h"
 
@@ -44,6 +45,18 @@ struct CutSpec {
   bool operator==(const CutSpec&) const = default;
 };
 
+// An obstacle as the scene gives it ("colliders" in the file; model/collider.h). A mesh is read
+// when the scene is read, so that a missing or malformed file fails before any output exists;
+// `collider.mesh` holds it scaled and translated, and `collider.mesh_file` the path it was read
+// from. The fields below keep the file's own values, so scene_to_json() writes back what was
+// written rather than the mesh's world coordinates.
+struct ColliderSpec {
+  Collider collider;
+  std::string mesh_file;  // mesh: "file" as written, relative to the scene file's folder
+  double mesh_scale = 1.0;  // mesh: uniform scale applied to the file's coordinates
+  Vec3 mesh_translate;      // mesh: m, added after scaling
+};
+
 struct OutputSettings {
   double duration = 20.0;        // simulated time to run, s; with until_rest, the upper limit
   int fps = 60;                  // frames written per simulated second
@@ -67,16 +80,20 @@ struct SceneSpec {
   Environment environment;
   std::vector<AnchorSpec> anchors;
   std::vector<CutSpec> cuts;  // notches cut before the run
+  std::vector<ColliderSpec> colliders;  // obstacles (issue 8)
+  CollisionSettings collision;
   InitialConditions initial;
   IntegratorSettings integrator;
   OutputSettings output;
   int threads = 0;  // 0: choose from the lattice size (core/parallel.h)
 };
 
-// Reads and validates a scene file. Throws InputError naming `path`.
+// Reads and validates a scene file. Throws InputError naming `path`. Mesh files of colliders are
+// found relative to the scene file's folder.
 SceneSpec load_scene_file(const std::string& path);
-// Parses and validates JSON text; `source` names it in messages.
-SceneSpec parse_scene(std::string_view json_text, const std::string& source);
+// Parses and validates JSON text; `source` names it in messages. Mesh files of colliders are
+// found relative to `base_folder` ("" is the working directory).
+SceneSpec parse_scene(std::string_view json_text, const std::string& source, const std::string& base_folder = "");
 // The paper's argument vector "rows,cols,mass,k_adj,c_adj,k_opp,c_opp,k_conn,c_conn,length"
 // with the centre particle anchored at the origin (as in all the paper's runs).
 SceneSpec scene_from_paper_args(std::string_view text, const std::string& source);
@@ -99,8 +116,9 @@ bool parse_anchor_preset(std::string_view text, const LatticeDef& lattice, std::
 // Sets one field by its dotted key ("lattice.rows", "output.fps", "integrator.method", ...) from
 // text, with the same validation as the scene file; `source` names the flag in messages.
 // Vectors are written "x,y,z", booleans "true"/"false", "anchors" takes a preset name or a JSON
-// list, "paper_args" the ten numbers, limits a number or "none" (never), "material" a preset
-// name or a JSON object of material fields. Only the field itself is checked: call
+// list, "colliders" a JSON list (mesh files found from the working directory), "paper_args" the
+// ten numbers, limits a number or "none" (never), "material" a preset name or a JSON object of
+// material fields. Only the field itself is checked: call
 // validate_scene() after the last one (cross-field rules). An anchor preset is resolved against
 // the lattice as it is when the preset is set, so set lattice.rows and lattice.cols first; a
 // material is applied at the spacing as it is then, so set lattice.spacing first.

@@ -204,6 +204,8 @@ const std::vector<BadInputCase> kBadInputCases = {
     {"AnchorUnknown", small({"--anchor", "top"}), {"--anchor", "center", "edge-corners", "top"}, ""},
     {"RestEnergyZero", small({"--until-rest", "--rest-energy", "0"}),
      {"--rest-energy", "output.rest_kinetic_energy", "(0, 1e12]"}, ""},
+    {"SelfCollisionMaybe", small({"--self-collision", "maybe"}), {"--self-collision", "on or off", "maybe"}, ""},
+    {"ThicknessZero", small({"--thickness", "0"}), {"--thickness", "collision.thickness", "(0, 1]"}, ""},
     {"SetRowsZero", small({"--set", "lattice.rows=0"}), {"--set", "lattice.rows", "[1, 4096]"}, ""},
     {"SetUnknownKey", small({"--set", "nosuch.key=1"}), {"--set", "nosuch.key", "unknown field"}, ""},
     {"SetWithoutEquals", small({"--set", "lattice.rows"}), {"--set", "KEY=VALUE"}, ""},

@@ -382,3 +382,73 @@ TEST(Headless, HighlightedParticleIsMarked) {
 
 }  // namespace
 }  // namespace clothsim::render
+
+namespace clothsim::render {
+namespace {
+
+// Colliders (issue 8): a sphere collider shows in its colour at its projection, where its path
+// puts it at the frame's time (a moving one moves), and not at all with show_colliders off.
+TEST(Headless, SphereColliderAppearsWhereItsPathPutsIt) {
+  SceneSpec spec;
+  spec.lattice.rows = 5;
+  spec.lattice.cols = 5;
+  spec.lattice.spacing = 0.1;
+  ClothModel model = build_model(spec);
+  const std::vector<Vec3> position = model.particle_rest_position;  // flat, 0.4 m square at y = 0
+  Collider sphere;
+  sphere.shape = ColliderShape::sphere;
+  sphere.center = {0.0, -0.5, 0.0};
+  sphere.radius = 0.15;
+  sphere.path.kind = AnchorPathKind::linear;
+  sphere.path.velocity = {0.7, 0.0, -0.7};  // at t = 1 s, 1 m away to the side
+  model.colliders.push_back(sphere);
+  const Vec3 start = sphere.center;
+  const Vec3 moved = sphere.center + sphere.path.velocity;
+
+  Camera camera;
+  camera.azimuth = 0.7;
+  camera.elevation = 0.45;
+  std::vector<Vec3> framed = position;
+  for (const Vec3& centre : {start, moved}) {
+    for (const Vec3& offset : {Vec3{0.2, 0.2, 0.2}, Vec3{-0.2, -0.2, -0.2}}) framed.push_back(centre + offset);
+  }
+  camera.fit(framed, static_cast<double>(kWidth) / kHeight);
+  const Projection at_start = camera.project(start, kWidth, kHeight);
+  const Projection at_moved = camera.project(moved, kWidth, kHeight);
+  ASSERT_TRUE(at_start.visible && at_moved.visible);
+  ASSERT_GT(std::hypot(at_start.x - at_moved.x, at_start.y - at_moved.y), 40.0) << "the motion shows on screen";
+
+  RenderOptions options;
+  options.collider_colour = {0.15f, 0.75f, 0.25f};  // a saturated green, to find it by hue
+  options.show_ground = false;
+  const auto collider_pixels_near = [&](const Image& image, const Projection& at) {
+    int count = 0;
+    for (int dy = -3; dy <= 3; ++dy) {
+      for (int dx = -3; dx <= 3; ++dx) {
+        const Hsv pixel = pixel_hsv(image, static_cast<int>(at.x) + dx, static_cast<int>(at.y) + dy);
+        count += matches_hue(pixel, options.collider_colour) ? 1 : 0;
+      }
+    }
+    return count;
+  };
+  HeadlessContext context(kWidth, kHeight);
+  Renderer renderer;
+  context.bind();
+  Image at_zero, at_one, hidden;
+  renderer.draw(model, position, options, camera, kWidth, kHeight, 0.0);
+  context.read(at_zero);
+  renderer.draw(model, position, options, camera, kWidth, kHeight, 1.0);
+  context.read(at_one);
+  options.show_colliders = false;
+  renderer.draw(model, position, options, camera, kWidth, kHeight, 0.0);
+  context.read(hidden);
+  write_png(scratch_path("sphere_collider.png"), at_zero);
+  EXPECT_EQ(collider_pixels_near(at_zero, at_start), 49);
+  EXPECT_EQ(collider_pixels_near(at_zero, at_moved), 0);
+  EXPECT_EQ(collider_pixels_near(at_one, at_start), 0);
+  EXPECT_EQ(collider_pixels_near(at_one, at_moved), 49);
+  EXPECT_EQ(collider_pixels_near(hidden, at_start), 0);
+}
+
+}  // namespace
+}  // namespace clothsim::render

@@ -35,7 +35,7 @@ std::size_t expected_radial_count(int rows, int cols) {
   return count;
 }
 
-TEST(BuiltinScenes, ListsTheTenScenes) {
+TEST(BuiltinScenes, ListsTheTwelveScenes) {
   const std::vector<BuiltinScene> scenes = builtin_scenes();
   std::vector<std::string> names;
   for (const BuiltinScene& scene : scenes) {
@@ -44,7 +44,8 @@ TEST(BuiltinScenes, ListsTheTenScenes) {
   }
   EXPECT_EQ(names,
             (std::vector<std::string>{"paper-fig4", "paper-fig5", "paper-fig6", "drape-corners", "free-spin",
-                                      "cotton-drape", "tear-pull", "paper-crease", "film-stretch", "cloth-shake"}));
+                                      "cotton-drape", "tear-pull", "paper-crease", "film-stretch", "cloth-shake",
+                                      "drape-sphere", "tablecloth"}));
   EXPECT_FALSE(is_builtin_scene("paper-fig7"));
   expect_input_error([] { builtin_scene("paper-fig7"); }, {"paper-fig7", "not a built-in scene", "paper-fig4"});
 }

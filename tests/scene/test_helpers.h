@@ -67,6 +67,36 @@ inline void expect_same_scene(const SceneSpec& a, const SceneSpec& b) {
   }
   EXPECT_EQ(a.lattice.limits, b.lattice.limits);
   EXPECT_EQ(a.material, b.material);
+  ASSERT_EQ(a.colliders.size(), b.colliders.size());
+  for (std::size_t i = 0; i < a.colliders.size(); ++i) {
+    const Collider& x = a.colliders[i].collider;
+    const Collider& y = b.colliders[i].collider;
+    const std::string what = "colliders[" + std::to_string(i) + "]";
+    EXPECT_EQ(x.shape, y.shape) << what;
+    expect_same_vector(x.point, y.point, what + ".point");
+    expect_same_vector(x.normal, y.normal, what + ".normal");
+    expect_same_vector(x.center, y.center, what + ".center");
+    EXPECT_EQ(x.radius, y.radius) << what;
+    expect_same_vector(x.half_extents, y.half_extents, what + ".half_extents");
+    expect_same_vector(x.a, y.a, what + ".a");
+    expect_same_vector(x.b, y.b, what + ".b");
+    EXPECT_EQ(x.friction, y.friction) << what;
+    EXPECT_EQ(x.path.kind, y.path.kind) << what;
+    expect_same_vector(x.path.velocity, y.path.velocity, what + ".path.velocity");
+    expect_same_vector(x.path.amplitude, y.path.amplitude, what + ".path.amplitude");
+    EXPECT_EQ(x.path.frequency, y.path.frequency) << what;
+    EXPECT_EQ(x.path.keys, y.path.keys) << what;
+    EXPECT_EQ(a.colliders[i].mesh_file, b.colliders[i].mesh_file) << what;
+    EXPECT_EQ(a.colliders[i].mesh_scale, b.colliders[i].mesh_scale) << what;
+    expect_same_vector(a.colliders[i].mesh_translate, b.colliders[i].mesh_translate, what + ".translate");
+    EXPECT_EQ(x.mesh == nullptr, y.mesh == nullptr) << what;
+    if (x.mesh != nullptr && y.mesh != nullptr) {
+      EXPECT_EQ(x.mesh->vertex, y.mesh->vertex) << what;
+    }
+  }
+  EXPECT_EQ(a.collision.thickness, b.collision.thickness);
+  EXPECT_EQ(a.collision.self, b.collision.self);
+  EXPECT_EQ(a.collision.friction, b.collision.friction);
 }
 
 }  // namespace clothsim::testing

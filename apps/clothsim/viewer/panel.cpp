@@ -306,6 +306,8 @@ void display_section(PanelState& state) {
   ImGui::Checkbox("anchors", &options.show_anchors);
   ImGui::SameLine();
   ImGui::Checkbox("ground", &options.show_ground);
+  ImGui::SameLine();
+  ImGui::Checkbox("colliders", &options.show_colliders);
   ImGui::Checkbox("wireframe", &options.show_wireframe);
   ImGui::SameLine();
   ImGui::Checkbox("connectors", &options.show_connectors);

@@ -445,7 +445,8 @@ void Viewer::draw_scene() {
   render_options_.ground_height = ground_height_;
   render_options_.highlighted_particle = grabbed_ >= 0 ? grabbed_ : hovered_;
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
-  renderer_->draw(simulation.model(), simulation.state().position, render_options_, camera_, width_, height_);
+  renderer_->draw(simulation.model(), simulation.state().position, render_options_, camera_, width_, height_,
+                  simulation.state().time);
 }
 
 void Viewer::draw_ui() {
