@@ -1,6 +1,7 @@
 #include "model/collider.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <map>
@@ -97,42 +98,92 @@ TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3
   return {a + (vb * inverse) * ab + (vc * inverse) * ac, TriangleFeature::face, 0};
 }
 
-// Brute force over the triangles: O(triangles) per query. Enough for the few hundred triangles
-// of a table or a coarse obstacle; a bounding-volume hierarchy is the next step for scanned
-// meshes (the query's interface stays the same).
-SurfaceDistance mesh_distance(const TriangleMesh& mesh, const Vec3& x) {
-  CLOTHSIM_ASSERT(mesh.triangle_normal.size() == mesh.triangle.size() &&
-                      mesh.edge_pseudonormal.size() == 3 * mesh.triangle.size() &&
-                      mesh.vertex_pseudonormal.size() == mesh.vertex.size(),
-                  "mesh collider without pseudonormals (compute_pseudonormals)");
-  double best = std::numeric_limits<double>::infinity();
-  Vec3 nearest;
+// The nearest surface point found so far over the triangles visited.
+struct NearestTriangle {
+  double distance_squared = std::numeric_limits<double>::infinity();
+  Vec3 point;
   Vec3 pseudonormal{0.0, 1.0, 0.0};
   TriangleFeature feature = TriangleFeature::face;
-  for (std::size_t t = 0; t < mesh.triangle.size(); ++t) {
-    // Degenerate triangles have no face and their edges belong to their neighbours.
-    if (squared_norm(mesh.triangle_normal[t]) == 0.0) continue;
-    const auto& corner = mesh.triangle[t];
-    const TrianglePoint candidate =
-        closest_point_on_triangle(x, mesh.vertex[corner[0]], mesh.vertex[corner[1]], mesh.vertex[corner[2]]);
-    const double distance_squared = squared_norm(x - candidate.point);
-    if (distance_squared >= best) continue;
-    best = distance_squared;
-    nearest = candidate.point;
-    feature = candidate.feature;
-    switch (candidate.feature) {
-      case TriangleFeature::vertex:
-        pseudonormal = mesh.vertex_pseudonormal[corner[candidate.index]];
-        break;
-      case TriangleFeature::edge:
-        pseudonormal = mesh.edge_pseudonormal[3 * t + candidate.index];
-        break;
-      case TriangleFeature::face:
-        pseudonormal = mesh.triangle_normal[t];
-        break;
-    }
+};
+
+void visit_triangle(const TriangleMesh& mesh, std::size_t t, const Vec3& x, NearestTriangle& nearest) {
+  // Degenerate triangles have no face and their edges belong to their neighbours.
+  if (squared_norm(mesh.triangle_normal[t]) == 0.0) return;
+  const auto& corner = mesh.triangle[t];
+  const TrianglePoint candidate =
+      closest_point_on_triangle(x, mesh.vertex[corner[0]], mesh.vertex[corner[1]], mesh.vertex[corner[2]]);
+  const double distance_squared = squared_norm(x - candidate.point);
+  if (distance_squared >= nearest.distance_squared) return;
+  nearest.distance_squared = distance_squared;
+  nearest.point = candidate.point;
+  nearest.feature = candidate.feature;
+  switch (candidate.feature) {
+    case TriangleFeature::vertex:
+      nearest.pseudonormal = mesh.vertex_pseudonormal[corner[candidate.index]];
+      break;
+    case TriangleFeature::edge:
+      nearest.pseudonormal = mesh.edge_pseudonormal[3 * t + candidate.index];
+      break;
+    case TriangleFeature::face:
+      nearest.pseudonormal = mesh.triangle_normal[t];
+      break;
   }
-  if (!std::isfinite(best)) return {std::numeric_limits<double>::infinity(), {0.0, 1.0, 0.0}, {}};
+}
+
+// Squared distance from x to the box [low, high]; 0 inside.
+double box_distance_squared(const Vec3& low, const Vec3& high, const Vec3& x) {
+  const Vec3 below = low - x;
+  const Vec3 above = x - high;
+  const Vec3 gap{std::max({below.x, above.x, 0.0}), std::max({below.y, above.y, 0.0}),
+                 std::max({below.z, above.z, 0.0})};
+  return squared_norm(gap);
+}
+
+void assert_prepared(const TriangleMesh& mesh) {
+  CLOTHSIM_ASSERT(mesh.triangle_normal.size() == mesh.triangle.size() &&
+                      mesh.edge_pseudonormal.size() == 3 * mesh.triangle.size() &&
+                      mesh.vertex_pseudonormal.size() == mesh.vertex.size() &&
+                      mesh.node_triangle.size() == mesh.triangle.size() && !mesh.node_low.empty(),
+                  "mesh collider not prepared (prepare_triangle_mesh)");
+}
+
+// Depth-first through the hierarchy, nearer child first, skipping boxes farther than the best
+// triangle so far. The stack is a fixed array: a median split halves the triangles per level, so
+// 64 levels are never reached.
+NearestTriangle nearest_triangle(const TriangleMesh& mesh, const Vec3& x) {
+  NearestTriangle nearest;
+  if (mesh.triangle.empty()) return nearest;
+  std::array<std::uint32_t, 64> stack{};
+  std::size_t size = 0;
+  stack[size++] = 0;
+  while (size > 0) {
+    const std::uint32_t node = stack[--size];
+    if (box_distance_squared(mesh.node_low[node], mesh.node_high[node], x) >= nearest.distance_squared) continue;
+    if (mesh.node_count[node] > 0) {
+      const std::uint32_t first = mesh.node_first[node];
+      for (std::uint32_t k = first; k < first + mesh.node_count[node]; ++k) {
+        visit_triangle(mesh, mesh.node_triangle[k], x, nearest);
+      }
+      continue;
+    }
+    const std::uint32_t left = mesh.node_child[node];
+    const std::uint32_t right = left + 1;
+    const double to_left = box_distance_squared(mesh.node_low[left], mesh.node_high[left], x);
+    const double to_right = box_distance_squared(mesh.node_low[right], mesh.node_high[right], x);
+    CLOTHSIM_ASSERT(size + 2 <= stack.size(), "mesh hierarchy deeper than its traversal stack");
+    // Pushed last, popped first: the nearer child.
+    stack[size++] = to_left <= to_right ? right : left;
+    stack[size++] = to_left <= to_right ? left : right;
+  }
+  return nearest;
+}
+
+SurfaceDistance signed_from_nearest(const NearestTriangle& found, const Vec3& x) {
+  if (!std::isfinite(found.distance_squared)) return {std::numeric_limits<double>::infinity(), {0.0, 1.0, 0.0}, {}};
+  const double best = found.distance_squared;
+  const Vec3& nearest = found.point;
+  const Vec3& pseudonormal = found.pseudonormal;
+  const TriangleFeature feature = found.feature;
   const Vec3 offset = x - nearest;
   const double distance = std::sqrt(best);
   const bool inside = dot(offset, pseudonormal) < 0.0;
@@ -146,9 +197,59 @@ SurfaceDistance mesh_distance(const TriangleMesh& mesh, const Vec3& x) {
   return {inside ? -distance : distance, normal, {}};
 }
 
+// Builds the subtree of node `node` over node_triangle[first, first + count).
+void build_node(TriangleMesh& mesh, const std::vector<Vec3>& centroid, std::uint32_t node, std::uint32_t first,
+                std::uint32_t count) {
+  const double inf = std::numeric_limits<double>::infinity();
+  Vec3 low{inf, inf, inf}, high{-inf, -inf, -inf};
+  Vec3 centre_low = low, centre_high = high;
+  const auto grow = [](Vec3& lo, Vec3& hi, const Vec3& p) {
+    lo = {std::min(lo.x, p.x), std::min(lo.y, p.y), std::min(lo.z, p.z)};
+    hi = {std::max(hi.x, p.x), std::max(hi.y, p.y), std::max(hi.z, p.z)};
+  };
+  for (std::uint32_t k = first; k < first + count; ++k) {
+    const std::uint32_t t = mesh.node_triangle[k];
+    for (std::uint32_t corner : mesh.triangle[t]) grow(low, high, mesh.vertex[corner]);
+    grow(centre_low, centre_high, centroid[t]);
+  }
+  mesh.node_low[node] = low;
+  mesh.node_high[node] = high;
+  if (count <= kMeshLeafSize) {
+    mesh.node_first[node] = first;
+    mesh.node_count[node] = count;
+    return;
+  }
+  const Vec3 spread = centre_high - centre_low;
+  const int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : (spread.y >= spread.z ? 1 : 2);
+  const auto begin = mesh.node_triangle.begin() + first;
+  const auto middle = begin + count / 2;
+  std::nth_element(begin, middle, begin + count, [&](std::uint32_t i, std::uint32_t j) {
+    return centroid[i][axis] < centroid[j][axis];
+  });
+  const auto left = static_cast<std::uint32_t>(mesh.node_low.size());
+  for (int k = 0; k < 2; ++k) {
+    mesh.node_low.emplace_back();
+    mesh.node_high.emplace_back();
+    mesh.node_child.push_back(0);
+    mesh.node_first.push_back(0);
+    mesh.node_count.push_back(0);
+  }
+  mesh.node_child[node] = left;
+  mesh.node_count[node] = 0;
+  build_node(mesh, centroid, left, first, count / 2);
+  build_node(mesh, centroid, left + 1, first + count / 2, count - count / 2);
+}
+
 }  // namespace
 
-void compute_pseudonormals(TriangleMesh& mesh) {
+SurfaceDistance mesh_distance_brute_force(const TriangleMesh& mesh, const Vec3& x) {
+  assert_prepared(mesh);
+  NearestTriangle nearest;
+  for (std::size_t t = 0; t < mesh.triangle.size(); ++t) visit_triangle(mesh, t, x, nearest);
+  return signed_from_nearest(nearest, x);
+}
+
+void prepare_triangle_mesh(TriangleMesh& mesh) {
   const std::size_t triangle_count = mesh.triangle.size();
   mesh.triangle_normal.assign(triangle_count, Vec3{});
   mesh.vertex_pseudonormal.assign(mesh.vertex.size(), Vec3{});
@@ -180,6 +281,20 @@ void compute_pseudonormals(TriangleMesh& mesh) {
       mesh.edge_pseudonormal[3 * t + k] = unit_or_zero(edge_sum[edge_key(corner[k], corner[(k + 1) % 3])]);
     }
   }
+  // The hierarchy: the root over every triangle, children appended as they are made.
+  std::vector<Vec3> centroid(triangle_count);
+  for (std::size_t t = 0; t < triangle_count; ++t) {
+    const auto& corner = mesh.triangle[t];
+    centroid[t] = (mesh.vertex[corner[0]] + mesh.vertex[corner[1]] + mesh.vertex[corner[2]]) / 3.0;
+  }
+  mesh.node_triangle.resize(triangle_count);
+  for (std::size_t t = 0; t < triangle_count; ++t) mesh.node_triangle[t] = static_cast<std::uint32_t>(t);
+  mesh.node_low.assign(1, Vec3{});
+  mesh.node_high.assign(1, Vec3{});
+  mesh.node_child.assign(1, 0);
+  mesh.node_first.assign(1, 0);
+  mesh.node_count.assign(1, 0);
+  build_node(mesh, centroid, 0, 0, static_cast<std::uint32_t>(triangle_count));
 }
 
 SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double time) {
@@ -202,7 +317,8 @@ SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double 
       break;
     case ColliderShape::mesh:
       CLOTHSIM_ASSERT(collider.mesh != nullptr, "mesh collider without a mesh");
-      out = mesh_distance(*collider.mesh, local);
+      assert_prepared(*collider.mesh);
+      out = signed_from_nearest(nearest_triangle(*collider.mesh, local), local);
       break;
   }
   out.velocity = collider.path.velocity_at(time);

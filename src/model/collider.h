@@ -17,7 +17,8 @@
 //            nearest feature (Baerentzen and Aanaes 2005), which is exact for a closed,
 //            consistently wound mesh. An open mesh (a table top alone) gets the same rule, so a
 //            point behind its faces is inside at any distance; the collision stage limits how
-//            deep that matters. Brute force over the triangles for now (no hierarchy yet).
+//            deep that matters. The nearest triangle is found through a bounding-box hierarchy
+//            (TriangleMesh::node_*), O(log n) per query for points near the surface.
 // Rejected: sampled distance fields (grids). They blur edges and corners by a cell, and a table's
 // edge is exactly where a tablecloth folds.
 #pragma once
@@ -41,9 +42,15 @@ enum class ColliderShape : std::uint8_t { plane, sphere, box, capsule, mesh };
 // of (x - c) . n where c is the nearest surface point and n the angle-weighted pseudonormal of the
 // feature c lies on (face: its normal; edge: the sum of its two faces' normals; vertex: the sum of
 // its faces' normals weighted by their angles at the vertex). Unlike the nearest face's normal,
-// this is correct near edges and corners of closed meshes. They are filled by
-// compute_pseudonormals(), which the mesh reader calls once; signed_distance() asserts they are
-// there.
+// this is correct near edges and corners of closed meshes.
+//
+// The hierarchy is a binary tree of axis-aligned boxes over the triangles, split at the median
+// centroid along the longest axis, at most kMeshLeafSize triangles per leaf; a query descends into
+// the nearer child first and skips boxes farther than the best triangle so far. Rejected: a
+// uniform grid (its cell size suits one triangle size, and a scanned mesh mixes many).
+//
+// prepare_triangle_mesh() fills the normals and the hierarchy from `vertex` and `triangle`; the
+// mesh reader calls it once, and signed_distance() asserts it has been called.
 struct TriangleMesh {
   std::vector<Vec3> vertex;                               // m
   std::vector<std::array<std::uint32_t, 3>> triangle;     // counter-clockwise seen from outside
@@ -52,10 +59,19 @@ struct TriangleMesh {
   // [3 per triangle]: edge k of triangle t runs from corner k to corner (k + 1) % 3; unit. A
   // boundary edge (one face) takes that face's normal.
   std::vector<Vec3> edge_pseudonormal;
+  // Hierarchy nodes, root first, [node count]: box corners (m); an inner node's children are
+  // node_child and node_child + 1; a leaf (node_count > 0) holds the triangles
+  // node_triangle[node_first .. node_first + node_count).
+  std::vector<Vec3> node_low, node_high;
+  std::vector<std::uint32_t> node_child, node_first, node_count;
+  std::vector<std::uint32_t> node_triangle;  // [triangle count]: triangle indices in leaf order
 };
 
-// Fills triangle_normal, vertex_pseudonormal and edge_pseudonormal from vertex and triangle.
-void compute_pseudonormals(TriangleMesh& mesh);
+inline constexpr std::uint32_t kMeshLeafSize = 4;
+
+// Fills triangle_normal, the pseudonormals and the hierarchy from vertex and triangle.
+void prepare_triangle_mesh(TriangleMesh& mesh);
+
 
 struct Collider {
   ColliderShape shape = ColliderShape::plane;
@@ -87,5 +103,9 @@ struct SurfaceDistance {
 
 // Signed distance from `x` to `collider` at time `time` (s).
 SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double time);
+
+// The same distance as signed_distance() gives a mesh collider at rest, by visiting every
+// triangle: the oracle the hierarchy is tested against.
+SurfaceDistance mesh_distance_brute_force(const TriangleMesh& mesh, const Vec3& x);
 
 }  // namespace clothsim

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "model/collider.h"
+
 namespace clothsim::render {
 namespace {
 
@@ -27,6 +29,38 @@ Box bounding_box(std::span<const Vec3> position) {
   return box;
 }
 
+void include(Box& box, const Vec3& low, const Vec3& high) {
+  box.empty = false;
+  box.low = {std::min(box.low.x, low.x), std::min(box.low.y, low.y), std::min(box.low.z, low.z)};
+  box.high = {std::max(box.high.x, high.x), std::max(box.high.y, high.y), std::max(box.high.z, high.z)};
+}
+
+// Adds the bounds of every bounded collider where it is at `time`, so that the obstacle a sheet
+// drapes over is in the picture. Planes are unbounded and left out: framing follows the sheet.
+void include_colliders(Box& box, const ClothModel& model, double time) {
+  for (const Collider& collider : model.colliders) {
+    const Vec3 shift = collider.path.position(time) - collider.path.position(0.0);
+    const Vec3 r{collider.radius, collider.radius, collider.radius};
+    switch (collider.shape) {
+      case ColliderShape::plane:
+        break;
+      case ColliderShape::sphere:
+        include(box, collider.center + shift - r, collider.center + shift + r);
+        break;
+      case ColliderShape::box:
+        include(box, collider.center + shift - collider.half_extents, collider.center + shift + collider.half_extents);
+        break;
+      case ColliderShape::capsule:
+        for (const Vec3& end : {collider.a, collider.b}) include(box, end + shift - r, end + shift + r);
+        break;
+      case ColliderShape::mesh:
+        if (collider.mesh == nullptr) break;
+        for (const Vec3& vertex : collider.mesh->vertex) include(box, vertex + shift, vertex + shift);
+        break;
+    }
+  }
+}
+
 std::array<Vec3, 8> corners(const Vec3& low, const Vec3& high) {
   return {Vec3{low.x, low.y, low.z}, Vec3{high.x, low.y, low.z}, Vec3{low.x, high.y, low.z},
           Vec3{high.x, high.y, low.z}, Vec3{low.x, low.y, high.z}, Vec3{high.x, low.y, high.z},
@@ -41,8 +75,9 @@ CameraDirector::CameraDirector(const CameraChoice& choice, double aspect) : choi
 }
 
 void CameraDirector::update(const ClothModel& model, std::span<const Vec3> position, double time) {
-  const Box box = bounding_box(position);
+  Box box = bounding_box(position);
   if (box.empty) return;  // nothing finite to look at: keep the last camera
+  include_colliders(box, model, time);
   const bool first = !started_;
   if (first) {
     low_ = box.low;

@@ -12,7 +12,9 @@
 //              below what keeps the current frame in view from the lagging target.
 //   fixed      a given distance: the target is the centre of the first frame's bounding box
 //              and nothing moves.
-// The direction (azimuth, elevation) is fixed in every mode, so lighting stays put too.
+// The direction (azimuth, elevation) is fixed in every mode, so lighting stays put too. Bounded
+// colliders (spheres, boxes, capsules, meshes; not planes) count as seen, where they are at the
+// frame's time, so the obstacle a sheet drapes over is in the picture.
 //
 // The ground height follows the same rule as automatic framing: below the lowest point seen so
 // far (model spacing or 5% of the sheet below it), so it never jumps up.

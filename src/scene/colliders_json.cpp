@@ -266,7 +266,7 @@ std::shared_ptr<const TriangleMesh> read_obj_mesh(const std::string& path, doubl
     mesh.triangle.push_back(corners);
   }
   if (mesh.triangle.empty()) fail(source, field, "mesh file '" + path + "' holds no faces ('f' lines)");
-  compute_pseudonormals(mesh);
+  prepare_triangle_mesh(mesh);
   return std::make_shared<const TriangleMesh>(std::move(mesh));
 }
 
