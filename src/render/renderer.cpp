@@ -6,7 +6,8 @@
 //      with fwidth) and faded out with distance so the plane has no visible edge;
 //   3. colliders (obstacles): triangles built on the CPU each frame at the colliders' positions
 //      at the frame's time (spheres and capsules tessellated, boxes and meshes with flat faces,
-//      planes as a large quad around the sheet), lit like the sheet in one neutral colour. An
+//      planes as a large quad around the sheet, in the ground's colour), lit like the sheet in
+//      one neutral colour. An
 //      upward horizontal plane is the floor: it replaces the ground grid, which would otherwise
 //      float above or hide below it;
 //   4. sheet: indexed triangles, per-vertex positions and normals streamed each frame, two-sided
@@ -404,6 +405,7 @@ struct Renderer::Impl {
   Buffers lines;
   Buffers ground_quad;
   Buffers colliders;
+  GLsizei plane_vertex_count = 0;  // the colliders' vertex buffer holds the planes' vertices first
 
   // The mesh and its triangles as uploaded; re-uploaded when the mesh's topology changes (a new
   // grid, a new mode, a tear).
@@ -557,21 +559,34 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
   // --- Colliders ---
   if (options.show_colliders && !model.colliders.empty()) {
     const Vec3 focus = any_finite ? 0.5 * (low + high) : Vec3{};
+    // Planes first, in the ground's colour (they are floors and walls, and a box standing on a
+    // floor of its own colour would not stand out), then the bounded shapes.
     impl.vertex_data.clear();
-    for (const Collider& collider : model.colliders) {
-      const Vec3 shift = collider.path.position(time) - collider.path.position(0.0);
-      append_collider(collider, shift, focus, 1.5 * sheet_size, impl.vertex_data);
+    for (const bool planes : {true, false}) {
+      for (const Collider& collider : model.colliders) {
+        if ((collider.shape == ColliderShape::plane) != planes) continue;
+        const Vec3 shift = collider.path.position(time) - collider.path.position(0.0);
+        append_collider(collider, shift, focus, 1.5 * sheet_size, impl.vertex_data);
+      }
+      if (planes) impl.plane_vertex_count = static_cast<GLsizei>(impl.vertex_data.size() / 6);
     }
+    const auto vertex_count = static_cast<GLsizei>(impl.vertex_data.size() / 6);
     impl.colliders.upload(impl.vertex_data, {0, 3}, 6);
     glUseProgram(impl.lit_sheet);
     set_matrix(impl.lit_sheet, "view_projection", view_projection);
-    set_colour(impl.lit_sheet, "front_colour", options.collider_colour);
-    set_colour(impl.lit_sheet, "back_colour", options.collider_colour);
     set_vec3(impl.lit_sheet, "eye", eye);
     set_vec3(impl.lit_sheet, "key_direction", key_direction);
     set_vec3(impl.lit_sheet, "fill_direction", fill_direction);
     glUniform1f(glGetUniformLocation(impl.lit_sheet, "opacity"), 1.0f);
-    glDrawArrays(GL_TRIANGLES, 0, static_cast<GLsizei>(impl.vertex_data.size() / 6));
+    for (const Colour* colour : {&options.ground_colour, &options.collider_colour}) {
+      const bool planes = colour == &options.ground_colour;
+      const GLsizei first = planes ? 0 : impl.plane_vertex_count;
+      const GLsizei count = planes ? impl.plane_vertex_count : vertex_count - impl.plane_vertex_count;
+      if (count == 0) continue;
+      set_colour(impl.lit_sheet, "front_colour", *colour);
+      set_colour(impl.lit_sheet, "back_colour", *colour);
+      glDrawArrays(GL_TRIANGLES, first, count);
+    }
   }
 
   // --- Sheet ---

@@ -163,7 +163,7 @@ ColliderSpec read_collider(const json& value, const std::string& source, const s
   return spec;
 }
 
-// One number of an OBJ line; `what` names it in the message.
+// One number of an OBJ line; `where` (file and line) starts the message.
 double parse_obj_number(std::string_view text, const std::string& where, const std::string& source,
                         const std::string& field) {
   double number = 0.0;
