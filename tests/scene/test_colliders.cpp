@@ -5,6 +5,7 @@
 // round trip through scene_to_json().
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -115,6 +116,21 @@ TEST(Colliders, MeshIsReadRelativeToTheSceneFileAndRoundTrips) {
   EXPECT_EQ(written["colliders"][0]["scale"], 2.0);
   write_files("colliders-mesh", {{"again.json", written.dump()}});
   expect_same_scene(load_scene_file(directory + "/again.json"), spec);
+}
+
+// Corners as a/b/c and negative (relative) indices; a pentagon fanned into 3 triangles; CRLF line
+// ends and trailing comments.
+TEST(Colliders, ObjFaceFormsAndFans) {
+  const std::string directory = write_files(
+      "colliders-obj-forms", {{"forms.obj",
+                               "v 0 0 0\r\nv 1 0 0\r\nv 1 0 1 # w omitted\r\nv 0.5 0 1.5\r\nv 0 0 1\r\n"
+                               "vt 0 0\r\nf 1/1/1 2/1/1 3/1/1 -2/1/1 -1/1/1\r\n"}});
+  const auto mesh = scene_json::read_obj_mesh(directory + "/forms.obj", 1.0, {}, "test", "file");
+  ASSERT_EQ(mesh->triangle.size(), 3u);
+  EXPECT_EQ(mesh->triangle[0], (std::array<std::uint32_t, 3>{0, 1, 2}));
+  EXPECT_EQ(mesh->triangle[1], (std::array<std::uint32_t, 3>{0, 2, 3}));
+  EXPECT_EQ(mesh->triangle[2], (std::array<std::uint32_t, 3>{0, 3, 4}));
+  EXPECT_EQ(mesh->vertex[3].z, 1.5);
 }
 
 TEST(Colliders, MeshFileErrorsNameTheFileAndLine) {
