@@ -1,12 +1,14 @@
 // Tests of render/camera_director: automatic framing never zooms in and keeps every frame in
 // view; follow glides (no jumps) and catches up with a falling sheet; fixed does not move; the
-// ground stays below everything seen.
+// ground stays below everything seen; bounded colliders are framed, planes are not.
 #include "render/camera_director.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <vector>
+
+#include "model/collider.h"
 
 namespace clothsim::render {
 namespace {
@@ -88,6 +90,35 @@ TEST(CameraDirector, FixedDoesNotMove) {
   director.update(model, falling(model, 0.5), 0.5);
   EXPECT_EQ(director.camera().target, first.target);
   EXPECT_DOUBLE_EQ(director.camera().distance, 7.0);
+}
+
+}  // namespace
+}  // namespace clothsim::render
+
+namespace clothsim::render {
+namespace {
+
+// A bounded collider counts as seen, where its path puts it: the obstacle under a sheet is in the
+// picture, and the ground stays below it. Planes are unbounded and do not change the framing.
+TEST(CameraDirector, AutomaticFramesBoundedColliders) {
+  ClothModel model = sheet();
+  Collider floor;
+  floor.shape = ColliderShape::plane;
+  floor.point = {0.0, -50.0, 0.0};
+  model.colliders.push_back(floor);
+  Collider sphere;
+  sphere.shape = ColliderShape::sphere;
+  sphere.center = {0.0, -2.0, 0.0};
+  sphere.radius = 0.5;
+  sphere.path.kind = AnchorPathKind::linear;
+  sphere.path.velocity = {1.0, 0.0, 0.0};
+  model.colliders.push_back(sphere);
+  CameraDirector director(CameraChoice{}, 16.0 / 9.0);
+  director.update(model, model.particle_rest_position, 2.0);  // the sphere is at (2, -2, 0)
+  EXPECT_TRUE(all_visible(director.camera(), model.particle_rest_position));
+  EXPECT_TRUE(all_visible(director.camera(), {Vec3{2.5, -2.5, 0.0}, Vec3{1.5, -1.5, 0.0}, Vec3{2.0, -2.0, 0.5}}));
+  EXPECT_LT(director.ground_height(), -2.5);
+  EXPECT_GT(director.ground_height(), -10.0) << "the floor plane does not stretch the framing";
 }
 
 }  // namespace
