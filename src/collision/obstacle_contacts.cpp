@@ -33,12 +33,16 @@ struct ParticleContact {
 };
 
 // Resolves one particle against one collider (steps 1 to 4 of the header). `particle` holds its
-// position and velocity after the step (and after earlier colliders), `x0` its position at the
+// position and velocity after the step (and after earlier colliders), `start` its position at the
 // step's start t0; the collider is taken at the step's end t1.
-void resolve(double mu, double thickness, double t0, double t1, const Collider& collider, const Vec3& x0,
+void resolve(double mu, double thickness, double t0, double t1, const Collider& collider, const Vec3& start,
              ParticleContact& particle) {
   const double tolerance = shell_tolerance(thickness);
   const Vec3 x1 = particle.position;
+  // The sweep runs in the collider's frame: the start point moves with the shape's translation
+  // over the step, so that a collider moving faster than its size per step cannot pass through a
+  // particle either, and the start distance is the one at the step's start.
+  const Vec3 x0 = start + (collider.path.position(t1) - collider.path.position(t0));
   const SurfaceDistance at_end = signed_distance(collider, x1, t1);
   const SurfaceDistance at_start = signed_distance(collider, x0, t1);
   const bool sustained = at_start.distance <= thickness + tolerance;

@@ -10,8 +10,10 @@
 //
 // For each free particle and each collider, in collider index order, with the collider at the
 // step's end time t1:
-//   1. sweep     the segment from the particle's position before the step, x0, to its position
-//                after it, x1, is marched by conservative advancement on the signed distance d
+//   1. sweep     the segment from the particle's position before the step, x0 (moved with the
+//                collider's translation over the step: the sweep runs in the collider's frame, so
+//                a fast collider cannot pass through a particle either), to its position after
+//                it, x1, is marched by conservative advancement on the signed distance d
 //                (each move is d - thickness long, which cannot cross the thickness shell because
 //                d is an exact distance): the first point within the shell is the entry point.
 //                A particle that was in contact at x0 (d(x0) within the shell) is not swept: it

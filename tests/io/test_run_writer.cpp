@@ -56,7 +56,8 @@ std::size_t column(const Csv& csv, const std::string& name) {
 
 TEST(RunWriter, ContactRunRecordsContacts) {
   // A 6 x 6 sheet hanging from one anchor onto a floor 2 m below it (collision/).
-  const SceneSpec spec = parse_scene(R"({"name": "floor", "paper_args": [6, 6, 1, 4, 1, 1400, 200, 80, 5, 1]})", "test");
+  const SceneSpec spec =
+      parse_scene(R"({"name": "floor", "paper_args": [6, 6, 1, 4, 1, 1400, 200, 80, 5, 1]})", "test");
   ClothModel model = build_model(spec);
   Collider floor;
   floor.shape = ColliderShape::plane;
