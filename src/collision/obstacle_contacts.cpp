@@ -130,7 +130,8 @@ double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& s
   resize(model);
   start_time_ = state.time;
   const double thickness = model.collision.thickness;
-  const double impact_depth = kImpactDepth * thickness;
+  // With no thickness at all, a micrometre: the limit must leave the step some length.
+  const double impact_depth = std::max(kImpactDepth * thickness, 1e-6);  // m
   parallel_for(model.particle_count(), threads, [&](std::size_t p) {
     start_position_[p] = state.position[p];
     arrival_[p] = std::numeric_limits<double>::infinity();
@@ -147,7 +148,10 @@ double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& s
   // the same for any thread count.
   double arrival = std::numeric_limits<double>::infinity();
   for (double a : arrival_) arrival = std::min(arrival, a);
-  return state.time + arrival;
+  const double limit = state.time + arrival;
+  // A limit that rounds to the current time (a huge approach speed late in a long run) is no
+  // limit: the step must move time forward.
+  return limit > state.time ? limit : std::numeric_limits<double>::infinity();
 }
 
 double ObstacleContacts::local_energy(const ClothModel& model, const ClothState& state, ForceTerms terms) const {

@@ -38,6 +38,9 @@
 // neighbours move on while it is pushed back, storing energy in the springs between them. The
 // stage therefore limits the next step so that an approaching particle reaches at most a tenth of
 // the thickness inside the shell (begin_step()); the integrator's own step control does the rest.
+// Limit: a particle pressed onto an obstacle by a load dips into it within every step and is put
+// back at the step's end; whatever the integrator dissipates during that dip (spring damping, its
+// own numerical damping) the projection books back as positive contact work (docs/collisions.md).
 // Determinism: particles are resolved in parallel, each writing only its own scratch entries;
 // the bookkeeping that follows runs in particle index order.
 //

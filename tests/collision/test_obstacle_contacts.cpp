@@ -198,6 +198,18 @@ TEST(ObstacleContacts, EveryIntegratorKeepsTheSheetOutside) {
   }
 }
 
+TEST(ObstacleContacts, ZeroThicknessKeepsParticlesOnTheSurface) {
+  ClothModel model = sheet(0.3, {plane({0.0, 0.0, 0.0}, {0.0, 1.0, 0.0})});
+  model.collision.thickness = 0.0;
+  ClothState state = rest_state(model);
+  Simulation simulation(std::move(model), std::move(state), settings());
+  for (int frame = 1; frame <= 30; ++frame) {
+    ASSERT_TRUE(simulation.advance_to(frame / 30.0));
+    for (const Vec3& x : simulation.state().position) EXPECT_GE(x.y, -kDepthTolerance) << "frame " << frame;
+  }
+  EXPECT_GT(simulation.contact_statistics().last_step, 0u);
+}
+
 TEST(ObstacleContacts, SheetOnMovingCollidersStaysOutside) {
   for (const ColliderCase& c : collider_cases()) {
     SCOPED_TRACE(c.name);
