@@ -84,7 +84,8 @@ ordered_json energy_json(const EnergyBalance& balance, double time) {
                       {"anchor_work", balance.anchor_work},
                       {"balance_error", balance.error()},
                       {"plastic_work", balance.plastic_work},
-                      {"fracture_work", balance.fracture_work}};
+                      {"fracture_work", balance.fracture_work},
+                      {"contact_work", balance.contact_work}};
 }
 
 // A finite number, or null (JSON has no infinity; nlohmann would write null anyway, this says so).
@@ -233,12 +234,13 @@ void RunWriter::write_frame(const Simulation& simulation) {
   }
   const int written = std::fprintf(
       energy_file_,
-      "%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%llu,%llu,%zu,%.17g,%.17g,%.17g,%.17g\n",
+      "%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%llu,%llu,%zu,%.17g,%.17g,%.17g,%.17g,"
+      "%.17g,%zu\n",
       frames_, state.time, e.kinetic, e.gravitational, e.connector, e.radial_adjacent, e.radial_opposite, e.total(),
       balance.damping_work, balance.drag_work, balance.anchor_work, balance.error(),
       static_cast<unsigned long long>(stats.accepted_steps), static_cast<unsigned long long>(stats.rejected_steps),
       changes.broken_connectors, changes.max_plastic_strain, changes.max_rest_angle_change, balance.plastic_work,
-      balance.fracture_work);
+      balance.fracture_work, balance.contact_work, simulation.contact_statistics().last_step);
   if (written < 0) {
     std::string message = (partial_ / kEnergyFile).string();
     message += ": cannot write file: ";
@@ -340,12 +342,20 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
                                           {"max_rest_angle_change", changes.max_rest_angle_change},
                                           {"plastic_work", last_energy_.plastic_work},
                                           {"fracture_work", last_energy_.fracture_work}};
+  // Obstacle contacts (collision/): particles in contact summed over accepted steps, the most
+  // after one step, and the energy the collision stage changed.
+  const ContactStatistics& contacts = simulation.contact_statistics();
+  summary["contacts"] = ordered_json{{"colliders", model.colliders.size()},
+                                     {"contact_steps", contacts.total},
+                                     {"max_in_a_step", contacts.max_in_a_step},
+                                     {"contact_work", last_energy_.contact_work}};
   summary["timings"] = ordered_json{
       {"wall_seconds", wall_seconds},
       {"forces", profile.forces},
       {"integration", profile.integration},
       {"events", profile.events},
       {"checks", profile.checks},
+      {"collisions", profile.collisions},
       {"output", output_seconds_},
       {"realtime_factor", wall_seconds > 0.0 ? number_or_null(last_time_ / wall_seconds) : ordered_json(nullptr)}};
   ordered_json phases = ordered_json::object();

@@ -161,7 +161,8 @@ struct ClothState {
   std::vector<Vec3> position;   // [particle_count()], m
   std::vector<Vec3> velocity;   // [particle_count()], m/s
   // Work done on the sheet since t = 0, integrated alongside the motion so that the energy
-  // balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_plastic + W_fracture can be checked.
+  // balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_plastic + W_fracture + W_contact can be
+  // checked.
   double damping_work = 0.0;  // by spring damping, J (never positive)
   double drag_work = 0.0;     // by air drag, J (never positive)
   double anchor_work = 0.0;   // by moving anchors, J
@@ -169,6 +170,10 @@ struct ClothState {
   // positive): yielding and creasing, and breaking springs.
   double plastic_work = 0.0;
   double fracture_work = 0.0;
+  // Energy the collision stage (collision/) changed between steps by moving particles out of
+  // obstacles and correcting their velocities, J. Never positive against static obstacles; a
+  // moving obstacle that pushes the sheet does positive work.
+  double contact_work = 0.0;
 };
 
 // Builds the lattice of the paper: particle (i, j) has index i*cols + j and rest position

@@ -16,9 +16,10 @@ std::vector<ProfileRow> profile_rows(const Simulation& simulation, double output
     timed_phases += phase.seconds;
   }
   if (timed_phases > 0.0) rows.push_back({"rest of step", std::max(0.0, profile.integration - timed_phases), 1});
+  rows.push_back({"collisions", profile.collisions, 0});
   rows.push_back({"events", profile.events, 0});
   rows.push_back({"checks", profile.checks, 0});
-  double measured = profile.forces + profile.integration + profile.events + profile.checks;
+  double measured = profile.forces + profile.integration + profile.collisions + profile.events + profile.checks;
   if (output_seconds >= 0.0) {
     rows.push_back({"output", output_seconds, 0});
     measured += output_seconds;

@@ -34,7 +34,7 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
   integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_, settings.kernel});
   initial_energy_ = energy().total() - (state_.damping_work + state_.drag_work + state_.anchor_work +
-                                        state_.plastic_work + state_.fracture_work);
+                                        state_.plastic_work + state_.fracture_work + state_.contact_work);
   check_state();
 }
 
@@ -42,7 +42,15 @@ bool Simulation::advance_to(double time) {
   if (failure_) return false;
   CLOTHSIM_ASSERT(time >= state_.time, "advance_to() cannot go back in time");
   while (state_.time < time) {
-    if (!integrate(time)) return false;
+    double step_end = time;
+    {
+      // The collision stage's swept tests start from the positions before the step, and an
+      // approaching impact limits the step (collision/obstacle_contacts.h).
+      ScopedTimer timer(profile_.collisions);
+      step_end = std::min(time, obstacle_contacts_.begin_step(*model_, state_, threads_));
+    }
+    if (!integrate(step_end)) return false;
+    collide();
     apply_events();
     if (!check()) return false;
   }
@@ -74,6 +82,14 @@ bool Simulation::integrate(double time) {
     return false;
   }
   return true;
+}
+
+void Simulation::collide() {
+  ScopedTimer timer(profile_.collisions);
+  const ContactCounts counts = obstacle_contacts_.apply(*model_, state_, settings_.terms, threads_);
+  contact_statistics_.last_step = counts.contacts;
+  contact_statistics_.total += counts.contacts;
+  contact_statistics_.max_in_a_step = std::max(contact_statistics_.max_in_a_step, counts.contacts);
 }
 
 void Simulation::apply_events() {
@@ -153,7 +169,8 @@ std::size_t model_bytes(const ClothModel& m) {
 
 std::size_t Simulation::memory_bytes() const {
   return model_bytes(*model_) + vector_bytes(state_.position) + vector_bytes(state_.velocity) +
-         integrator_->workspace_bytes() + spring_events_.bytes();
+         integrator_->workspace_bytes() + spring_events_.bytes() +
+         obstacle_contacts_.bytes();
 }
 
 EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms); }
@@ -168,6 +185,7 @@ EnergyBalance Simulation::energy_balance() const {
   balance.edit_work = edit_work_;
   balance.plastic_work = state_.plastic_work;
   balance.fracture_work = state_.fracture_work;
+  balance.contact_work = state_.contact_work;
   return balance;
 }
 

@@ -4,6 +4,8 @@
 // entry in StepProfile:
 //   while the state is before t:
 //     integrate: one accepted step (adaptive, never past t or an anchor event) -> integration, forces
+//     collide:   between steps, on the accepted state: particles out of the      -> collisions
+//                obstacles, velocities corrected (collision/)
 //     events:    between steps, on the accepted state: anchors arriving or     -> events
 //                released, then tearing, permanent stretching and creasing
 //                (events/), each change through model/model_edits.h
@@ -38,6 +40,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/obstacle_contacts.h"
 #include "events/spring_events.h"
 #include "forces/forces.h"
 #include "integrators/integrator.h"
@@ -60,6 +63,7 @@ struct SimulationSettings {
 struct StepProfile {
   double forces = 0.0;       // force evaluation (inside the integrator)
   double integration = 0.0;  // the rest of the integrator: stage sums, error control
+  double collisions = 0.0;   // between steps: obstacle contacts (with keeping the step's start positions)
   double events = 0.0;       // between steps: anchors, tearing, plasticity, creasing
   double checks = 0.0;       // finiteness and explosion checks
 };
@@ -72,8 +76,8 @@ struct Diagnosis {
 };
 
 // Energies and the work done on the sheet; `error()` is how far the run is from the energy
-// balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_edit + W_plastic + W_fracture, which
-// the exact flow satisfies.
+// balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_edit + W_plastic + W_fracture + W_contact,
+// which the exact flow satisfies.
 struct EnergyBalance {
   EnergyReport energy;
   double initial_total = 0.0;
@@ -83,10 +87,18 @@ struct EnergyBalance {
   double edit_work = 0.0;      // energy added by live parameter edits between steps (Simulation::set_*), J
   double plastic_work = 0.0;   // elastic energy released by yielding and creasing, J (never positive)
   double fracture_work = 0.0;  // elastic energy released by breaking springs, J (never positive)
+  double contact_work = 0.0;   // energy changed by the collision stage, J (never positive against static obstacles)
   double error() const {
-    return energy.total() -
-           (initial_total + damping_work + drag_work + anchor_work + edit_work + plastic_work + fracture_work);
+    return energy.total() - (initial_total + damping_work + drag_work + anchor_work + edit_work + plastic_work +
+                             fracture_work + contact_work);
   }
+};
+
+// Particles in contact with obstacles (collision/): after the last step, and summed over steps.
+struct ContactStatistics {
+  std::size_t last_step = 0;     // particles in contact after the last accepted step
+  std::uint64_t total = 0;       // sum over accepted steps of the particles in contact (contact-steps)
+  std::size_t max_in_a_step = 0; // the most particles in contact after one step
 };
 
 // How far the sheet has changed from its built model: the statistics of events/ that
@@ -125,6 +137,8 @@ class Simulation {
   ModelChanges model_changes() const;
   // Breaks, yields and creases applied by the event stage so far (not counting cuts).
   const SpringEventCounts& event_totals() const { return event_totals_; }
+  // Contacts with obstacles so far.
+  const ContactStatistics& contact_statistics() const { return contact_statistics_; }
 
   // Live parameter edits, between advance_to() calls (see the top of this file). Values must be
   // valid (the caller checks input against the parameter registry, scene/parameters.h).
@@ -181,6 +195,7 @@ class Simulation {
 
   // The stages of advance_to(), in order. Each returns false when the simulation failed.
   bool integrate(double time);
+  void collide();
   void apply_events();
   bool check();
 
@@ -195,6 +210,8 @@ class Simulation {
   StepProfile profile_;
   SpringEvents spring_events_;
   SpringEventCounts event_totals_;  // over the run
+  ObstacleContacts obstacle_contacts_;
+  ContactStatistics contact_statistics_;
   std::optional<Diagnosis> failure_;
 };
 

@@ -313,11 +313,11 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   EXPECT_EQ(energy.header,
             "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
             "anchor_work,balance_error,accepted_steps,rejected_steps,broken_connectors,max_plastic_strain,"
-            "max_rest_angle_change,plastic_work,fracture_work");
+            "max_rest_angle_change,plastic_work,fracture_work,contact_work,contacts");
   ASSERT_EQ(energy.rows.size(), 11u);
   for (std::size_t frame = 0; frame < energy.rows.size(); ++frame) {
     const std::vector<double>& row = energy.rows[frame];
-    ASSERT_EQ(row.size(), 19u) << "frame " << frame;
+    ASSERT_EQ(row.size(), 21u) << "frame " << frame;
     EXPECT_EQ(row[0], static_cast<double>(frame));
     EXPECT_EQ(row[1], static_cast<double>(frame) / 20.0) << "frame k at t = k / fps, exactly";
     EXPECT_LT(std::abs(row[11]), 1e-4) << "energy balance error, frame " << frame;

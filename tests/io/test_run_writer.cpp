@@ -1,7 +1,8 @@
 // Tests of io/run_writer for a torn sheet, built through the library (Simulation::cut_connectors):
 // the tearing columns of energy.csv, the sheet_changes of summary.json, connectors.npy and
 // connector_break_time.npy (enough to rebuild each frame's live connectors), and a split
-// final.obj. The files of an intact run are tested end to end in tests/apps/test_cli.cpp.
+// final.obj; and for a sheet on a floor, the contact columns and keys (collision/). The files of an
+// intact run are tested end to end in tests/apps/test_cli.cpp.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -53,6 +54,48 @@ std::size_t column(const Csv& csv, const std::string& name) {
   return 0;
 }
 
+TEST(RunWriter, ContactRunRecordsContacts) {
+  // A 6 x 6 sheet hanging from one anchor onto a floor 2 m below it (collision/).
+  const SceneSpec spec =
+      parse_scene(R"({"name": "floor", "paper_args": [6, 6, 1, 4, 1, 1400, 200, 80, 5, 1]})", "test");
+  ClothModel model = build_model(spec);
+  Collider floor;
+  floor.shape = ColliderShape::plane;
+  floor.point = Vec3{0.0, -2.0, 0.0};
+  model.colliders.push_back(floor);
+  ClothState initial = build_initial_state(model, spec);
+  SimulationSettings settings;
+  settings.integrator = spec.integrator;
+  settings.threads = 1;
+  Simulation simulation(std::move(model), std::move(initial), settings);
+  const fs::path out = fs::path(CLOTHSIM_TEST_TMPDIR) / "io" / "contact_run";
+  fs::remove_all(out);
+  RunWriter writer(out, RunInfo{"test", "test"});
+  writer.begin(spec, simulation);
+  writer.write_frame(simulation);
+  ASSERT_TRUE(simulation.advance_to(1.5));
+  writer.write_frame(simulation);
+  writer.finish(simulation, RunStatus::completed, 1.0);
+
+  const Csv energy = read_csv(out / RunWriter::kEnergyFile);
+  ASSERT_EQ(energy.rows.size(), 2u);
+  const std::size_t contacts = column(energy, "contacts");
+  const std::size_t work = column(energy, "contact_work");
+  EXPECT_EQ(energy.rows[0][contacts], 0.0);
+  EXPECT_EQ(energy.rows[1][contacts], static_cast<double>(simulation.contact_statistics().last_step));
+  EXPECT_GT(energy.rows[1][contacts], 0.0) << "the sheet lies on the floor";
+  EXPECT_LT(energy.rows[1][work], 0.0);
+
+  std::ifstream summary_file(out / RunWriter::kSummaryFile);
+  const nlohmann::json summary = nlohmann::json::parse(summary_file);
+  EXPECT_EQ(summary["contacts"]["colliders"], 1);
+  EXPECT_EQ(summary["contacts"]["contact_steps"].get<std::uint64_t>(), simulation.contact_statistics().total);
+  EXPECT_GE(summary["contacts"]["contact_steps"].get<double>(), energy.rows[1][contacts]);
+  EXPECT_EQ(summary["contacts"]["contact_work"].get<double>(), energy.rows[1][work]);
+  EXPECT_EQ(summary["energy"]["final"]["contact_work"].get<double>(), energy.rows[1][work]);
+  EXPECT_TRUE(summary["timings"].contains("collisions"));
+}
+
 TEST(RunWriter, TornRunRecordsItsTopologyAndChanges) {
   // A 6 x 6 sheet hanging from one anchor; between frames 1 and 2 a cut breaks the 6 connectors
   // between rows 2 and 3.
@@ -84,9 +127,11 @@ TEST(RunWriter, TornRunRecordsItsTopologyAndChanges) {
   writer.write_frame(simulation);
   writer.finish(simulation, RunStatus::completed, 1.0);
 
-  // energy.csv: the old columns first, in their order, then the tearing columns.
+  // energy.csv: the old columns first, in their order, then the tearing columns, then the contact columns.
   const Csv energy = read_csv(out / RunWriter::kEnergyFile);
-  ASSERT_EQ(energy.columns.size(), 19u);
+  ASSERT_EQ(energy.columns.size(), 21u);
+  EXPECT_EQ(energy.columns[19], "contact_work");
+  EXPECT_EQ(energy.columns[20], "contacts");
   EXPECT_EQ(energy.columns[13], "rejected_steps");
   ASSERT_EQ(energy.rows.size(), 4u);
   const std::size_t broken = column(energy, "broken_connectors");

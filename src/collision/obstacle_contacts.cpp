@@ -1,0 +1,235 @@
+#include "collision/obstacle_contacts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/parallel.h"
+
+namespace clothsim {
+namespace {
+
+// Conservative advancement stops within this distance outside the thickness shell: each march
+// covers at least this much, so a grazing segment costs at most length / tolerance queries,
+// capped by kMaxMarches (a segment still marching then is resolved at its end point).
+double shell_tolerance(double thickness) { return std::max(0.01 * thickness, 1e-9); }
+constexpr int kMaxMarches = 64;
+// The end point is resolved where it is when its normal is within 60 degrees of the entry
+// point's: a particle that entered through one face and ends nearer another (a box's edge), or
+// past a sphere's centre, would be pushed out the wrong side.
+constexpr double kSameSideCosine = 0.5;
+// The step limit of begin_step(): a particle approaching an obstacle at its current velocity may
+// go this fraction of the thickness into the shell before the step ends. The stage resolves
+// contacts at step ends, so a particle stopped there has been stopped late by what it moved
+// inside; its neighbours moved on meanwhile, and the springs between them store energy that
+// grows with the square of that depth while the kinetic energy the contact removes does not
+// shrink: with a small depth the stage never adds energy (docs/collisions.md).
+constexpr double kImpactDepth = 0.1;
+
+struct ParticleContact {
+  Vec3 position;
+  Vec3 velocity;
+  bool touched = false;
+};
+
+// Resolves one particle against one collider (steps 1 to 4 of the header). `particle` holds its
+// position and velocity after the step (and after earlier colliders), `start` its position at the
+// step's start t0; the collider is taken at the step's end t1.
+void resolve(double mu, double thickness, double t0, double t1, const Collider& collider, const Vec3& start,
+             ParticleContact& particle) {
+  const double tolerance = shell_tolerance(thickness);
+  const Vec3 x1 = particle.position;
+  // The sweep runs in the collider's frame: the start point moves with the shape's translation
+  // over the step, so that a collider moving faster than its size per step cannot pass through a
+  // particle either, and the start distance is the one at the step's start.
+  const Vec3 x0 = start + (collider.path.position(t1) - collider.path.position(t0));
+  const SurfaceDistance at_end = signed_distance(collider, x1, t1);
+  const SurfaceDistance at_start = signed_distance(collider, x0, t1);
+  const bool sustained = at_start.distance <= thickness + tolerance;
+
+  SurfaceDistance contact = at_end;
+  Vec3 contact_point = x1;
+  if (!sustained) {
+    // 1. Sweep x0 -> x1 by conservative advancement.
+    const Vec3 segment = x1 - x0;
+    const double length = norm(segment);
+    bool hit = false;
+    SurfaceDistance entry = at_start;
+    Vec3 entry_point = x0;
+    if (length > 0.0) {
+      const Vec3 direction = segment / length;
+      double s = 0.0;  // m along the segment
+      for (int march = 0; march < kMaxMarches; ++march) {
+        s += entry.distance - thickness;
+        if (s >= length) break;
+        entry_point = x0 + s * direction;
+        entry = signed_distance(collider, entry_point, t1);
+        if (entry.distance <= thickness + tolerance) {
+          hit = true;
+          break;
+        }
+      }
+    }
+    if (!hit) {
+      if (at_end.distance >= thickness) return;  // a free flight past the collider
+    } else if (at_end.distance >= thickness || dot(at_end.normal, entry.normal) < kSameSideCosine) {
+      // 2. Passed through, or ended nearer another side: the entry point.
+      contact = entry;
+      contact_point = entry_point;
+    }
+  } else if (at_end.distance >= thickness) {
+    return;  // resting at x0 and lifted off (or sliding) outside the shell
+  }
+
+  // 2. To exactly the thickness along the normal.
+  const Vec3& n = contact.normal;
+  Vec3 position = contact_point + (thickness - contact.distance) * n;
+
+  // 3. Inelastic normal, Coulomb tangential, relative to the shape.
+  const Vec3 relative = particle.velocity - contact.velocity;
+  const double normal_speed = dot(relative, n);  // m/s, negative approaching
+  const double removed = std::max(0.0, -normal_speed);
+  Vec3 tangential = relative - normal_speed * n;
+  const double tangential_speed = norm(tangential);
+  double keep = 1.0;  // fraction of the tangential relative velocity friction leaves
+  if (removed > 0.0 && mu > 0.0) {
+    keep = tangential_speed > mu * removed ? 1.0 - mu * removed / tangential_speed : 0.0;
+  }
+  const Vec3 friction_change = (keep - 1.0) * tangential;  // m/s, the velocity friction removes
+  const Vec3 velocity = contact.velocity + keep * tangential + std::max(0.0, normal_speed) * n;
+
+  // 4. Friction on positions, for a particle that was in contact during the whole step: the
+  // friction deceleration acted through the step, so the slide shrinks by half the step times the
+  // velocity friction removed (exact for constant deceleration). At rest on a slope below the
+  // friction angle this undoes the step's slide exactly: no creep.
+  if (sustained) position = position + 0.5 * (t1 - t0) * friction_change;
+  particle.position = position;
+  particle.velocity = velocity;
+  particle.touched = true;
+}
+
+}  // namespace
+
+void ObstacleContacts::resize(const ClothModel& model) {
+  const std::size_t n = model.particle_count();
+  if (start_position_.size() == n && element_mark_.size() == model.connector_count() + model.radial_count()) return;
+  start_position_.assign(n, Vec3{0.0, 0.0, 0.0});
+  resolved_position_.assign(n, Vec3{0.0, 0.0, 0.0});
+  resolved_velocity_.assign(n, Vec3{0.0, 0.0, 0.0});
+  moved_.assign(n, 0);
+  arrival_.assign(n, 0.0);
+  moved_list_.clear();
+  moved_list_.reserve(n);
+  element_mark_.assign(model.connector_count() + model.radial_count(), 0);
+  touched_list_.clear();
+  touched_list_.reserve(element_mark_.size());
+}
+
+double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& state, int threads) {
+  if (model.colliders.empty()) return std::numeric_limits<double>::infinity();
+  resize(model);
+  start_time_ = state.time;
+  const double thickness = model.collision.thickness;
+  // With no thickness at all, a micrometre: the limit must leave the step some length.
+  const double impact_depth = std::max(kImpactDepth * thickness, 1e-6);  // m
+  parallel_for(model.particle_count(), threads, [&](std::size_t p) {
+    start_position_[p] = state.position[p];
+    arrival_[p] = std::numeric_limits<double>::infinity();
+    if (model.is_anchored(p)) return;
+    for (const Collider& collider : model.colliders) {
+      const SurfaceDistance surface = signed_distance(collider, state.position[p], state.time);
+      const double approach = -dot(state.velocity[p] - surface.velocity, surface.normal);  // m/s
+      if (approach <= 0.0) continue;
+      const double gap = std::max(0.0, surface.distance - thickness);
+      arrival_[p] = std::min(arrival_[p], (gap + impact_depth) / approach);
+    }
+  });
+  // The minimum does not depend on the order, so a serial pass over the per-particle values is
+  // the same for any thread count.
+  double arrival = std::numeric_limits<double>::infinity();
+  for (double a : arrival_) arrival = std::min(arrival, a);
+  const double limit = state.time + arrival;
+  // A limit that rounds to the current time (a huge approach speed late in a long run) is no
+  // limit: the step must move time forward.
+  return limit > state.time ? limit : std::numeric_limits<double>::infinity();
+}
+
+double ObstacleContacts::local_energy(const ClothModel& model, const ClothState& state, ForceTerms terms) const {
+  double energy = 0.0;
+  for (std::uint32_t p : moved_list_) {
+    energy += 0.5 * model.particle_mass[p] * dot(state.velocity[p], state.velocity[p]);
+    if ((terms & kGravity) != 0) energy -= model.particle_mass[p] * dot(model.environment.gravity, state.position[p]);
+  }
+  const std::size_t connectors = model.connector_count();
+  for (std::uint32_t element : touched_list_) {
+    if (element < connectors) {
+      if ((terms & kConnectorSprings) != 0) energy += connector_spring_energy(model, state.position, element);
+    } else {
+      const std::size_t r = element - connectors;
+      const ForceTerms term =
+          model.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
+      if ((terms & term) != 0) energy += radial_spring_energy(model, state.position, r);
+    }
+  }
+  return energy;
+}
+
+ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads) {
+  ContactCounts counts;
+  if (model.colliders.empty()) return counts;
+  resize(model);
+  const double thickness = model.collision.thickness;
+  const double t1 = state.time;
+  parallel_for(model.particle_count(), threads, [&](std::size_t p) {
+    moved_[p] = 0;
+    if (model.is_anchored(p)) return;
+    ParticleContact particle{state.position[p], state.velocity[p], false};
+    for (const Collider& collider : model.colliders) {
+      const double mu = collider.friction >= 0.0 ? collider.friction : model.collision.friction;
+      resolve(mu, thickness, start_time_, t1, collider, start_position_[p], particle);
+    }
+    if (!particle.touched) return;
+    moved_[p] = 1;
+    resolved_position_[p] = particle.position;
+    resolved_velocity_[p] = particle.velocity;
+  });
+
+  // Bookkeeping in index order: the moved particles and the springs that touch them.
+  moved_list_.clear();
+  touched_list_.clear();
+  const std::size_t base = model.radial_slot_base();
+  const std::size_t connectors = model.connector_count();
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    if (moved_[p] == 0) continue;
+    moved_list_.push_back(static_cast<std::uint32_t>(p));
+    for (std::uint32_t i = model.gather_offset[p]; i < model.gather_offset[p + 1]; ++i) {
+      const std::size_t slot = model.gather_slot[i];
+      const std::size_t element = slot < base ? slot / 2 : connectors + (slot - base) / 3;
+      if (element_mark_[element] != 0) continue;
+      element_mark_[element] = 1;
+      touched_list_.push_back(static_cast<std::uint32_t>(element));
+    }
+  }
+  counts.contacts = moved_list_.size();
+  if (moved_list_.empty()) return counts;
+
+  const double before = local_energy(model, state, terms);
+  for (std::uint32_t p : moved_list_) {
+    state.position[p] = resolved_position_[p];
+    state.velocity[p] = resolved_velocity_[p];
+  }
+  const double after = local_energy(model, state, terms);
+  for (std::uint32_t element : touched_list_) element_mark_[element] = 0;
+  counts.work = after - before;
+  state.contact_work += counts.work;
+  return counts;
+}
+
+std::size_t ObstacleContacts::bytes() const {
+  return arrival_.capacity() * sizeof(double) +
+         (start_position_.capacity() + resolved_position_.capacity() + resolved_velocity_.capacity()) * sizeof(Vec3) +
+         moved_.capacity() + element_mark_.capacity() +
+         (moved_list_.capacity() + touched_list_.capacity()) * sizeof(std::uint32_t);
+}
+
+}  // namespace clothsim
