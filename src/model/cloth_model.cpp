@@ -76,6 +76,24 @@ void finish_model(ClothModel& model) {
   CLOTHSIM_ASSERT(model.gather_offset.back() == model.force_slot_count(), "gather table covers every slot");
 }
 
+std::size_t count_pieces(const ClothModel& model) {
+  // Union-find with path halving over the intact connectors.
+  std::vector<std::uint32_t> parent(model.particle_count());
+  for (std::size_t p = 0; p < parent.size(); ++p) parent[p] = static_cast<std::uint32_t>(p);
+  const auto root = [&](std::uint32_t p) {
+    while (parent[p] != p) p = parent[p] = parent[parent[p]];
+    return p;
+  };
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    if (model.connector_live[e] == 0) continue;
+    const auto [a, b] = model.connector_particles[e];
+    parent[root(a)] = root(b);
+  }
+  std::size_t pieces = 0;
+  for (std::size_t p = 0; p < parent.size(); ++p) pieces += root(static_cast<std::uint32_t>(p)) == p ? 1 : 0;
+  return pieces;
+}
+
 std::string ClothModel::describe_particle(std::size_t particle) const {
   std::string text = "particle " + std::to_string(particle);
   if (cols > 0 && particle < particle_count()) {

@@ -192,6 +192,10 @@ ClothState make_rest_state(const ClothModel& model);
 // model by hand (tests of irregular sheets).
 void finish_model(ClothModel& model);
 
+// Pieces of the sheet: connected components of its particles over intact connectors (an
+// intact sheet is 1 piece; a torn one falls apart into more).
+std::size_t count_pieces(const ClothModel& model);
+
 // Index of particle (row, col).
 inline std::uint32_t lattice_index(int cols, int row, int col) {
   return static_cast<std::uint32_t>(row * cols + col);

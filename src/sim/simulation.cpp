@@ -193,6 +193,7 @@ ModelChanges Simulation::model_changes() const {
   const ClothModel& model = *model_;
   ModelChanges changes;
   changes.broken_connectors = model.broken_connector_count;
+  changes.pieces = model.is_intact() ? 1 : count_pieces(model);
   for (std::size_t e = 0; e < model.connector_count(); ++e) {
     if (model.connector_live[e] == 0) continue;
     changes.max_plastic_strain =

@@ -30,24 +30,6 @@ Simulation simulate(const SceneSpec& spec, double until) {
   return simulation;
 }
 
-// Pieces of the sheet: connected components of particles over intact connectors.
-std::size_t piece_count(const ClothModel& model) {
-  std::vector<std::uint32_t> parent(model.particle_count());
-  std::iota(parent.begin(), parent.end(), 0u);
-  const auto root = [&](std::uint32_t p) {
-    while (parent[p] != p) p = parent[p] = parent[parent[p]];
-    return p;
-  };
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    if (!model.connector_live[e]) continue;
-    const auto [a, b] = model.connector_particles[e];
-    parent[root(a)] = root(b);
-  }
-  std::size_t pieces = 0;
-  for (std::uint32_t p = 0; p < parent.size(); ++p) pieces += root(p) == p ? 1 : 0;
-  return pieces;
-}
-
 // Mean z of lattice row `row`.
 double row_z(const SceneSpec& spec, const ClothState& state, int row) {
   double sum = 0.0;
@@ -61,7 +43,7 @@ TEST(ChangingScenes, TearPullTearsIntoTwoPiecesAndStaysWholeWhenUnbreakable) {
   SceneSpec spec = builtin_scene("tear-pull");
   ASSERT_EQ(spec.cuts.size(), 1u);
   const Simulation torn = simulate(spec, spec.output.duration);
-  EXPECT_EQ(piece_count(torn.model()), 2u);
+  EXPECT_EQ(count_pieces(torn.model()), 2u);
   // The notch (5 springs, broken at t = 0) and the tear that ran from it: one line of springs
   // across the sheet, every one of them after the start.
   const ModelChanges changes = torn.model_changes();
@@ -71,7 +53,7 @@ TEST(ChangingScenes, TearPullTearsIntoTwoPiecesAndStaysWholeWhenUnbreakable) {
   set_scene_field(spec, "springs.connector.break_strain", "1000", "--set");
   validate_scene(spec, "test");
   const Simulation whole = simulate(spec, spec.output.duration);
-  EXPECT_EQ(piece_count(whole.model()), 1u);
+  EXPECT_EQ(count_pieces(whole.model()), 1u);
   EXPECT_EQ(whole.model_changes().broken_connectors, 5u) << "the notch only";
   // Pulled 10 % apart, paper yields (0.5 %) everywhere along the pull.
   EXPECT_GT(whole.model_changes().max_plastic_strain, 0.05);
