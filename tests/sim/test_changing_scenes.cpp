@@ -1,4 +1,4 @@
-// The built-in scenes of issue 7 (tearing, permanent stretching, creasing) do what their
+// The built-in scenes of issue 7 (and sphere-sweep of issue 8) (tearing, permanent stretching, creasing) do what their
 // descriptions say, run through the Simulation as `clothsim run` runs them; plus the scene-level
 // anchor events: keyframes and release_time.
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 #include <numeric>
 #include <vector>
 
+#include "model/collider.h"
 #include "model/material.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"
@@ -190,6 +191,39 @@ TEST(ChangingScenes, KeyframedAnchorsKeepTheEnergyBalance) {
   // state; then 1/2 (|(1, 0, 0.5)|^2 - 1.5^2), and so on: tenths of a joule each.
   EXPECT_GT(std::abs(balance.anchor_work), 0.1);
   EXPECT_LT(std::abs(balance.error()), 1e-6) << "anchor work " << balance.anchor_work;
+}
+
+}  // namespace
+}  // namespace clothsim
+
+namespace clothsim {
+namespace {
+
+// sphere-sweep: the moving sphere pushes the hanging sheet aside and no particle is ever inside
+// it by more than rounding (checked at every frame, 1/60 s apart, as a run writes them).
+TEST(ObstacleScenes, SphereSweepPushesTheSheetAsideWithoutPenetration) {
+  const SceneSpec spec = builtin_scene("sphere-sweep");
+  ASSERT_EQ(spec.colliders.size(), 1u);
+  Simulation simulation(build_model(spec), build_initial_state(build_model(spec), spec), settings_of(spec));
+  const Collider& sphere = simulation.model().colliders[0];
+  const double thickness = simulation.model().collision.thickness;
+  const auto mean_z = [&] {
+    double sum = 0.0;
+    for (const Vec3& x : simulation.state().position) sum += x.z;
+    return sum / static_cast<double>(simulation.state().position.size());
+  };
+  double before = 0.0;
+  double after = 0.0;
+  for (int frame = 1; frame <= 60 * 2; ++frame) {
+    const double time = frame / 60.0;
+    ASSERT_TRUE(simulation.advance_to(time)) << simulation.failure()->message;
+    for (const Vec3& x : simulation.state().position) {
+      ASSERT_GE(signed_distance(sphere, x, time).distance, thickness - 1e-9) << "t = " << time;
+    }
+    if (frame == 60) before = mean_z();  // hanging, the sphere still 25 cm away
+    if (frame == 84) after = mean_z();   // 0.15 s after the sphere's centre crossed the sheet's plane
+  }
+  EXPECT_GT(after - before, 0.1) << "before " << before << ", after " << after;
 }
 
 }  // namespace
