@@ -1,6 +1,6 @@
-// The built-in scenes of issue 7 (and sphere-sweep of issue 8) (tearing, permanent stretching, creasing) do what their
-// descriptions say, run through the Simulation as `clothsim run` runs them; plus the scene-level
-// anchor events: keyframes and release_time.
+// The built-in scenes of issue 7 (tearing, permanent stretching, creasing) and sphere-sweep of
+// issue 8 do what their descriptions say, run through the Simulation as `clothsim run` runs them;
+// plus the scene-level anchor events: keyframes and release_time.
 #include <gtest/gtest.h>
 
 #include <algorithm>
