@@ -12,14 +12,16 @@
 
 namespace clothsim {
 
-double connector_break_energy(const ClothModel& model, std::span<const Vec3> position, std::uint32_t connector) {
-  if (model.connector_live[connector] == 0) return 0.0;
-  double energy = connector_spring_energy(model, position, connector);
+bool tear_connector(ClothModel& model, ClothState& state, std::uint32_t connector) {
+  if (model.connector_live[connector] == 0) return false;
+  double released = connector_spring_energy(model, state.position, connector);
   for (std::uint32_t k = model.connector_radial_offset[connector]; k < model.connector_radial_offset[connector + 1];
        ++k) {
-    energy += radial_spring_energy(model, position, model.radial_of_connector[k]);
+    released += radial_spring_energy(model, state.position, model.radial_of_connector[k]);
   }
-  return energy;
+  break_connector(model, connector, state.time);
+  state.fracture_work -= released;
+  return true;
 }
 
 void SpringEvents::resize(const ClothModel& model) {
@@ -83,9 +85,7 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
   if (tearing) {
     for (std::size_t e = 0; e < connectors; ++e) {
       if ((connector_flag_[e] & kBreaks) == 0) continue;
-      const auto connector = static_cast<std::uint32_t>(e);
-      state.fracture_work -= connector_break_energy(model, x, connector);
-      break_connector(model, connector, state.time);
+      tear_connector(model, state, static_cast<std::uint32_t>(e));
       ++counts.breaks;
     }
   }

@@ -61,9 +61,11 @@ struct SpringEventCounts {
   bool any() const { return breaks + yields + creases > 0; }
 };
 
-// Elastic energy that breaking connector `connector` releases at `position`: its own and that of
-// its radial springs still intact, J (0 if it is broken already).
-double connector_break_energy(const ClothModel& model, std::span<const Vec3> position, std::uint32_t connector);
+// Breaks `connector` (with its radial springs) at `state`'s time and books the elastic energy
+// this releases at `state`'s positions, its own and that of its radial springs still intact, as
+// fracture work. The one way a connector breaks, whether the tearing law or a cut breaks it.
+// Returns false (and changes nothing) if it was broken already.
+bool tear_connector(ClothModel& model, ClothState& state, std::uint32_t connector);
 
 // Scratch of the event stage, sized for one model on first use; apply() does not allocate after.
 class SpringEvents {

@@ -338,7 +338,7 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
                                           {"creases", events.creases},
                                           {"broken_connectors", changes.broken_connectors},
                                           {"broken_radials", changes.broken_radials},
-                                          {"pieces", changes.pieces},
+                                          {"pieces", count_pieces(model)},
                                           {"max_plastic_strain", changes.max_plastic_strain},
                                           {"max_rest_angle_change", changes.max_rest_angle_change},
                                           {"plastic_work", last_energy_.plastic_work},

@@ -193,7 +193,6 @@ ModelChanges Simulation::model_changes() const {
   const ClothModel& model = *model_;
   ModelChanges changes;
   changes.broken_connectors = model.broken_connector_count;
-  changes.pieces = model.is_intact() ? 1 : count_pieces(model);
   for (std::size_t e = 0; e < model.connector_count(); ++e) {
     if (model.connector_live[e] == 0) continue;
     changes.max_plastic_strain =
@@ -240,12 +239,7 @@ void Simulation::set_spring_limits(const SpringLimits& limits) { apply_spring_li
 
 std::size_t Simulation::cut_connectors(std::span<const std::uint32_t> connectors) {
   std::size_t cut = 0;
-  for (std::uint32_t e : connectors) {
-    const double released = connector_break_energy(*model_, state_.position, e);
-    if (!break_connector(*model_, e, state_.time)) continue;
-    state_.fracture_work -= released;
-    ++cut;
-  }
+  for (std::uint32_t e : connectors) cut += tear_connector(*model_, state_, e) ? 1 : 0;
   return cut;
 }
 

@@ -106,7 +106,6 @@ struct ContactStatistics {
 struct ModelChanges {
   std::size_t broken_connectors = 0;   // so far
   std::size_t broken_radials = 0;      // so far (each broken connector takes 1 to 3 with it)
-  std::size_t pieces = 1;              // connected pieces of the sheet (count_pieces)
   double max_plastic_strain = 0.0;     // max over intact connectors of |L / L_original - 1|
   double max_rest_angle_change = 0.0;  // max over intact radial springs of |theta0 - theta0_original|, rad
 };
