@@ -112,28 +112,20 @@ void resolve(double mu, double thickness, double t0, double t1, const Collider& 
 
 void ObstacleContacts::resize(const ClothModel& model) {
   const std::size_t n = model.particle_count();
-  if (start_position_.size() == n && element_mark_.size() == model.connector_count() + model.radial_count()) return;
-  start_position_.assign(n, Vec3{0.0, 0.0, 0.0});
+  if (moved_.size() == n) return;
   resolved_position_.assign(n, Vec3{0.0, 0.0, 0.0});
   resolved_velocity_.assign(n, Vec3{0.0, 0.0, 0.0});
   moved_.assign(n, 0);
   arrival_.assign(n, 0.0);
-  moved_list_.clear();
-  moved_list_.reserve(n);
-  element_mark_.assign(model.connector_count() + model.radial_count(), 0);
-  touched_list_.clear();
-  touched_list_.reserve(element_mark_.size());
 }
 
 double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& state, int threads) {
   if (model.colliders.empty()) return std::numeric_limits<double>::infinity();
   resize(model);
-  start_time_ = state.time;
   const double thickness = model.collision.thickness;
   // With no thickness at all, a micrometre: the limit must leave the step some length.
   const double impact_depth = std::max(kImpactDepth * thickness, 1e-6);  // m
   parallel_for(model.particle_count(), threads, [&](std::size_t p) {
-    start_position_[p] = state.position[p];
     arrival_[p] = std::numeric_limits<double>::infinity();
     if (model.is_anchored(p)) return;
     for (const Collider& collider : model.colliders) {
@@ -154,27 +146,8 @@ double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& s
   return limit > state.time ? limit : std::numeric_limits<double>::infinity();
 }
 
-double ObstacleContacts::local_energy(const ClothModel& model, const ClothState& state, ForceTerms terms) const {
-  double energy = 0.0;
-  for (std::uint32_t p : moved_list_) {
-    energy += 0.5 * model.particle_mass[p] * dot(state.velocity[p], state.velocity[p]);
-    if ((terms & kGravity) != 0) energy -= model.particle_mass[p] * dot(model.environment.gravity, state.position[p]);
-  }
-  const std::size_t connectors = model.connector_count();
-  for (std::uint32_t element : touched_list_) {
-    if (element < connectors) {
-      if ((terms & kConnectorSprings) != 0) energy += connector_spring_energy(model, state.position, element);
-    } else {
-      const std::size_t r = element - connectors;
-      const ForceTerms term =
-          model.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
-      if ((terms & term) != 0) energy += radial_spring_energy(model, state.position, r);
-    }
-  }
-  return energy;
-}
-
-ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads) {
+ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
+                                      double start_time, ForceTerms terms, int threads) {
   ContactCounts counts;
   if (model.colliders.empty()) return counts;
   resize(model);
@@ -186,7 +159,7 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
     ParticleContact particle{state.position[p], state.velocity[p], false};
     for (const Collider& collider : model.colliders) {
       const double mu = collider.friction >= 0.0 ? collider.friction : model.collision.friction;
-      resolve(mu, thickness, start_time_, t1, collider, start_position_[p], particle);
+      resolve(mu, thickness, start_time, t1, collider, start[p], particle);
     }
     if (!particle.touched) return;
     moved_[p] = 1;
@@ -194,42 +167,23 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
     resolved_velocity_[p] = particle.velocity;
   });
 
-  // Bookkeeping in index order: the moved particles and the springs that touch them.
-  moved_list_.clear();
-  touched_list_.clear();
-  const std::size_t base = model.radial_slot_base();
-  const std::size_t connectors = model.connector_count();
-  for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    if (moved_[p] == 0) continue;
-    moved_list_.push_back(static_cast<std::uint32_t>(p));
-    for (std::uint32_t i = model.gather_offset[p]; i < model.gather_offset[p + 1]; ++i) {
-      const std::size_t slot = model.gather_slot[i];
-      const std::size_t element = slot < base ? slot / 2 : connectors + (slot - base) / 3;
-      if (element_mark_[element] != 0) continue;
-      element_mark_[element] = 1;
-      touched_list_.push_back(static_cast<std::uint32_t>(element));
-    }
-  }
-  counts.contacts = moved_list_.size();
-  if (moved_list_.empty()) return counts;
-
-  const double before = local_energy(model, state, terms);
-  for (std::uint32_t p : moved_list_) {
+  energy_.collect(model, moved_);
+  counts.contacts = energy_.particles().size();
+  if (counts.contacts == 0) return counts;
+  const double before = energy_.energy(model, state.position, state.velocity, terms);
+  for (std::uint32_t p : energy_.particles()) {
     state.position[p] = resolved_position_[p];
     state.velocity[p] = resolved_velocity_[p];
   }
-  const double after = local_energy(model, state, terms);
-  for (std::uint32_t element : touched_list_) element_mark_[element] = 0;
+  const double after = energy_.energy(model, state.position, state.velocity, terms);
   counts.work = after - before;
   state.contact_work += counts.work;
   return counts;
 }
 
 std::size_t ObstacleContacts::bytes() const {
-  return arrival_.capacity() * sizeof(double) +
-         (start_position_.capacity() + resolved_position_.capacity() + resolved_velocity_.capacity()) * sizeof(Vec3) +
-         moved_.capacity() + element_mark_.capacity() +
-         (moved_list_.capacity() + touched_list_.capacity()) * sizeof(std::uint32_t);
+  return arrival_.capacity() * sizeof(double) + (resolved_position_.capacity() + resolved_velocity_.capacity()) * sizeof(Vec3) +
+         moved_.capacity() + energy_.bytes();
 }
 
 }  // namespace clothsim

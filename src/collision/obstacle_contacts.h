@@ -1,4 +1,4 @@
-// The collision stage, obstacle half (issue 8): particles against the model's colliders,
+// The collision stage's obstacle pass (issue 8): particles against the model's colliders,
 // between accepted steps (docs/collisions.md).
 //
 // Design: a projection plus a velocity correction on the accepted state, after the step and
@@ -44,14 +44,16 @@
 // Determinism: particles are resolved in parallel, each writing only its own scratch entries;
 // the bookkeeping that follows runs in particle index order.
 //
-// Self-collision (a later session) joins as a second pass of this stage after the obstacles,
-// reusing the step's start positions kept here for its swept tests.
+// The stage runs this pass first and self-collision (collision/self_contacts.h) second
+// (collision/collision_stage.h).
 #pragma once
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
+#include "collision/contact_energy.h"
 #include "core/vec3.h"
 #include "forces/forces.h"
 #include "model/cloth_model.h"
@@ -64,35 +66,33 @@ struct ContactCounts {
   double work = 0.0;         // energy change the stage caused, J (also added to state.contact_work)
 };
 
-// Scratch of the collision stage, sized for one model on first use; neither call allocates after.
+// Scratch of the obstacle pass, sized for one model on first use; neither call allocates after.
 class ObstacleContacts {
  public:
-  // Before a step: keeps the positions at its start (the sweeps' start points) and the time, and
-  // returns the latest time the step may end (+infinity without colliders): the earliest time a
-  // particle approaching a collider at its current velocity would be kImpactDepth (a tenth) of
-  // the thickness inside the shell. Resting and sliding particles (no approach) do not limit it.
+  // Before a step: the latest time the step may end (+infinity without colliders): the earliest
+  // time a particle approaching a collider at its current velocity would be kImpactDepth (a
+  // tenth) of the thickness inside the shell. Resting and sliding particles (no approach) do not
+  // limit it.
   double begin_step(const ClothModel& model, const ClothState& state, int threads);
-  // After the step: resolves every free particle against every collider (see the top of the file)
-  // and books the energy change in state.contact_work. `terms` are the simulation's force terms,
-  // so that the energy booked is the energy the balance measures.
-  ContactCounts apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads);
+  // After the step from time `start_time`, where the particles were at `start` [particle_count()]:
+  // resolves every free particle against every collider (see the top of the file) and books the
+  // energy change in state.contact_work. `terms` are the simulation's force terms, so that the
+  // energy booked is the energy the balance measures.
+  ContactCounts apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double start_time,
+                      ForceTerms terms, int threads);
+  // [particle_count()] 1 for the particles the last apply() put in contact; empty before.
+  std::span<const std::uint8_t> in_contact() const { return moved_; }
   // Bytes of scratch memory held.
   std::size_t bytes() const;
 
  private:
   void resize(const ClothModel& model);
-  // Energy of the moved particles (kinetic, gravitational) and of the springs touching them.
-  double local_energy(const ClothModel& model, const ClothState& state, ForceTerms terms) const;
 
-  double start_time_ = 0.0;                 // s, the step's start
-  std::vector<Vec3> start_position_;        // [particles] m, positions at the step's start
-  std::vector<Vec3> resolved_position_;     // [particles] m, after the stage (valid where moved)
-  std::vector<Vec3> resolved_velocity_;     // [particles] m/s, after the stage (valid where moved)
-  std::vector<double> arrival_;             // [particles] s from the step's start, see begin_step()
-  std::vector<std::uint8_t> moved_;         // [particles] 1: the stage changes this particle
-  std::vector<std::uint32_t> moved_list_;   // moved particles, ascending (capacity: particles)
-  std::vector<std::uint8_t> element_mark_;  // [connectors + radials] 1: in touched_list_
-  std::vector<std::uint32_t> touched_list_; // connectors e, then radials as connector_count() + r
+  std::vector<Vec3> resolved_position_;  // [particles] m, after the pass (valid where moved)
+  std::vector<Vec3> resolved_velocity_;  // [particles] m/s, after the pass (valid where moved)
+  std::vector<double> arrival_;          // [particles] s from the step's start, see begin_step()
+  std::vector<std::uint8_t> moved_;      // [particles] 1: the pass changes this particle
+  ContactEnergy energy_;                 // the bookkeeping of what moved
 };
 
 }  // namespace clothsim

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/assert.h"
+#include "core/closest_points.h"
 
 namespace clothsim {
 namespace {
@@ -57,45 +58,6 @@ SurfaceDistance capsule_distance(const Collider& c, const Vec3& x) {
 Vec3 unit_or_zero(const Vec3& v) {
   const double length = norm(v);
   return length > 0.0 ? v / length : Vec3{};
-}
-
-// The feature of a triangle a point's nearest point lies on: corner k, edge k (corner k to corner
-// (k + 1) % 3), or the face's interior.
-enum class TriangleFeature : std::uint8_t { vertex, edge, face };
-
-struct TrianglePoint {
-  Vec3 point;
-  TriangleFeature feature = TriangleFeature::face;
-  int index = 0;  // corner or edge number
-};
-
-// Closest point on triangle (a, b, c) to p, by Voronoi regions: Ericson, Real-Time Collision
-// Detection, section 5.1.5 (ClosestPtPointTriangle), which also names the region it ends in.
-TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a;
-  const Vec3 ac = c - a;
-  const Vec3 ap = p - a;
-  const double d1 = dot(ab, ap);
-  const double d2 = dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return {a, TriangleFeature::vertex, 0};
-  const Vec3 bp = p - b;
-  const double d3 = dot(ab, bp);
-  const double d4 = dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return {b, TriangleFeature::vertex, 1};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) return {a + (d1 / (d1 - d3)) * ab, TriangleFeature::edge, 0};
-  const Vec3 cp = p - c;
-  const double d5 = dot(ab, cp);
-  const double d6 = dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return {c, TriangleFeature::vertex, 2};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) return {a + (d2 / (d2 - d6)) * ac, TriangleFeature::edge, 2};
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-    return {b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b), TriangleFeature::edge, 1};
-  }
-  const double inverse = 1.0 / (va + vb + vc);
-  return {a + (vb * inverse) * ab + (vc * inverse) * ac, TriangleFeature::face, 0};
 }
 
 // The nearest surface point found so far over the triangles visited.

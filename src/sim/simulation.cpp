@@ -47,7 +47,7 @@ bool Simulation::advance_to(double time) {
       // The collision stage's swept tests start from the positions before the step, and an
       // approaching impact limits the step (collision/obstacle_contacts.h).
       ScopedTimer timer(profile_.collisions);
-      step_end = std::min(time, obstacle_contacts_.begin_step(*model_, state_, threads_));
+      step_end = std::min(time, collision_stage_.begin_step(*model_, state_, threads_));
     }
     if (!integrate(step_end)) return false;
     collide();
@@ -86,10 +86,17 @@ bool Simulation::integrate(double time) {
 
 void Simulation::collide() {
   ScopedTimer timer(profile_.collisions);
-  const ContactCounts counts = obstacle_contacts_.apply(*model_, state_, settings_.terms, threads_);
-  contact_statistics_.last_step = counts.contacts;
-  contact_statistics_.total += counts.contacts;
-  contact_statistics_.max_in_a_step = std::max(contact_statistics_.max_in_a_step, counts.contacts);
+  const CollisionCounts counts = collision_stage_.apply(*model_, state_, settings_.terms, threads_);
+  ContactStatistics& statistics = contact_statistics_;
+  statistics.last_step = counts.obstacles.contacts;
+  statistics.total += counts.obstacles.contacts;
+  statistics.max_in_a_step = std::max(statistics.max_in_a_step, counts.obstacles.contacts);
+  statistics.self_last_step = counts.self.contacts;
+  statistics.self_total += counts.self.contacts;
+  statistics.self_max_in_a_step = std::max(statistics.self_max_in_a_step, counts.self.contacts);
+  statistics.self_impacts += counts.self.impacts;
+  statistics.self_zones += counts.self.zones;
+  statistics.self_unresolved += counts.self.unresolved;
 }
 
 void Simulation::apply_events() {
@@ -170,7 +177,7 @@ std::size_t model_bytes(const ClothModel& m) {
 std::size_t Simulation::memory_bytes() const {
   return model_bytes(*model_) + vector_bytes(state_.position) + vector_bytes(state_.velocity) +
          integrator_->workspace_bytes() + spring_events_.bytes() +
-         obstacle_contacts_.bytes();
+         collision_stage_.bytes();
 }
 
 EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms); }

@@ -5,7 +5,8 @@
 //   while the state is before t:
 //     integrate: one accepted step (adaptive, never past t or an anchor event) -> integration, forces
 //     collide:   between steps, on the accepted state: particles out of the      -> collisions
-//                obstacles, velocities corrected (collision/)
+//                obstacles, then the sheet out of itself, velocities corrected
+//                (collision/collision_stage.h)
 //     events:    between steps, on the accepted state: anchors arriving or     -> events
 //                released, then tearing, permanent stretching and creasing
 //                (events/), each change through model/model_edits.h
@@ -40,7 +41,7 @@
 #include <string>
 #include <vector>
 
-#include "collision/obstacle_contacts.h"
+#include "collision/collision_stage.h"
 #include "events/spring_events.h"
 #include "forces/forces.h"
 #include "integrators/integrator.h"
@@ -63,7 +64,7 @@ struct SimulationSettings {
 struct StepProfile {
   double forces = 0.0;       // force evaluation (inside the integrator)
   double integration = 0.0;  // the rest of the integrator: stage sums, error control
-  double collisions = 0.0;   // between steps: obstacle contacts (with keeping the step's start positions)
+  double collisions = 0.0;   // between steps: obstacle and self contacts (with keeping the step's start positions)
   double events = 0.0;       // between steps: anchors, tearing, plasticity, creasing
   double checks = 0.0;       // finiteness and explosion checks
 };
@@ -94,11 +95,19 @@ struct EnergyBalance {
   }
 };
 
-// Particles in contact with obstacles (collision/): after the last step, and summed over steps.
+// Particles in contact with obstacles and pairs in self-contact (collision/): after the last
+// step, and summed over steps.
 struct ContactStatistics {
   std::size_t last_step = 0;     // particles in contact after the last accepted step
   std::uint64_t total = 0;       // sum over accepted steps of the particles in contact (contact-steps)
   std::size_t max_in_a_step = 0; // the most particles in contact after one step
+  // Self-collision (collision/self_contacts.h), in pairs of elements.
+  std::size_t self_last_step = 0;       // pairs pushed apart after the last accepted step
+  std::uint64_t self_total = 0;         // summed over accepted steps
+  std::size_t self_max_in_a_step = 0;   // the most after one step
+  std::uint64_t self_impacts = 0;       // pairs whose motion touched, stopped (summed over steps)
+  std::uint64_t self_zones = 0;         // impact zones moved as one (summed over steps)
+  std::uint64_t self_unresolved = 0;    // pairs left touching after the zones (summed; 0 expected)
 };
 
 // How far the sheet has changed from its built model: the statistics of events/ that
@@ -210,7 +219,7 @@ class Simulation {
   StepProfile profile_;
   SpringEvents spring_events_;
   SpringEventCounts event_totals_;  // over the run
-  ObstacleContacts obstacle_contacts_;
+  CollisionStage collision_stage_;
   ContactStatistics contact_statistics_;
   std::optional<Diagnosis> failure_;
 };

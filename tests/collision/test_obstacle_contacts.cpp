@@ -11,9 +11,9 @@
 #include <string>
 #include <vector>
 
+#include "collision/collision_stage.h"
 #include "model/cloth_model.h"
 #include "model/collider.h"
-#include "collision/obstacle_contacts.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
@@ -369,10 +369,10 @@ TEST(ObstacleContacts, StageIsBitIdenticalAcrossThreadCounts) {
   std::vector<ClothState> results;
   std::vector<std::size_t> contacts;
   for (int threads : {1, 2, 3}) {
-    ObstacleContacts stage;
+    CollisionStage stage;
     stage.begin_step(model, before, threads);
     ClothState state = after;
-    contacts.push_back(stage.apply(model, state, kAllForceTerms, threads).contacts);
+    contacts.push_back(stage.apply(model, state, kAllForceTerms, threads).obstacles.contacts);
     results.push_back(state);
   }
   EXPECT_GT(contacts[0], 100u);

@@ -1,0 +1,32 @@
+#include "collision/collision_stage.h"
+
+#include <limits>
+
+#include "core/parallel.h"
+
+namespace clothsim {
+
+double CollisionStage::begin_step(const ClothModel& model, const ClothState& state, int threads) {
+  active_ = !model.colliders.empty() || model.collision.self;
+  if (!active_) return std::numeric_limits<double>::infinity();
+  start_time_ = state.time;
+  start_position_.resize(state.position.size());
+  parallel_for(state.position.size(), threads, [&](std::size_t p) { start_position_[p] = state.position[p]; });
+  return obstacles_.begin_step(model, state, threads);
+}
+
+CollisionCounts CollisionStage::apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads) {
+  CollisionCounts counts;
+  if (!active_) return counts;
+  counts.obstacles = obstacles_.apply(model, state, start_position_, start_time_, terms, threads);
+  const std::span<const std::uint8_t> held =
+      model.colliders.empty() ? std::span<const std::uint8_t>{} : obstacles_.in_contact();
+  counts.self = self_.apply(model, state, start_position_, state.time - start_time_, held, terms, threads);
+  return counts;
+}
+
+std::size_t CollisionStage::bytes() const {
+  return start_position_.capacity() * sizeof(Vec3) + obstacles_.bytes() + self_.bytes();
+}
+
+}  // namespace clothsim

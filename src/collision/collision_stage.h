@@ -1,0 +1,48 @@
+// The collision stage (issue 8): between accepted steps, the sheet out of the obstacles, then
+// out of itself (docs/collisions.md).
+//
+//   begin_step  keeps the positions at the step's start, from which both passes sweep, and
+//               returns the time the step may not pass (an impact on an obstacle ahead)
+//   apply       after the step: the obstacle pass (collision/obstacle_contacts.h), then the
+//               self-collision pass (collision/self_contacts.h), which does not move the
+//               particles the first holds against an obstacle
+//
+// Obstacles first: they are given (their motion is prescribed), the sheet is not, so the sheet
+// yields to them; the self pass then separates the layers above a held particle by moving the
+// layers only.
+#pragma once
+
+#include <cstddef>
+#include <vector>
+
+#include "collision/obstacle_contacts.h"
+#include "collision/self_contacts.h"
+#include "core/vec3.h"
+#include "forces/forces.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+struct CollisionCounts {
+  ContactCounts obstacles;
+  SelfContactCounts self;
+};
+
+class CollisionStage {
+ public:
+  // Before a step; +infinity when nothing limits it.
+  double begin_step(const ClothModel& model, const ClothState& state, int threads);
+  // After the step begun by begin_step(); both passes' energy changes are booked in
+  // state.contact_work.
+  CollisionCounts apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads);
+  std::size_t bytes() const;
+
+ private:
+  bool active_ = false;  // begin_step() found colliders or self-collision
+  double start_time_ = 0.0;
+  std::vector<Vec3> start_position_;  // [particles] m, at the step's start
+  ObstacleContacts obstacles_;
+  SelfContacts self_;
+};
+
+}  // namespace clothsim

@@ -1,0 +1,42 @@
+// The energy a collision pass changes, summed over what it changed (docs/collisions.md, "Energy
+// bookkeeping").
+//
+// A pass moves some particles and changes some velocities; the sheet's energy changes by the
+// kinetic and gravitational energy of those particles and the elastic energy of the springs that
+// touch them. Summing only those costs in proportion to what the pass touched, where summing the
+// whole sheet twice per step would cost more than the pass. The springs are found through the
+// model's gather table (connector e owns slots 2e, 2e+1; radial r owns radial_slot_base() + 3r
+// ..+2), and everything is summed in particle and slot order, so the sum is the same for any
+// thread count.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/vec3.h"
+#include "forces/forces.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+class ContactEnergy {
+ public:
+  // Collects the particles p with changed[p] != 0, in index order, and the springs touching them.
+  void collect(const ClothModel& model, std::span<const std::uint8_t> changed);
+  // Kinetic and gravitational energy of the collected particles and elastic energy of the
+  // collected springs, at `position` and `velocity` [particle_count()]; the terms switched off in
+  // `terms` are left out, as in the simulation's energy balance.
+  double energy(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                ForceTerms terms) const;
+  std::span<const std::uint32_t> particles() const { return particles_; }
+  std::size_t bytes() const;
+
+ private:
+  std::vector<std::uint8_t> element_mark_;  // [connectors + radials] 1: in elements_
+  std::vector<std::uint32_t> particles_;    // collected particles, ascending
+  std::vector<std::uint32_t> elements_;     // connectors e, then radials as connector_count() + r
+};
+
+}  // namespace clothsim

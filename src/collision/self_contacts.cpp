@@ -1,0 +1,428 @@
+#include "collision/self_contacts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/closest_points.h"
+#include "core/parallel.h"
+
+namespace clothsim {
+namespace {
+
+// Stage 1 runs its queries in blocks of this many elements, each block filling its own list; the
+// lists are joined in block order, so the candidates' order does not depend on the threads.
+constexpr std::size_t kQueryBlock = 512;
+// Gauss-Seidel sweeps of stage 2 over the pairs found near.
+constexpr int kProximitySweeps = 4;
+// Stage 3: a pair touches when its distance falls below this fraction of the thickness (and half
+// its distance at the step's start); conservative advancement stops within kTouchSlack of that
+// and after at most kMaxAdvances moves (then it counts as touching: never a miss).
+constexpr double kTouchFraction = 0.1;
+constexpr double kTouchSlack = 1.25;
+constexpr int kMaxAdvances = 32;
+constexpr int kImpactRounds = 8;
+// Stage 4 merges and moves zones at most this many times.
+constexpr int kZoneRounds = 32;
+// A pair counts as in contact at the step's start within this fraction over the thickness.
+constexpr double kSustainedSlack = 0.01;
+
+std::array<Vec3, 4> gather(const SelfPair& pair, std::span<const Vec3> x) {
+  return {x[pair.particle[0]], x[pair.particle[1]], x[pair.particle[2]], x[pair.particle[3]]};
+}
+
+std::array<Vec3, 4> interpolate(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end,
+                                double tau) {
+  std::array<Vec3, 4> x;
+  for (int k = 0; k < 4; ++k) {
+    const Vec3& a = start[pair.particle[k]];
+    x[k] = a + tau * (end[pair.particle[k]] - a);
+  }
+  return x;
+}
+
+Vec3 weighted_sum(const std::array<double, 4>& weight, const SelfPair& pair, std::span<const Vec3> x) {
+  Vec3 sum{0.0, 0.0, 0.0};
+  for (int k = 0; k < 4; ++k) sum += weight[k] * x[pair.particle[k]];
+  return sum;
+}
+
+// The longest distance any point of the pair's two sides moves relative to the other over the
+// step: a bound on how fast its distance can change per unit of tau.
+double motion_bound(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end) {
+  const auto moved = [&](int k) { return norm(end[pair.particle[k]] - start[pair.particle[k]]); };
+  if (pair.kind == SelfPair::Kind::point_triangle) return moved(0) + std::max({moved(1), moved(2), moved(3)});
+  return std::max(moved(0), moved(1)) + std::max(moved(2), moved(3));
+}
+
+// The first tau in [0, 1] at which the pair's distance along start -> end comes within touching
+// distance, or a negative value if it never does (stage 3).
+double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness) {
+  const double bound = motion_bound(pair, start, end);
+  if (bound <= 0.0) return -1.0;
+  const double start_distance = measure_pair(pair.kind, gather(pair, start)).distance;
+  const double touch = std::min(kTouchFraction * thickness, 0.5 * start_distance);
+  if (start_distance - bound > touch) return -1.0;  // cannot come that close within the step
+  double tau = 0.0;
+  double distance = start_distance;
+  for (int advance = 0; advance < kMaxAdvances; ++advance) {
+    if (distance <= kTouchSlack * touch) return tau;
+    // The distance cannot fall below `touch` before tau has grown by this much.
+    tau += (distance - touch) / bound;
+    if (tau >= 1.0) return -1.0;
+    distance = measure_pair(pair.kind, interpolate(pair, start, end, tau)).distance;
+  }
+  return tau;
+}
+
+// Moves the pair's particles so that q changes by `change` (a vector along which the particles
+// move in proportion to c_k w_k), each particle's share added to `target`, scaled by `scale`.
+void spread(const SelfPair& pair, const std::array<double, 4>& weight, std::span<const double> inverse_mass,
+            double effective, const Vec3& change, double scale, std::span<Vec3> target) {
+  for (int k = 0; k < 4; ++k) {
+    const std::uint32_t p = pair.particle[k];
+    target[p] += (scale * weight[k] * inverse_mass[p] / effective) * change;
+  }
+}
+
+double effective_inverse_mass(const SelfPair& pair, const std::array<double, 4>& weight,
+                              std::span<const double> inverse_mass) {
+  double sum = 0.0;
+  for (int k = 0; k < 4; ++k) sum += weight[k] * weight[k] * inverse_mass[pair.particle[k]];
+  return sum;
+}
+
+std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t p) {
+  while (parent[p] != p) {
+    parent[p] = parent[parent[p]];
+    p = parent[p];
+  }
+  return p;
+}
+
+// Joins the sets of a and b; the smaller index is the root, so the zones do not depend on order.
+void join(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) {
+  a = find_root(parent, a);
+  b = find_root(parent, b);
+  if (a == b) return;
+  if (a < b) {
+    parent[b] = a;
+  } else {
+    parent[a] = b;
+  }
+}
+
+Box box_of(std::span<const Vec3> start, std::span<const Vec3> end, std::span<const std::uint32_t> particles,
+           double margin) {
+  Box box{start[particles[0]], start[particles[0]]};
+  const auto include = [&box](const Vec3& x) {
+    box.low = {std::min(box.low.x, x.x), std::min(box.low.y, x.y), std::min(box.low.z, x.z)};
+    box.high = {std::max(box.high.x, x.x), std::max(box.high.y, x.y), std::max(box.high.z, x.z)};
+  };
+  for (std::uint32_t p : particles) {
+    include(start[p]);
+    include(end[p]);
+  }
+  const Vec3 grow{margin, margin, margin};
+  return {box.low - grow, box.high + grow};
+}
+
+bool shares_particle(const std::array<std::uint32_t, 2>& e, const std::array<std::uint32_t, 2>& f) {
+  return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1];
+}
+
+}  // namespace
+
+PairGeometry measure_pair(SelfPair::Kind kind, const std::array<Vec3, 4>& x) {
+  PairGeometry geometry;
+  Vec3 q;
+  if (kind == SelfPair::Kind::point_triangle) {
+    const TrianglePoint nearest = closest_point_on_triangle(x[0], x[1], x[2], x[3]);
+    q = x[0] - nearest.point;
+    geometry.weight = {1.0, -nearest.weight[0], -nearest.weight[1], -nearest.weight[2]};
+  } else {
+    const SegmentPoints nearest = closest_points_of_segments(x[0], x[1], x[2], x[3]);
+    q = nearest.first - nearest.second;
+    geometry.weight = {1.0 - nearest.s, nearest.s, -(1.0 - nearest.t), -nearest.t};
+  }
+  geometry.distance = norm(q);
+  geometry.normal = geometry.distance > 0.0 ? q / geometry.distance : Vec3{0.0, 0.0, 0.0};
+  return geometry;
+}
+
+void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
+                                   double margin, int threads) {
+  refresh_sheet_elements(model, elements_);
+  const std::size_t particles = model.particle_count();
+  const auto& triangles = elements_.triangle;
+  const auto& edges = elements_.edge;
+  point_box_.resize(particles);
+  triangle_box_.resize(triangles.size());
+  edge_box_.resize(edges.size());
+  parallel_for(particles, threads, [&](std::size_t p) {
+    const std::uint32_t index = static_cast<std::uint32_t>(p);
+    point_box_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), margin);
+  });
+  parallel_for(triangles.size(), threads, [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], margin); });
+  parallel_for(edges.size(), threads, [&](std::size_t e) { edge_box_[e] = box_of(start, end, edges[e], margin); });
+  triangle_grid_.build(triangle_box_);
+  edge_grid_.build(edge_box_);
+
+  // Queries: the particles against the triangles, then the edges against the later edges.
+  const std::size_t point_blocks = (particles + kQueryBlock - 1) / kQueryBlock;
+  const std::size_t edge_blocks = (edges.size() + kQueryBlock - 1) / kQueryBlock;
+  block_pairs_.resize(point_blocks + edge_blocks);
+  parallel_for(point_blocks + edge_blocks, threads, [&](std::size_t block) {
+    std::vector<SelfPair>& out = block_pairs_[block];
+    out.clear();
+    if (block < point_blocks) {
+      const std::size_t end_index = std::min(particles, (block + 1) * kQueryBlock);
+      for (std::size_t p = block * kQueryBlock; p < end_index; ++p) {
+        const auto point = static_cast<std::uint32_t>(p);
+        triangle_grid_.for_each_overlap(point_box_[p], [&](std::uint32_t t) {
+          const auto& corner = triangles[t];
+          if (corner[0] == point || corner[1] == point || corner[2] == point) return;
+          out.push_back({{point, corner[0], corner[1], corner[2]}, SelfPair::Kind::point_triangle});
+        });
+      }
+    } else {
+      const std::size_t first = (block - point_blocks) * kQueryBlock;
+      const std::size_t end_index = std::min(edges.size(), first + kQueryBlock);
+      for (std::size_t e = first; e < end_index; ++e) {
+        edge_grid_.for_each_overlap(edge_box_[e], [&](std::uint32_t f) {
+          if (f <= e || shares_particle(edges[e], edges[f])) return;
+          out.push_back({{edges[e][0], edges[e][1], edges[f][0], edges[f][1]}, SelfPair::Kind::edge_edge});
+        });
+      }
+    }
+  });
+  candidates_.clear();
+  for (const auto& block : block_pairs_) candidates_.insert(candidates_.end(), block.begin(), block.end());
+  found_at_.assign(end.begin(), end.end());
+}
+
+void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
+                                      double margin, int threads) {
+  // The boxes were grown by `margin`; an end position that moved less than half of it since
+  // keeps every pair that can now come within the touching distance among the candidates.
+  double moved = 0.0;
+  for (std::size_t p = 0; p < end.size(); ++p) moved = std::max(moved, squared_norm(end[p] - found_at_[p]));
+  if (std::sqrt(moved) > 0.5 * margin) find_candidates(model, start, end, margin, threads);
+}
+
+void SelfContacts::detect_proximity(std::span<const Vec3> x, double thickness, int threads) {
+  near_.resize(candidates_.size());
+  parallel_for(candidates_.size(), threads, [&](std::size_t i) {
+    near_[i] = measure_pair(candidates_[i].kind, gather(candidates_[i], x)).distance < thickness ? 1 : 0;
+  });
+  list_.clear();
+  for (std::size_t i = 0; i < candidates_.size(); ++i) {
+    if (near_[i] != 0) list_.push_back(static_cast<std::uint32_t>(i));
+  }
+}
+
+std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
+                                            double step) {
+  const double thickness = model.collision.thickness;
+  const double mu = model.collision.friction;
+  std::size_t pushed = 0;
+  for (int sweep = 0; sweep < kProximitySweeps; ++sweep) {
+    std::size_t pushed_this_sweep = 0;
+    for (std::uint32_t i : list_) {
+      const SelfPair& pair = candidates_[i];
+      const PairGeometry geometry = measure_pair(pair.kind, gather(pair, state.position));
+      if (geometry.distance >= thickness) continue;
+      // The normal; where the pair's nearest points coincide, the direction between the same
+      // points at the step's start, on the side the pair came from.
+      Vec3 n = geometry.normal;
+      if (geometry.distance == 0.0) {
+        const Vec3 q0 = weighted_sum(geometry.weight, pair, start);
+        const double length = norm(q0);
+        if (length == 0.0) continue;
+        n = q0 / length;
+      }
+      const double effective = effective_inverse_mass(pair, geometry.weight, inverse_mass_);
+      if (effective <= 0.0) continue;
+      ++pushed_this_sweep;
+      spread(pair, geometry.weight, inverse_mass_, effective, n, thickness - geometry.distance, state.position);
+
+      // Velocities: inelastic along n, Coulomb across it.
+      const Vec3 relative = weighted_sum(geometry.weight, pair, state.velocity);
+      const double normal_speed = dot(relative, n);  // m/s, negative approaching
+      if (normal_speed >= 0.0) continue;
+      spread(pair, geometry.weight, inverse_mass_, effective, n, -normal_speed, state.velocity);
+      const Vec3 sliding = relative - normal_speed * n;
+      const double sliding_speed = norm(sliding);
+      if (mu <= 0.0 || sliding_speed == 0.0) continue;
+      const double removed = std::min(mu * -normal_speed, sliding_speed);
+      const Vec3 direction = sliding / sliding_speed;
+      spread(pair, geometry.weight, inverse_mass_, effective, direction, -removed, state.velocity);
+      // In contact through the whole step: friction acted all along it (obstacle pass, step 4).
+      if (norm(weighted_sum(geometry.weight, pair, start)) <= (1.0 + kSustainedSlack) * thickness) {
+        spread(pair, geometry.weight, inverse_mass_, effective, direction, -0.5 * step * removed, state.position);
+      }
+    }
+    if (sweep == 0) pushed = pushed_this_sweep;
+    if (pushed_this_sweep == 0) break;
+  }
+  return pushed;
+}
+
+std::size_t SelfContacts::detect_impacts(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
+                                         int threads) {
+  touching_.resize(candidates_.size());
+  parallel_for(candidates_.size(), threads,
+               [&](std::size_t i) { touching_[i] = first_touch(candidates_[i], start, end, thickness) >= 0.0 ? 1 : 0; });
+  list_.clear();
+  for (std::size_t i = 0; i < candidates_.size(); ++i) {
+    if (touching_[i] != 0) list_.push_back(static_cast<std::uint32_t>(i));
+  }
+  return list_.size();
+}
+
+bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
+                                   double step, SelfContactCounts& counts, int threads) {
+  const double thickness = model.collision.thickness;
+  const double margin = thickness;
+  const double mu = model.collision.friction;
+  for (int round = 0; round < kImpactRounds; ++round) {
+    refresh_candidates(model, start, state.position, margin, threads);
+    if (detect_impacts(start, state.position, thickness, threads) == 0) return true;
+    for (std::uint32_t i : list_) {
+      const SelfPair& pair = candidates_[i];
+      // Earlier responses in this round may have changed this pair's motion.
+      const double tau = first_touch(pair, start, state.position, thickness);
+      if (tau < 0.0) continue;
+      const PairGeometry geometry = measure_pair(pair.kind, interpolate(pair, start, state.position, tau));
+      const double effective = effective_inverse_mass(pair, geometry.weight, inverse_mass_);
+      if (geometry.distance == 0.0 || effective <= 0.0) continue;
+      const Vec3& n = geometry.normal;
+      // The pair's relative motion over the step, and its part along n (negative: closing).
+      Vec3 relative{0.0, 0.0, 0.0};
+      for (int k = 0; k < 4; ++k) {
+        const std::uint32_t p = pair.particle[k];
+        relative += geometry.weight[k] * (state.position[p] - start[p]);
+      }
+      const double closing = dot(relative, n);
+      if (closing >= 0.0) continue;
+      ++counts.impacts;
+      // Remove the closing motion (the pair keeps its normal separation from the step's start),
+      // and by friction at most mu times as much of the sliding; the end velocities change by
+      // the same amounts over the step.
+      Vec3 change = -closing * n;
+      const Vec3 sliding = relative - closing * n;
+      const double sliding_length = norm(sliding);
+      if (mu > 0.0 && sliding_length > 0.0) {
+        change -= (std::min(mu * -closing, sliding_length) / sliding_length) * sliding;
+      }
+      spread(pair, geometry.weight, inverse_mass_, effective, change, 1.0, state.position);
+      spread(pair, geometry.weight, inverse_mass_, effective, change, 1.0 / step, state.velocity);
+    }
+  }
+  refresh_candidates(model, start, state.position, margin, threads);
+  return detect_impacts(start, state.position, thickness, threads) == 0;
+}
+
+void SelfContacts::move_zones(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
+                              SelfContactCounts& counts, int threads) {
+  const std::size_t n = model.particle_count();
+  const double thickness = model.collision.thickness;
+  zone_parent_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) zone_parent_[p] = static_cast<std::uint32_t>(p);
+  std::vector<std::uint8_t>& in_zone = changed_;  // reused: the ledger's flags are set after
+  in_zone.assign(n, 0);
+  // Per root: mass, momentum and motion sums, and the anchor a zone follows.
+  struct ZoneSum {
+    double mass = 0.0;
+    Vec3 momentum;
+    Vec3 motion;  // mass-weighted
+    std::int64_t anchor = -1;
+  };
+  std::vector<ZoneSum> sum(n);
+  for (int round = 0; round < kZoneRounds; ++round) {
+    for (std::uint32_t i : list_) {
+      const SelfPair& pair = candidates_[i];
+      for (int k = 0; k < 4; ++k) {
+        in_zone[pair.particle[k]] = 1;
+        join(zone_parent_, pair.particle[0], pair.particle[k]);
+      }
+    }
+    for (std::size_t p = 0; p < n; ++p) sum[p] = ZoneSum{};
+    for (std::size_t p = 0; p < n; ++p) {
+      if (in_zone[p] == 0) continue;
+      ZoneSum& zone = sum[find_root(zone_parent_, static_cast<std::uint32_t>(p))];
+      const double mass = model.particle_mass[p];
+      zone.mass += mass;
+      zone.momentum += mass * state.velocity[p];
+      zone.motion += mass * (state.position[p] - start[p]);
+      if (model.is_anchored(p) && zone.anchor < 0) zone.anchor = static_cast<std::int64_t>(p);
+    }
+    std::size_t zones = 0;
+    for (std::size_t p = 0; p < n; ++p) {
+      if (in_zone[p] == 0) continue;
+      const std::uint32_t root = find_root(zone_parent_, static_cast<std::uint32_t>(p));
+      if (root == p) ++zones;
+      if (model.is_anchored(p)) continue;
+      const ZoneSum& zone = sum[root];
+      if (zone.anchor >= 0) {
+        const auto a = static_cast<std::size_t>(zone.anchor);
+        state.position[p] = start[p] + (state.position[a] - start[a]);
+        state.velocity[p] = state.velocity[a];
+      } else {
+        state.position[p] = start[p] + zone.motion / zone.mass;
+        state.velocity[p] = zone.momentum / zone.mass;
+      }
+    }
+    counts.zones = zones;
+    refresh_candidates(model, start, state.position, thickness, threads);
+    if (detect_impacts(start, state.position, thickness, threads) == 0) return;
+  }
+  counts.unresolved = list_.size();
+}
+
+SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
+                                      double step, std::span<const std::uint8_t> held, ForceTerms terms, int threads) {
+  SelfContactCounts counts;
+  if (!model.collision.self) return counts;
+  const std::size_t n = model.particle_count();
+  const double thickness = model.collision.thickness;
+  before_position_.assign(state.position.begin(), state.position.end());
+  before_velocity_.assign(state.velocity.begin(), state.velocity.end());
+  inverse_mass_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    inverse_mass_[p] = !held.empty() && held[p] != 0 ? 0.0 : model.particle_inverse_mass[p];
+  }
+
+  find_candidates(model, start, state.position, thickness, threads);
+  detect_proximity(state.position, thickness, threads);
+  counts.contacts = resolve_proximity(model, state, start, step);
+  if (!resolve_impacts(model, state, start, step, counts, threads)) move_zones(model, state, start, counts, threads);
+
+  // Bookkeeping: the particles whose position or velocity the pass changed.
+  changed_.resize(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    changed_[p] = state.position[p] == before_position_[p] && state.velocity[p] == before_velocity_[p] ? 0 : 1;
+  }
+  energy_.collect(model, changed_);
+  if (energy_.particles().empty()) return counts;
+  const double before = energy_.energy(model, before_position_, before_velocity_, terms);
+  const double after = energy_.energy(model, state.position, state.velocity, terms);
+  counts.work = after - before;
+  state.contact_work += counts.work;
+  return counts;
+}
+
+std::size_t SelfContacts::bytes() const {
+  std::size_t bytes = triangle_grid_.bytes() + edge_grid_.bytes() + energy_.bytes();
+  bytes += (point_box_.capacity() + triangle_box_.capacity() + edge_box_.capacity()) * sizeof(Box);
+  for (const auto& block : block_pairs_) bytes += block.capacity() * sizeof(SelfPair);
+  bytes += candidates_.capacity() * sizeof(SelfPair);
+  bytes += (found_at_.capacity() + before_position_.capacity() + before_velocity_.capacity()) * sizeof(Vec3);
+  bytes += inverse_mass_.capacity() * sizeof(double);
+  bytes += near_.capacity() + touching_.capacity() + changed_.capacity();
+  bytes += (list_.capacity() + zone_parent_.capacity()) * sizeof(std::uint32_t);
+  bytes += (elements_.triangle.capacity() * 3 + elements_.edge.capacity() * 2) * sizeof(std::uint32_t);
+  return bytes;
+}
+
+}  // namespace clothsim

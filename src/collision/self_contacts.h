@@ -1,0 +1,141 @@
+// The collision stage's self-collision pass (issue 8): the sheet against itself, between
+// accepted steps, after the obstacle pass (docs/collisions.md).
+//
+// The sheet is its lattice triangles and their edges (collision/sheet_elements.h). Two kinds of
+// pairs can meet: a particle and a triangle it is no corner of, and two edges that share no
+// particle. Every pair is written the same way, as 4 particles and 4 signed weights c_k whose sum
+// q = sum_k c_k x_k is the vector between the pair's two nearest points (from the triangle's or
+// the second edge's to the particle's or the first edge's): (1, -a, -b, -c) with the nearest
+// point's barycentric weights (a, b, c), or (1-s, s, -(1-t), -t) with the edges' parameters. A
+// change of q along a unit normal n by D, spread over the 4 particles by inverse mass w_k, moves
+// particle k by (D / K) c_k w_k n, with K = sum_k c_k^2 w_k: the smallest mass-weighted change
+// that does it, and one that keeps the pair's momentum (Bridson, Fedkiw and Anderson, "Robust
+// treatment of collisions, contact and friction for cloth animation", SIGGRAPH 2002, section 7.1).
+//
+// With the step's start positions x0 (a state where the sheet does not cross itself) and the
+// accepted step's end positions x1, the pass runs four stages:
+//   1. candidates  a hashed grid (collision/box_grid.h) finds the pairs whose boxes overlap; each
+//                  element's box holds its positions at x0 and x1, grown by the thickness h. The
+//                  cost grows linearly with the sheet.
+//   2. proximity   pairs nearer than h at x1 are pushed apart to h along their normal (Gauss-
+//                  Seidel sweeps, in candidate order), their approaching relative velocity is
+//                  removed (inelastic), and friction reduces their sliding relative velocity by
+//                  at most mu times that (Coulomb, mu = collision.friction); a pair that was in
+//                  contact at x0 also has its position corrected for the friction of the whole
+//                  step, as the obstacle pass does (no creep of a fold at rest).
+//   3. impacts     continuous detection: along the straight motion x0 -> x1, conservative
+//                  advancement on the pair's distance (which can change no faster than its
+//                  particles move) finds whether it comes within a touching distance (a tenth of
+//                  h, and at most half its distance at x0). Such a pair would have passed
+//                  through, or nearly: its relative motion along the normal there is removed for
+//                  the step (positions, and the end velocities by the same change over the step).
+//                  Repeated until no pair touches, at most kImpactRounds times.
+//   4. zones       the fail-safe for what the rounds leave: the particles of the pairs still
+//                  touching are grouped (union-find) into impact zones, and each zone moves as one
+//                  for the step (the mass-weighted mean motion and velocity, or its anchor's), so
+//                  nothing inside it moves relative to anything else; zones that still touch merge
+//                  and move again (Provot, "Collision and self-collision handling in cloth model
+//                  dedicated to design garments", 1997; Bridson et al. 2002, section 7.4, whose
+//                  zones also rotate: these only translate).
+// Guarantee: a crossing means a distance of zero at some point of the motion, so stage 3 sees
+// every crossing of the straight motion; stage 4 removes what stage 3 could not. A pair's distance
+// never reaches zero along x0 -> x1, so a sheet that did not cross itself at the step's start
+// does not cross itself at its end. Particles anchored or held by an obstacle this step (the
+// obstacle pass's contacts) have no inverse mass here: the pass does not move them.
+//
+// Determinism: the candidates are found in fixed blocks and concatenated in block order, the
+// tests of stages 2 to 4 run in parallel but only write flags, and every change is made serially
+// in candidate order; the results are the same for any thread count.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "collision/box_grid.h"
+#include "collision/contact_energy.h"
+#include "collision/sheet_elements.h"
+#include "core/vec3.h"
+#include "forces/forces.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+// A pair of sheet elements that may meet: a particle and a triangle, or two edges.
+struct SelfPair {
+  enum class Kind : std::uint8_t { point_triangle, edge_edge };
+  std::array<std::uint32_t, 4> particle{};  // (point, a, b, c) or (a, b, c, d)
+  Kind kind = Kind::point_triangle;
+  bool operator==(const SelfPair&) const = default;
+};
+
+// What one self-collision pass did.
+struct SelfContactCounts {
+  std::size_t contacts = 0;    // pairs within the thickness at the step's end, pushed apart
+  std::size_t impacts = 0;     // pairs whose motion touched, stopped along their normal (stage 3)
+  std::size_t zones = 0;       // impact zones moved as one (stage 4)
+  std::size_t unresolved = 0;  // pairs still touching after stage 4's rounds (none expected)
+  double work = 0.0;           // energy change the pass caused, J (also added to state.contact_work)
+};
+
+class SelfContacts {
+ public:
+  // After the step of length `step` from `start` [particle_count()]: stages 1 to 4 on `state`
+  // (see the top of the file), the energy change booked in state.contact_work. `held`
+  // [particle_count() or empty] marks particles the obstacle pass holds this step.
+  SelfContactCounts apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step,
+                          std::span<const std::uint8_t> held, ForceTerms terms, int threads);
+
+  // Stage 1 alone: the candidate pairs of elements at `start` -> `end` with boxes grown by
+  // `margin`, in the pass's order (for tests; the pass keeps them in candidates()).
+  void find_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end, double margin,
+                       int threads);
+  std::span<const SelfPair> candidates() const { return candidates_; }
+  const SheetElements& elements() const { return elements_; }
+  std::size_t bytes() const;
+
+ private:
+  void detect_proximity(std::span<const Vec3> x, double thickness, int threads);
+  std::size_t resolve_proximity(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step);
+  bool resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step,
+                       SelfContactCounts& counts, int threads);
+  void move_zones(const ClothModel& model, ClothState& state, std::span<const Vec3> start, SelfContactCounts& counts,
+                  int threads);
+  // Flags in touching_ the candidates whose motion start -> state.position touches; their count.
+  std::size_t detect_impacts(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
+  // Finds the candidates again when particles moved more than the margin they were found with.
+  void refresh_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
+                          double margin, int threads);
+
+  SheetElements elements_;
+  BoxGrid triangle_grid_;
+  BoxGrid edge_grid_;
+  std::vector<Box> point_box_;                      // [particles]
+  std::vector<Box> triangle_box_;                   // [triangles]
+  std::vector<Box> edge_box_;                       // [edges]
+  std::vector<std::vector<SelfPair>> block_pairs_;  // stage 1's output per block of queries
+  std::vector<SelfPair> candidates_;
+  std::vector<Vec3> found_at_;                      // [particles] end positions the candidates were found for
+  std::vector<double> inverse_mass_;                // [particles] 0 for anchored and held particles
+  std::vector<std::uint8_t> near_;                  // [candidates] 1: within the thickness
+  std::vector<std::uint8_t> touching_;              // [candidates] 1: its motion touches
+  std::vector<std::uint32_t> list_;                 // flagged candidates, in order
+  std::vector<std::uint32_t> zone_parent_;          // [particles] union-find of stage 4
+  std::vector<Vec3> before_position_;               // [particles] state at the pass's start
+  std::vector<Vec3> before_velocity_;
+  std::vector<std::uint8_t> changed_;               // [particles] 1: the pass changed it
+  ContactEnergy energy_;
+};
+
+// The pair's distance and unit normal at positions `x` of its 4 particles (the normal is q / |q|,
+// zero when q is), and its 4 signed weights.
+struct PairGeometry {
+  double distance = 0.0;
+  Vec3 normal;
+  std::array<double, 4> weight{};
+};
+PairGeometry measure_pair(SelfPair::Kind kind, const std::array<Vec3, 4>& x);
+
+}  // namespace clothsim
