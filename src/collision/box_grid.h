@@ -1,21 +1,25 @@
 // The broad phase of self-collision: which axis-aligned boxes overlap, in time linear in their
 // number (collision/self_contacts.h).
 //
-// A uniform grid, hashed. Each stored box is entered once, in the cell holding its lowest corner;
-// the cell size is the largest extent of any stored box, so a stored box that overlaps a query
-// box has its lowest corner at most one cell below the query's lowest corner on every axis. A
-// query therefore visits the cells from one below its lowest corner's to its highest corner's
-// (3 x 3 x 3 for a query no larger than a cell) and finds every overlapping stored box exactly
-// once: an entry is taken only from the cell it was entered in, even where two cells share a
-// hash bucket. Cells are hashed into a table of about twice as many buckets as boxes, so the
-// memory is linear in the boxes wherever they are, and the entries of a bucket are kept in box
-// index order (a counting sort), so every query reports in the same order for any thread count.
+// A uniform grid, hashed. Each stored box is entered in every cell it overlaps, and a query visits
+// the cells its own box overlaps; a pair of overlapping boxes meets in every cell their
+// intersection overlaps, and is reported only in the one holding the intersection's lowest corner
+// (the larger of the two lowest corners), so exactly once, even where two cells share a hash
+// bucket. The cell size is the mean extent of the stored boxes, but at least a quarter of the
+// largest, so no box enters more than 5 x 5 x 5 cells; a lattice's triangles and edges, near
+// equal in size, enter about 2 x 2 x 1 each and a particle's small box visits 1 or 2 cells. Cells
+// are hashed into a table of about twice as many buckets as entries, so the memory is linear in
+// the boxes wherever they are, and a bucket's entries are kept in box index order (a counting
+// sort), so every query reports in the same order for any thread count.
 //
-// Rejected: a sort-and-sweep along one axis (a sheet lying flat puts all of it in one slab of
-// that axis), and a bounding-volume hierarchy (rebuilt or refitted every step, with a worse
-// constant for boxes of near-equal size, which a lattice's triangles are).
+// Rejected: entering each box once, by its lowest corner, with cells as large as the largest box
+// (a query must then visit 27 cells, most of them empty: 5 times slower on a draped sheet); a
+// sort-and-sweep along one axis (a sheet lying flat puts all of it in one slab of that axis); a
+// bounding-volume hierarchy (rebuilt or refitted every step, with a worse constant for boxes of
+// near-equal size).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <cstdint>
@@ -41,21 +45,27 @@ class BoxGrid {
   // Enters `boxes` (kept by reference: they must outlive the queries and stay unchanged).
   void build(std::span<const Box> boxes);
 
-  // Calls visit(j) for every stored box j that overlaps `query`, each once, in bucket order.
+  // Calls visit(j) for every stored box j that overlaps `query`, each once.
   template <typename Visit>
   void for_each_overlap(const Box& query, Visit&& visit) const {
     if (boxes_.empty()) return;
-    const std::array<std::int64_t, 3> low = cell_of(query.low);
-    const std::array<std::int64_t, 3> high = cell_of(query.high);
-    for (std::int64_t x = low[0] - 1; x <= high[0]; ++x) {
-      for (std::int64_t y = low[1] - 1; y <= high[1]; ++y) {
-        for (std::int64_t z = low[2] - 1; z <= high[2]; ++z) {
-          const std::array<std::int64_t, 3> cell = {x, y, z};
-          const std::size_t bucket = bucket_of(cell);
+    const Cell low = cell_of(query.low);
+    const Cell high = cell_of(query.high);
+    for (std::int64_t x = low[0]; x <= high[0]; ++x) {
+      for (std::int64_t y = low[1]; y <= high[1]; ++y) {
+        for (std::int64_t z = low[2]; z <= high[2]; ++z) {
+          const std::size_t bucket = bucket_of({x, y, z});
           for (std::uint32_t k = bucket_start_[bucket]; k < bucket_start_[bucket + 1]; ++k) {
             const Entry& entry = entries_[k];
-            if (entry.cell != cell || !overlap(boxes_[entry.box], query)) continue;
-            visit(entry.box);
+            if (entry.cell[0] != x || entry.cell[1] != y || entry.cell[2] != z) continue;
+            const Box& stored = boxes_[entry.box];
+            if (!overlap(stored, query)) continue;
+            // Reported in the cell holding the intersection's lowest corner only; the cell of the
+            // larger of two coordinates is the larger of their cells.
+            const Cell& other = low_cell_[entry.box];
+            if (std::max(low[0], other[0]) == x && std::max(low[1], other[1]) == y && std::max(low[2], other[2]) == z) {
+              visit(entry.box);
+            }
           }
         }
       }
@@ -66,20 +76,32 @@ class BoxGrid {
   std::size_t bytes() const;
 
  private:
+  using Cell = std::array<std::int64_t, 3>;
   struct Entry {
-    std::array<std::int64_t, 3> cell;
+    Cell cell;
     std::uint32_t box;
   };
-  std::array<std::int64_t, 3> cell_of(const Vec3& x) const;
-  std::size_t bucket_of(const std::array<std::int64_t, 3>& cell) const;
+  Cell cell_of(const Vec3& x) const;
+  std::size_t bucket_of(const Cell& cell) const;
+  // Calls f(cell) for every cell `box` overlaps.
+  template <typename F>
+  void for_each_cell(const Box& box, F&& f) const {
+    const Cell low = cell_of(box.low);
+    const Cell high = cell_of(box.high);
+    for (std::int64_t x = low[0]; x <= high[0]; ++x) {
+      for (std::int64_t y = low[1]; y <= high[1]; ++y) {
+        for (std::int64_t z = low[2]; z <= high[2]; ++z) f(Cell{x, y, z});
+      }
+    }
+  }
 
   std::span<const Box> boxes_;
   double cell_size_ = 1.0;                   // m
   std::size_t bucket_mask_ = 0;              // buckets - 1 (a power of two)
   std::vector<std::uint32_t> bucket_start_;  // [buckets + 1] CSR into entries_
-  std::vector<Entry> entries_;               // [boxes] by bucket, then box index
+  std::vector<Entry> entries_;               // by bucket, then box index
+  std::vector<Cell> low_cell_;               // [boxes] the cell of each box's lowest corner
   std::vector<std::uint32_t> fill_;          // scratch of build(): next free entry per bucket
-  std::vector<Entry> sorted_;                // scratch of build()
 };
 
 // Every pair (i, j) with queries[i] overlapping stored[j], by visiting all pairs: the oracle the

@@ -13,6 +13,10 @@ namespace {
 // Stage 1 runs its queries in blocks of this many elements, each block filling its own list; the
 // lists are joined in block order, so the candidates' order does not depend on the threads.
 constexpr std::size_t kQueryBlock = 512;
+// Stage 1 grows the boxes by this many thicknesses and keeps its candidates while no particle
+// moves more than the margin less one thickness from where they were found: a falling sheet
+// finds them again every few steps, a sheet at rest almost never.
+constexpr double kCandidateMargin = 2.0;
 // Gauss-Seidel sweeps of stage 2 over the pairs found near.
 constexpr int kProximitySweeps = 4;
 // Stage 3: a pair touches when its distance falls below this fraction of the thickness (and half
@@ -182,7 +186,7 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
         triangle_grid_.for_each_overlap(point_box_[p], [&](std::uint32_t t) {
           const auto& corner = triangles[t];
           if (corner[0] == point || corner[1] == point || corner[2] == point) return;
-          out.push_back({{point, corner[0], corner[1], corner[2]}, SelfPair::Kind::point_triangle});
+          out.push_back({{point, corner[0], corner[1], corner[2]}, {point, t}, SelfPair::Kind::point_triangle});
         });
       }
     } else {
@@ -191,7 +195,9 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
       for (std::size_t e = first; e < end_index; ++e) {
         edge_grid_.for_each_overlap(edge_box_[e], [&](std::uint32_t f) {
           if (f <= e || shares_particle(edges[e], edges[f])) return;
-          out.push_back({{edges[e][0], edges[e][1], edges[f][0], edges[f][1]}, SelfPair::Kind::edge_edge});
+          out.push_back({{edges[e][0], edges[e][1], edges[f][0], edges[f][1]},
+                         {static_cast<std::uint32_t>(e), f},
+                         SelfPair::Kind::edge_edge});
         });
       }
     }
@@ -199,25 +205,68 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
   candidates_.clear();
   for (const auto& block : block_pairs_) candidates_.insert(candidates_.end(), block.begin(), block.end());
   found_at_.assign(end.begin(), end.end());
+  found_margin_ = margin;
 }
 
 void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
-                                      double margin, int threads) {
-  // The boxes were grown by `margin`; an end position that moved less than half of it since
-  // keeps every pair that can now come within the touching distance among the candidates.
-  double moved = 0.0;
-  for (std::size_t p = 0; p < end.size(); ++p) moved = std::max(moved, squared_norm(end[p] - found_at_[p]));
-  if (std::sqrt(moved) > 0.5 * margin) find_candidates(model, start, end, margin, threads);
+                                      int threads) {
+  const double thickness = model.collision.thickness;
+  const double margin = kCandidateMargin * thickness;
+  const bool same_sheet = found_at_.size() == end.size() && found_margin_ == margin &&
+                          elements_.built_particles == model.particle_count() &&
+                          elements_.built_broken == model.broken_connector_count;
+  if (same_sheet) {
+    // The boxes held the end positions x_f they were found at, grown by the margin. While every
+    // position of the motion start -> end stays within margin - thickness of x_f, the motion's
+    // boxes grown by the thickness lie inside them, so every pair that can come within the
+    // thickness is among the candidates.
+    double moved = 0.0;
+    for (std::size_t p = 0; p < end.size(); ++p) {
+      moved = std::max({moved, squared_norm(end[p] - found_at_[p]), squared_norm(start[p] - found_at_[p])});
+    }
+    if (std::sqrt(moved) > margin - thickness) find_candidates(model, start, end, margin, threads);
+  } else {
+    find_candidates(model, start, end, margin, threads);
+  }
+  select_active(start, end, thickness, threads);
+}
+
+void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads) {
+  const double grow = 0.5 * thickness;
+  const auto& triangles = elements_.triangle;
+  const auto& edges = elements_.edge;
+  point_motion_.resize(end.size());
+  triangle_motion_.resize(triangles.size());
+  edge_motion_.resize(edges.size());
+  parallel_for(end.size(), threads, [&](std::size_t p) {
+    const std::uint32_t index = static_cast<std::uint32_t>(p);
+    point_motion_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), grow);
+  });
+  parallel_for(triangles.size(), threads, [&](std::size_t t) { triangle_motion_[t] = box_of(start, end, triangles[t], grow); });
+  parallel_for(edges.size(), threads, [&](std::size_t e) { edge_motion_[e] = box_of(start, end, edges[e], grow); });
+  active_flag_.resize(candidates_.size());
+  parallel_for(candidates_.size(), threads, [&](std::size_t i) {
+    const SelfPair& pair = candidates_[i];
+    const bool point = pair.kind == SelfPair::Kind::point_triangle;
+    const Box& first = point ? point_motion_[pair.element[0]] : edge_motion_[pair.element[0]];
+    const Box& second = point ? triangle_motion_[pair.element[1]] : edge_motion_[pair.element[1]];
+    active_flag_[i] = overlap(first, second) ? 1 : 0;
+  });
+  active_.clear();
+  for (std::size_t i = 0; i < candidates_.size(); ++i) {
+    if (active_flag_[i] != 0) active_.push_back(static_cast<std::uint32_t>(i));
+  }
 }
 
 void SelfContacts::detect_proximity(std::span<const Vec3> x, double thickness, int threads) {
-  near_.resize(candidates_.size());
-  parallel_for(candidates_.size(), threads, [&](std::size_t i) {
-    near_[i] = measure_pair(candidates_[i].kind, gather(candidates_[i], x)).distance < thickness ? 1 : 0;
+  near_.resize(active_.size());
+  parallel_for(active_.size(), threads, [&](std::size_t k) {
+    const SelfPair& pair = candidates_[active_[k]];
+    near_[k] = measure_pair(pair.kind, gather(pair, x)).distance < thickness ? 1 : 0;
   });
   list_.clear();
-  for (std::size_t i = 0; i < candidates_.size(); ++i) {
-    if (near_[i] != 0) list_.push_back(static_cast<std::uint32_t>(i));
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    if (near_[k] != 0) list_.push_back(active_[k]);
   }
 }
 
@@ -270,12 +319,13 @@ std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState&
 
 std::size_t SelfContacts::detect_impacts(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
                                          int threads) {
-  touching_.resize(candidates_.size());
-  parallel_for(candidates_.size(), threads,
-               [&](std::size_t i) { touching_[i] = first_touch(candidates_[i], start, end, thickness) >= 0.0 ? 1 : 0; });
+  touching_.resize(active_.size());
+  parallel_for(active_.size(), threads, [&](std::size_t k) {
+    touching_[k] = first_touch(candidates_[active_[k]], start, end, thickness) >= 0.0 ? 1 : 0;
+  });
   list_.clear();
-  for (std::size_t i = 0; i < candidates_.size(); ++i) {
-    if (touching_[i] != 0) list_.push_back(static_cast<std::uint32_t>(i));
+  for (std::size_t k = 0; k < active_.size(); ++k) {
+    if (touching_[k] != 0) list_.push_back(active_[k]);
   }
   return list_.size();
 }
@@ -283,10 +333,9 @@ std::size_t SelfContacts::detect_impacts(std::span<const Vec3> start, std::span<
 bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
                                    double step, SelfContactCounts& counts, int threads) {
   const double thickness = model.collision.thickness;
-  const double margin = thickness;
   const double mu = model.collision.friction;
   for (int round = 0; round < kImpactRounds; ++round) {
-    refresh_candidates(model, start, state.position, margin, threads);
+    refresh_candidates(model, start, state.position, threads);
     if (detect_impacts(start, state.position, thickness, threads) == 0) return true;
     for (std::uint32_t i : list_) {
       const SelfPair& pair = candidates_[i];
@@ -319,7 +368,7 @@ bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, s
       spread(pair, geometry.weight, inverse_mass_, effective, change, 1.0 / step, state.velocity);
     }
   }
-  refresh_candidates(model, start, state.position, margin, threads);
+  refresh_candidates(model, start, state.position, threads);
   return detect_impacts(start, state.position, thickness, threads) == 0;
 }
 
@@ -374,7 +423,7 @@ void SelfContacts::move_zones(const ClothModel& model, ClothState& state, std::s
       }
     }
     counts.zones = zones;
-    refresh_candidates(model, start, state.position, thickness, threads);
+    refresh_candidates(model, start, state.position, threads);
     if (detect_impacts(start, state.position, thickness, threads) == 0) return;
   }
   counts.unresolved = list_.size();
@@ -393,7 +442,7 @@ SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state
     inverse_mass_[p] = !held.empty() && held[p] != 0 ? 0.0 : model.particle_inverse_mass[p];
   }
 
-  find_candidates(model, start, state.position, thickness, threads);
+  refresh_candidates(model, start, state.position, threads);
   detect_proximity(state.position, thickness, threads);
   counts.contacts = resolve_proximity(model, state, start, step);
   if (!resolve_impacts(model, state, start, step, counts, threads)) move_zones(model, state, start, counts, threads);

@@ -15,8 +15,10 @@
 // With the step's start positions x0 (a state where the sheet does not cross itself) and the
 // accepted step's end positions x1, the pass runs four stages:
 //   1. candidates  a hashed grid (collision/box_grid.h) finds the pairs whose boxes overlap; each
-//                  element's box holds its positions at x0 and x1, grown by the thickness h. The
-//                  cost grows linearly with the sheet.
+//                  element's box holds its positions at x0 and x1, grown by twice the thickness h.
+//                  The cost grows linearly with the sheet. The candidates are kept over the next
+//                  steps while no particle moves more than h from where they were found (each
+//                  motion's boxes grown by h then lie within the boxes they were found with).
 //   2. proximity   pairs nearer than h at x1 are pushed apart to h along their normal (Gauss-
 //                  Seidel sweeps, in candidate order), their approaching relative velocity is
 //                  removed (inelastic), and friction reduces their sliding relative velocity by
@@ -67,6 +69,7 @@ namespace clothsim {
 struct SelfPair {
   enum class Kind : std::uint8_t { point_triangle, edge_edge };
   std::array<std::uint32_t, 4> particle{};  // (point, a, b, c) or (a, b, c, d)
+  std::array<std::uint32_t, 2> element{};   // (particle, triangle) or (edge, edge) of SheetElements
   Kind kind = Kind::point_triangle;
   bool operator==(const SelfPair&) const = default;
 };
@@ -97,6 +100,7 @@ class SelfContacts {
   std::size_t bytes() const;
 
  private:
+  void select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
   void detect_proximity(std::span<const Vec3> x, double thickness, int threads);
   std::size_t resolve_proximity(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step);
   bool resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step,
@@ -105,9 +109,10 @@ class SelfContacts {
                   int threads);
   // Flags in touching_ the candidates whose motion start -> state.position touches; their count.
   std::size_t detect_impacts(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
-  // Finds the candidates again when particles moved more than the margin they were found with.
-  void refresh_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
-                          double margin, int threads);
+  // Finds the candidates again unless those kept still hold every pair of the motion start -> end,
+  // then picks the active ones: those whose elements' boxes over that motion, grown by half the
+  // thickness, overlap (the others can neither be within the thickness nor touch).
+  void refresh_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end, int threads);
 
   SheetElements elements_;
   BoxGrid triangle_grid_;
@@ -117,10 +122,16 @@ class SelfContacts {
   std::vector<Box> edge_box_;                       // [edges]
   std::vector<std::vector<SelfPair>> block_pairs_;  // stage 1's output per block of queries
   std::vector<SelfPair> candidates_;
+  std::vector<Box> point_motion_;                   // [particles] this motion's boxes, grown by h / 2
+  std::vector<Box> triangle_motion_;                // [triangles]
+  std::vector<Box> edge_motion_;                    // [edges]
+  std::vector<std::uint8_t> active_flag_;           // [candidates] 1: boxes of this motion overlap
+  std::vector<std::uint32_t> active_;               // active candidates, in order
   std::vector<Vec3> found_at_;                      // [particles] end positions the candidates were found for
+  double found_margin_ = 0.0;                       // m, the margin they were found with
   std::vector<double> inverse_mass_;                // [particles] 0 for anchored and held particles
-  std::vector<std::uint8_t> near_;                  // [candidates] 1: within the thickness
-  std::vector<std::uint8_t> touching_;              // [candidates] 1: its motion touches
+  std::vector<std::uint8_t> near_;                  // [active] 1: within the thickness
+  std::vector<std::uint8_t> touching_;              // [active] 1: its motion touches
   std::vector<std::uint32_t> list_;                 // flagged candidates, in order
   std::vector<std::uint32_t> zone_parent_;          // [particles] union-find of stage 4
   std::vector<Vec3> before_position_;               // [particles] state at the pass's start

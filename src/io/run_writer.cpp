@@ -235,12 +235,13 @@ void RunWriter::write_frame(const Simulation& simulation) {
   const int written = std::fprintf(
       energy_file_,
       "%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%llu,%llu,%zu,%.17g,%.17g,%.17g,%.17g,"
-      "%.17g,%zu\n",
+      "%.17g,%zu,%zu\n",
       frames_, state.time, e.kinetic, e.gravitational, e.connector, e.radial_adjacent, e.radial_opposite, e.total(),
       balance.damping_work, balance.drag_work, balance.anchor_work, balance.error(),
       static_cast<unsigned long long>(stats.accepted_steps), static_cast<unsigned long long>(stats.rejected_steps),
       changes.broken_connectors, changes.max_plastic_strain, changes.max_rest_angle_change, balance.plastic_work,
-      balance.fracture_work, balance.contact_work, simulation.contact_statistics().last_step);
+      balance.fracture_work, balance.contact_work, simulation.contact_statistics().last_step,
+      simulation.contact_statistics().self_last_step);
   if (written < 0) {
     std::string message = (partial_ / kEnergyFile).string();
     message += ": cannot write file: ";
@@ -343,12 +344,19 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
                                           {"max_rest_angle_change", changes.max_rest_angle_change},
                                           {"plastic_work", last_energy_.plastic_work},
                                           {"fracture_work", last_energy_.fracture_work}};
-  // Obstacle contacts (collision/): particles in contact summed over accepted steps, the most
-  // after one step, and the energy the collision stage changed.
+  // Contacts (collision/): obstacle contacts (particles) and self-contacts (pairs of elements)
+  // summed over accepted steps and the most after one step, the self pass's impacts, impact zones
+  // and pairs it left touching, and the energy the collision stage changed.
   const ContactStatistics& contacts = simulation.contact_statistics();
   summary["contacts"] = ordered_json{{"colliders", model.colliders.size()},
                                      {"contact_steps", contacts.total},
                                      {"max_in_a_step", contacts.max_in_a_step},
+                                     {"self_collision", model.collision.self},
+                                     {"self_contact_steps", contacts.self_total},
+                                     {"self_max_in_a_step", contacts.self_max_in_a_step},
+                                     {"self_impacts", contacts.self_impacts},
+                                     {"self_impact_zones", contacts.self_zones},
+                                     {"self_unresolved", contacts.self_unresolved},
                                      {"contact_work", last_energy_.contact_work}};
   summary["timings"] = ordered_json{
       {"wall_seconds", wall_seconds},

@@ -90,7 +90,7 @@ class RunWriter {
   static constexpr std::string_view kEnergyColumns =
       "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
       "anchor_work,balance_error,accepted_steps,rejected_steps,broken_connectors,max_plastic_strain,"
-      "max_rest_angle_change,plastic_work,fracture_work,contact_work,contacts";
+      "max_rest_angle_change,plastic_work,fracture_work,contact_work,contacts,self_contacts";
 
   // Checks that `out` may receive the run and creates nothing: `out` must not exist, or be a
   // folder holding a summary.json with a "clothsim_version" key (a previous run, which finish()

@@ -293,13 +293,23 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
   }
 }
 
+// Self-collision keeps apart every two pieces of sheet that share no particle (collision/
+// self_contacts.h). On the flat lattice the nearest such pieces are L / sqrt(2) apart (a particle
+// and the diagonal of the quad beyond it), and a sheet in compression comes closer; half the
+// spacing leaves that room, where a larger thickness would push the sheet's own neighbours apart at
+// rest. A thickness of zero leaves no room to stop a pair before it touches.
+void check_self_collision_thickness(const SceneSpec& spec, const std::string& source) {
+  if (!spec.collision.self) return;
+  const double limit = 0.5 * spec.lattice.spacing;
+  const double thickness = spec.collision.thickness;
+  if (thickness > 0.0 && thickness < limit) return;
+  fail(source, "collision.thickness",
+       "must be above 0 and below half the lattice spacing (" + format_number(limit) +
+           " m) when collision.self is on, got " + format_number(thickness) +
+           " (lower it with --thickness, or use fewer, larger lattice cells)");
+}
+
 void validate_scene(const SceneSpec& spec, const std::string& source) {
-  // The key is issue 8's contract, and its response is not built yet: a run that asked for it
-  // must not go on as if the sheet were kept from passing through itself.
-  if (spec.collision.self) {
-    fail(source, "collision.self",
-         "self-collision is not implemented yet (obstacles are: docs/collisions.md); set it to false or leave it out");
-  }
   for (const ScalarParameter& parameter : scalar_parameters()) {
     const double value = parameter.get(spec);
     if (!is_allowed(parameter.type, parameter.range, value)) {
@@ -363,6 +373,7 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
   for (std::size_t i = 0; i < spec.colliders.size(); ++i) {
     validate_collider(spec.colliders[i], source, "colliders[" + std::to_string(i) + "]");
   }
+  check_self_collision_thickness(spec, source);
 }
 
 json scene_to_json(const SceneSpec& spec) {

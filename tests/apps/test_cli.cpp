@@ -313,7 +313,7 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   EXPECT_EQ(energy.header,
             "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
             "anchor_work,balance_error,accepted_steps,rejected_steps,broken_connectors,max_plastic_strain,"
-            "max_rest_angle_change,plastic_work,fracture_work,contact_work,contacts");
+            "max_rest_angle_change,plastic_work,fracture_work,contact_work,contacts,self_contacts");
   ASSERT_EQ(energy.rows.size(), 11u);
   for (std::size_t frame = 0; frame < energy.rows.size(); ++frame) {
     const std::vector<double>& row = energy.rows[frame];
@@ -433,12 +433,15 @@ TEST_F(CliTest, CollisionFlagsSetTheSceneKeys) {
   const json scene = json::parse(read_text(work_ / "collide" / "scene.json"));
   EXPECT_EQ(scene["collision"]["self"], false);
   EXPECT_EQ(scene["collision"]["thickness"], 0.01);
-  // Self-collision is not built yet: `on` is refused with a message, exit 2, nothing written.
   const Result on = small_run("collide-on", {"--self-collision", "on", "--duration", "0.1"});
-  EXPECT_EQ(on.exit_code, 2) << describe(on);
-  EXPECT_TRUE(contains(on.err, "collision.self")) << describe(on);
-  EXPECT_TRUE(contains(on.err, "not implemented yet")) << describe(on);
-  EXPECT_FALSE(fs::exists(work_ / "collide-on"));
+  ASSERT_EQ(on.exit_code, 0) << describe(on);
+  EXPECT_EQ(json::parse(read_text(work_ / "collide-on" / "scene.json"))["collision"]["self"], true);
+  // A thickness the lattice cannot hold apart is refused with a message, exit 2, nothing written.
+  const Result thick = small_run("collide-thick", {"--self-collision", "on", "--thickness", "1e3", "--duration", "0.1"});
+  EXPECT_EQ(thick.exit_code, 2) << describe(thick);
+  EXPECT_TRUE(contains(thick.err, "collision.thickness")) << describe(thick);
+  EXPECT_TRUE(contains(thick.err, "half the lattice spacing")) << describe(thick);
+  EXPECT_FALSE(fs::exists(work_ / "collide-thick"));
 }
 
 // A zero rest duration stops at the first frame below the threshold.

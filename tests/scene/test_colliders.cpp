@@ -199,10 +199,15 @@ TEST(Colliders, SetFromTheCommandLineAndValidatedInCode) {
   ASSERT_EQ(spec.colliders.size(), 1u);
   EXPECT_TRUE(spec.collision.self);
   EXPECT_EQ(spec.collision.thickness, 0.002);
-  // Self-collision is not built yet: asking for it is refused, never silently ignored.
-  expect_input_error([&] { validate_scene(spec, "code"); }, {"code", "collision.self", "not implemented yet"});
+  validate_scene(spec, "code");
+  // With self-collision the thickness must leave the lattice's own neighbours apart at rest.
+  spec.lattice.spacing = 0.01;
+  expect_input_error([&] { validate_scene(spec, "code"); }, {"code", "collision.thickness", "half the lattice spacing", "0.005"});
+  set_scene_field(spec, "collision.thickness", "0", "--set");
+  expect_input_error([&] { validate_scene(spec, "code"); }, {"code", "collision.thickness", "above 0"});
   set_scene_field(spec, "collision.self", "false", "--set");
   validate_scene(spec, "code");
+  spec.lattice.spacing = 1.0;
   spec.colliders[0].collider.radius = 0.0;
   expect_input_error([&] { validate_scene(spec, "code"); }, {"code", "colliders[0].radius", "(0, 1e6]"});
   spec.colliders[0].collider.shape = ColliderShape::plane;
