@@ -35,7 +35,7 @@ std::size_t expected_radial_count(int rows, int cols) {
   return count;
 }
 
-TEST(BuiltinScenes, ListsTheTwelveScenes) {
+TEST(BuiltinScenes, ListsTheScenes) {
   const std::vector<BuiltinScene> scenes = builtin_scenes();
   std::vector<std::string> names;
   for (const BuiltinScene& scene : scenes) {
@@ -45,7 +45,7 @@ TEST(BuiltinScenes, ListsTheTwelveScenes) {
   EXPECT_EQ(names,
             (std::vector<std::string>{"paper-fig4", "paper-fig5", "paper-fig6", "drape-corners", "free-spin",
                                       "cotton-drape", "tear-pull", "paper-crease", "film-stretch", "cloth-shake",
-                                      "drape-sphere", "tablecloth", "sphere-sweep"}));
+                                      "drape-sphere", "tablecloth", "sphere-sweep", "pile"}));
   EXPECT_FALSE(is_builtin_scene("paper-fig7"));
   expect_input_error([] { builtin_scene("paper-fig7"); }, {"paper-fig7", "not a built-in scene", "paper-fig4"});
 }
@@ -149,6 +149,36 @@ TEST(BuiltinScenes, FreeSpinFloatsAndSpins) {
   const ClothModel model = build_model(spec);
   const ClothState state = build_initial_state(model, spec);
   EXPECT_NE(state.velocity[0], (Vec3{}));
+}
+
+// pile is the scene self-collision is measured on at 50 x 50, 100 x 100 and 200 x 200 (issue 8):
+// the lattice flags resize it, and its thickness stays below half the spacing of a 1 m sheet at
+// 200 x 200, which a self-collision stage needs.
+TEST(BuiltinScenes, PileResizesWithTheLatticeFlags) {
+  const SceneSpec spec = builtin_scene("pile");
+  EXPECT_EQ(spec.lattice.rows, 50);
+  EXPECT_EQ(spec.lattice.cols, 50);
+  EXPECT_TRUE(spec.anchors.empty()) << "anchors name rows and columns: they would not follow a resize";
+  EXPECT_FALSE(spec.collision.self);
+  EXPECT_LT(spec.collision.thickness, 0.5 * (1.0 / 199.0));
+  ASSERT_TRUE(spec.material.has_value());
+
+  // At the same spacing (a larger sheet of the same cotton) and at 1 m (the material set again).
+  for (const bool one_metre : {false, true}) {
+    SCOPED_TRACE(one_metre ? "1 m" : "same spacing");
+    SceneSpec resized = spec;
+    set_scene_field(resized, "lattice.rows", "200", "--set");
+    set_scene_field(resized, "lattice.cols", "200", "--set");
+    if (one_metre) {
+      set_scene_field(resized, "lattice.spacing", "0.005025", "--set");
+      set_scene_field(resized, "material", "cotton", "--set");
+    }
+    EXPECT_NO_THROW(validate_scene(resized, "pile"));
+    const ClothModel model = build_model(resized);
+    EXPECT_EQ(model.particle_count(), 40000u);
+    EXPECT_EQ(model.colliders.size(), 2u);
+    EXPECT_LT(model.collision.thickness, 0.5 * resized.lattice.spacing);
+  }
 }
 
 }  // namespace

@@ -218,7 +218,7 @@ TEST(Colliders, SetFromTheCommandLineAndValidatedInCode) {
 }
 
 TEST(Colliders, BuiltinColliderScenesLoadAndValidate) {
-  for (const char* name : {"drape-sphere", "tablecloth"}) {
+  for (const char* name : {"drape-sphere", "tablecloth", "pile"}) {
     SCOPED_TRACE(name);
     const SceneSpec spec = builtin_scene(name);
     validate_scene(spec, name);
@@ -236,6 +236,7 @@ TEST(Colliders, BuiltinColliderScenesLoadAndValidate) {
   }
   EXPECT_EQ(builtin_scene("drape-sphere").colliders[0].collider.shape, ColliderShape::sphere);
   EXPECT_EQ(builtin_scene("tablecloth").colliders[0].collider.shape, ColliderShape::box);
+  EXPECT_EQ(builtin_scene("pile").colliders[0].collider.shape, ColliderShape::capsule);
 }
 
 }  // namespace
