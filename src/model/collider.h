@@ -104,6 +104,12 @@ struct SurfaceDistance {
 // Signed distance from `x` to `collider` at time `time` (s).
 SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double time);
 
+// How far the collider's shape is translated at `time` (s) from where it is given (its t = 0
+// shape), m: the sphere's centre at `time` is collider.center + collider_offset(collider, time).
+inline Vec3 collider_offset(const Collider& collider, double time) {
+  return collider.path.position(time) - collider.path.position(0.0);
+}
+
 // The same distance as signed_distance() gives a mesh collider at rest, by visiting every
 // triangle: the oracle the hierarchy is tested against.
 SurfaceDistance mesh_distance_brute_force(const TriangleMesh& mesh, const Vec3& x);

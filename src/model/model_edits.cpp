@@ -7,6 +7,18 @@
 #include "core/assert.h"
 
 namespace clothsim {
+namespace {
+
+// Moves a collider's shape (its position at t = 0) by `offset`.
+void translate_shape(Collider& collider, const Vec3& offset) {
+  CLOTHSIM_ASSERT(collider.shape != ColliderShape::mesh, "mesh colliders are not moved by hand");
+  collider.point += offset;
+  collider.center += offset;
+  collider.a += offset;
+  collider.b += offset;
+}
+
+}  // namespace
 
 bool break_connector(ClothModel& model, std::uint32_t connector, double time) {
   CLOTHSIM_ASSERT(connector < model.connector_count(), "broken connector is in the model");
@@ -99,6 +111,42 @@ bool remove_anchor(ClothModel& model, std::uint32_t particle) {
 void set_environment(ClothModel& model, const Environment& environment) {
   CLOTHSIM_ASSERT(is_finite(environment.gravity) && environment.air_drag >= 0.0, "environment is valid");
   model.environment = environment;
+  ++model.revision;
+}
+
+void set_self_collision(ClothModel& model, bool on) {
+  model.collision.self = on;
+  ++model.revision;
+}
+
+std::size_t add_collider(ClothModel& model, const Collider& collider) {
+  model.colliders.push_back(collider);
+  ++model.revision;
+  return model.colliders.size() - 1;
+}
+
+void drive_collider(ClothModel& model, std::size_t collider, const Vec3& displacement, double now,
+                    double arrival_time) {
+  CLOTHSIM_ASSERT(collider < model.colliders.size(), "driven collider is in the model");
+  CLOTHSIM_ASSERT(arrival_time > now && now >= 0.0, "a driven collider arrives after the current time");
+  Collider& moved = model.colliders[collider];
+  AnchorPath path;
+  path.kind = AnchorPathKind::driven;
+  path.start_time = now;
+  path.end_time = arrival_time;
+  path.velocity = displacement / (arrival_time - now);
+  // A collider at time t is its t = 0 shape translated by path(t) - path(0), which for this path
+  // is min(t, arrival_time) * velocity: rebase the shape so that it is where it is now at `now`.
+  translate_shape(moved, collider_offset(moved, now) - now * path.velocity);
+  moved.path = path;
+  ++model.revision;
+}
+
+void place_collider(ClothModel& model, std::size_t collider, const Vec3& displacement, double now) {
+  CLOTHSIM_ASSERT(collider < model.colliders.size(), "placed collider is in the model");
+  Collider& moved = model.colliders[collider];
+  translate_shape(moved, collider_offset(moved, now) + displacement);
+  moved.path = AnchorPath{};
   ++model.revision;
 }
 

@@ -3,7 +3,8 @@
 //
 // Every change to a ClothModel after build_lattice() goes through a function here: the events of
 // tearing, plasticity and creasing (events/), the viewer's live edits and cuts (through
-// Simulation), anchors that are set, driven and released. Each increments ClothModel::revision.
+// Simulation), anchors that are set, driven and released, obstacles added and moved by hand and
+// self-collision switched on or off. Each increments ClothModel::revision.
 // Whatever is derived from the model and kept between force evaluations compares that revision
 // and refreshes itself in place:
 //   - the lattice kernel's per-spring arrays (forces/lattice_kernel.h),
@@ -24,10 +25,12 @@
 // fracture work) is the caller's job (events/, sim/), which knows the state.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 
 #include "model/anchor.h"
 #include "model/cloth_model.h"
+#include "model/collider.h"
 
 namespace clothsim {
 
@@ -55,5 +58,25 @@ void set_anchor(ClothModel& model, std::uint32_t particle, const AnchorPath& pat
 // Frees an anchored particle (its inverse mass is restored from its mass); false if it was free.
 // The last anchor takes the freed one's index in `anchors`.
 bool remove_anchor(ClothModel& model, std::uint32_t particle);
+
+// Obstacles and collision settings, live (the viewer's hand on a sphere, its self-collision switch).
+//
+// Self-collision on or off (collision.self); the collision stage reads it every step.
+void set_self_collision(ClothModel& model, bool on);
+// Appends an obstacle; returns its index in model.colliders.
+std::size_t add_collider(ClothModel& model, const Collider& collider);
+// Moves collider `collider` rigidly, in a straight line at constant velocity, by `displacement`
+// (m) from where it is at `now` (s), arriving at `arrival_time` (> now), and holds it there after.
+// The motion is the collider's path (a driven path, model/anchor.h), not a jump of its shape:
+// the collision stage sweeps particles in the collider's frame over each step and takes the
+// surface velocity from the path, so a collider moved this way pushes the sheet ahead of it, and
+// one that jumped would pass through particles without touching them. A scene path the collider
+// had is replaced. Not for meshes (their vertices are shared and never change).
+void drive_collider(ClothModel& model, std::size_t collider, const Vec3& displacement, double now,
+                    double arrival_time);
+// Moves collider `collider` by `displacement` at once, and holds it there (a drag while paused,
+// when no time passes): particles it now overlaps are pushed out through its nearest surface at
+// the next step. Not for meshes.
+void place_collider(ClothModel& model, std::size_t collider, const Vec3& displacement, double now);
 
 }  // namespace clothsim

@@ -311,6 +311,18 @@ bool Simulation::release_particle(std::uint32_t particle) {
   return remove_anchor(*model_, particle);
 }
 
+void Simulation::set_self_collision(bool on) { clothsim::set_self_collision(*model_, on); }
+
+std::size_t Simulation::add_collider(const Collider& collider) { return clothsim::add_collider(*model_, collider); }
+
+void Simulation::drive_collider(std::size_t collider, const Vec3& displacement, double arrival_time) {
+  clothsim::drive_collider(*model_, collider, displacement, state_.time, arrival_time);
+}
+
+void Simulation::place_collider(std::size_t collider, const Vec3& displacement) {
+  clothsim::place_collider(*model_, collider, displacement, state_.time);
+}
+
 double Simulation::next_anchor_event() const {
   double next = std::numeric_limits<double>::infinity();
   for (const Anchor& anchor : model_->anchors) {

@@ -184,6 +184,21 @@ class Simulation {
   // restored. Returns false if it was free.
   bool release_particle(std::uint32_t particle);
 
+  // Obstacles and self-collision, live (the viewer's hand on a sphere, its self-collision switch;
+  // model/model_edits.h). None changes the energy at the time of the edit: a moved obstacle acts
+  // through the collision stage, which books what it does as contact work.
+  //
+  // Self-collision on or off from the next step on.
+  void set_self_collision(bool on);
+  // Appends an obstacle; returns its index in model().colliders.
+  std::size_t add_collider(const Collider& collider);
+  // Moves collider `collider` rigidly in a straight line by `displacement` from where it is now,
+  // arriving at simulated time `arrival_time` (> the current time), and holds it there after; the
+  // sheet feels it as a moving obstacle (model/model_edits.h, drive_collider).
+  void drive_collider(std::size_t collider, const Vec3& displacement, double arrival_time);
+  // Moves collider `collider` by `displacement` at once (a drag while paused).
+  void place_collider(std::size_t collider, const Vec3& displacement);
+
  private:
   void check_state();
   void fail(std::string element, std::string message);

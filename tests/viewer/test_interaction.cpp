@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include "model/model_edits.h"
@@ -55,6 +56,49 @@ TEST(Picking, OfTwoParticlesOnOneRayTheNearerWins) {
   // Behind the eye is never picked.
   const std::vector<Vec3> behind = {camera.eye() - 3.0 * camera.forward()};
   EXPECT_EQ(pick_particle(camera, behind, kWidth / 2.0, kHeight / 2.0, kWidth, kHeight, 1e6), -1);
+}
+
+// A model with spheres of `radius` at `centres` (the lattice is irrelevant to picking spheres).
+ClothModel spheres_at(std::initializer_list<Vec3> centres, double radius) {
+  ClothModel model;
+  for (const Vec3& centre : centres) {
+    Collider sphere;
+    sphere.shape = ColliderShape::sphere;
+    sphere.center = centre;
+    sphere.radius = radius;
+    add_collider(model, sphere);
+  }
+  return model;
+}
+
+TEST(Picking, TheSphereTheRayEntersFirstIsPickedWhereItIsNow) {
+  const render::Camera camera = test_camera();
+  const Vec3 near = camera.eye() + 4.0 * camera.forward();
+  const Vec3 far = camera.eye() + 9.0 * camera.forward();
+  ClothModel model = spheres_at({far, near, {40.0, 0.0, 0.0}}, 0.5);
+  const std::optional<SphereHit> hit = pick_sphere(camera, model, 0.0, kWidth / 2.0, kHeight / 2.0, kWidth, kHeight);
+  ASSERT_TRUE(hit.has_value());
+  EXPECT_EQ(hit->collider, 1u);
+  EXPECT_NEAR(hit->distance, 3.5, 1e-9);  // where the ray enters it
+  EXPECT_FALSE(pick_sphere(camera, model, 0.0, 2.0, 2.0, kWidth, kHeight).has_value());  // an empty corner
+
+  // Moved by the hand (2 m along the camera's right by t = 1 s), it is picked where it is then.
+  drive_collider(model, 1, 2.0 * camera.right(), 0.0, 1.0);
+  const render::Projection moved = camera.project(near + 2.0 * camera.right(), kWidth, kHeight);
+  const std::optional<SphereHit> moved_hit = pick_sphere(camera, model, 1.0, moved.x, moved.y, kWidth, kHeight);
+  ASSERT_TRUE(moved_hit.has_value());
+  EXPECT_EQ(moved_hit->collider, 1u);
+  EXPECT_EQ(pick_sphere(camera, model, 1.0, kWidth / 2.0, kHeight / 2.0, kWidth, kHeight)->collider, 0u);
+}
+
+TEST(Picking, ANewSphereStartsClearOfTheSheetInView) {
+  const render::Camera camera = test_camera();
+  const std::vector<Vec3> points = grid(5, 5);  // a 4 x 4 square around the origin
+  const double radius = 0.8;
+  const Vec3 centre = place_beside_sheet(camera, points, radius);
+  for (const Vec3& p : points) EXPECT_GT(norm(p - centre), radius);
+  EXPECT_TRUE(camera.project(centre, kWidth, kHeight).visible);
+  EXPECT_GT(dot(centre, camera.right()), 0.0);  // on the right of the sheet
 }
 
 TEST(Dragging, TheTargetIsUnderTheCursorOnThePlaneFacingTheCamera) {

@@ -90,6 +90,45 @@ TEST(Script, EveryActionParses) {
             "");
 }
 
+TEST(Script, ObstacleActionsParseAndTheirErrorsNameTheField) {
+  const Script script = parse_script(R"({"events": [
+      {"at": 0.5, "self_collision": true},
+      {"at": 0.75, "self_collision": false},
+      {"at": 1, "add_sphere": {"center": [0, -0.5, 1], "radius": 0.25}},
+      {"frame": 80, "move_sphere": {"sphere": 0, "to": [1, 2, 3], "duration": 0.5}}]})",
+                                     kFile);
+  ASSERT_EQ(script.events.size(), 4u);
+  EXPECT_EQ(script.events[0].action, ScriptAction::self_collision);
+  EXPECT_TRUE(script.events[0].on);
+  EXPECT_FALSE(script.events[1].on);
+  const ScriptEvent& add = script.events[2];
+  EXPECT_EQ(add.action, ScriptAction::add_sphere);
+  EXPECT_EQ(add.center, (Vec3{0, -0.5, 1}));
+  EXPECT_EQ(add.radius, 0.25);
+  const ScriptEvent& move = script.events[3];
+  EXPECT_EQ(move.action, ScriptAction::move_sphere);
+  EXPECT_EQ(move.sphere, 0u);
+  EXPECT_EQ(move.to, (Vec3{1, 2, 3}));
+  EXPECT_EQ(move.duration, 0.5);
+  EXPECT_EQ(check_error(R"({"events": [{"at": 1, "add_sphere": {"center": [0, 0, 0], "radius": 1}},
+                                        {"at": 1, "move_sphere": {"sphere": 0, "to": [0, 0, 0], "duration": 1}}]})",
+                        five_by_five()),
+            "");
+
+  EXPECT_EQ(parse_error(R"({"events": [{"at": 1, "self_collision": "on"}]})"),
+            "drag.json: field 'events[0].self_collision': must be true or false, got string \"on\"");
+  EXPECT_EQ(parse_error(R"({"events": [{"at": 1, "add_sphere": {"center": [0, 0, 0], "radius": 0}}]})"),
+            "drag.json: field 'events[0].add_sphere.radius': must be a number in (0, 1e6], got 0");
+  EXPECT_EQ(parse_error(R"({"events": [{"at": 1, "add_sphere": {"radius": 1}}]})"),
+            "drag.json: field 'events[0].add_sphere.center': is required");
+  EXPECT_EQ(parse_error(R"({"events": [{"at": 1, "move_sphere": {"sphere": -1, "to": [0, 0, 0], "duration": 1}}]})"),
+            "drag.json: field 'events[0].move_sphere.sphere': must be in [0, 1000000], got -1");
+  EXPECT_EQ(parse_error(R"({"events": [{"at": 1, "move_sphere": {"sphere": 0, "to": [0, 0], "duration": 1}}]})"),
+            "drag.json: field 'events[0].move_sphere.to': must be an array of 3 numbers [x, y, z], got array [0,0]");
+  EXPECT_EQ(parse_error(R"({"events": [{"at": 1, "move_sphere": {"sphere": 0, "to": [0, 0, 0], "time": 1}}]})"),
+            "drag.json: field 'events[0].move_sphere.time': unknown field (allowed here: sphere, to, duration)");
+}
+
 TEST(Script, CutParsesAndItsErrorsNameTheField) {
   const Script script =
       parse_script(R"({"events": [{"at": 1.5, "cut": {"from": [2.5, -1], "to": [2.5, 30]}}]})", kFile);

@@ -16,7 +16,9 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdlib>
 #include <filesystem>
@@ -289,6 +291,52 @@ TEST_F(ViewCommand, PausedRunStandsStillAndQuitEndsIt) {
   for (std::size_t p = 0; p < kParticles; ++p) {
     EXPECT_EQ(particle_position(state, p), (Vec3{static_cast<double>(p % 7) - 3.0, 0.0, static_cast<double>(p / 7) - 3.0}));
   }
+}
+
+// Where two pictures differ clearly: the centroid of those pixels (x, y) and their count.
+std::pair<std::array<double, 2>, std::size_t> difference(const render::Image& a, const render::Image& b) {
+  std::array<double, 2> sum{};
+  std::size_t count = 0;
+  for (int y = 0; y < a.height; ++y) {
+    for (int x = 0; x < a.width; ++x) {
+      const std::uint8_t* p = a.pixel(x, y);
+      const std::uint8_t* q = b.pixel(x, y);
+      if (std::abs(p[0] - q[0]) + std::abs(p[1] - q[1]) + std::abs(p[2] - q[2]) <= 30) continue;
+      sum[0] += x;
+      sum[1] += y;
+      ++count;
+    }
+  }
+  if (count > 0) sum = {sum[0] / static_cast<double>(count), sum[1] / static_cast<double>(count)};
+  return {sum, count};
+}
+
+// A sphere added and moved by a script is drawn where it is: paused (so the sheet and the camera
+// stand still), the sphere appears once added, and appears elsewhere once moved. The obstacle
+// events and the self-collision switch run in the real window.
+TEST_F(ViewCommand, AnAddedSphereIsDrawnWhereItIsMoved) {
+  const VirtualDisplay display;
+  ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
+  write_text(work() / "sphere.json", R"({"events": [
+      {"frame": 0, "pause": true},
+      {"frame": 1, "screenshot": "none.png"},
+      {"frame": 2, "add_sphere": {"center": [-2, 1.5, 0], "radius": 0.8}},
+      {"frame": 2, "self_collision": true},
+      {"frame": 3, "screenshot": "added.png"},
+      {"frame": 4, "move_sphere": {"sphere": 0, "to": [2, 1.5, 0], "duration": 0.5}},
+      {"frame": 4, "self_collision": false},
+      {"frame": 5, "screenshot": "moved.png"}]})");
+  const Result result = run({"view", "--paper-args", kPaperArgs, "--script", "sphere.json", "--frames", "5",
+                             "--size", "320x240", "--hide-panel"},
+                            display.name());
+  ASSERT_EQ(result.exit_code, 0) << result.err;
+  const render::Image none = render::read_png((work() / "none.png").string());
+  const auto [added_at, added_pixels] = difference(none, render::read_png((work() / "added.png").string()));
+  const auto [moved_at, moved_pixels] = difference(none, render::read_png((work() / "moved.png").string()));
+  EXPECT_GT(added_pixels, 200u) << "the added sphere is not drawn";
+  EXPECT_GT(moved_pixels, 200u) << "the moved sphere is not drawn";
+  EXPECT_GT(std::hypot(moved_at[0] - added_at[0], moved_at[1] - added_at[1]), 20.0)
+      << "the sphere is drawn in the same place after it moved";
 }
 
 TEST_F(ViewCommand, BadInputExitsTwoBeforeAnyWindowOpens) {

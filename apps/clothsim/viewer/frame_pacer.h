@@ -9,10 +9,16 @@
 //
 // The readouts are averages over the last second of frames: frames per second, and simulated
 // seconds per wall second while playing (1.0 when the simulation keeps up). The viewer shows the
-// ratio in red below kBehindRatio.
+// ratio in red below kBehindRatio. FrameBenchmark measures the same over a run of
+// --benchmark-frames and prints it.
 #pragma once
 
 #include <deque>
+#include <string>
+#include <vector>
+
+#include "core/timer.h"
+#include "sim/simulation.h"
 
 namespace clothsim::viewer {
 
@@ -45,6 +51,26 @@ class FramePacer {
   };
   std::deque<Frame> frames_;
   double window_wall_ = 0.0;  // sum of frames_[i].wall
+};
+
+// The figures of --benchmark-frames: frames per second, the median frame, simulated time per
+// wall time, and how a frame's wall time splits between simulating and the rest.
+class FrameBenchmark {
+ public:
+  // Starts the wall clock (after the first frame, whose interval holds the start-up).
+  void start() { clock_.restart(); }
+  // Records a measured frame: its wall interval, the simulated time it advanced, and the wall
+  // time the simulation took, s.
+  void record(double wall_interval, double simulated, double simulation_seconds);
+  // Prints the figures to stdout for `scene`'s `simulation` in a window of `window` pixels
+  // ("1280x800"); nothing without a measured frame.
+  void print(const std::string& scene, const Simulation& simulation, const std::string& window) const;
+
+ private:
+  Stopwatch clock_;
+  double simulated_ = 0.0;            // s, simulated over the measured frames
+  double simulation_seconds_ = 0.0;   // s of wall time spent in Session::advance
+  std::vector<double> intervals_;     // s, wall time of each measured frame
 };
 
 }  // namespace clothsim::viewer

@@ -50,6 +50,40 @@ std::optional<Vec3> drag_target(const render::Camera& camera, const Vec3& plane_
   return ray.origin + t * ray.direction;
 }
 
+std::optional<SphereHit> pick_sphere(const render::Camera& camera, const ClothModel& model, double time, double x,
+                                     double y, int width, int height) {
+  const render::Ray ray = camera.pick_ray(x, y, width, height);  // unit direction
+  std::optional<SphereHit> nearest;
+  for (std::size_t c = 0; c < model.colliders.size(); ++c) {
+    const Collider& sphere = model.colliders[c];
+    if (sphere.shape != ColliderShape::sphere) continue;
+    // |origin + t d - centre| = r: t^2 + 2 b t + q = 0 with b = (origin - centre).d.
+    const Vec3 from_centre = ray.origin - (sphere.center + collider_offset(sphere, time));
+    const double b = dot(from_centre, ray.direction);
+    const double q = dot(from_centre, from_centre) - sphere.radius * sphere.radius;
+    const double discriminant = b * b - q;
+    if (q <= 0.0 || discriminant < 0.0) continue;  // the eye inside it, or a miss
+    const double entry = -b - std::sqrt(discriminant);
+    if (entry <= 0.0) continue;  // behind the eye
+    if (!nearest || entry < nearest->distance) nearest = SphereHit{c, entry};
+  }
+  return nearest;
+}
+
+Vec3 place_beside_sheet(const render::Camera& camera, std::span<const Vec3> positions, double radius) {
+  Vec3 low{}, high{};
+  bool any = false;
+  for (const Vec3& p : positions) {
+    if (!is_finite(p)) continue;
+    low = any ? Vec3{std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)} : p;
+    high = any ? Vec3{std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)} : p;
+    any = true;
+  }
+  // Beyond the box's bounding sphere by half a radius, whatever the direction of `right`.
+  const double clearance = 0.5 * norm(high - low) + 1.5 * radius;
+  return 0.5 * (low + high) + clearance * camera.right();
+}
+
 std::vector<std::uint32_t> connectors_crossed_on_screen(const render::Camera& camera, const ClothModel& model,
                                                         std::span<const Vec3> positions, double x0, double y0,
                                                         double x1, double y1, int width, int height) {

@@ -14,6 +14,11 @@
 // sheet goes through every layer under it, which is what a cut through a fold does. Scripts cut
 // the same way in rest-lattice coordinates instead (model/lattice_cuts.h, which scenes use for
 // their initial cuts too), so that a test does not depend on the camera.
+//
+// Spheres are picked in metres instead: the first sphere the ray through the cursor enters, as
+// a sphere has a visible extent of its own. A grabbed sphere moves, like a particle, on the plane
+// through its centre (at the grab) that faces the camera, keeping the offset between its centre
+// and the point grabbed, so it does not jump to put its centre under the cursor.
 #pragma once
 
 #include <array>
@@ -38,6 +43,21 @@ long pick_particle(const render::Camera& camera, std::span<const Vec3> positions
 // camera's forward direction; none if the ray runs parallel to it or meets it behind the eye.
 std::optional<Vec3> drag_target(const render::Camera& camera, const Vec3& plane_point, double x, double y, int width,
                                 int height);
+
+// A sphere collider under the cursor.
+struct SphereHit {
+  std::size_t collider = 0;  // index in model.colliders
+  double distance = 0.0;     // m, from the eye along the pick ray to where the ray enters the sphere
+};
+
+// The sphere (of model.colliders, where they are at `time`) that the ray through pixel (x, y)
+// enters first in front of the eye; none if it enters none (an eye inside a sphere picks not that one).
+std::optional<SphereHit> pick_sphere(const render::Camera& camera, const ClothModel& model, double time, double x,
+                                     double y, int width, int height);
+
+// Where a new sphere of `radius` (m) starts: clear of the sheet's bounding box, on the camera's
+// right of it at the height of its centre, so it is in view and touches nothing until dragged.
+Vec3 place_beside_sheet(const render::Camera& camera, std::span<const Vec3> positions, double radius);
 
 // Intact connectors whose projection on a width x height view crosses the pixel segment from
 // (x0, y0) to (x1, y1) (connectors with an end behind the eye are skipped).

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <span>
 #include <vector>
 
 #include "core/error.h"
@@ -298,6 +299,41 @@ void tearing_section(PanelState& state, Session& session) {
   ImGui::TextDisabled("ctrl+drag across the sheet to cut it");
 }
 
+// A fifth of the sheet's largest extent now: a sphere that visibly pushes it, whatever its size.
+double default_sphere_radius(std::span<const Vec3> positions) {
+  Vec3 low = positions.empty() ? Vec3{} : positions.front();
+  Vec3 high = low;
+  for (const Vec3& p : positions) {
+    low = {std::min(low.x, p.x), std::min(low.y, p.y), std::min(low.z, p.z)};
+    high = {std::max(high.x, p.x), std::max(high.y, p.y), std::max(high.z, p.z)};
+  }
+  const double extent = std::max({high.x - low.x, high.y - low.y, high.z - low.z});
+  return std::isfinite(extent) && extent > 0.0 ? 0.2 * extent : 0.1;
+}
+
+// Self-collision on and off, spheres added and how many particles touch an obstacle.
+void collisions_section(PanelState& state, Session& session) {
+  const Simulation& simulation = session.simulation();
+  if (!ImGui::CollapsingHeader("Collisions", ImGuiTreeNodeFlags_DefaultOpen)) return;
+  bool self = session.self_collision();
+  if (ImGui::Checkbox("self-collision (C)", &self)) {
+    session.set_self_collision(self);
+    state.status = self ? "self-collision on" : "self-collision off";
+  }
+  tooltip("the sheet keeps collision.thickness from itself; switched between two steps", "");
+  if (state.sphere_radius <= 0.0) state.sphere_radius = default_sphere_radius(simulation.state().position);
+  if (ImGui::Button("Add sphere")) state.add_sphere_requested = true;
+  tooltip("a sphere beside the sheet, in view; drag it into the sheet with the mouse", "");
+  ImGui::SameLine();
+  const double low = 1e-3;
+  const double high = 10.0;
+  ImGui::SliderScalar("radius", ImGuiDataType_Double, &state.sphere_radius, &low, &high, "%.3g m",
+                      ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
+  ImGui::TextDisabled("%zu obstacles, %zu spheres; %zu particles in contact", simulation.model().colliders.size(),
+                      session.spheres().size(), simulation.contact_statistics().last_step);
+  ImGui::TextDisabled("left drag on a sphere (alt: behind the sheet) moves it");
+}
+
 void display_section(PanelState& state) {
   if (!ImGui::CollapsingHeader("Display")) return;
   render::RenderOptions& options = state.render;
@@ -326,8 +362,10 @@ void help_section() {
       "right drag / middle drag: pan   wheel: zoom\n"
       "right click or shift+click a particle: pin/unpin\n"
       "ctrl+left drag: cut the sheet along the drag\n"
+      "left drag on a sphere (alt: behind the sheet): move it\n"
       "space: play/pause   N: step one frame   R: reset\n"
       "S: screenshot   F: frame the sheet   H: hide panel\n"
+      "C: self-collision on/off\n"
       "arrows: orbit (shift: pan)   +/-: zoom   Q/Esc: quit");
 }
 
@@ -351,6 +389,7 @@ void draw_panel(PanelState& state, Session& session, const FramePacer& pacer) {
     }
     parameters_section(state, session);
     tearing_section(state, session);
+    collisions_section(state, session);
     display_section(state);
     help_section();
     ImGui::PopItemWidth();

@@ -7,7 +7,9 @@
 // session's scene, are checked with validate_scene(), and reach the simulation through
 // Session::set_live_parameters(), between steps. An edit that breaks a cross-field rule is shown
 // in red and not applied. The spring limits (tearing, yielding, creasing) are not scene keys yet:
-// their section edits Session::spring_limits() directly, checked by check_spring_limits().
+// their section edits Session::spring_limits() directly, checked by check_spring_limits(). The
+// collisions section switches self-collision (Session::set_self_collision) and asks the window to
+// add a sphere, which it places in view.
 #pragma once
 
 #include <string>
@@ -28,6 +30,8 @@ struct PanelState {
   bool reset_requested = false;
   bool screenshot_requested = false;
   bool frame_requested = false;
+  bool add_sphere_requested = false;
+  double sphere_radius = 0.0;    // m, of the next sphere added; 0: not chosen yet (the panel picks one)
   render::RenderOptions render;  // display options edited in the panel
   std::string status;            // the last action's message ("saved shot.png")
   std::string edit_error;        // why the last parameter edit was refused

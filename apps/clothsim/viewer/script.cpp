@@ -26,6 +26,7 @@ constexpr double kLongestDrag = 86400.0;           // s
 constexpr double kFarthestTarget = 1e6;            // m, the scene's anchor coordinate bound
 constexpr double kLatestFrame = 1e9;               // frames
 constexpr double kFarthestLatticePoint = 1e6;      // spacings, a cut's ends
+constexpr double kLargestSphere = 1e6;             // m, a sphere's radius
 
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& reason) {
   throw InputError(source, field, reason);
@@ -48,8 +49,9 @@ std::string describe_json(const json& value) {
   }
 }
 
-constexpr std::array<std::string_view, 10> kActionNames = {"drag", "release", "pin",        "unpin", "pause",
-                                                           "play", "set",     "screenshot", "quit",  "cut"};
+constexpr std::array<std::string_view, 13> kActionNames = {
+    "drag", "release", "pin", "unpin", "pause", "play", "set", "screenshot", "quit", "cut",
+    "self_collision", "add_sphere", "move_sphere"};
 
 std::string action_list() {
   std::string text;
@@ -66,9 +68,11 @@ double read_number(const json& value, double min, double max, bool min_inclusive
   return value.get<double>();
 }
 
-int read_index(const json& value, const std::string& source, const std::string& field) {
+// A whole number in [0, 1e6]; `what` says what it counts in messages.
+int read_index(const json& value, const std::string& source, const std::string& field,
+               const char* what = "a lattice index from 0") {
   if (!value.is_number_integer() && !value.is_number_unsigned()) {
-    fail(source, field, "must be a whole number (a lattice index from 0), got " + describe_json(value));
+    fail(source, field, std::string("must be a whole number (") + what + "), got " + describe_json(value));
   }
   const auto index = value.get<long long>();
   if (index < 0 || index > 1'000'000) fail(source, field, "must be in [0, 1000000], got " + describe_json(value));
@@ -92,6 +96,31 @@ void read_particle(const json& value, ScriptEvent& event, const std::string& sou
   }
   event.row = read_index(value.at("row"), source, field + ".row");
   event.col = read_index(value.at("col"), source, field + ".col");
+}
+
+// [x, y, z] within the scene's coordinate bound, m.
+Vec3 read_point(const json& value, const std::string& source, const std::string& field) {
+  if (!value.is_array() || value.size() != 3) {
+    fail(source, field, "must be an array of 3 numbers [x, y, z], got " + describe_json(value));
+  }
+  std::array<double, 3> components{};
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    components[axis] = read_number(value[axis], -kFarthestTarget, kFarthestTarget, true, source,
+                                   field + "[" + std::to_string(axis) + "]");
+  }
+  return {components[0], components[1], components[2]};
+}
+
+// An action's object: `fields` are its fields, all required; `shape` shows it in messages.
+void check_object(const json& body, std::initializer_list<std::string_view> fields, const char* shape,
+                  const std::string& source, const std::string& field) {
+  if (!body.is_object()) {
+    fail(source, field, std::string("must be an object ") + shape + ", got " + describe_json(body));
+  }
+  check_keys(body, fields, source, field);
+  for (std::string_view name : fields) {
+    if (!body.contains(name)) fail(source, field + "." + std::string(name), "is required");
+  }
 }
 
 // The value of a "set" entry as --set text: numbers in full precision, vectors "x,y,z".
@@ -164,18 +193,24 @@ ScriptEvent read_event(const json& value, std::size_t index, const std::string& 
       for (const char* required : {"to", "duration"}) {
         if (!body.contains(required)) fail(source, action_field + "." + required, "is required");
       }
-      {
-        const json& to = body.at("to");
-        if (!to.is_array() || to.size() != 3) {
-          fail(source, action_field + ".to", "must be an array of 3 numbers [x, y, z], got " + describe_json(to));
-        }
-        std::array<double, 3> components{};
-        for (std::size_t axis = 0; axis < 3; ++axis) {
-          components[axis] = read_number(to[axis], -kFarthestTarget, kFarthestTarget, true, source,
-                                         action_field + ".to[" + std::to_string(axis) + "]");
-        }
-        event.to = {components[0], components[1], components[2]};
-      }
+      event.to = read_point(body.at("to"), source, action_field + ".to");
+      event.duration = read_number(body.at("duration"), 0.0, kLongestDrag, false, source, action_field + ".duration");
+      break;
+    case ScriptAction::self_collision:
+      if (!body.is_boolean()) fail(source, action_field, "must be true or false, got " + describe_json(body));
+      event.on = body.get<bool>();
+      break;
+    case ScriptAction::add_sphere:
+      check_object(body, {"center", "radius"}, "{\"center\": [x, y, z], \"radius\": R}", source, action_field);
+      event.center = read_point(body.at("center"), source, action_field + ".center");
+      event.radius = read_number(body.at("radius"), 0.0, kLargestSphere, false, source, action_field + ".radius");
+      break;
+    case ScriptAction::move_sphere:
+      check_object(body, {"sphere", "to", "duration"},
+                   "{\"sphere\": N, \"to\": [x, y, z], \"duration\": SECONDS}", source, action_field);
+      event.sphere = static_cast<std::size_t>(
+          read_index(body.at("sphere"), source, action_field + ".sphere", "a sphere's number from 0"));
+      event.to = read_point(body.at("to"), source, action_field + ".to");
       event.duration = read_number(body.at("duration"), 0.0, kLongestDrag, false, source, action_field + ".duration");
       break;
     case ScriptAction::release:
@@ -297,6 +332,9 @@ void check_script(const Script& script, const SceneSpec& scene) {
     return a->firing_frame(frame_time) < b->firing_frame(frame_time);
   });
   SceneSpec edited = scene;
+  // Spheres so far: the scene's, then those the "add_sphere" events fired so far add.
+  std::size_t spheres = 0;
+  for (const ColliderSpec& collider : scene.colliders) spheres += collider.collider.shape == ColliderShape::sphere;
   for (const ScriptEvent* event_pointer : order) {
     const ScriptEvent& event = *event_pointer;
     const std::string field = "events[" + std::to_string(event.index) + "]." + std::string(to_string(event.action));
@@ -328,10 +366,22 @@ void check_script(const Script& script, const SceneSpec& scene) {
         validate_scene(edited, script.source + ": " + field);
         break;
       }
+      case ScriptAction::add_sphere:
+        ++spheres;
+        break;
+      case ScriptAction::move_sphere:
+        if (event.sphere >= spheres) {
+          fail(script.source, field + ".sphere",
+               spheres == 0 ? "there is no sphere to move yet (the scene has none; add one with \"add_sphere\")"
+                            : "must be in [0, " + std::to_string(spheres - 1) + "] (there are " +
+                                  std::to_string(spheres) + " spheres by then), got " + std::to_string(event.sphere));
+        }
+        break;
       case ScriptAction::pause:
       case ScriptAction::play:
       case ScriptAction::screenshot:
       case ScriptAction::quit:
+      case ScriptAction::self_collision:
       case ScriptAction::cut:  // a segment off the sheet cuts nothing
         break;
     }

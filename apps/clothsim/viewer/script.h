@@ -11,6 +11,9 @@
 //   {"at": 1.5, "cut": {"from": [2.5, -1], "to": [2.5, 30]}}
 //   {"frame": 120, "screenshot": "out/shot.png"}
 //   {"at": 4.0, "quit": true}
+//   {"at": 0.5, "self_collision": true}           (or false)
+//   {"at": 0.5, "add_sphere": {"center": [x, y, z], "radius": 0.1}}
+//   {"at": 1.0, "move_sphere": {"sphere": 0, "to": [x, y, z], "duration": 0.5}}
 //
 // A scripted run is deterministic in simulated time: frame k is shown at k * frame_time on the
 // frame clock (frame_time = 1 / the scene's output.fps), and every frame that plays advances the
@@ -24,6 +27,10 @@
 // (row, col, in particle spacings, fractions allowed) crosses, whatever the sheet's shape then:
 // [2.5, -1] to [2.5, 30] tears a sheet of up to 30 columns between rows 2 and 3. Lattice
 // coordinates rather than screen ones keep a scripted cut independent of the camera.
+//
+// "move_sphere" moves a sphere's centre to "to" over "duration" s of simulated time, as the mouse
+// does (Session::move_sphere); "sphere" numbers the spheres from 0: the scene's in the order of
+// its colliders, then those added by "add_sphere" events, in firing order.
 //
 // Rejected: event times in simulated time. A paused simulation's time stands still, so a "play"
 // event could never fire.
@@ -46,7 +53,9 @@
 
 namespace clothsim::viewer {
 
-enum class ScriptAction : std::uint8_t { drag, release, pin, unpin, pause, play, set, screenshot, quit, cut };
+enum class ScriptAction : std::uint8_t {
+  drag, release, pin, unpin, pause, play, set, screenshot, quit, cut, self_collision, add_sphere, move_sphere
+};
 
 std::string_view to_string(ScriptAction action);
 
@@ -58,12 +67,16 @@ struct ScriptEvent {
   ScriptAction action = ScriptAction::quit;
   int row = 0;               // drag, release, pin, unpin: the particle
   int col = 0;
-  Vec3 to;                   // drag: target position, m
-  double duration = 0.0;     // drag: s of simulated time to get there (> 0)
+  Vec3 to;                   // drag, move_sphere: target position (of the sphere's centre), m
+  double duration = 0.0;     // drag, move_sphere: s of simulated time to get there (> 0)
   std::vector<std::pair<std::string, std::string>> assignments;  // set: key and value as --set text
   std::string path;          // screenshot: PNG file
   std::array<double, 2> cut_from{};  // cut: rest-lattice points (row, col), in spacings
   std::array<double, 2> cut_to{};
+  bool on = false;           // self_collision: switched on (true) or off
+  Vec3 center;               // add_sphere: m
+  double radius = 0.0;       // add_sphere: m (> 0)
+  std::size_t sphere = 0;    // move_sphere: which sphere, from 0 (see the top of this file)
 
   // The frame at whose start this event fires, for frames of `frame_time` seconds.
   std::uint64_t firing_frame(double frame_time) const;

@@ -22,6 +22,49 @@ void Session::build() {
   settings.threads = scene_.threads;
   simulation_ = std::make_unique<Simulation>(std::move(model), std::move(initial), settings);
   if (edited_limits_) simulation_->set_spring_limits(*edited_limits_);
+  if (edited_self_collision_) simulation_->set_self_collision(*edited_self_collision_);
+  for (const Collider& sphere : added_spheres_) simulation_->add_collider(sphere);
+}
+
+void Session::set_self_collision(bool on) {
+  simulation_->set_self_collision(on);
+  edited_self_collision_ = on;
+}
+
+std::size_t Session::add_sphere(const Vec3& center, double radius) {
+  CLOTHSIM_ASSERT(radius > 0.0 && is_finite(center), "a sphere has a centre and a positive radius");
+  Collider sphere;
+  sphere.shape = ColliderShape::sphere;
+  // Given at the current time: at rest, its t = 0 shape is where it is now.
+  sphere.center = center;
+  sphere.radius = radius;
+  added_spheres_.push_back(sphere);
+  return simulation_->add_collider(sphere);
+}
+
+std::vector<std::size_t> Session::spheres() const {
+  std::vector<std::size_t> indices;
+  const std::vector<Collider>& colliders = simulation_->model().colliders;
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    if (colliders[c].shape == ColliderShape::sphere) indices.push_back(c);
+  }
+  return indices;
+}
+
+Vec3 Session::sphere_center(std::size_t collider) const {
+  const Collider& sphere = simulation_->model().colliders.at(collider);
+  return sphere.center + collider_offset(sphere, time());
+}
+
+void Session::move_sphere(std::size_t collider, const Vec3& target, double duration) {
+  CLOTHSIM_ASSERT(simulation_->model().colliders.at(collider).shape == ColliderShape::sphere, "a sphere is moved");
+  const Vec3 displacement = target - sphere_center(collider);
+  const double arrival = time() + duration;
+  if (arrival > time() && playing_) {  // as drag(): a duration lost to rounding places instead
+    simulation_->drive_collider(collider, displacement, arrival);
+  } else {
+    simulation_->place_collider(collider, displacement);
+  }
 }
 
 std::size_t Session::cut(std::span<const std::uint32_t> connectors) { return simulation_->cut_connectors(connectors); }
@@ -196,6 +239,18 @@ ScriptPlayer::FrameRequests ScriptPlayer::fire(std::uint64_t frame, Session& ses
       case ScriptAction::cut:
         session.cut_in_lattice(event.cut_from, event.cut_to);
         break;
+      case ScriptAction::self_collision:
+        session.set_self_collision(event.on);
+        break;
+      case ScriptAction::add_sphere:
+        session.add_sphere(event.center, event.radius);
+        break;
+      case ScriptAction::move_sphere: {
+        const std::vector<std::size_t> spheres = session.spheres();
+        CLOTHSIM_ASSERT(event.sphere < spheres.size(), "check_script() checked the sphere's number");
+        session.move_sphere(spheres[event.sphere], event.to, event.duration);
+        break;
+      }
       case ScriptAction::screenshot:
         requests.screenshots.push_back(event.path);
         break;

@@ -16,6 +16,15 @@
 // coordinates). Spring limits (where the sheet tears, yields and creases) are edited live with
 // set_spring_limits(); the edited limits outlive a reset, like the other live edits, until the
 // scene itself carries them.
+//
+// Obstacles: self-collision is switched on and off live (set_self_collision), spheres are added
+// (add_sphere) and moved by the hand (move_sphere). A moved sphere is driven as a dragged
+// particle is: in a straight line to its target over the given simulated time
+// (Simulation::drive_collider), so the collision stage sees it move and it pushes the sheet
+// instead of jumping through it; paused, it is placed at once. The switch and the added spheres
+// outlive a reset (kept here, not in the scene, whose checks refuse collision.self until the
+// self-collision stage lands); where the hand moved a sphere does not: a reset puts every sphere
+// back where it started.
 #pragma once
 
 #include <array>
@@ -98,6 +107,20 @@ class Session {
   void set_spring_limits(const SpringLimits& limits);
   const SpringLimits& spring_limits() const { return simulation_->model().limits; }
 
+  // Obstacles (see the top of this file).
+  bool self_collision() const { return simulation_->model().collision.self; }
+  void set_self_collision(bool on);
+  // Adds a sphere (centre in m, radius > 0 m) at rest; returns its index in the model's colliders.
+  std::size_t add_sphere(const Vec3& center, double radius);
+  // The model's sphere colliders, by index in model().colliders, in order (a script's "sphere"
+  // numbers them from 0).
+  std::vector<std::size_t> spheres() const;
+  // Where the centre of sphere `collider` is now, m.
+  Vec3 sphere_center(std::size_t collider) const;
+  // Moves sphere `collider` in a straight line until its centre is at `target`, over `duration` s
+  // of simulated time (placed at once when `duration` is 0 or the simulation is paused).
+  void move_sphere(std::size_t collider, const Vec3& target, double duration);
+
   // Appends the current energies to the history, keeping `window` s of simulated time.
   void record_energy(double window = 10.0);
   const std::deque<EnergySample>& energy_history() const { return energy_history_; }
@@ -113,6 +136,8 @@ class Session {
   bool playing_ = true;
   std::map<std::uint32_t, bool> held_;  // held particle -> whether it was pinned before the drag
   std::optional<SpringLimits> edited_limits_;  // set_spring_limits(), applied again after a reset
+  std::optional<bool> edited_self_collision_;  // set_self_collision(), applied again after a reset
+  std::vector<Collider> added_spheres_;        // add_sphere(), as added, added again after a reset
   std::deque<EnergySample> energy_history_;
 };
 

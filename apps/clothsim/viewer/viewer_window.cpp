@@ -22,6 +22,7 @@
 #include "render/image.h"
 #include "render/renderer.h"
 #include "viewer/frame_pacer.h"
+#include "viewer/gl_window.h"
 #include "viewer/interaction.h"
 #include "viewer/panel.h"
 
@@ -34,44 +35,6 @@ constexpr double kOrbitPerKey = 0.06;      // rad per key press (or repeat)
 constexpr double kPanPerKey = 0.05;        // fraction of the view height per key press
 constexpr double kZoomPerNotch = 0.9;      // distance factor per scroll notch or key press
 
-std::string g_glfw_error;  // the last GLFW error, for messages
-
-void on_glfw_error(int /*code*/, const char* description) { g_glfw_error = description; }
-
-// glfwInit/glfwTerminate for a scope.
-class GlfwLibrary {
- public:
-  GlfwLibrary() {
-    glfwSetErrorCallback(on_glfw_error);
-    if (glfwInit() != GLFW_TRUE) {
-      throw render::RenderError("cannot open a window: " + g_glfw_error +
-                                ". 'clothsim view' needs a display (DISPLAY set); on a machine without one, "
-                                "run it under a virtual X server: xvfb-run -a clothsim view ...");
-    }
-  }
-  ~GlfwLibrary() { glfwTerminate(); }
-  GlfwLibrary(const GlfwLibrary&) = delete;
-  GlfwLibrary& operator=(const GlfwLibrary&) = delete;
-};
-
-// The back buffer, read after the scene is drawn (without the panel), rows top first.
-render::Image read_back_buffer(int width, int height) {
-  render::Image image;
-  image.width = width;
-  image.height = height;
-  const std::size_t row_bytes = static_cast<std::size_t>(width) * 3;
-  std::vector<std::uint8_t> bottom_up(row_bytes * static_cast<std::size_t>(height));
-  glPixelStorei(GL_PACK_ALIGNMENT, 1);
-  glReadBuffer(GL_BACK);
-  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, bottom_up.data());
-  image.rgb.resize(bottom_up.size());
-  for (int y = 0; y < height; ++y) {
-    std::copy_n(&bottom_up[static_cast<std::size_t>(height - 1 - y) * row_bytes], row_bytes,
-                &image.rgb[static_cast<std::size_t>(y) * row_bytes]);
-  }
-  return image;
-}
-
 class Viewer {
  public:
   Viewer(Session& session, const ViewerOptions& options);
@@ -82,7 +45,7 @@ class Viewer {
   int run();
 
  private:
-  enum class MouseMode { none, orbit, pan, drag, cut };
+  enum class MouseMode { none, orbit, pan, drag, drag_sphere, cut };
 
   static Viewer& of(GLFWwindow* window) { return *static_cast<Viewer*>(glfwGetWindowUserPointer(window)); }
   static void on_mouse_button(GLFWwindow* window, int button, int action, int mods);
@@ -104,6 +67,14 @@ class Viewer {
   // The grabbed particle follows the cursor over the next `duration` s of simulated time.
   void drag_grabbed(double duration);
   void release_grabbed();
+  // Grabs the sphere under the cursor at pixel (x, y) if there is one and the particle `picked`
+  // (-1: none) is not nearer the eye; with `behind_sheet` (alt held) even if it is.
+  bool grab_sphere(double x, double y, long picked, bool behind_sheet);
+  // The grabbed sphere follows the cursor over the next `duration` s of simulated time.
+  void drag_sphere(double duration);
+  void toggle_self_collision();
+  // Adds a sphere of the panel's radius beside the sheet (the panel's Add sphere button).
+  void add_sphere();
   void take_screenshot(const std::string& path, bool scripted);
   std::string next_screenshot_path();
   void draw_scene();
@@ -134,32 +105,14 @@ class Viewer {
   double last_y_ = 0.0;
   long grabbed_ = -1;
   Vec3 grab_plane_point_;
+  std::size_t grabbed_sphere_ = 0;  // collider index, while mouse_mode_ is drag_sphere
+  Vec3 sphere_plane_point_;         // m: the sphere's centre at the grab (its drag plane's point)
+  Vec3 sphere_grab_offset_;         // m: from the point grabbed on that plane to the centre
   long hovered_ = -1;
   std::size_t cut_count_ = 0;  // connectors broken by the current cut
   bool quit_ = false;
   std::uint64_t screenshot_count_ = 0;
 };
-
-// An OpenGL 3.3 core window with `samples` MSAA samples, its context current.
-GLFWwindow* open_window(const ViewerOptions& options, const std::string& title, int samples) {
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 3);
-  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 3);
-  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
-  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
-  glfwWindowHint(GLFW_SAMPLES, samples);
-  GLFWwindow* window = glfwCreateWindow(options.width, options.height, title.c_str(), nullptr, nullptr);
-  if (window == nullptr) throw render::RenderError("cannot open an OpenGL 3.3 core window: " + g_glfw_error);
-  glfwMakeContextCurrent(window);
-  return window;
-}
-
-// Mesa's software rasterisers, which the default of 4x MSAA would slow down about five times.
-bool is_software_renderer() {
-  const auto* renderer = reinterpret_cast<const char*>(glGetString(GL_RENDERER));
-  const std::string name = renderer != nullptr ? renderer : "";
-  return name.find("llvmpipe") != std::string::npos || name.find("softpipe") != std::string::npos ||
-         name.find("swrast") != std::string::npos;
-}
 
 Viewer::Viewer(Session& session, const ViewerOptions& options) : session_(session), options_(options) {
   const std::string title = "clothsim view: " + session.scene().name;
@@ -295,6 +248,7 @@ void Viewer::mouse_button(int button, int action, int mods) {
     cut_count_ = 0;
     return;
   }
+  if (button == GLFW_MOUSE_BUTTON_LEFT && grab_sphere(x, y, picked, (mods & GLFW_MOD_ALT) != 0)) return;
   if (button == GLFW_MOUSE_BUTTON_LEFT && picked >= 0) {
     grabbed_ = picked;
     grab_plane_point_ = positions[static_cast<std::size_t>(picked)];
@@ -330,6 +284,7 @@ void Viewer::cursor(double /*window_x*/, double /*window_y*/) {
       break;
     }
     case MouseMode::drag:  // the target follows the cursor in drag_grabbed(), once per frame
+    case MouseMode::drag_sphere:  // and in drag_sphere()
     case MouseMode::none:
       break;
   }
@@ -357,6 +312,9 @@ void Viewer::key(int key, int action, int mods) {
       break;
     case GLFW_KEY_F:
       frame_camera();
+      break;
+    case GLFW_KEY_C:
+      if (!repeat) toggle_self_collision();
       break;
     case GLFW_KEY_H:
     case GLFW_KEY_TAB:
@@ -405,6 +363,43 @@ void Viewer::drag_grabbed(double duration) {
   const std::optional<Vec3> target = drag_target(camera_, grab_plane_point_, x, y, width_, height_);
   if (!target) return;
   session_.drag(static_cast<std::uint32_t>(grabbed_), *target, duration);
+}
+
+bool Viewer::grab_sphere(double x, double y, long picked, bool behind_sheet) {
+  const Simulation& simulation = session_.simulation();
+  const std::optional<SphereHit> hit = pick_sphere(camera_, simulation.model(), session_.time(), x, y, width_, height_);
+  if (!hit) return false;
+  if (picked >= 0 && !behind_sheet) {
+    const Vec3& particle = simulation.state().position[static_cast<std::size_t>(picked)];
+    if (norm(particle - camera_.eye()) < hit->distance) return false;  // the sheet is in front
+  }
+  grabbed_sphere_ = hit->collider;
+  sphere_plane_point_ = session_.sphere_center(hit->collider);
+  const std::optional<Vec3> grabbed_point = drag_target(camera_, sphere_plane_point_, x, y, width_, height_);
+  sphere_grab_offset_ = grabbed_point ? sphere_plane_point_ - *grabbed_point : Vec3{};
+  mouse_mode_ = MouseMode::drag_sphere;
+  panel_.status = "dragging collider " + std::to_string(hit->collider) + " (a sphere)";
+  return true;
+}
+
+void Viewer::drag_sphere(double duration) {
+  const auto [x, y] = cursor_pixels();
+  const std::optional<Vec3> target = drag_target(camera_, sphere_plane_point_, x, y, width_, height_);
+  if (target) session_.move_sphere(grabbed_sphere_, *target + sphere_grab_offset_, duration);
+}
+
+void Viewer::toggle_self_collision() {
+  session_.set_self_collision(!session_.self_collision());
+  panel_.status = session_.self_collision() ? "self-collision on" : "self-collision off";
+}
+
+void Viewer::add_sphere() {
+  const double radius = panel_.sphere_radius;
+  const Vec3 centre = place_beside_sheet(camera_, session_.simulation().state().position, radius);
+  const std::size_t collider = session_.add_sphere(centre, radius);
+  char text[96];
+  std::snprintf(text, sizeof text, "added collider %zu: a sphere of radius %.3g m", collider, radius);
+  panel_.status = text;
 }
 
 void Viewer::release_grabbed() {
@@ -464,10 +459,7 @@ int Viewer::run() {
   std::optional<ScriptPlayer> player;
   if (options_.script) player.emplace(*options_.script, frame_time);
 
-  Stopwatch benchmark_clock;
-  double benchmark_simulated = 0.0;
-  double benchmark_simulation_seconds = 0.0;  // wall time spent in Session::advance
-  std::vector<double> frame_intervals;
+  FrameBenchmark benchmark;
   double last_frame = glfwGetTime();
   bool reported_failure = false;
 
@@ -482,7 +474,7 @@ int Viewer::run() {
     const double now = glfwGetTime();
     const double wall_interval = now - last_frame;
     last_frame = now;
-    if (frame == 1) benchmark_clock.restart();
+    if (frame == 1) benchmark.start();
 
     if (panel_.reset_requested) {
       panel_.reset_requested = false;
@@ -503,6 +495,7 @@ int Viewer::run() {
       const double duration = scripted || step ? frame_time : FramePacer::simulated_step(wall_interval);
       if (step) session_.set_playing(true);  // for this frame, so that a drag drives rather than places
       if (mouse_mode_ == MouseMode::drag) drag_grabbed(moving ? duration : 0.0);
+      if (mouse_mode_ == MouseMode::drag_sphere) drag_sphere(moving ? duration : 0.0);
       double advanced = 0.0;
       const Stopwatch simulation_watch;
       if (moving) {
@@ -511,11 +504,8 @@ int Viewer::run() {
       }
       if (step) session_.set_playing(false);
       pacer_.record(wall_interval, advanced, session_.playing());
-      if (frame >= 2) {  // frame 1's interval holds the start-up: the benchmark starts after it
-        benchmark_simulated += advanced;
-        benchmark_simulation_seconds += simulation_watch.seconds();
-        frame_intervals.push_back(wall_interval);
-      }
+      // Frame 1's interval holds the start-up: the benchmark starts after it.
+      if (frame >= 2) benchmark.record(wall_interval, advanced, simulation_watch.seconds());
     }
     if (session_.failed()) {
       session_.set_playing(false);
@@ -554,6 +544,10 @@ int Viewer::run() {
       panel_.frame_requested = false;
       frame_camera();
     }
+    if (panel_.add_sphere_requested) {
+      panel_.add_sphere_requested = false;
+      add_sphere();
+    }
     draw_ui();
     glfwSwapBuffers(window_);
 
@@ -561,23 +555,9 @@ int Viewer::run() {
     if (options_.benchmark_frames > 0 && frame >= options_.benchmark_frames + 1) break;
   }
 
-  if (options_.benchmark_frames > 0 && !frame_intervals.empty()) {
-    const double wall = benchmark_clock.seconds();
-    std::vector<double> sorted = frame_intervals;
-    std::sort(sorted.begin(), sorted.end());
-    const double median = sorted[sorted.size() / 2];
-    const Simulation& simulation = session_.simulation();
-    std::printf(
-        "benchmark: %s, %dx%d lattice (%zu particles), %s, window %dx%d\n"
-        "benchmark: %zu frames in %.3f s: %.1f fps (median frame %.2f ms); simulated %.3f s, %.3fx real time\n"
-        "benchmark: per frame %.2f ms simulating, %.2f ms drawing, the panel and the rest\n",
-        session_.scene().name.c_str(), simulation.model().rows, simulation.model().cols,
-        simulation.model().particle_count(), std::string(to_string(simulation.settings().integrator.kind)).c_str(),
-        width_, height_, frame_intervals.size(), wall, static_cast<double>(frame_intervals.size()) / wall,
-        1e3 * median, benchmark_simulated, benchmark_simulated / wall,
-        1e3 * benchmark_simulation_seconds / static_cast<double>(frame_intervals.size()),
-        1e3 * (wall - benchmark_simulation_seconds) / static_cast<double>(frame_intervals.size()));
-    std::fflush(stdout);
+  if (options_.benchmark_frames > 0) {
+    const std::string window = std::to_string(width_) + "x" + std::to_string(height_);
+    benchmark.print(session_.scene().name, session_.simulation(), window);
   }
   if (!options_.dump_state.empty()) {
     const std::vector<Vec3>& position = session_.simulation().state().position;
