@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 
 namespace clothsim {
 
@@ -23,42 +24,61 @@ std::size_t BoxGrid::bucket_of(const Cell& cell) const {
   return static_cast<std::size_t>(hash) & bucket_mask_;
 }
 
+namespace {
+double extent_of(const Box& box) {
+  return std::max({box.high.x - box.low.x, box.high.y - box.low.y, box.high.z - box.low.z});
+}
+}  // namespace
+
 void BoxGrid::build(std::span<const Box> boxes) {
   boxes_ = boxes;
-  double largest = 0.0;
   double sum = 0.0;
-  for (const Box& box : boxes) {
-    const double extent = std::max({box.high.x - box.low.x, box.high.y - box.low.y, box.high.z - box.low.z});
-    largest = std::max(largest, extent);
-    sum += extent;
-  }
+  for (const Box& box : boxes) sum += extent_of(box);
   const double mean = boxes.empty() ? 0.0 : sum / static_cast<double>(boxes.size());
-  const double cell = std::max(mean, 0.25 * largest);
   // A positive cell even for point-sized boxes.
-  cell_size_ = cell > 0.0 ? cell : 1.0;
+  cell_size_ = mean > 0.0 ? mean : 1.0;
 
-  std::size_t entries = 0;
+  oversize_.clear();
   low_cell_.resize(boxes.size());
+  constexpr std::int64_t kFar = std::numeric_limits<std::int64_t>::max();
+  extent_low_ = {kFar, kFar, kFar};
+  extent_high_ = {-kFar, -kFar, -kFar};
+  std::size_t entries = 0;
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     low_cell_[i] = cell_of(boxes[i].low);
+    if (extent_of(boxes[i]) > kOversize * cell_size_) {
+      oversize_.push_back(static_cast<std::uint32_t>(i));
+      continue;
+    }
+    const Cell high = cell_of(boxes[i].high);
+    for (int axis = 0; axis < 3; ++axis) {
+      extent_low_[axis] = std::min(extent_low_[axis], low_cell_[i][axis]);
+      extent_high_[axis] = std::max(extent_high_[axis], high[axis]);
+    }
     for_each_cell(boxes[i], [&entries](const Cell&) { ++entries; });
   }
   const std::size_t buckets = std::bit_ceil(std::max<std::size_t>(2 * entries, 16));
   bucket_mask_ = buckets - 1;
   bucket_start_.assign(buckets + 1, 0);
-  for (const Box& box : boxes) for_each_cell(box, [this](const Cell& c) { ++bucket_start_[bucket_of(c) + 1]; });
+  const auto entered = [this](std::size_t i) {
+    return oversize_.empty() || !std::binary_search(oversize_.begin(), oversize_.end(), static_cast<std::uint32_t>(i));
+  };
+  for (std::size_t i = 0; i < boxes.size(); ++i) {
+    if (entered(i)) for_each_cell(boxes[i], [this](const Cell& c) { ++bucket_start_[bucket_of(c) + 1]; });
+  }
   for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
   // Counting sort by bucket, stable in box index.
   fill_.assign(bucket_start_.begin(), bucket_start_.end() - 1);
   entries_.resize(entries);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
+    if (!entered(i)) continue;
     for_each_cell(boxes[i], [&](const Cell& c) { entries_[fill_[bucket_of(c)]++] = {c, static_cast<std::uint32_t>(i)}; });
   }
 }
 
 std::size_t BoxGrid::bytes() const {
   return (bucket_start_.capacity() + fill_.capacity()) * sizeof(std::uint32_t) + entries_.capacity() * sizeof(Entry) +
-         low_cell_.capacity() * sizeof(Cell);
+         low_cell_.capacity() * sizeof(Cell) + oversize_.capacity() * sizeof(std::uint32_t);
 }
 
 std::vector<std::array<std::uint32_t, 2>> overlapping_pairs_brute_force(std::span<const Box> queries,

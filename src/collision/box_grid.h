@@ -5,9 +5,11 @@
 // the cells its own box overlaps; a pair of overlapping boxes meets in every cell their
 // intersection overlaps, and is reported only in the one holding the intersection's lowest corner
 // (the larger of the two lowest corners), so exactly once, even where two cells share a hash
-// bucket. The cell size is the mean extent of the stored boxes, but at least a quarter of the
-// largest, so no box enters more than 5 x 5 x 5 cells; a lattice's triangles and edges, near
-// equal in size, enter about 2 x 2 x 1 each and a particle's small box visits 1 or 2 cells. Cells
+// bucket. The cell size is the mean extent of the stored boxes: a lattice's triangles and edges,
+// near equal in size, enter about 2 x 2 x 1 cells each and a particle's small box visits 1 or 2.
+// A box more than kOversize cells across on some axis (a piece of sheet flung far in one step)
+// is not entered but kept aside and tested against every query, so that one outlier neither
+// makes every cell large (which would make the search quadratic) nor enters millions of cells. Cells
 // are hashed into a table of about twice as many buckets as entries, so the memory is linear in
 // the boxes wherever they are, and a bucket's entries are kept in box index order (a counting
 // sort), so every query reports in the same order for any thread count.
@@ -50,10 +52,12 @@ class BoxGrid {
   void for_each_overlap(const Box& query, Visit&& visit) const {
     if (boxes_.empty()) return;
     const Cell low = cell_of(query.low);
-    const Cell high = cell_of(query.high);
-    for (std::int64_t x = low[0]; x <= high[0]; ++x) {
-      for (std::int64_t y = low[1]; y <= high[1]; ++y) {
-        for (std::int64_t z = low[2]; z <= high[2]; ++z) {
+    // A large query visits at most the cells of the stored boxes' range.
+    const Cell high = {std::min(cell_of(query.high)[0], extent_high_[0]), std::min(cell_of(query.high)[1], extent_high_[1]),
+                       std::min(cell_of(query.high)[2], extent_high_[2])};
+    for (std::int64_t x = std::max(low[0], extent_low_[0]); x <= high[0]; ++x) {
+      for (std::int64_t y = std::max(low[1], extent_low_[1]); y <= high[1]; ++y) {
+        for (std::int64_t z = std::max(low[2], extent_low_[2]); z <= high[2]; ++z) {
           const std::size_t bucket = bucket_of({x, y, z});
           for (std::uint32_t k = bucket_start_[bucket]; k < bucket_start_[bucket + 1]; ++k) {
             const Entry& entry = entries_[k];
@@ -69,6 +73,9 @@ class BoxGrid {
           }
         }
       }
+    }
+    for (std::uint32_t j : oversize_) {
+      if (overlap(boxes_[j], query)) visit(j);
     }
   }
 
@@ -101,6 +108,10 @@ class BoxGrid {
   std::vector<std::uint32_t> bucket_start_;  // [buckets + 1] CSR into entries_
   std::vector<Entry> entries_;               // by bucket, then box index
   std::vector<Cell> low_cell_;               // [boxes] the cell of each box's lowest corner
+  std::vector<std::uint32_t> oversize_;      // boxes kept aside (see the top of the file), ascending
+  Cell extent_low_{};                        // the cells the entered boxes span
+  Cell extent_high_{};
+  static constexpr double kOversize = 8.0;   // cells
   std::vector<std::uint32_t> fill_;          // scratch of build(): next free entry per bucket
 };
 

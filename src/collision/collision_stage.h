@@ -3,13 +3,15 @@
 //
 //   begin_step  keeps the positions at the step's start, from which both passes sweep, and
 //               returns the time the step may not pass (an impact on an obstacle ahead)
-//   apply       after the step: the obstacle pass (collision/obstacle_contacts.h), then the
-//               self-collision pass (collision/self_contacts.h), which does not move the
-//               particles the first holds against an obstacle
+//   apply       after the step: the obstacle pass (collision/obstacle_contacts.h), the
+//               self-collision pass (collision/self_contacts.h), and the obstacle pass again
+//               when both are on
 //
-// Obstacles first: they are given (their motion is prescribed), the sheet is not, so the sheet
-// yields to them; the self pass then separates the layers above a held particle by moving the
-// layers only.
+// The self pass may push a particle lying on an obstacle into it (by at most the thickness: a
+// layer pressed onto the one below); the second obstacle pass puts it back out. Moving it back
+// brings it closer to the layer above by no more than it was pushed, so it cannot cross that
+// layer, and the next step's self pass separates the two again. The obstacles have the last word
+// because their motion is prescribed and the sheet's is not.
 #pragma once
 
 #include <cstddef>

@@ -51,12 +51,19 @@ Vec3 weighted_sum(const std::array<double, 4>& weight, const SelfPair& pair, std
   return sum;
 }
 
-// The longest distance any point of the pair's two sides moves relative to the other over the
-// step: a bound on how fast its distance can change per unit of tau.
+// A bound on how fast the pair's distance changes per unit of tau: the largest relative motion
+// over the step of a particle of one side and a particle of the other. For any fixed pair of
+// points on the two sides (fixed weights) the vector between them moves by a weighted mean of
+// those relative motions, and the distance is the least such length. A rigid translation (an
+// impact zone, stage 4) gives zero.
 double motion_bound(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end) {
-  const auto moved = [&](int k) { return norm(end[pair.particle[k]] - start[pair.particle[k]]); };
-  if (pair.kind == SelfPair::Kind::point_triangle) return moved(0) + std::max({moved(1), moved(2), moved(3)});
-  return std::max(moved(0), moved(1)) + std::max(moved(2), moved(3));
+  const auto motion = [&](int k) { return end[pair.particle[k]] - start[pair.particle[k]]; };
+  const int first_side = pair.kind == SelfPair::Kind::point_triangle ? 1 : 2;  // particles [0, first_side)
+  double bound = 0.0;
+  for (int i = 0; i < first_side; ++i) {
+    for (int j = first_side; j < 4; ++j) bound = std::max(bound, squared_norm(motion(i) - motion(j)));
+  }
+  return std::sqrt(bound);
 }
 
 // The first tau in [0, 1] at which the pair's distance along start -> end comes within touching
@@ -89,11 +96,41 @@ void spread(const SelfPair& pair, const std::array<double, 4>& weight, std::span
   }
 }
 
+// K = sum_k c_k^2 w_k, but at least kLeastShare times the largest w_k of the pair. Where the
+// particles that carry most of the weight cannot move (anchored, or held by an obstacle), K is
+// small and the exact response would move the others by 1 / c_k times the change, without
+// bound (a triangle corner of weight 0.01 by 100 times); with the floor none moves by more than
+// 1 / kLeastShare times, the change is made only in part, and the remaining rounds (or stage 4)
+// finish it.
+constexpr double kLeastShare = 0.25;
 double effective_inverse_mass(const SelfPair& pair, const std::array<double, 4>& weight,
                               std::span<const double> inverse_mass) {
   double sum = 0.0;
-  for (int k = 0; k < 4; ++k) sum += weight[k] * weight[k] * inverse_mass[pair.particle[k]];
-  return sum;
+  double largest = 0.0;
+  for (int k = 0; k < 4; ++k) {
+    const double w = inverse_mass[pair.particle[k]];
+    sum += weight[k] * weight[k] * w;
+    largest = std::max(largest, w);
+  }
+  return std::max(sum, kLeastShare * largest);
+}
+
+// Removes the pair's closing relative velocity along n (inelastic) and, by Coulomb friction, at
+// most mu times as much of its sliding velocity. Returns the change friction made to the
+// relative velocity (zero when not closing).
+Vec3 remove_closing_velocity(const SelfPair& pair, const std::array<double, 4>& weight,
+                             std::span<const double> inverse_mass, double effective, const Vec3& n, double mu,
+                             std::span<Vec3> velocity) {
+  const Vec3 relative = weighted_sum(weight, pair, velocity);
+  const double normal_speed = dot(relative, n);  // m/s, negative closing
+  if (normal_speed >= 0.0) return {};
+  spread(pair, weight, inverse_mass, effective, n, -normal_speed, velocity);
+  const Vec3 sliding = relative - normal_speed * n;
+  const double sliding_speed = norm(sliding);
+  if (mu <= 0.0 || sliding_speed == 0.0) return {};
+  const Vec3 friction_change = (-std::min(mu * -normal_speed, sliding_speed) / sliding_speed) * sliding;
+  spread(pair, weight, inverse_mass, effective, friction_change, 1.0, velocity);
+  return friction_change;
 }
 
 std::uint32_t find_root(std::vector<std::uint32_t>& parent, std::uint32_t p) {
@@ -258,57 +295,55 @@ void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Ve
   }
 }
 
-void SelfContacts::detect_proximity(std::span<const Vec3> x, double thickness, int threads) {
+void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
+                                    int threads) {
   near_.resize(active_.size());
   parallel_for(active_.size(), threads, [&](std::size_t k) {
     const SelfPair& pair = candidates_[active_[k]];
-    near_[k] = measure_pair(pair.kind, gather(pair, x)).distance < thickness ? 1 : 0;
+    near_[k] = measure_pair(pair.kind, gather(pair, start)).distance < thickness ||
+                       measure_pair(pair.kind, gather(pair, end)).distance < thickness
+                   ? 1
+                   : 0;
   });
   list_.clear();
+  near_geometry_.clear();
   for (std::size_t k = 0; k < active_.size(); ++k) {
-    if (near_[k] != 0) list_.push_back(active_[k]);
+    if (near_[k] == 0) continue;
+    const SelfPair& pair = candidates_[active_[k]];
+    const PairGeometry geometry = measure_pair(pair.kind, gather(pair, start));
+    // Nearest points that coincide at the start have no side to keep (a crossing in the
+    // making, which stage 3 stops).
+    if (geometry.distance == 0.0) continue;
+    list_.push_back(active_[k]);
+    near_geometry_.push_back(geometry);
   }
 }
 
-std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
-                                            double step) {
+std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState& state, double step) {
   const double thickness = model.collision.thickness;
   const double mu = model.collision.friction;
   std::size_t pushed = 0;
   for (int sweep = 0; sweep < kProximitySweeps; ++sweep) {
     std::size_t pushed_this_sweep = 0;
-    for (std::uint32_t i : list_) {
-      const SelfPair& pair = candidates_[i];
-      const PairGeometry geometry = measure_pair(pair.kind, gather(pair, state.position));
-      if (geometry.distance >= thickness) continue;
-      // The normal; where the pair's nearest points coincide, the direction between the same
-      // points at the step's start, on the side the pair came from.
-      Vec3 n = geometry.normal;
-      if (geometry.distance == 0.0) {
-        const Vec3 q0 = weighted_sum(geometry.weight, pair, start);
-        const double length = norm(q0);
-        if (length == 0.0) continue;
-        n = q0 / length;
-      }
-      const double effective = effective_inverse_mass(pair, geometry.weight, inverse_mass_);
+    for (std::size_t k = 0; k < list_.size(); ++k) {
+      const SelfPair& pair = candidates_[list_[k]];
+      // The nearest points at the step's start and the direction between them: the side each
+      // part of the pair is on, which the end state must keep, at least the thickness apart.
+      const PairGeometry& start = near_geometry_[k];
+      const Vec3& n = start.normal;
+      const double separation = dot(weighted_sum(start.weight, pair, state.position), n);
+      if (separation >= thickness) continue;
+      const double effective = effective_inverse_mass(pair, start.weight, inverse_mass_);
       if (effective <= 0.0) continue;
       ++pushed_this_sweep;
-      spread(pair, geometry.weight, inverse_mass_, effective, n, thickness - geometry.distance, state.position);
+      spread(pair, start.weight, inverse_mass_, effective, n, thickness - separation, state.position);
 
       // Velocities: inelastic along n, Coulomb across it.
-      const Vec3 relative = weighted_sum(geometry.weight, pair, state.velocity);
-      const double normal_speed = dot(relative, n);  // m/s, negative approaching
-      if (normal_speed >= 0.0) continue;
-      spread(pair, geometry.weight, inverse_mass_, effective, n, -normal_speed, state.velocity);
-      const Vec3 sliding = relative - normal_speed * n;
-      const double sliding_speed = norm(sliding);
-      if (mu <= 0.0 || sliding_speed == 0.0) continue;
-      const double removed = std::min(mu * -normal_speed, sliding_speed);
-      const Vec3 direction = sliding / sliding_speed;
-      spread(pair, geometry.weight, inverse_mass_, effective, direction, -removed, state.velocity);
+      const Vec3 friction_change =
+          remove_closing_velocity(pair, start.weight, inverse_mass_, effective, n, mu, state.velocity);
       // In contact through the whole step: friction acted all along it (obstacle pass, step 4).
-      if (norm(weighted_sum(geometry.weight, pair, start)) <= (1.0 + kSustainedSlack) * thickness) {
-        spread(pair, geometry.weight, inverse_mass_, effective, direction, -0.5 * step * removed, state.position);
+      if (squared_norm(friction_change) > 0.0 && start.distance <= (1.0 + kSustainedSlack) * thickness) {
+        spread(pair, start.weight, inverse_mass_, effective, friction_change, 0.5 * step, state.position);
       }
     }
     if (sweep == 0) pushed = pushed_this_sweep;
@@ -331,7 +366,7 @@ std::size_t SelfContacts::detect_impacts(std::span<const Vec3> start, std::span<
 }
 
 bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
-                                   double step, SelfContactCounts& counts, int threads) {
+                                   SelfContactCounts& counts, int threads) {
   const double thickness = model.collision.thickness;
   const double mu = model.collision.friction;
   for (int round = 0; round < kImpactRounds; ++round) {
@@ -356,8 +391,7 @@ bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, s
       if (closing >= 0.0) continue;
       ++counts.impacts;
       // Remove the closing motion (the pair keeps its normal separation from the step's start),
-      // and by friction at most mu times as much of the sliding; the end velocities change by
-      // the same amounts over the step.
+      // and by friction at most mu times as much of the sliding.
       Vec3 change = -closing * n;
       const Vec3 sliding = relative - closing * n;
       const double sliding_length = norm(sliding);
@@ -365,7 +399,10 @@ bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, s
         change -= (std::min(mu * -closing, sliding_length) / sliding_length) * sliding;
       }
       spread(pair, geometry.weight, inverse_mass_, effective, change, 1.0, state.position);
-      spread(pair, geometry.weight, inverse_mass_, effective, change, 1.0 / step, state.velocity);
+      // The end velocities: inelastic along n. Not the position change over the step: the motion
+      // x1 - x0 includes the obstacle pass's projections, which are no velocity, and over a short
+      // step would make a large one.
+      remove_closing_velocity(pair, geometry.weight, inverse_mass_, effective, n, mu, state.velocity);
     }
   }
   refresh_candidates(model, start, state.position, threads);
@@ -430,22 +467,19 @@ void SelfContacts::move_zones(const ClothModel& model, ClothState& state, std::s
 }
 
 SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
-                                      double step, std::span<const std::uint8_t> held, ForceTerms terms, int threads) {
+                                      double step, ForceTerms terms, int threads) {
   SelfContactCounts counts;
   if (!model.collision.self) return counts;
   const std::size_t n = model.particle_count();
   const double thickness = model.collision.thickness;
   before_position_.assign(state.position.begin(), state.position.end());
   before_velocity_.assign(state.velocity.begin(), state.velocity.end());
-  inverse_mass_.resize(n);
-  for (std::size_t p = 0; p < n; ++p) {
-    inverse_mass_[p] = !held.empty() && held[p] != 0 ? 0.0 : model.particle_inverse_mass[p];
-  }
+  inverse_mass_.assign(model.particle_inverse_mass.begin(), model.particle_inverse_mass.end());
 
   refresh_candidates(model, start, state.position, threads);
-  detect_proximity(state.position, thickness, threads);
-  counts.contacts = resolve_proximity(model, state, start, step);
-  if (!resolve_impacts(model, state, start, step, counts, threads)) move_zones(model, state, start, counts, threads);
+  detect_proximity(start, state.position, thickness, threads);
+  counts.contacts = resolve_proximity(model, state, step);
+  if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);
 
   // Bookkeeping: the particles whose position or velocity the pass changed.
   changed_.resize(n);

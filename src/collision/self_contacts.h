@@ -19,12 +19,17 @@
 //                  The cost grows linearly with the sheet. The candidates are kept over the next
 //                  steps while no particle moves more than h from where they were found (each
 //                  motion's boxes grown by h then lie within the boxes they were found with).
-//   2. proximity   pairs nearer than h at x1 are pushed apart to h along their normal (Gauss-
-//                  Seidel sweeps, in candidate order), their approaching relative velocity is
-//                  removed (inelastic), and friction reduces their sliding relative velocity by
-//                  at most mu times that (Coulomb, mu = collision.friction); a pair that was in
-//                  contact at x0 also has its position corrected for the friction of the whole
-//                  step, as the obstacle pass does (no creep of a fold at rest).
+//   2. proximity   pairs nearer than h at x0 or at x1 are held on the side they were on at x0, h
+//                  apart: with the nearest points and their direction n at x0, the same points'
+//                  separation along n at x1 is made at least h (Gauss-Seidel sweeps, in candidate
+//                  order; Bridson et al. measure their repulsions at the step's start too). Their
+//                  closing relative velocity along n is removed (inelastic), and friction reduces
+//                  their sliding relative velocity by at most mu times that (Coulomb, mu =
+//                  collision.friction); a pair that was in contact at x0 also has its position
+//                  corrected for the friction of the whole step, as the obstacle pass does (no
+//                  creep of a fold at rest). Rejected: the direction at x1, which for a pair that
+//                  passed through within the step points the wrong way and pushes it further
+//                  through.
 //   3. impacts     continuous detection: along the straight motion x0 -> x1, conservative
 //                  advancement on the pair's distance (which can change no faster than its
 //                  particles move) finds whether it comes within a touching distance (a tenth of
@@ -42,8 +47,10 @@
 // Guarantee: a crossing means a distance of zero at some point of the motion, so stage 3 sees
 // every crossing of the straight motion; stage 4 removes what stage 3 could not. A pair's distance
 // never reaches zero along x0 -> x1, so a sheet that did not cross itself at the step's start
-// does not cross itself at its end. Particles anchored or held by an obstacle this step (the
-// obstacle pass's contacts) have no inverse mass here: the pass does not move them.
+// does not cross itself at its end. Anchored particles have no inverse mass: the pass does not
+// move them. Particles on an obstacle move like any other (collision/collision_stage.h puts them
+// back out): holding them fixed made a sheet folded under a rod, both layers held, impossible to
+// separate.
 //
 // Determinism: the candidates are found in fixed blocks and concatenated in block order, the
 // tests of stages 2 to 4 run in parallel but only write flags, and every change is made serially
@@ -74,6 +81,13 @@ struct SelfPair {
   bool operator==(const SelfPair&) const = default;
 };
 
+// The pair's distance and unit normal at positions `x` of its 4 particles (the normal is q / |q|,
+// zero when q is), and its 4 signed weights.
+struct PairGeometry {
+  double distance = 0.0;
+  Vec3 normal;
+  std::array<double, 4> weight{};
+};
 // What one self-collision pass did.
 struct SelfContactCounts {
   std::size_t contacts = 0;    // pairs within the thickness at the step's end, pushed apart
@@ -86,10 +100,9 @@ struct SelfContactCounts {
 class SelfContacts {
  public:
   // After the step of length `step` from `start` [particle_count()]: stages 1 to 4 on `state`
-  // (see the top of the file), the energy change booked in state.contact_work. `held`
-  // [particle_count() or empty] marks particles the obstacle pass holds this step.
+  // (see the top of the file), the energy change booked in state.contact_work.
   SelfContactCounts apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step,
-                          std::span<const std::uint8_t> held, ForceTerms terms, int threads);
+                          ForceTerms terms, int threads);
 
   // Stage 1 alone: the candidate pairs of elements at `start` -> `end` with boxes grown by
   // `margin`, in the pass's order (for tests; the pass keeps them in candidates()).
@@ -101,9 +114,9 @@ class SelfContacts {
 
  private:
   void select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
-  void detect_proximity(std::span<const Vec3> x, double thickness, int threads);
-  std::size_t resolve_proximity(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step);
-  bool resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step,
+  void detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
+  std::size_t resolve_proximity(const ClothModel& model, ClothState& state, double step);
+  bool resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
                        SelfContactCounts& counts, int threads);
   void move_zones(const ClothModel& model, ClothState& state, std::span<const Vec3> start, SelfContactCounts& counts,
                   int threads);
@@ -129,8 +142,9 @@ class SelfContacts {
   std::vector<std::uint32_t> active_;               // active candidates, in order
   std::vector<Vec3> found_at_;                      // [particles] end positions the candidates were found for
   double found_margin_ = 0.0;                       // m, the margin they were found with
-  std::vector<double> inverse_mass_;                // [particles] 0 for anchored and held particles
-  std::vector<std::uint8_t> near_;                  // [active] 1: within the thickness
+  std::vector<double> inverse_mass_;                // [particles] 0 for anchored particles
+  std::vector<std::uint8_t> near_;                  // [active] 1: within the thickness at x0 or x1
+  std::vector<PairGeometry> near_geometry_;         // [list_] each near pair at the step's start
   std::vector<std::uint8_t> touching_;              // [active] 1: its motion touches
   std::vector<std::uint32_t> list_;                 // flagged candidates, in order
   std::vector<std::uint32_t> zone_parent_;          // [particles] union-find of stage 4
@@ -140,13 +154,6 @@ class SelfContacts {
   ContactEnergy energy_;
 };
 
-// The pair's distance and unit normal at positions `x` of its 4 particles (the normal is q / |q|,
-// zero when q is), and its 4 signed weights.
-struct PairGeometry {
-  double distance = 0.0;
-  Vec3 normal;
-  std::array<double, 4> weight{};
-};
 PairGeometry measure_pair(SelfPair::Kind kind, const std::array<Vec3, 4>& x);
 
 }  // namespace clothsim

@@ -1,8 +1,7 @@
 // Self-collision, tested from outside the solver: the brute-force crossing check
 // (sheet_crossings.h) on hand-made configurations, and the scenes that make a sheet pass through
 // itself without self-collision: four corners brought together under gravity (issue 8's test)
-// and the built-in `pile`. The tests that the same scenes never cross WITH self-collision are at
-// the end, compiled only with CLOTHSIM_HAS_SELF_COLLISION (tests/collision/CMakeLists.txt).
+// and the built-in `pile`; then that the same scenes never cross WITH self-collision.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -213,7 +212,6 @@ constexpr int kCornerChecks = 60;
 
 TEST(SelfCrossings, CornersBroughtTogetherCrossWithoutSelfCollision) {
   const SceneSpec spec = corners_together_scene();
-  ASSERT_FALSE(spec.collision.self);
   const CrossingRun run = run_counting_crossings(spec, kCornerChecks);
   // So the test with self-collision (below) can fail: the scene does make the sheet pass through itself.
   EXPECT_GT(run.most(), 0u);
@@ -243,8 +241,8 @@ int folds_on_the_floor(const SceneSpec& spec, const ClothState& state, int col, 
 }
 
 TEST(SelfCrossings, PileLandsFoldsAndCrossesWithoutSelfCollision) {
-  const SceneSpec spec = builtin_scene("pile");
-  ASSERT_FALSE(spec.collision.self);
+  SceneSpec spec = builtin_scene("pile");
+  spec.collision.self = false;
   const CrossingRun run = run_counting_crossings(spec, kPileChecks);
   EXPECT_GT(run.most(), 0u) << "the folds pass through each other";
   RecordProperty("most_crossings", std::to_string(run.most()));
@@ -263,10 +261,7 @@ TEST(SelfCrossings, PileLandsFoldsAndCrossesWithoutSelfCollision) {
   EXPECT_GE(folds_on_the_floor(spec, run.final_state, spec.lattice.cols / 2, kPileFloor, 0.05), 3);
 }
 
-// WITH self-collision: the same scenes never cross. Compiled only with CLOTHSIM_HAS_SELF_COLLISION
-// (a CMake option, OFF until the self-collision stage is merged): collision.self is set on the
-// scene directly, since validate_scene refuses it until then.
-#if defined(CLOTHSIM_HAS_SELF_COLLISION)
+// WITH self-collision: the same scenes never cross.
 
 TEST(SelfCollision, CornersBroughtTogetherNeverCross) {
   SceneSpec spec = corners_together_scene();
@@ -278,15 +273,13 @@ TEST(SelfCollision, CornersBroughtTogetherNeverCross) {
 }
 
 TEST(SelfCollision, PileNeverCrosses) {
-  SceneSpec spec = builtin_scene("pile");
-  spec.collision.self = true;
+  const SceneSpec spec = builtin_scene("pile");
+  ASSERT_TRUE(spec.collision.self) << "the built-in pile collides with itself";
   const CrossingRun run = run_counting_crossings(spec, kPileChecks);
   for (std::size_t check = 0; check < run.crossings.size(); ++check) {
     EXPECT_EQ(run.crossings[check], 0u) << "check " << check + 1 << " of " << kPileChecks;
   }
 }
-
-#endif  // CLOTHSIM_HAS_SELF_COLLISION
 
 }  // namespace
 }  // namespace clothsim
