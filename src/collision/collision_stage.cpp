@@ -1,6 +1,5 @@
 #include "collision/collision_stage.h"
 
-#include <algorithm>
 #include <limits>
 
 #include "core/parallel.h"
@@ -20,12 +19,7 @@ CollisionCounts CollisionStage::apply(const ClothModel& model, ClothState& state
   CollisionCounts counts;
   if (!active_) return counts;
   counts.obstacles = obstacles_.apply(model, state, start_position_, start_time_, terms, threads);
-  if (!model.collision.self) return counts;
   counts.self = self_.apply(model, state, start_position_, state.time - start_time_, terms, threads);
-  if (model.colliders.empty()) return counts;
-  const ContactCounts again = obstacles_.apply(model, state, start_position_, start_time_, terms, threads);
-  counts.obstacles.contacts = std::max(counts.obstacles.contacts, again.contacts);
-  counts.obstacles.work += again.work;
   return counts;
 }
 

@@ -3,15 +3,16 @@
 //
 //   begin_step  keeps the positions at the step's start, from which both passes sweep, and
 //               returns the time the step may not pass (an impact on an obstacle ahead)
-//   apply       after the step: the obstacle pass (collision/obstacle_contacts.h), the
-//               self-collision pass (collision/self_contacts.h), and the obstacle pass again
-//               when both are on
+//   apply       after the step: the obstacle pass (collision/obstacle_contacts.h), then the
+//               self-collision pass (collision/self_contacts.h)
 //
-// The self pass may push a particle lying on an obstacle into it (by at most the thickness: a
-// layer pressed onto the one below); the second obstacle pass puts it back out. Moving it back
-// brings it closer to the layer above by no more than it was pushed, so it cannot cross that
-// layer, and the next step's self pass separates the two again. The obstacles have the last word
-// because their motion is prescribed and the sheet's is not.
+// The self pass has the last word, because it is the one that guarantees something across steps
+// (no crossing), which any later move could break. It may push a particle lying on an obstacle
+// into it (by about the thickness at most: a layer pressed onto the one below); the next step's
+// obstacle pass puts it back out. Rejected: a second obstacle pass after the self pass, which made
+// crossings in the built-in `pile` (a fold squeezed between two layers under a rod, pushed back
+// through one of them); and holding particles in contact with an obstacle fixed in the self pass,
+// which left two layers wrapped under a rod, both held, impossible to separate.
 #pragma once
 
 #include <cstddef>

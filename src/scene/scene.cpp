@@ -297,14 +297,14 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
 // self_contacts.h). On the flat lattice the nearest such pieces are L / sqrt(2) apart (a particle
 // and the diagonal of the quad beyond it), and a sheet in compression comes closer; half the
 // spacing leaves that room, where a larger thickness would push the sheet's own neighbours apart at
-// rest. A thickness of zero leaves no room to stop a pair before it touches.
+// rest.
 void check_self_collision_thickness(const SceneSpec& spec, const std::string& source) {
   if (!spec.collision.self) return;
   const double limit = 0.5 * spec.lattice.spacing;
   const double thickness = spec.collision.thickness;
-  if (thickness > 0.0 && thickness < limit) return;
+  if (thickness < limit) return;
   fail(source, "collision.thickness",
-       "must be above 0 and below half the lattice spacing (" + format_number(limit) +
+       "must be below half the lattice spacing (" + format_number(limit) +
            " m) when collision.self is on, got " + format_number(thickness) +
            " (lower it with --thickness, or use fewer, larger lattice cells)");
 }

@@ -317,7 +317,7 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   ASSERT_EQ(energy.rows.size(), 11u);
   for (std::size_t frame = 0; frame < energy.rows.size(); ++frame) {
     const std::vector<double>& row = energy.rows[frame];
-    ASSERT_EQ(row.size(), 21u) << "frame " << frame;
+    ASSERT_EQ(row.size(), 22u) << "frame " << frame;
     EXPECT_EQ(row[0], static_cast<double>(frame));
     EXPECT_EQ(row[1], static_cast<double>(frame) / 20.0) << "frame k at t = k / fps, exactly";
     EXPECT_LT(std::abs(row[11]), 1e-4) << "energy balance error, frame " << frame;
@@ -437,7 +437,7 @@ TEST_F(CliTest, CollisionFlagsSetTheSceneKeys) {
   ASSERT_EQ(on.exit_code, 0) << describe(on);
   EXPECT_EQ(json::parse(read_text(work_ / "collide-on" / "scene.json"))["collision"]["self"], true);
   // A thickness the lattice cannot hold apart is refused with a message, exit 2, nothing written.
-  const Result thick = small_run("collide-thick", {"--self-collision", "on", "--thickness", "1e3", "--duration", "0.1"});
+  const Result thick = small_run("collide-thick", {"--self-collision", "on", "--thickness", "0.9", "--duration", "0.1"});
   EXPECT_EQ(thick.exit_code, 2) << describe(thick);
   EXPECT_TRUE(contains(thick.err, "collision.thickness")) << describe(thick);
   EXPECT_TRUE(contains(thick.err, "half the lattice spacing")) << describe(thick);

@@ -129,9 +129,10 @@ TEST(RunWriter, TornRunRecordsItsTopologyAndChanges) {
 
   // energy.csv: the old columns first, in their order, then the tearing columns, then the contact columns.
   const Csv energy = read_csv(out / RunWriter::kEnergyFile);
-  ASSERT_EQ(energy.columns.size(), 21u);
+  ASSERT_EQ(energy.columns.size(), 22u);
   EXPECT_EQ(energy.columns[19], "contact_work");
   EXPECT_EQ(energy.columns[20], "contacts");
+  EXPECT_EQ(energy.columns[21], "self_contacts");
   EXPECT_EQ(energy.columns[13], "rejected_steps");
   ASSERT_EQ(energy.rows.size(), 4u);
   const std::size_t broken = column(energy, "broken_connectors");

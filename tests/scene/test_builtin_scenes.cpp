@@ -159,7 +159,7 @@ TEST(BuiltinScenes, PileResizesWithTheLatticeFlags) {
   EXPECT_EQ(spec.lattice.rows, 50);
   EXPECT_EQ(spec.lattice.cols, 50);
   EXPECT_TRUE(spec.anchors.empty()) << "anchors name rows and columns: they would not follow a resize";
-  EXPECT_FALSE(spec.collision.self);
+  EXPECT_TRUE(spec.collision.self);
   EXPECT_LT(spec.collision.thickness, 0.5 * (1.0 / 199.0));
   ASSERT_TRUE(spec.material.has_value());
 
