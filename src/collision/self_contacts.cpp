@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "core/closest_points.h"
 #include "core/parallel.h"
@@ -13,10 +14,17 @@ namespace {
 // Stage 1 runs its queries in blocks of this many elements, each block filling its own list; the
 // lists are joined in block order, so the candidates' order does not depend on the threads.
 constexpr std::size_t kQueryBlock = 512;
-// Stage 1 grows the boxes by this many thicknesses and keeps its candidates while no particle
-// moves more than the margin less one thickness from where they were found: a falling sheet
-// finds them again every few steps, a sheet at rest almost never.
-constexpr double kCandidateMargin = 2.0;
+// Stage 1 keeps its candidates while no particle moves further than a reach from where they were
+// found: at least this many thicknesses, and a few times the largest motion of the step they
+// were found in (see refresh_candidates). A falling sheet finds them again every few steps, a
+// sheet at rest almost never.
+constexpr double kLeastReach = 1.0;
+// Stage 3 selects its active pairs again only when a particle moved more than this many
+// thicknesses since they were selected (less than the h / 2 they were selected with, less the
+// touching distance h / 10).
+constexpr double kReselect = 0.2;
+constexpr double kLeastSteps = 2.0;
+constexpr double kMostSteps = 8.0;
 // Gauss-Seidel sweeps of stage 2 over the pairs found near.
 constexpr int kProximitySweeps = 4;
 // Stage 3: a pair touches when its distance falls below this fraction of the thickness (and half
@@ -242,57 +250,101 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
   candidates_.clear();
   for (const auto& block : block_pairs_) candidates_.insert(candidates_.end(), block.begin(), block.end());
   found_at_.assign(end.begin(), end.end());
-  found_margin_ = margin;
 }
 
 void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
                                       int threads) {
   const double thickness = model.collision.thickness;
-  const double margin = kCandidateMargin * thickness;
-  const bool same_sheet = found_at_.size() == end.size() && found_margin_ == margin &&
+  const bool same_sheet = found_at_.size() == end.size() && found_thickness_ == thickness &&
                           elements_.built_particles == model.particle_count() &&
                           elements_.built_broken == model.broken_connector_count;
+  bool keep = same_sheet;
   if (same_sheet) {
-    // The boxes held the end positions x_f they were found at, grown by the margin. While every
-    // position of the motion start -> end stays within margin - thickness of x_f, the motion's
-    // boxes grown by the thickness lie inside them, so every pair that can come within the
-    // thickness is among the candidates.
+    // The boxes held the end positions x_f they were found at, grown by the thickness plus the
+    // reach. While every position of the motion start -> end stays within the reach of x_f, the
+    // motion's boxes grown by the thickness lie inside them, so every pair that can come within
+    // the thickness is among the candidates.
     double moved = 0.0;
     for (std::size_t p = 0; p < end.size(); ++p) {
       moved = std::max({moved, squared_norm(end[p] - found_at_[p]), squared_norm(start[p] - found_at_[p])});
     }
-    if (std::sqrt(moved) > margin - thickness) find_candidates(model, start, end, margin, threads);
-  } else {
-    find_candidates(model, start, end, margin, threads);
+    keep = std::sqrt(moved) <= found_reach_;
+  }
+  if (keep && selection_current_) {
+    // The active pairs were selected with boxes grown by h / 2 for a touching distance of at
+    // most h / 10; end positions moved less than the difference since still leave every pair
+    // that can touch among them (the start positions do not change within a step).
+    double changed = 0.0;
+    for (std::size_t p = 0; p < end.size(); ++p) changed = std::max(changed, squared_norm(end[p] - selected_at_[p]));
+    if (std::sqrt(changed) <= kReselect * thickness) return;
+  }
+  if (!keep) {
+    // The reach: at least the thickness and kLeastSteps steps of this step's motion; up to
+    // kMostSteps steps of it (or half the last reach, so that one short step of an adaptive
+    // integrator does not make the next few find them again every step) as long as pruning still
+    // drops the lattice's neighbouring cells (L / sqrt(2) apart). A larger reach finds the
+    // candidates less often but keeps more of them, which every step tests.
+    double moved = 0.0;
+    for (std::size_t p = 0; p < end.size(); ++p) moved = std::max(moved, squared_norm(end[p] - start[p]));
+    moved = std::sqrt(moved);
+    const double last = same_sheet ? 0.5 * found_reach_ : 0.0;
+    const double neighbours = 0.5 * (std::numbers::sqrt2 / 2.0 * model.spacing - thickness);
+    const double reach =
+        std::max({kLeastReach * thickness, kLeastSteps * moved, std::min(std::max(kMostSteps * moved, last), neighbours)});
+    find_candidates(model, start, end, thickness + reach, threads);
+    // This step's motion is within `moved` of the end positions, later ones within the reach.
+    prune_candidates(end, thickness + 2.0 * std::max(reach, moved), threads);
+    found_thickness_ = thickness;
+    found_reach_ = reach;
   }
   select_active(start, end, thickness, threads);
 }
 
+void SelfContacts::prune_candidates(std::span<const Vec3> x, double reach, int threads) {
+  // Until the candidates are found again no particle moves further than (reach - thickness) / 2
+  // from x, so a pair's distance changes by less than reach - thickness: a pair at least `reach`
+  // apart at x stays out of the thickness. Most candidates from the boxes are such pairs (on a
+  // lattice, the particles and triangles of neighbouring cells, L / sqrt(2) apart or more), and
+  // the steps test only the rest.
+  active_flag_.resize(candidates_.size());
+  parallel_for(candidates_.size(), threads, [&](std::size_t i) {
+    active_flag_[i] = measure_pair(candidates_[i].kind, gather(candidates_[i], x)).distance < reach ? 1 : 0;
+  });
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < candidates_.size(); ++i) {
+    if (active_flag_[i] != 0) candidates_[kept++] = candidates_[i];
+  }
+  candidates_.resize(kept);
+}
+
 void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads) {
+  // Each element's box over the motion, once, then one overlap test per candidate.
   const double grow = 0.5 * thickness;
   const auto& triangles = elements_.triangle;
   const auto& edges = elements_.edge;
-  point_motion_.resize(end.size());
-  triangle_motion_.resize(triangles.size());
-  edge_motion_.resize(edges.size());
+  point_box_.resize(end.size());
+  triangle_box_.resize(triangles.size());
+  edge_box_.resize(edges.size());
   parallel_for(end.size(), threads, [&](std::size_t p) {
     const std::uint32_t index = static_cast<std::uint32_t>(p);
-    point_motion_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), grow);
+    point_box_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), grow);
   });
-  parallel_for(triangles.size(), threads, [&](std::size_t t) { triangle_motion_[t] = box_of(start, end, triangles[t], grow); });
-  parallel_for(edges.size(), threads, [&](std::size_t e) { edge_motion_[e] = box_of(start, end, edges[e], grow); });
+  parallel_for(triangles.size(), threads, [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], grow); });
+  parallel_for(edges.size(), threads, [&](std::size_t e) { edge_box_[e] = box_of(start, end, edges[e], grow); });
   active_flag_.resize(candidates_.size());
   parallel_for(candidates_.size(), threads, [&](std::size_t i) {
     const SelfPair& pair = candidates_[i];
     const bool point = pair.kind == SelfPair::Kind::point_triangle;
-    const Box& first = point ? point_motion_[pair.element[0]] : edge_motion_[pair.element[0]];
-    const Box& second = point ? triangle_motion_[pair.element[1]] : edge_motion_[pair.element[1]];
+    const Box& first = point ? point_box_[pair.element[0]] : edge_box_[pair.element[0]];
+    const Box& second = point ? triangle_box_[pair.element[1]] : edge_box_[pair.element[1]];
     active_flag_[i] = overlap(first, second) ? 1 : 0;
   });
   active_.clear();
   for (std::size_t i = 0; i < candidates_.size(); ++i) {
     if (active_flag_[i] != 0) active_.push_back(static_cast<std::uint32_t>(i));
   }
+  selected_at_.assign(end.begin(), end.end());
+  selection_current_ = true;
 }
 
 void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
@@ -472,6 +524,7 @@ SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state
   if (!model.collision.self) return counts;
   const std::size_t n = model.particle_count();
   const double thickness = model.collision.thickness;
+  selection_current_ = false;  // a new step: new start positions
   before_position_.assign(state.position.begin(), state.position.end());
   before_velocity_.assign(state.velocity.begin(), state.velocity.end());
   inverse_mass_.assign(model.particle_inverse_mass.begin(), model.particle_inverse_mass.end());

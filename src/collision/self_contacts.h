@@ -15,10 +15,14 @@
 // With the step's start positions x0 (a state where the sheet does not cross itself) and the
 // accepted step's end positions x1, the pass runs four stages:
 //   1. candidates  a hashed grid (collision/box_grid.h) finds the pairs whose boxes overlap; each
-//                  element's box holds its positions at x0 and x1, grown by twice the thickness h.
-//                  The cost grows linearly with the sheet. The candidates are kept over the next
-//                  steps while no particle moves more than h from where they were found (each
-//                  motion's boxes grown by h then lie within the boxes they were found with).
+//                  element's box holds its positions at x0 and x1, grown by the thickness h plus a
+//                  reach r (at least h, and 4 times the step's largest motion). The cost grows
+//                  linearly with the sheet. The candidates are kept over the next steps while no
+//                  particle moves further than r from where they were found (each
+//                  motion's boxes grown by h then lie within the boxes they were found with), and
+//                  those that cannot come within h meanwhile (most: a lattice's neighbouring
+//                  cells are L / sqrt(2) apart) are dropped once, when found. Each step tests
+//                  only the pairs whose boxes over the step, grown by h / 2, overlap.
 //   2. proximity   pairs nearer than h at x0 or at x1 are held on the side they were on at x0, h
 //                  apart: with the nearest points and their direction n at x0, the same points'
 //                  separation along n at x1 is made at least h (Gauss-Seidel sweeps, in candidate
@@ -113,6 +117,7 @@ class SelfContacts {
   std::size_t bytes() const;
 
  private:
+  void prune_candidates(std::span<const Vec3> x, double reach, int threads);
   void select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
   void detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
   std::size_t resolve_proximity(const ClothModel& model, ClothState& state, double step);
@@ -135,13 +140,13 @@ class SelfContacts {
   std::vector<Box> edge_box_;                       // [edges]
   std::vector<std::vector<SelfPair>> block_pairs_;  // stage 1's output per block of queries
   std::vector<SelfPair> candidates_;
-  std::vector<Box> point_motion_;                   // [particles] this motion's boxes, grown by h / 2
-  std::vector<Box> triangle_motion_;                // [triangles]
-  std::vector<Box> edge_motion_;                    // [edges]
-  std::vector<std::uint8_t> active_flag_;           // [candidates] 1: boxes of this motion overlap
+  std::vector<std::uint8_t> active_flag_;           // [candidates] scratch flags of pruning and selection
   std::vector<std::uint32_t> active_;               // active candidates, in order
+  bool selection_current_ = false;                  // active_ was selected in this pass
+  std::vector<Vec3> selected_at_;                   // [particles] end positions the active pairs were selected for
   std::vector<Vec3> found_at_;                      // [particles] end positions the candidates were found for
-  double found_margin_ = 0.0;                       // m, the margin they were found with
+  double found_thickness_ = 0.0;                    // m, the thickness they were found for
+  double found_reach_ = 0.0;                        // m, how far particles may move before they are found again
   std::vector<double> inverse_mass_;                // [particles] 0 for anchored particles
   std::vector<std::uint8_t> near_;                  // [active] 1: within the thickness at x0 or x1
   std::vector<PairGeometry> near_geometry_;         // [list_] each near pair at the step's start
