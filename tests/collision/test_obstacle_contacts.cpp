@@ -14,6 +14,7 @@
 #include "collision/collision_stage.h"
 #include "model/cloth_model.h"
 #include "model/collider.h"
+#include "model/mesh_fixtures.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
@@ -89,6 +90,15 @@ Collider capsule(const Vec3& a, const Vec3& b, double radius) {
   return c;
 }
 
+// A triangle mesh collider (a cube here: the same table as the box case, through the mesh path).
+Collider mesh_collider(std::shared_ptr<const TriangleMesh> mesh) {
+  Collider c;
+  c.shape = ColliderShape::mesh;
+  c.mesh = std::move(mesh);
+  c.mesh_file = "cube (built in code)";
+  return c;
+}
+
 // The collider moving at `velocity` (m/s) from where it is.
 Collider moving(Collider collider, const Vec3& velocity) {
   collider.path.kind = AnchorPathKind::linear;
@@ -150,6 +160,7 @@ std::vector<ColliderCase> collider_cases() {
       {"sphere", sphere({0.0, 0.0, 0.0}, 1.0), 1.3},
       {"box", box({0.0, 0.0, 0.0}, {0.8, 0.5, 0.8}), 0.8},
       {"capsule", capsule({-1.0, 0.0, 0.0}, {1.0, 0.0, 0.0}, 0.5), 0.8},
+      {"mesh", mesh_collider(cube_mesh({0.0, 0.0, 0.0}, {0.8, 0.5, 0.8})), 0.8},
   };
 }
 
