@@ -131,8 +131,12 @@ double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& s
     for (const Collider& collider : model.colliders) {
       const SurfaceDistance surface = signed_distance(collider, state.position[p], state.time);
       const double approach = -dot(state.velocity[p] - surface.velocity, surface.normal);  // m/s
-      if (approach <= 0.0) continue;
-      const double gap = std::max(0.0, surface.distance - thickness);
+      // A particle already within the shell is in contact, not approaching one: the pass resolves
+      // it where it ends, without a sweep. (After this pass every particle is at the thickness with
+      // no approach; one within it and approaching was pressed there by the self-collision pass,
+      // which runs after this one, and limiting the step for it halved the steps of `pile`.)
+      if (approach <= 0.0 || surface.distance < thickness) continue;
+      const double gap = surface.distance - thickness;
       arrival_[p] = std::min(arrival_[p], (gap + impact_depth) / approach);
     }
   });
