@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -16,6 +17,7 @@
 #include <vector>
 
 #include "core/vec3.h"
+#include "model/cloth_model.h"
 
 namespace clothsim::checks {
 
@@ -77,6 +79,14 @@ inline void expect_near(const Vec3& actual, const Vec3& expected, double toleran
   EXPECT_NEAR(actual.x, expected.x, tolerance);
   EXPECT_NEAR(actual.y, expected.y, tolerance);
   EXPECT_NEAR(actual.z, expected.z, tolerance);
+}
+
+// The same positions, velocities and contact work, bit for bit (runs with different thread counts).
+inline void expect_same_bits(const ClothState& actual, const ClothState& expected) {
+  ASSERT_EQ(actual.position.size(), expected.position.size());
+  EXPECT_EQ(0, std::memcmp(actual.position.data(), expected.position.data(), expected.position.size() * sizeof(Vec3)));
+  EXPECT_EQ(0, std::memcmp(actual.velocity.data(), expected.velocity.data(), expected.velocity.size() * sizeof(Vec3)));
+  EXPECT_EQ(actual.contact_work, expected.contact_work);
 }
 
 }  // namespace clothsim::checks

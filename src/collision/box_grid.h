@@ -79,6 +79,40 @@ class BoxGrid {
     }
   }
 
+  // Calls visit(i, j), i < j, for every pair of stored boxes that overlap, each once, taking the
+  // buckets [first, last): the grid joined with itself. Each pair is met once per cell both enter
+  // (not twice, as querying every stored box would), and reported in one. The kept-aside boxes
+  // are paired with every box by the bucket range that starts at 0.
+  template <typename Visit>
+  void for_each_pair(std::size_t first, std::size_t last, Visit&& visit) const {
+    for (std::size_t bucket = first; bucket < last; ++bucket) {
+      const std::uint32_t end = bucket_start_[bucket + 1];
+      for (std::uint32_t k = bucket_start_[bucket]; k < end; ++k) {
+        const Entry& a = entries_[k];
+        for (std::uint32_t m = k + 1; m < end; ++m) {
+          const Entry& b = entries_[m];
+          if (a.cell != b.cell) continue;
+          const Cell& low_a = low_cell_[a.box];
+          const Cell& low_b = low_cell_[b.box];
+          if (std::max(low_a[0], low_b[0]) != a.cell[0] || std::max(low_a[1], low_b[1]) != a.cell[1] ||
+              std::max(low_a[2], low_b[2]) != a.cell[2] || !overlap(boxes_[a.box], boxes_[b.box])) {
+            continue;
+          }
+          visit(a.box, b.box);  // a.box < b.box: a bucket's entries are in box order
+        }
+      }
+    }
+    if (first != 0) return;
+    for (std::size_t k = 0; k < oversize_.size(); ++k) {
+      const std::uint32_t big = oversize_[k];
+      for (std::uint32_t j = 0; j < boxes_.size(); ++j) {
+        if (j == big || (j > big ? false : std::binary_search(oversize_.begin(), oversize_.end(), j))) continue;
+        if (overlap(boxes_[big], boxes_[j])) visit(std::min(big, j), std::max(big, j));
+      }
+    }
+  }
+  std::size_t bucket_count() const { return bucket_start_.empty() ? 0 : bucket_start_.size() - 1; }
+
   double cell_size() const { return cell_size_; }
   std::size_t bytes() const;
 

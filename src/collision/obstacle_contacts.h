@@ -71,8 +71,8 @@ class ObstacleContacts {
  public:
   // Before a step: the latest time the step may end (+infinity without colliders): the earliest
   // time a particle approaching a collider at its current velocity would be kImpactDepth (a
-  // tenth) of the thickness inside the shell. Resting and sliding particles (no approach) do not
-  // limit it.
+  // tenth) of the thickness inside the shell. Particles within the shell already, and resting
+  // and sliding particles (no approach), do not limit it.
   double begin_step(const ClothModel& model, const ClothState& state, int threads);
   // After the step from time `start_time`, where the particles were at `start` [particle_count()]:
   // resolves every free particle against every collider (see the top of the file) and books the

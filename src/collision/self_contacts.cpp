@@ -14,6 +14,7 @@ namespace {
 // Stage 1 runs its queries in blocks of this many elements, each block filling its own list; the
 // lists are joined in block order, so the candidates' order does not depend on the threads.
 constexpr std::size_t kQueryBlock = 512;
+constexpr std::size_t kBucketBlock = 4096;
 // Stage 1 keeps its candidates while no particle moves further than a reach from where they were
 // found: at least this many thicknesses, and a few times the largest motion of the step they
 // were found in (see refresh_candidates). A falling sheet finds them again every few steps, a
@@ -217,9 +218,12 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
   triangle_grid_.build(triangle_box_);
   edge_grid_.build(edge_box_);
 
-  // Queries: the particles against the triangles, then the edges against the later edges.
+  // Queries: the particles against the triangles; then the edge grid joined with itself, in
+  // blocks of buckets (each pair of edges met once per cell, where querying every edge would meet
+  // it twice).
   const std::size_t point_blocks = (particles + kQueryBlock - 1) / kQueryBlock;
-  const std::size_t edge_blocks = (edges.size() + kQueryBlock - 1) / kQueryBlock;
+  const std::size_t buckets = edge_grid_.bucket_count();
+  const std::size_t edge_blocks = (buckets + kBucketBlock - 1) / kBucketBlock;
   block_pairs_.resize(point_blocks + edge_blocks);
   parallel_for(point_blocks + edge_blocks, threads, [&](std::size_t block) {
     std::vector<SelfPair>& out = block_pairs_[block];
@@ -235,16 +239,11 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
         });
       }
     } else {
-      const std::size_t first = (block - point_blocks) * kQueryBlock;
-      const std::size_t end_index = std::min(edges.size(), first + kQueryBlock);
-      for (std::size_t e = first; e < end_index; ++e) {
-        edge_grid_.for_each_overlap(edge_box_[e], [&](std::uint32_t f) {
-          if (f <= e || shares_particle(edges[e], edges[f])) return;
-          out.push_back({{edges[e][0], edges[e][1], edges[f][0], edges[f][1]},
-                         {static_cast<std::uint32_t>(e), f},
-                         SelfPair::Kind::edge_edge});
-        });
-      }
+      const std::size_t first = (block - point_blocks) * kBucketBlock;
+      edge_grid_.for_each_pair(first, std::min(buckets, first + kBucketBlock), [&](std::uint32_t e, std::uint32_t f) {
+        if (shares_particle(edges[e], edges[f])) return;
+        out.push_back({{edges[e][0], edges[e][1], edges[f][0], edges[f][1]}, {e, f}, SelfPair::Kind::edge_edge});
+      });
     }
   });
   candidates_.clear();

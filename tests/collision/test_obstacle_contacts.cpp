@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <cstring>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "model/collider.h"
 #include "model/mesh_fixtures.h"
 #include "sim/simulation.h"
+#include "test_checks.h"
 
 namespace clothsim {
 namespace {
@@ -389,11 +389,7 @@ TEST(ObstacleContacts, StageIsBitIdenticalAcrossThreadCounts) {
   EXPECT_GT(contacts[0], 100u);
   for (std::size_t i = 1; i < results.size(); ++i) {
     EXPECT_EQ(contacts[i], contacts[0]);
-    EXPECT_EQ(0, std::memcmp(results[i].position.data(), results[0].position.data(),
-                             results[0].position.size() * sizeof(Vec3)));
-    EXPECT_EQ(0, std::memcmp(results[i].velocity.data(), results[0].velocity.data(),
-                             results[0].velocity.size() * sizeof(Vec3)));
-    EXPECT_EQ(results[i].contact_work, results[0].contact_work);
+    checks::expect_same_bits(results[i], results[0]);
   }
 }
 
@@ -412,14 +408,7 @@ TEST(ObstacleContacts, RunsAreBitIdenticalAcrossThreadCounts) {
     EXPECT_GT(simulation.contact_statistics().total, 0u);
     results.push_back(simulation.state());
   }
-  for (std::size_t i = 1; i < results.size(); ++i) {
-    ASSERT_EQ(results[i].position.size(), results[0].position.size());
-    EXPECT_EQ(0, std::memcmp(results[i].position.data(), results[0].position.data(),
-                             results[0].position.size() * sizeof(Vec3)));
-    EXPECT_EQ(0, std::memcmp(results[i].velocity.data(), results[0].velocity.data(),
-                             results[0].velocity.size() * sizeof(Vec3)));
-    EXPECT_EQ(results[i].contact_work, results[0].contact_work);
-  }
+  for (std::size_t i = 1; i < results.size(); ++i) checks::expect_same_bits(results[i], results[0]);
 }
 
 }  // namespace

@@ -6,7 +6,6 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <random>
 #include <set>
 #include <vector>
@@ -16,6 +15,7 @@
 #include "core/closest_points.h"
 #include "model/cloth_model.h"
 #include "sim/simulation.h"
+#include "test_checks.h"
 
 namespace clothsim {
 namespace {
@@ -48,6 +48,19 @@ TEST(BoxGrid, FindsTheSamePairsAsBruteForce) {
     const auto expected = overlapping_pairs_brute_force(queries, stored);
     EXPECT_GT(expected.size(), 50u);
     EXPECT_EQ(found, expected) << "trial " << trial << ": each overlapping pair exactly once";
+
+    // The grid joined with itself, in two bucket ranges: every overlapping (i < j) once.
+    std::vector<std::array<std::uint32_t, 2>> joined;
+    const std::size_t half = grid.bucket_count() / 2;
+    const auto add = [&](std::uint32_t i, std::uint32_t j) { joined.push_back({i, j}); };
+    grid.for_each_pair(0, half, add);
+    grid.for_each_pair(half, grid.bucket_count(), add);
+    std::sort(joined.begin(), joined.end());
+    std::vector<std::array<std::uint32_t, 2>> self_expected;
+    for (const auto& pair : overlapping_pairs_brute_force(stored, stored)) {
+      if (pair[0] < pair[1]) self_expected.push_back(pair);
+    }
+    EXPECT_EQ(joined, self_expected) << "trial " << trial << ": the self-join";
   }
 }
 
@@ -247,11 +260,7 @@ TEST(SelfContacts, RunsAreBitIdenticalAcrossThreadCounts) {
   EXPECT_GT(statistics[0].self_total, 0u) << "the sheet touches itself";
   for (std::size_t i = 1; i < results.size(); ++i) {
     EXPECT_EQ(statistics[i].self_total, statistics[0].self_total);
-    EXPECT_EQ(0, std::memcmp(results[i].position.data(), results[0].position.data(),
-                             results[0].position.size() * sizeof(Vec3)));
-    EXPECT_EQ(0, std::memcmp(results[i].velocity.data(), results[0].velocity.data(),
-                             results[0].velocity.size() * sizeof(Vec3)));
-    EXPECT_EQ(results[i].contact_work, results[0].contact_work);
+    checks::expect_same_bits(results[i], results[0]);
   }
 }
 
