@@ -80,8 +80,6 @@ class ObstacleContacts {
   // energy booked is the energy the balance measures.
   ContactCounts apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double start_time,
                       ForceTerms terms, int threads);
-  // [particle_count()] 1 for the particles the last apply() put in contact; empty before.
-  std::span<const std::uint8_t> in_contact() const { return moved_; }
   // Bytes of scratch memory held.
   std::size_t bytes() const;
 

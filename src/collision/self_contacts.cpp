@@ -106,11 +106,10 @@ void spread(const SelfPair& pair, const std::array<double, 4>& weight, std::span
 }
 
 // K = sum_k c_k^2 w_k, but at least kLeastShare times the largest w_k of the pair. Where the
-// particles that carry most of the weight cannot move (anchored, or held by an obstacle), K is
-// small and the exact response would move the others by 1 / c_k times the change, without
-// bound (a triangle corner of weight 0.01 by 100 times); with the floor none moves by more than
-// 1 / kLeastShare times, the change is made only in part, and the remaining rounds (or stage 4)
-// finish it.
+// particles that carry most of the weight cannot move (anchored), K is small and the exact
+// response would move the others by 1 / c_k times the change, without bound (a triangle corner of
+// weight 0.01 by 100 times); with the floor none moves by more than 1 / kLeastShare times, the
+// change is made only in part, and the remaining rounds (or stage 4) finish it.
 constexpr double kLeastShare = 0.25;
 double effective_inverse_mass(const SelfPair& pair, const std::array<double, 4>& weight,
                               std::span<const double> inverse_mass) {
