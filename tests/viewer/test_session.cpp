@@ -9,19 +9,14 @@
 
 #include "core/error.h"
 #include "model/sheet_mesh.h"
+#include "session_fixtures.h"
 #include "viewer/session.h"
 
 namespace clothsim::viewer {
 namespace {
 
-constexpr double kFrameTime = 1.0 / 60.0;
-
-// The paper's material on a 5 x 5 lattice with the centre anchored at the origin.
-SceneSpec small_scene() {
-  SceneSpec scene = scene_from_paper_args("5,5,1,4,1,1400,200,80,5,1", "test");
-  scene.threads = 1;
-  return scene;
-}
+using fixtures::kFrameTime;
+using fixtures::small_scene;
 
 // Plays `script` for frames 0..last as the window does: frame k > 0 first advances one frame
 // while playing, then fires frame k's events.

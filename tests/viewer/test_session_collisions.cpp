@@ -9,21 +9,16 @@
 #include <cmath>
 #include <vector>
 
-#include "model/model_edits.h"
 #include "core/error.h"
+#include "model/model_edits.h"
+#include "session_fixtures.h"
 #include "viewer/session.h"
 
 namespace clothsim::viewer {
 namespace {
 
-constexpr double kFrameTime = 1.0 / 60.0;
-
-// The paper's material on a 5 x 5 lattice with the centre anchored at the origin.
-SceneSpec small_scene() {
-  SceneSpec scene = scene_from_paper_args("5,5,1,4,1,1400,200,80,5,1", "test");
-  scene.threads = 1;
-  return scene;
-}
+using fixtures::kFrameTime;
+using fixtures::small_scene;
 
 // sphere-sweep: a cotton sheet hung by its row 0 in the plane z = -0.25 (after about a second)
 // and a sphere of radius 0.1 m that the scene moves along +z at 1 m/s, centre at z = -0.5 at t = 1 s.
