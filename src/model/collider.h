@@ -94,6 +94,13 @@ struct CollisionSettings {
   double friction = 0.3;      // Coulomb coefficient of cloth on cloth, and of obstacles without their own
 };
 
+// The largest collision.thickness self-collision allows on a lattice of connector rest length
+// `spacing` (exclusive): half of it. On the flat lattice the nearest pieces of sheet that share no
+// particle are spacing / sqrt(2) apart (a particle and the diagonal of the quad beyond it), and a
+// sheet in compression comes closer; half the spacing leaves that room, where a larger thickness
+// would push the sheet's own neighbours apart at rest (collision/self_contacts.h).
+inline double self_collision_thickness_limit(double spacing) { return 0.5 * spacing; }
+
 // The nearest surface point's data for a query point.
 struct SurfaceDistance {
   double distance = 0.0;  // m, negative inside

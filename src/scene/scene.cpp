@@ -293,14 +293,11 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
   }
 }
 
-// Self-collision keeps apart every two pieces of sheet that share no particle (collision/
-// self_contacts.h). On the flat lattice the nearest such pieces are L / sqrt(2) apart (a particle
-// and the diagonal of the quad beyond it), and a sheet in compression comes closer; half the
-// spacing leaves that room, where a larger thickness would push the sheet's own neighbours apart at
-// rest.
+// Self-collision needs a thickness the lattice's own neighbours stay apart by
+// (self_collision_thickness_limit, model/collider.h).
 void check_self_collision_thickness(const SceneSpec& spec, const std::string& source) {
   if (!spec.collision.self) return;
-  const double limit = 0.5 * spec.lattice.spacing;
+  const double limit = self_collision_thickness_limit(spec.lattice.spacing);
   const double thickness = spec.collision.thickness;
   if (thickness < limit) return;
   fail(source, "collision.thickness",

@@ -7,6 +7,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <string>
 #include <vector>
 
 #include "core/error.h"
@@ -63,6 +64,22 @@ TEST(SessionCollisions, SelfCollisionSwitchSetsTheModelFlagAndSurvivesAReset) {
   EXPECT_FALSE(session.simulation().model().collision.self);
   session.reset();
   EXPECT_FALSE(session.simulation().model().collision.self);
+}
+
+// Switched on live, self-collision needs the thickness the scene validation asks for: below half
+// the spacing. Refused with the field named, and the flag stays off.
+TEST(SessionCollisions, SelfCollisionIsRefusedWithATooLargeThickness) {
+  SceneSpec scene = small_scene();
+  scene.collision.thickness = 0.6;  // the paper's 1 m spacing: the limit is 0.5 m
+  Session session(scene);
+  try {
+    session.set_self_collision(true);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& error) {
+    EXPECT_EQ(error.field(), "collision.thickness");
+    EXPECT_NE(std::string(error.what()).find("half the lattice spacing"), std::string::npos) << error.what();
+  }
+  EXPECT_FALSE(session.self_collision());
 }
 
 TEST(SessionCollisions, ScriptedSelfCollisionEventsSwitchTheFlagOnAndOff) {

@@ -317,8 +317,12 @@ void collisions_section(PanelState& state, Session& session) {
   if (!ImGui::CollapsingHeader("Collisions", ImGuiTreeNodeFlags_DefaultOpen)) return;
   bool self = session.self_collision();
   if (ImGui::Checkbox("self-collision (C)", &self)) {
-    session.set_self_collision(self);
-    state.status = self ? "self-collision on" : "self-collision off";
+    try {
+      session.set_self_collision(self);
+      state.status = self ? "self-collision on" : "self-collision off";
+    } catch (const InputError& error) {
+      state.status = error.what();
+    }
   }
   tooltip("the sheet keeps collision.thickness from itself; switched between two steps", "");
   if (state.sphere_radius <= 0.0) state.sphere_radius = default_sphere_radius(simulation.state().position);

@@ -7,6 +7,7 @@
 #include "core/assert.h"
 #include "core/error.h"
 #include "core/timer.h"
+#include "scene/parameters.h"
 #include "viewer/interaction.h"
 #include "viewer/live_parameters.h"
 
@@ -27,6 +28,14 @@ void Session::build() {
 }
 
 void Session::set_self_collision(bool on) {
+  const ClothModel& model = simulation_->model();
+  const double limit = self_collision_thickness_limit(model.spacing);
+  if (on && model.collision.thickness >= limit) {
+    throw InputError("self-collision", "collision.thickness",
+                     "must be below half the lattice spacing (" + format_number(limit) +
+                         " m) for self-collision, got " + format_number(model.collision.thickness) +
+                         " (lower it with --thickness)");
+  }
   simulation_->set_self_collision(on);
   edited_self_collision_ = on;
 }

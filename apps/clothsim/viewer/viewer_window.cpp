@@ -1,5 +1,7 @@
 #include "viewer/viewer_window.h"
 
+#include "core/error.h"
+
 #include <epoxy/gl.h>
 // After epoxy: GLFW must not pull in a GL header of its own.
 #define GLFW_INCLUDE_NONE
@@ -389,8 +391,12 @@ void Viewer::drag_sphere(double duration) {
 }
 
 void Viewer::toggle_self_collision() {
-  session_.set_self_collision(!session_.self_collision());
-  panel_.status = session_.self_collision() ? "self-collision on" : "self-collision off";
+  try {
+    session_.set_self_collision(!session_.self_collision());
+    panel_.status = session_.self_collision() ? "self-collision on" : "self-collision off";
+  } catch (const InputError& error) {
+    panel_.status = error.what();
+  }
 }
 
 void Viewer::add_sphere() {
