@@ -56,10 +56,19 @@ TEST(Forces, FlatSheetWithoutGravityIsInEquilibrium) {
 }
 
 TEST(Forces, GravityAloneIsMassTimesG) {
-  const ClothModel model = paper_lattice(3, 4);
+  // Masses other than 1, and different per particle: a force that forgot the mass would pass
+  // with the paper's 1 kg.
+  ClothModel model = paper_lattice(3, 4);
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    model.particle_mass[p] = 0.5 + 0.25 * static_cast<double>(p);
+    model.particle_inverse_mass[p] = 1.0 / model.particle_mass[p];
+  }
   const std::vector<Vec3> v(model.particle_count());
-  for (const Vec3& f : evaluate(model, perturbed(model, 0.3, 1), v, kGravity, 1)) {
-    EXPECT_EQ(f, (Vec3{0, -9.81, 0}));
+  const std::vector<Vec3> f = evaluate(model, perturbed(model, 0.3, 1), v, kGravity, 1);
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    EXPECT_DOUBLE_EQ(f[p].y, -9.81 * model.particle_mass[p]) << "particle " << p;
+    EXPECT_EQ(f[p].x, 0.0);
+    EXPECT_EQ(f[p].z, 0.0);
   }
 }
 

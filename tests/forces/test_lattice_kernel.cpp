@@ -148,6 +148,19 @@ TEST(LatticeKernel, AgreesWithTheGeneralPathOnAStripMovingAlongItsLine) {
   expect_paths_agree(strip, x, v);
 }
 
+// The kernel's gravity is mass times g, with a mass other than 1 (the paper's 1 kg would hide a
+// forgotten mass) set as the viewer sets it.
+TEST(LatticeKernel, GravityAloneIsMassTimesG) {
+  ClothModel model = lattice(4, 5);
+  set_particle_mass(model, 2.5);
+  const std::vector<Vec3> v(model.particle_count());
+  for (const Vec3& f : evaluate(model, model.particle_rest_position, v, ForceKernel::lattice, 1, kGravity).force) {
+    EXPECT_DOUBLE_EQ(f.y, -9.81 * 2.5);
+    EXPECT_EQ(f.x, 0.0);
+    EXPECT_EQ(f.z, 0.0);
+  }
+}
+
 TEST(LatticeKernel, FlatSheetAtRestWithoutGravityHasExactlyZeroForce) {
   LatticeDef def;
   def.rows = 5;
