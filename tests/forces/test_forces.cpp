@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <numbers>
 
@@ -138,18 +139,34 @@ TEST(Forces, ResultIsBitIdenticalForAnyThreadCount) {
 }
 
 TEST(Forces, TermMaskSwitchesTermsOff) {
-  const ClothModel model = paper_lattice(4, 4);
+  // Moving particles and air drag, so that the damping and drag bits have something to switch.
+  const ClothModel model = paper_lattice(4, 4, {0, -9.81, 0}, 0.7);
   const std::vector<Vec3> x = perturbed(model, 0.3, 9);
-  const std::vector<Vec3> v(model.particle_count());
+  TestRandom random(10);
+  std::vector<Vec3> v(model.particle_count());
+  for (Vec3& vi : v) vi = random.vector(-2, 2);
   const std::vector<Vec3> all = evaluate(model, x, v, kAllForceTerms, 1);
+  // The terms add up: each spring family with its damping, gravity and drag.
   std::vector<Vec3> sum(model.particle_count());
-  for (ForceTerms term : {kGravity, kConnectorSprings, kAdjacentRadialSprings, kOppositeRadialSprings}) {
+  for (ForceTerms term : {kGravity, kConnectorSprings | kSpringDamping, kAdjacentRadialSprings | kSpringDamping,
+                          kOppositeRadialSprings | kSpringDamping, kAirDrag}) {
     const std::vector<Vec3> part = evaluate(model, x, v, term, 1);
     for (std::size_t p = 0; p < sum.size(); ++p) sum[p] += part[p];
   }
   for (std::size_t p = 0; p < sum.size(); ++p) {
     EXPECT_NEAR(norm(sum[p] - all[p]), 0.0, 1e-9 * (1 + norm(all[p])));
   }
+  // Each bit changes the force of a moving, deformed sheet: none is ignored.
+  for (ForceTerms term : {kGravity, kConnectorSprings, kAdjacentRadialSprings, kOppositeRadialSprings, kAirDrag,
+                          kSpringDamping}) {
+    const std::vector<Vec3> without = evaluate(model, x, v, kAllForceTerms & ~term, 1);
+    double change = 0.0;
+    for (std::size_t p = 0; p < without.size(); ++p) change = std::max(change, norm(without[p] - all[p]));
+    EXPECT_GT(change, 1e-6) << "term bit " << term;
+  }
+  // Drag alone is -c v on every particle.
+  const std::vector<Vec3> drag = evaluate(model, x, v, kAirDrag, 1);
+  for (std::size_t p = 0; p < drag.size(); ++p) EXPECT_EQ(drag[p], -0.7 * v[p]);
   EXPECT_EQ(evaluate(model, x, v, 0, 1)[0], Vec3{});
 }
 
