@@ -172,20 +172,25 @@ TEST(Session, EnergyHistoryKeepsItsWindow) {
 
 TEST(Session, PauseAndPlayEventsAndQuit) {
   Session session(small_scene());
-  ScriptPlayer player(parse_script(R"({"events": [{"frame": 3, "quit": true}, {"at": 0.05, "pause": true},
-                                                  {"frame": 2, "screenshot": "a.png"}, {"frame": 2, "play": true}]})",
+  // Pause at frame 1, a screenshot while paused, play again at 0.05 s (frame 3), quit at frame 4:
+  // each switch finds the session in the other state, so a switch that did nothing would show.
+  ScriptPlayer player(parse_script(R"({"events": [{"frame": 4, "quit": true}, {"at": 0.05, "play": true},
+                                                  {"frame": 2, "screenshot": "a.png"}, {"frame": 1, "pause": true}]})",
                                    "p.json"),
                       kFrameTime);
-  EXPECT_EQ(player.last_event_frame(), 3u);
+  EXPECT_EQ(player.last_event_frame(), 4u);
   EXPECT_TRUE(player.fire(0, session).screenshots.empty());
   EXPECT_TRUE(session.playing());
+  player.fire(1, session);
+  EXPECT_FALSE(session.playing());
   const ScriptPlayer::FrameRequests second = player.fire(2, session);
-  EXPECT_TRUE(session.playing());  // the pause (frame 3) has not fired yet
+  EXPECT_FALSE(session.playing());
   ASSERT_EQ(second.screenshots.size(), 1u);
   EXPECT_EQ(second.screenshots[0], "a.png");
-  const ScriptPlayer::FrameRequests third = player.fire(3, session);
-  EXPECT_TRUE(third.quit);
-  EXPECT_FALSE(session.playing());  // 0.05 s is frame 3, in the same frame as the quit
+  EXPECT_FALSE(second.quit);
+  player.fire(3, session);
+  EXPECT_TRUE(session.playing());  // 0.05 s is frame 3
+  EXPECT_TRUE(player.fire(4, session).quit);
 }
 
 TEST(Session, ScriptedCutBreaksTheConnectorsItCrosses) {
