@@ -6,6 +6,7 @@
 
 #include <cmath>
 
+#include "forces/element.h"
 #include "model/initial_conditions.h"
 #include "sim/simulation.h"
 #include "simulation_settings.h"
@@ -115,17 +116,76 @@ TEST(LiveEditing, SwitchingIntegratorKeepsTheStateAndGoesOnWithTheNewMethod) {
   EXPECT_EQ(simulation.integrator_stats().last_step, restarted.integrator_stats().last_step);
 }
 
+// The energy each edit adds, written here from the physics rather than from the simulation's
+// energy function: a stiffness change of the adjacent radial springs adds 1/2 (k_new - k_old)
+// (theta - theta0)^2 per spring, a gravity change -m (g_new - g_old).x per particle, a mass
+// change (m_new - m_old) (|v|^2 / 2 - g.x) per particle.
+double adjacent_stiffness_jump(const ClothModel& model, const ClothState& state, double k_new) {
+  double jump = 0.0;
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    if (model.radial_kind[r] != RadialKind::adjacent) continue;
+    const auto [a, b, c] = model.radial_particles[r];
+    const double bend = element::radial_angle(state.position[a], state.position[b], state.position[c]) -
+                        model.radial_rest_angle[r];
+    jump += 0.5 * (k_new - model.radial_stiffness[r]) * bend * bend;
+  }
+  return jump;
+}
+
+double gravity_jump(const ClothModel& model, const ClothState& state, const Vec3& g_new) {
+  double jump = 0.0;
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    jump -= model.particle_mass[p] * dot(g_new - model.environment.gravity, state.position[p]);
+  }
+  return jump;
+}
+
+double mass_jump(const ClothModel& model, const ClothState& state, double m_new) {
+  double jump = 0.0;
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    const double specific = 0.5 * squared_norm(state.velocity[p]) - dot(model.environment.gravity, state.position[p]);
+    jump += (m_new - model.particle_mass[p]) * specific;
+  }
+  return jump;
+}
+
+// The sheet's energy summed here from the textbook formulas (kinetic, -m g.x, 1/2 k (l - L)^2 per
+// connector, 1/2 k (theta - theta0)^2 per radial spring), not by the simulation's energy function.
+double hand_energy(const ClothModel& model, const ClothState& state) {
+  double energy = 0.0;
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    energy += model.particle_mass[p] * (0.5 * squared_norm(state.velocity[p]) -
+                                        dot(model.environment.gravity, state.position[p]));
+  }
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    const auto [a, b] = model.connector_particles[e];
+    const double stretch = norm(state.position[b] - state.position[a]) - model.connector_rest_length[e];
+    energy += 0.5 * model.connector_stiffness[e] * stretch * stretch;
+  }
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const auto [a, b, c] = model.radial_particles[r];
+    const double bend = element::radial_angle(state.position[a], state.position[b], state.position[c]) -
+                        model.radial_rest_angle[r];
+    energy += 0.5 * model.radial_stiffness[r] * bend * bend;
+  }
+  return energy;
+}
+
 TEST(LiveEditing, EnergyBalanceStaysExactAcrossParameterEdits) {
   Simulation simulation(hanging_sheet(five_by_five(), Environment{{0, -9.81, 0}, 0.1}),
                         make_rest_state(hanging_sheet(five_by_five())), rkf45(1e-9));
   ASSERT_TRUE(simulation.advance_to(0.5));
   const double before = simulation.energy().total();
+  double expected = adjacent_stiffness_jump(simulation.model(), simulation.state(), 40.0);
   simulation.set_spring_parameters(SpringFamily::adjacent, {40.0, 1.0});  // the sheet is bent: energy changes
+  expected += gravity_jump(simulation.model(), simulation.state(), {0, -4.0, 0});
   simulation.set_environment(Environment{{0, -4.0, 0}, 0.3});
+  expected += mass_jump(simulation.model(), simulation.state(), 2.0);
   simulation.set_particle_mass(2.0);
   const EnergyBalance at_edit = simulation.energy_balance();
-  // The edit work is exactly the energy jump the edits made, so the balance holds across them.
-  EXPECT_DOUBLE_EQ(at_edit.edit_work, simulation.energy().total() - before);
+  // The edit work is the energy the edits added, so the balance holds across them.
+  EXPECT_NEAR(at_edit.edit_work, expected, 1e-9 * (1.0 + std::abs(expected)));
+  EXPECT_NEAR(simulation.energy().total() - before, expected, 1e-9 * (1.0 + std::abs(expected)));
   EXPECT_GT(std::abs(at_edit.edit_work), 1.0);
   EXPECT_LT(relative_balance_error(at_edit), 1e-7);
   for (int frame = 1; frame <= 10; ++frame) {
@@ -219,12 +279,15 @@ TEST(RuntimeAnchors, PlacingAnAnchoredParticleBooksTheJumpAsEditWork) {
                         rkf45(1e-9));
   ASSERT_TRUE(simulation.advance_to(0.3));
   simulation.pin_particle(kCorner);
-  const double before = simulation.energy().total();
+  const double before = hand_energy(simulation.model(), simulation.state());
   const double edit_work = simulation.energy_balance().edit_work;
   simulation.place_particle(kCorner, {-2.5, 0.5, -2.5});
   EXPECT_EQ(simulation.state().position[kCorner], (Vec3{-2.5, 0.5, -2.5}));
   EXPECT_EQ(simulation.state().time, 0.3);
-  EXPECT_DOUBLE_EQ(simulation.energy_balance().edit_work - edit_work, simulation.energy().total() - before);
+  // The jump of the energy, summed independently, is what the balance books as edit work.
+  const double jump = hand_energy(simulation.model(), simulation.state()) - before;
+  EXPECT_GT(std::abs(jump), 1.0) << "the placed corner stretches its springs and moves in height";
+  EXPECT_NEAR(simulation.energy_balance().edit_work - edit_work, jump, 1e-9 * (1.0 + std::abs(jump)));
   ASSERT_TRUE(simulation.advance_to(0.6));
   EXPECT_EQ(simulation.state().position[kCorner], (Vec3{-2.5, 0.5, -2.5}));
   EXPECT_LT(relative_balance_error(simulation.energy_balance()), 1e-7);
