@@ -213,18 +213,33 @@ TEST_F(RunPictures, RenderFlagWritesExactlyTheNamedFiles) {
   }
 }
 
-TEST_F(RunPictures, CameraMeshAndOverlayFlagsRun) {
-  for (const std::vector<std::string>& flags :
-       {std::vector<std::string>{"--camera", "follow", "--mesh", "cell-centres"},
-        std::vector<std::string>{"--camera", "-30,60", "--show", "connectors,radials,wireframe"},
-        std::vector<std::string>{"--camera", "10,20,15", "--show", "no-ground,no-anchors", "--samples", "1"}}) {
+// Each set of camera, mesh and overlay flags changes the picture: compared with the same run
+// without them, at the requested size.
+TEST_F(RunPictures, CameraMeshAndOverlayFlagsChangeThePicture) {
+  const auto picture = [this](const std::vector<std::string>& flags) {
     fs::remove_all(work_);
     fs::create_directories(work_);
     std::vector<std::string> args = {"--render", "image", "--size", "96x64", "--duration", "0.1"};
     args.insert(args.end(), flags.begin(), flags.end());
     const Result result = small_run(args);
     EXPECT_EQ(result.exit_code, 0) << describe(result);
-    EXPECT_TRUE(fs::exists(work_ / "run" / "final.png"));
+    return read_png((work_ / "run" / "final.png").string());
+  };
+  const Image plain = picture({});
+  for (const std::vector<std::string>& flags :
+       {std::vector<std::string>{"--camera", "follow", "--mesh", "cell-centres"},
+        std::vector<std::string>{"--camera", "-30,60", "--show", "connectors,radials,wireframe"},
+        std::vector<std::string>{"--camera", "10,20,15", "--show", "no-ground,no-anchors", "--samples", "1"},
+        std::vector<std::string>{"--show", "connectors,radials,wireframe"},
+        std::vector<std::string>{"--show", "no-ground"}}) {
+    const Image image = picture(flags);
+    EXPECT_EQ(image.width, 96);
+    EXPECT_EQ(image.height, 64);
+    std::size_t differing = 0;
+    for (std::size_t i = 0; i < image.rgb.size() && i < plain.rgb.size(); ++i) {
+      if (image.rgb[i] != plain.rgb[i]) ++differing;
+    }
+    EXPECT_GT(differing, 100u) << flags[0] << " " << flags[1] << ": the flags changed nothing";
   }
 }
 
