@@ -141,6 +141,23 @@ nlohmann::json probe(const fs::path& video) {
   return json["streams"][0];
 }
 
+// Frame `frame` of `video`, decoded by ffmpeg into a PNG at `png`.
+Image decoded_frame(const fs::path& video, int frame, const fs::path& png) {
+  const std::string command = "ffmpeg -v error -y -i '" + video.string() + "' -vf 'select=eq(n\\," +
+                              std::to_string(frame) + ")' -frames:v 1 '" + png.string() + "' 2>&1";
+  const int status = std::system(command.c_str());
+  EXPECT_EQ(status, 0) << command;
+  return read_png(png.string());
+}
+
+// Mean absolute difference per colour channel of two pictures of the same size, in 0..255.
+double mean_difference(const Image& a, const Image& b) {
+  EXPECT_EQ(a.rgb.size(), b.rgb.size());
+  double sum = 0.0;
+  for (std::size_t i = 0; i < a.rgb.size() && i < b.rgb.size(); ++i) sum += std::abs(int(a.rgb[i]) - int(b.rgb[i]));
+  return a.rgb.empty() ? 0.0 : sum / static_cast<double>(a.rgb.size());
+}
+
 TEST_F(RunPictures, VideoHasOneFramePerOutputFrameAndFinalPngTheRequestedSize) {
   const Result result = small_run({"--size", "320x240"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
@@ -174,6 +191,13 @@ TEST_F(RunPictures, VideoHasOneFramePerOutputFrameAndFinalPngTheRequestedSize) {
     }
   }
   EXPECT_GT(red, 320 * 240 / 20);
+
+  // final.png is the video's last frame (up to the video's lossy coding), not its first.
+  const Image last = decoded_frame(work_ / "run" / "animation.mp4", 10, work_ / "last.png");
+  const Image first = decoded_frame(work_ / "run" / "animation.mp4", 0, work_ / "first.png");
+  const double to_last = mean_difference(image, last);
+  EXPECT_LT(to_last, 6.0);
+  EXPECT_LT(2.0 * to_last, mean_difference(image, first)) << "the sheet moved between the first and last frames";
 }
 
 TEST_F(RunPictures, OddSizesArePaddedInTheVideoOnly) {
