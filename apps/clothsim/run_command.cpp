@@ -151,6 +151,18 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
               static_cast<int>(RunWriter::kSummaryFile.size()), RunWriter::kSummaryFile.data(),
               static_cast<int>(RunWriter::kFinalMeshFile.size()), RunWriter::kFinalMeshFile.data(),
               static_cast<int>(RunWriter::kSceneFile.size()), RunWriter::kSceneFile.data());
+  for (ExportFormat format : spec.output.exports) {
+    if (format == ExportFormat::pc2) {
+      std::printf("export       pc2: %.*s (%zu samples of %zu points) and %.*s\n",
+                  static_cast<int>(RunExports::kPointCacheFile.size()), RunExports::kPointCacheFile.data(),
+                  writer.frames(), simulation.model().particle_count(),
+                  static_cast<int>(RunExports::kRestMeshFile.size()), RunExports::kRestMeshFile.data());
+    } else if (format == ExportFormat::obj_sequence) {
+      std::printf("export       obj-sequence: %zu files, %s to %s\n", writer.frames(),
+                  RunExports::frame_file_name(0).c_str(),
+                  RunExports::frame_file_name(writer.frames() > 0 ? writer.frames() - 1 : 0).c_str());
+    }
+  }
   std::fflush(stdout);
 }
 
