@@ -468,8 +468,8 @@ TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
   EXPECT_EQ(json::parse(read_text(work_ / "exported" / "scene.json"))["output"]["export"],
             json::array({"pc2", "obj-sequence"}));
 
-  const Result failed = small_run(
-      "blow", {"--export", "pc2", "--integrator", "symplectic-euler", "--time-step", "0.5", "--duration", "5", "--fps", "2"});
+  const Result failed = small_run("blow", {"--export", "pc2", "--integrator", "symplectic-euler", "--time-step", "0.5",
+                                           "--duration", "5", "--fps", "2"});
   ASSERT_EQ(failed.exit_code, 1) << describe(failed);
   const json run = summary("blow");
   EXPECT_EQ(run["files"]["animation.pc2"]["samples"], run["frames"]);
