@@ -151,6 +151,18 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
               static_cast<int>(RunWriter::kSummaryFile.size()), RunWriter::kSummaryFile.data(),
               static_cast<int>(RunWriter::kFinalMeshFile.size()), RunWriter::kFinalMeshFile.data(),
               static_cast<int>(RunWriter::kSceneFile.size()), RunWriter::kSceneFile.data());
+  for (ExportFormat format : spec.output.exports) {
+    if (format == ExportFormat::pc2) {
+      std::printf("export       pc2: %.*s (%zu samples of %zu points) and %.*s\n",
+                  static_cast<int>(RunExports::kPointCacheFile.size()), RunExports::kPointCacheFile.data(),
+                  writer.frames(), simulation.model().particle_count(),
+                  static_cast<int>(RunExports::kRestMeshFile.size()), RunExports::kRestMeshFile.data());
+    } else if (format == ExportFormat::obj_sequence) {
+      std::printf("export       obj-sequence: %zu files, %s to %s\n", writer.frames(),
+                  RunExports::frame_file_name(0).c_str(),
+                  RunExports::frame_file_name(writer.frames() > 0 ? writer.frames() - 1 : 0).c_str());
+    }
+  }
   std::fflush(stdout);
 }
 
@@ -264,7 +276,9 @@ std::string run_footer() {
       "(split along any tears), scene.json (run it to reproduce the run), connectors.npy and "
       "connector_break_time.npy (each connector's particles and when it broke), and unless --render none, "
       "final.png (the last frame) and "
-      "animation.mp4 (H.264, one video frame per output frame, at --fps). It is written as <out>.partial-<pid> and "
+      "animation.mp4 (H.264, one video frame per output frame, at --fps); with --export pc2, animation.pc2 and "
+      "rest.obj (a point cache of every frame, for Blender's Mesh Cache modifier), with --export obj-sequence, "
+      "frames/frame_000000.obj and on (docs/exports.md). It is written as <out>.partial-<pid> and "
       "renamed into place at "
       "the end; an existing <out> is replaced only if a clothsim run wrote it.",
       100, 0);
@@ -279,6 +293,7 @@ std::string run_footer() {
       "  clothsim run out/paper-fig4/scene.json --out out/paper-fig4-again   # reproduce a run\n"
       "  clothsim run paper-fig5 --size 1920x1080 --camera 0,10 --show wireframe\n"
       "  clothsim run drape-corners --render none   # data only, no OpenGL\n"
+      "  clothsim run paper-fig5 --export pc2,obj-sequence   # for Blender and other tools\n"
       "\n";
   text += exit_code_help();
   return text;
@@ -292,7 +307,7 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   add_scene_options(*app, options->scene,
                     {{"--duration"}, {"--fps"}, {"--integrator"}, {"--rtol"}, {"--atol"}, {"--time-step"},
                      {"--gravity"}, {"--anchor"}, {"--threads"}, {"--rest-energy"}, {"--self-collision"},
-                     {"--thickness"}});
+                     {"--thickness"}, {"--export"}});
   app->add_flag("--until-rest", options->until_rest,
                 "stop once the kinetic energy has stayed below --rest-energy at every frame for "
                 "output.rest_duration (default 1 s); without --duration, run at most max(scene duration, 3600 s)");

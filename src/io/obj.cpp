@@ -52,7 +52,11 @@ void write_obj(const std::string& path, const ClothModel& model, std::span<const
   }
   SheetMesh mesh;
   build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);
+  write_obj_mesh(path, model, mesh, comment);
+}
 
+void write_obj_mesh(const std::string& path, const ClothModel& model, const SheetMesh& mesh, std::string_view comment) {
+  const std::size_t n = model.particle_count();
   std::unique_ptr<std::FILE, FileCloser> file(std::fopen(path.c_str(), "w"));
   if (file == nullptr) throw io_error(path, "cannot create file", errno);
   std::FILE* out = file.get();
@@ -76,7 +80,7 @@ void write_obj(const std::string& path, const ClothModel& model, std::span<const
     std::fprintf(out, "vt %.9g %.9g\n", col * u_step, row * v_step);
   }
 
-  if (mesh.triangle_vertices.empty()) {
+  if (model.rows == 1 || model.cols == 1) {
     // A 1-wide lattice is a chain of particles: a polyline through them in index order, broken
     // where a connector is.
     std::vector<std::uint8_t> joined(n, 0);  // joined[p]: particles p and p+1 share an intact connector

@@ -162,6 +162,7 @@ void RunWriter::discard() noexcept {
   try {
     positions_.reset();  // closes without reporting errors
     velocities_.reset();
+    exports_.reset();
     if (energy_file_ != nullptr) std::fclose(energy_file_);
     energy_file_ = nullptr;
   } catch (...) {
@@ -211,6 +212,8 @@ void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
     }
     const std::array<std::size_t, 2> shape = {model.connector_count(), 2};
     write_npy((partial_ / kConnectorsFile).string(), pairs, shape);
+
+    if (!scene.output.exports.empty()) exports_.emplace(partial_, scene.output.exports, model, scene.name);
   } catch (...) {
     rethrow_as_output_error("cannot create the output folder");
   }
@@ -229,6 +232,7 @@ void RunWriter::write_frame(const Simulation& simulation) {
   try {
     positions_->append(state.position);
     velocities_->append(state.velocity);
+    if (exports_) exports_->write_frame(simulation.model(), state.position, state.time);
   } catch (...) {
     rethrow_as_output_error("cannot write a frame");
   }
@@ -277,6 +281,7 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       }
       const std::array<std::size_t, 1> shape = {simulation.model().connector_break_time.size()};
       write_npy((partial_ / kBreakTimeFile).string(), simulation.model().connector_break_time, shape);
+      if (exports_) exports_->finish(model);
     } catch (...) {
       rethrow_as_output_error("cannot finish the output folder");
     }
@@ -385,6 +390,9 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
        ordered_json{{"shape", ordered_json::array({model.connector_count(), 2})}, {"dtype", "int32"}}},
       {std::string(kBreakTimeFile),
        ordered_json{{"shape", ordered_json::array({model.connector_count()})}, {"dtype", "float64"}, {"unit", "s"}}}};
+  if (exports_) {
+    for (const auto& [name, details] : exports_->summary_files()) summary["files"][name] = details;
+  }
   for (const auto& [name, details] : extra_files_) summary["files"][name] = details;
 
   ScopedTimer timer(output_seconds_);

@@ -12,6 +12,8 @@
 //                             broke (the end of the step after which it broke), +inf if it never did
 // The last two let a reader rebuild any frame's live connectors (and so its torn mesh) without
 // storing the mask per frame: connector e is intact at frame k iff break_time[e] > time[k].
+// With the scene's output.export, also the files for other tools of io/run_exports.h
+// (animation.pc2 and rest.obj, frames/frame_NNNNNN.obj), streamed frame by frame like the arrays.
 //
 // Everything is written into a sibling folder `<out>.partial-<pid>` and renamed to `<out>` by
 // finish(), so that a reader sees either the previous folder or the complete new one. On Linux the
@@ -46,6 +48,7 @@
 
 #include "core/vec3.h"
 #include "io/npy.h"
+#include "io/run_exports.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"
 
@@ -149,6 +152,7 @@ class RunWriter {
   std::optional<NpyWriter> positions_;
   std::optional<NpyWriter> velocities_;
   std::FILE* energy_file_ = nullptr;
+  std::optional<RunExports> exports_;  // when the scene asks for any
 
   SceneSpec scene_;                  // the scene as run, for summary.json
   EnergyBalance initial_energy_;

@@ -258,8 +258,9 @@ constexpr std::array kMaterialParameters = {
                       [](MaterialDef& m, double v) { m.opposite_yield_angle = degrees_to_radians(v); }},
 };
 
-constexpr std::array<std::string_view, 8> kSpecialKeys = {"name", "description", "paper_args", "material",
-                                                          "anchors", "cuts", "colliders", "integrator.method"};
+constexpr std::array<std::string_view, 9> kSpecialKeys = {"name",      "description", "paper_args",
+                                                          "material",  "anchors",     "cuts",
+                                                          "colliders", "integrator.method", "output.export"};
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".
 std::string compact_exponent(std::string text) {

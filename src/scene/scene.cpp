@@ -55,6 +55,48 @@ std::string method_choices() {
 }
 
 // ---------------------------------------------------------------------------------------------
+// output.export: a list of format names, each at most once.
+
+constexpr std::array<ExportFormat, 2> kExportFormats = {ExportFormat::pc2, ExportFormat::obj_sequence};
+
+std::string export_choices() {
+  std::vector<std::string_view> names;
+  for (ExportFormat format : kExportFormats) names.push_back(to_string(format));
+  return join_names(names);
+}
+
+// Appends the format named `name` (a repeat is dropped: asking twice means the same file), or
+// fails naming the field and the formats there are.
+void add_export(std::vector<ExportFormat>& exports, std::string_view name, const std::string& got,
+                const std::string& source) {
+  ExportFormat format{};
+  if (!parse_export_format(name, format)) {
+    fail(source, "output.export", "each item must be one of " + export_choices() + ", got " + got);
+  }
+  if (std::find(exports.begin(), exports.end(), format) == exports.end()) exports.push_back(format);
+}
+
+std::vector<ExportFormat> read_exports(const json& value, const std::string& source) {
+  if (!value.is_array()) {
+    fail(source, "output.export",
+         "must be a list of export formats (" + export_choices() + "), got " + describe_json(value));
+  }
+  std::vector<ExportFormat> exports;
+  for (const json& item : value) {
+    add_export(exports, item.is_string() ? item.get<std::string>() : "", describe_choice(item), source);
+  }
+  return exports;
+}
+
+// "pc2,obj-sequence"; "" or "none" for no exports.
+std::vector<ExportFormat> read_text_exports(std::string_view text, const std::string& source) {
+  std::vector<ExportFormat> exports;
+  if (trim(text) == "none") return exports;
+  for (std::string_view item : split_list(text)) add_export(exports, item, quoted(item), source);
+  return exports;
+}
+
+// ---------------------------------------------------------------------------------------------
 // The paper's argument vector.
 
 struct PaperArgument {
@@ -159,6 +201,8 @@ void SceneReader::read_member(const std::string& key, const json& value) {
     if (!value.is_string() || !parse_integrator_kind(value.get<std::string>(), spec.integrator.kind)) {
       fail(source, key, "must be one of " + method_choices() + ", got " + describe_choice(value));
     }
+  } else if (key == "output.export") {
+    spec.output.exports = read_exports(value, source);
   } else if (key == "paper_args") {
     apply_paper_arguments(spec, read_paper_arguments(value, source));
   } else if (key == "anchors") {
@@ -178,6 +222,26 @@ void SceneReader::read_member(const std::string& key, const json& value) {
 
 // -----------------------------------------------------------------------------------------------
 // Public API.
+
+std::string_view to_string(ExportFormat format) {
+  switch (format) {
+    case ExportFormat::pc2:
+      return "pc2";
+    case ExportFormat::obj_sequence:
+      return "obj-sequence";
+  }
+  return "unknown";
+}
+
+bool parse_export_format(std::string_view text, ExportFormat& format) {
+  for (ExportFormat candidate : kExportFormats) {
+    if (to_string(candidate) == text) {
+      format = candidate;
+      return true;
+    }
+  }
+  return false;
+}
 
 SceneSpec parse_scene(std::string_view json_text, const std::string& source, const std::string& base_folder) {
   const json document = parse_json(json_text, source);
@@ -263,6 +327,8 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
     if (!parse_integrator_kind(trim(value), spec.integrator.kind)) {
       fail(source, field, "must be one of " + method_choices() + ", got " + quoted(value));
     }
+  } else if (key == "output.export") {
+    spec.output.exports = read_text_exports(value, source);
   } else if (key == "paper_args") {
     apply_paper_arguments(spec, read_text_paper_arguments(value, source));
   } else if (key == "material" && trim(value) == "none") {
@@ -413,6 +479,8 @@ json scene_to_json(const SceneSpec& spec) {
     at(parameter.key) = json::array({value.x, value.y, value.z});
   }
   at("integrator.method") = std::string(to_string(spec.integrator.kind));
+  at("output.export") = json::array();
+  for (ExportFormat format : spec.output.exports) at("output.export").push_back(std::string(to_string(format)));
   out["anchors"] = json::array();
   for (const AnchorSpec& anchor : spec.anchors) out["anchors"].push_back(anchor_to_json(anchor));
   out["cuts"] = json::array();

@@ -57,6 +57,17 @@ struct ColliderSpec {
   Vec3 mesh_translate;      // mesh: m, added after scaling
 };
 
+// Files a run writes besides its own (io/run_exports.h, docs/exports.md), for other tools:
+// "pc2" (animation.pc2 + rest.obj) and "obj-sequence" (frames/frame_NNNNNN.obj).
+enum class ExportFormat : std::uint8_t {
+  pc2,           // a PC2 point cache of the particles, every saved frame, and its rest.obj
+  obj_sequence,  // one OBJ mesh per saved frame
+};
+
+std::string_view to_string(ExportFormat format);
+// "pc2", "obj-sequence"; false for any other text (`format` is then unchanged).
+bool parse_export_format(std::string_view text, ExportFormat& format);
+
 struct OutputSettings {
   double duration = 20.0;        // simulated time to run, s; with until_rest, the upper limit
   int fps = 60;                  // frames written per simulated second
@@ -66,6 +77,8 @@ struct OutputSettings {
   // single frame is not enough: a sheet bouncing as a whole passes through zero kinetic energy at
   // every turning point (paper-fig4 does, every 3 s, with hundreds of joules in the bounce).
   double rest_duration = 1.0;
+  // Extra files for other tools ("output.export"), each format at most once, in the order given.
+  std::vector<ExportFormat> exports;
 };
 
 struct SceneSpec {

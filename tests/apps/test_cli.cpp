@@ -26,6 +26,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -207,6 +208,11 @@ const std::vector<BadInputCase> kBadInputCases = {
      {"--rest-energy", "output.rest_kinetic_energy", "(0, 1e12]"}, ""},
     {"SelfCollisionMaybe", small({"--self-collision", "maybe"}), {"--self-collision", "on or off", "maybe"}, ""},
     {"ThicknessZero", small({"--thickness", "0"}), {"--thickness", "collision.thickness", "(0, 1]"}, ""},
+    {"ExportUnknown", small({"--export", "pc2,gltf"}), {"--export", "output.export", "pc2, obj-sequence", "gltf"}, ""},
+    {"SceneFileExportUnknown", {"run", "scene.json"}, {"scene.json", "output.export", "pc2, obj-sequence", "fbx"},
+     R"({"output": {"export": ["pc2", "fbx"]}})"},
+    {"SceneFileExportNotAList", {"run", "scene.json"}, {"scene.json", "output.export", "a list"},
+     R"({"output": {"export": "pc2"}})"},
     {"SetRowsZero", small({"--set", "lattice.rows=0"}), {"--set", "lattice.rows", "[1, 4096]"}, ""},
     {"SetUnknownKey", small({"--set", "nosuch.key=1"}), {"--set", "nosuch.key", "unknown field"}, ""},
     {"SetWithoutEquals", small({"--set", "lattice.rows"}), {"--set", "KEY=VALUE"}, ""},
@@ -443,6 +449,31 @@ TEST_F(CliTest, CollisionFlagsSetTheSceneKeys) {
   EXPECT_TRUE(contains(thick.err, "collision.thickness")) << describe(thick);
   EXPECT_TRUE(contains(thick.err, "half the lattice spacing")) << describe(thick);
   EXPECT_FALSE(fs::exists(work_ / "collide-thick"));
+}
+
+// --export writes the exports of every frame, also for a failed run (docs/exports.md; their
+// contents are tested in tests/io/test_run_exports.cpp).
+TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
+  const Result result = small_run("exported", {"--export", "pc2,obj-sequence", "--duration", "0.5", "--fps", "20"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_TRUE(contains(result.out, "export       pc2: animation.pc2 (11 samples of 25 points)")) << result.out;
+  EXPECT_TRUE(fs::exists(work_ / "exported" / "rest.obj"));
+  // The PC2 header's sample count (bytes 28 to 31) is fixed up to the frame count at the end.
+  const std::string cache = read_text(work_ / "exported" / "animation.pc2");
+  ASSERT_EQ(cache.size(), 32u + 11u * 25u * 3u * 4u);
+  std::int32_t samples = 0;
+  std::memcpy(&samples, cache.data() + 28, sizeof(samples));
+  EXPECT_EQ(samples, 11);
+  EXPECT_TRUE(fs::exists(work_ / "exported" / "frames" / "frame_000010.obj"));
+  EXPECT_FALSE(fs::exists(work_ / "exported" / "frames" / "frame_000011.obj"));
+  EXPECT_EQ(json::parse(read_text(work_ / "exported" / "scene.json"))["output"]["export"],
+            json::array({"pc2", "obj-sequence"}));
+
+  const Result failed = small_run("blow", {"--export", "pc2", "--integrator", "symplectic-euler", "--time-step", "0.5",
+                                           "--duration", "5", "--fps", "2"});
+  ASSERT_EQ(failed.exit_code, 1) << describe(failed);
+  const json run = summary("blow");
+  EXPECT_EQ(run["files"]["animation.pc2"]["samples"], run["frames"]);
 }
 
 // A zero rest duration stops at the first frame below the threshold.

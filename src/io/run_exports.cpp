@@ -1,0 +1,132 @@
+// The exports of a run; what they hold and the rule for torn sheets are in run_exports.h.
+#include "io/run_exports.h"
+
+#include <array>
+#include <cstdio>
+#include <system_error>
+
+#include "io/obj.h"
+
+namespace clothsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string frame_comment(const std::string& scene_name, std::size_t frame, double time) {
+  std::array<char, 64> seconds{};
+  std::snprintf(seconds.data(), seconds.size(), "%.9g", time);
+  return "scene " + scene_name + ", frame " + std::to_string(frame) + " at t = " + seconds.data() + " s";
+}
+
+}  // namespace
+
+std::vector<std::array<std::uint32_t, 3>> intact_lattice_triangles(const ClothModel& model) {
+  // broken_right[p]: the connector from p to its right neighbour is broken; broken_down[p]: to
+  // the particle below. Connectors join 4-neighbours only.
+  const std::size_t n = model.particle_count();
+  const std::uint32_t cols = static_cast<std::uint32_t>(model.cols);
+  std::vector<std::uint8_t> broken_right(n, 0);
+  std::vector<std::uint8_t> broken_down(n, 0);
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    if (model.connector_live[e] != 0) continue;
+    const auto [a, b] = model.connector_particles[e];
+    const std::uint32_t first = std::min(a, b);
+    (std::max(a, b) == first + cols ? broken_down : broken_right)[first] = 1;
+  }
+  // An edge (u, v), u < v, of a lattice triangle is a connector when v is u's right or lower
+  // neighbour; the triangle's third edge is a quad diagonal, which no spring follows.
+  const auto edge_broken = [&](std::uint32_t u, std::uint32_t v) {
+    if (u > v) std::swap(u, v);
+    if (v == u + cols) return broken_down[u] != 0;
+    if (v == u + 1 && u % cols != cols - 1) return broken_right[u] != 0;
+    return false;
+  };
+  std::vector<std::array<std::uint32_t, 3>> triangles;
+  for (const auto& triangle : lattice_triangles(model)) {
+    const auto [a, b, c] = triangle;
+    if (!edge_broken(a, b) && !edge_broken(b, c) && !edge_broken(c, a)) triangles.push_back(triangle);
+  }
+  return triangles;
+}
+
+std::string RunExports::frame_file_name(std::size_t frame) {
+  std::array<char, 32> name{};
+  std::snprintf(name.data(), name.size(), "frame_%06zu.obj", frame);
+  return std::string(kFramesFolder) + "/" + name.data();
+}
+
+RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, const ClothModel& model,
+                       std::string scene_name)
+    : folder_(std::move(folder)), scene_name_(std::move(scene_name)), points_(model.particle_count()) {
+  for (ExportFormat format : formats) {
+    if (format == ExportFormat::pc2) {
+      // Frame 0 first, one sample per saved frame: cache frame k is the run's frame k.
+      cache_.emplace((folder_ / kPointCacheFile).string(), model.particle_count(), 0.0f, 1.0f);
+    } else if (format == ExportFormat::obj_sequence) {
+      obj_sequence_ = true;
+      fs::create_directory(folder_ / kFramesFolder);
+    }
+  }
+}
+
+void RunExports::write_frame(const ClothModel& model, std::span<const Vec3> position, double time) {
+  if (cache_) {
+    cache_->append(position);
+    if (frames_ == 0) first_position_.assign(position.begin(), position.end());
+  }
+  if (obj_sequence_) {
+    const std::string path = (folder_ / frame_file_name(frames_)).string();
+    write_obj(path, model, position, frame_comment(scene_name_, frames_, time));
+  }
+  ++frames_;
+}
+
+void RunExports::finish(const ClothModel& model) {
+  if (!cache_) return;
+  cache_->close();
+  if (first_position_.empty()) return;  // no frame: no mesh to deform
+  SheetMesh mesh;
+  mesh.grid_rows = model.rows;
+  mesh.grid_cols = model.cols;
+  mesh.vertex_position = first_position_;
+  mesh.vertex_source.resize(first_position_.size());
+  for (std::size_t p = 0; p < mesh.vertex_source.size(); ++p) {
+    mesh.vertex_source[p] = SheetVertexSource{SheetVertexKind::particle, static_cast<std::uint32_t>(p)};
+  }
+  mesh.triangle_vertices = intact_lattice_triangles(model);
+  mesh.vertex_normal = vertex_normals(mesh.vertex_position, mesh.triangle_vertices);
+  rest_triangles_ = mesh.triangle_vertices.size();
+  dropped_triangles_ = lattice_triangles(model).size() - rest_triangles_;
+  std::string comment = "the mesh of " + std::string(kPointCacheFile);
+  comment += ": its vertices are the particles in index order, at frame 0";
+  if (dropped_triangles_ > 0) {
+    comment += "\nleft out: " + std::to_string(dropped_triangles_) +
+               " triangles across connectors broken during the run (docs/exports.md)";
+  }
+  write_obj_mesh((folder_ / kRestMeshFile).string(), model, mesh, comment);
+}
+
+std::vector<std::pair<std::string, nlohmann::ordered_json>> RunExports::summary_files() const {
+  using ordered_json = nlohmann::ordered_json;
+  std::vector<std::pair<std::string, ordered_json>> files;
+  if (cache_) {
+    files.emplace_back(std::string(kPointCacheFile),
+                       ordered_json{{"format", "pc2"},
+                                    {"points", points_},
+                                    {"samples", cache_->samples()},
+                                    {"start_frame", 0},
+                                    {"sample_rate", 1},
+                                    {"dtype", "float32"},
+                                    {"unit", "m"},
+                                    {"mesh", std::string(kRestMeshFile)}});
+    files.emplace_back(std::string(kRestMeshFile),
+                       ordered_json{{"frame", 0}, {"triangles", rest_triangles_}, {"left_out", dropped_triangles_}});
+  }
+  if (obj_sequence_) {
+    files.emplace_back(std::string(kFramesFolder) + "/",
+                       ordered_json{{"format", "obj-sequence"}, {"files", frames_}, {"first", frame_file_name(0)}});
+  }
+  return files;
+}
+
+}  // namespace clothsim

@@ -1,0 +1,82 @@
+// The files a run writes for other tools, chosen by the scene's output.export (docs/exports.md):
+//   pc2           animation.pc2, a PC2 point cache (io/pc2.h) of the particles at every frame the
+//                 run saves (the frames of positions.npy), and rest.obj, the mesh it deforms
+//   obj-sequence  frames/frame_000000.obj and on, the sheet at every saved frame (io/obj.h)
+//
+// The cache starts at frame 0 with one sample per frame, so in Blender cache frame k is the
+// run's frame k, at t = k / output.fps; set the Blender scene's frame rate to output.fps.
+//
+// Torn sheets. A point cache has one vertex set for the whole run, but a tearing sheet's mesh
+// gains vertices at every break (model/sheet_mesh.h splits it along broken connectors). So the
+// cache's points are always the particles, in index order, and rest.obj is a mesh of the
+// particles alone: the lattice triangles, less every triangle with an edge whose connector is
+// broken by the end of the run. No face then ever spans a tear, at the price of showing the
+// tear's gap (about one lattice cell wide) from the first frame on. The exact split mesh of every
+// frame is the obj-sequence's. Rejected: faces of the initial sheet (they stretch across every
+// tear like rubber, hiding that it tore), refusing pc2 for sheets that can tear (most material
+// presets can), and caching the final split mesh's vertices (not known until the run ends, so
+// the cache could not be streamed).
+//
+// rest.obj's vertices are the particles at frame 0, so that opening it alone shows the first
+// frame; it is written at the end, when the run's broken connectors are known.
+#pragma once
+
+#include <cstddef>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "core/vec3.h"
+#include "io/pc2.h"
+#include "model/cloth_model.h"
+#include "model/sheet_mesh.h"
+#include "scene/scene.h"
+
+namespace clothsim {
+
+class RunExports {
+ public:
+  static constexpr std::string_view kPointCacheFile = "animation.pc2";
+  static constexpr std::string_view kRestMeshFile = "rest.obj";
+  static constexpr std::string_view kFramesFolder = "frames";
+
+  // Creates the files of `formats` in `folder` (a run's partial folder) for a sheet of `model`.
+  // Throws std::runtime_error naming the path on an I/O failure.
+  RunExports(std::filesystem::path folder, std::span<const ExportFormat> formats, const ClothModel& model,
+             std::string scene_name);
+
+  // Writes the sheet at `position` [particle_count()], m, time `time`, s, as the next frame
+  // (frame 0 first: the initial state).
+  void write_frame(const ClothModel& model, std::span<const Vec3> position, double time);
+
+  // Closes the cache and writes rest.obj from the model's final broken connectors.
+  void finish(const ClothModel& model);
+
+  // summary.json "files" entries for what finish() left: name and details.
+  std::vector<std::pair<std::string, nlohmann::ordered_json>> summary_files() const;
+
+  // "frames/frame_000042.obj".
+  static std::string frame_file_name(std::size_t frame);
+
+ private:
+  std::filesystem::path folder_;
+  std::string scene_name_;
+  std::size_t points_ = 0;  // of the cache: the particles
+  bool obj_sequence_ = false;
+  std::optional<Pc2Writer> cache_;
+  std::vector<Vec3> first_position_;  // [particles], m: frame 0, rest.obj's vertices
+  std::size_t frames_ = 0;
+  std::size_t rest_triangles_ = 0;     // written to rest.obj
+  std::size_t dropped_triangles_ = 0;  // left out of rest.obj: they span a broken connector
+};
+
+// Lattice triangles (model/sheet_mesh.h) none of whose edges is a broken connector of `model`:
+// rest.obj's faces.
+std::vector<std::array<std::uint32_t, 3>> intact_lattice_triangles(const ClothModel& model);
+
+}  // namespace clothsim
