@@ -106,7 +106,9 @@ class BoxGrid {
     for (std::size_t k = 0; k < oversize_.size(); ++k) {
       const std::uint32_t big = oversize_[k];
       for (std::uint32_t j = 0; j < boxes_.size(); ++j) {
-        if (j == big || (j > big ? false : std::binary_search(oversize_.begin(), oversize_.end(), j))) continue;
+        // Two kept-aside boxes are paired once, when the smaller index is `big`.
+        const bool paired_already = j < big && std::binary_search(oversize_.begin(), oversize_.end(), j);
+        if (j == big || paired_already) continue;
         if (overlap(boxes_[big], boxes_[j])) visit(std::min(big, j), std::max(big, j));
       }
     }

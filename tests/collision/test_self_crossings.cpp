@@ -14,6 +14,7 @@
 #include "model/material.h"
 #include "model/sheet_mesh.h"
 #include "scene/scene.h"
+#include "scene_simulation.h"
 #include "sheet_crossings.h"
 #include "sim/simulation.h"
 
@@ -142,13 +143,6 @@ TEST(SheetCrossings, AFoldedCornerPushedThroughTheSheetCrosses) {
 
 // Scenes that pass through themselves without self-collision.
 
-SimulationSettings settings_of(const SceneSpec& spec) {
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = 1;
-  return settings;
-}
-
 // Crossings at `checks` evenly spaced frames over the scene's duration (the last at its end), and
 // the state at the end.
 struct CrossingRun {
@@ -161,8 +155,7 @@ struct CrossingRun {
 };
 
 CrossingRun run_counting_crossings(const SceneSpec& spec, int checks) {
-  const ClothModel model = build_model(spec);
-  Simulation simulation(model, build_initial_state(model, spec), settings_of(spec));
+  Simulation simulation = testing::one_thread_simulation(spec);
   CrossingRun run;
   for (int check = 1; check <= checks; ++check) {
     const bool ok = simulation.advance_to(spec.output.duration * check / checks);

@@ -20,6 +20,7 @@
 #include "io/npy.h"
 #include "io/run_writer.h"
 #include "scene/scene.h"
+#include "scene_simulation.h"
 
 namespace clothsim {
 namespace {
@@ -109,12 +110,7 @@ ExportRun run_with_exports(const std::string& name, Between between) {
   const SceneSpec spec = parse_scene(R"({"name": ")" + name + R"(", "paper_args": [5, 5, 1, 4, 1, 1400, 200, 80, 5, 1],
                                         "output": {"export": ["pc2", "obj-sequence"]}})",
                                      "test");
-  ClothModel model = build_model(spec);
-  ClothState initial = build_initial_state(model, spec);
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = 1;
-  Simulation simulation(std::move(model), std::move(initial), settings);
+  Simulation simulation = testing::one_thread_simulation(spec);
   ExportRun run{fs::path(CLOTHSIM_TEST_TMPDIR) / "io" / name, 0};
   fs::remove_all(run.out);
   RunWriter writer(run.out, RunInfo{"test", "test"});

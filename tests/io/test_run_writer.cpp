@@ -17,6 +17,7 @@
 #include "io/npy.h"
 #include "io/run_writer.h"
 #include "scene/scene.h"
+#include "scene_simulation.h"
 #include "test_checks.h"
 
 namespace clothsim {
@@ -63,11 +64,7 @@ TEST(RunWriter, ContactRunRecordsContacts) {
   floor.shape = ColliderShape::plane;
   floor.point = Vec3{0.0, -2.0, 0.0};
   model.colliders.push_back(floor);
-  ClothState initial = build_initial_state(model, spec);
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = 1;
-  Simulation simulation(std::move(model), std::move(initial), settings);
+  Simulation simulation = testing::one_thread_simulation(spec, std::move(model));
   const fs::path out = fs::path(CLOTHSIM_TEST_TMPDIR) / "io" / "contact_run";
   fs::remove_all(out);
   RunWriter writer(out, RunInfo{"test", "test"});
@@ -100,12 +97,7 @@ TEST(RunWriter, TornRunRecordsItsTopologyAndChanges) {
   // A 6 x 6 sheet hanging from one anchor; between frames 1 and 2 a cut breaks the 6 connectors
   // between rows 2 and 3.
   const SceneSpec spec = parse_scene(R"({"name": "torn", "paper_args": [6, 6, 1, 4, 1, 1400, 200, 80, 5, 1]})", "test");
-  ClothModel model = build_model(spec);
-  ClothState initial = build_initial_state(model, spec);
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = 1;
-  Simulation simulation(std::move(model), std::move(initial), settings);
+  Simulation simulation = testing::one_thread_simulation(spec);
   const fs::path out = fs::path(CLOTHSIM_TEST_TMPDIR) / "io" / "torn_run";
   fs::remove_all(out);
   RunWriter writer(out, RunInfo{"test", "test"});

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "scene_simulation.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
@@ -22,18 +23,8 @@ struct Trajectory {
 
 // Runs `scene` for `duration` seconds, sampling `samples_per_second` times per second, checking
 // at every sample what must hold at every time.
-// A one-thread simulation of `spec` with its own integrator.
-Simulation simulation_of(const SceneSpec& spec) {
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = 1;
-  ClothModel model = build_model(spec);
-  ClothState initial = build_initial_state(model, spec);
-  return Simulation(std::move(model), std::move(initial), settings);
-}
-
 Trajectory run_paper_scene(const std::string& scene, double duration, int samples_per_second) {
-  Simulation simulation = simulation_of(builtin_scene(scene));
+  Simulation simulation = testing::one_thread_simulation(builtin_scene(scene));
   const std::uint32_t anchor = simulation.model().anchors.at(0).particle;
 
   Trajectory trajectory;
@@ -107,7 +98,7 @@ TEST(PaperScenes, Figure4WithSelfCollisionIsThePapersRun) {
     SceneSpec spec = builtin_scene("paper-fig4");
     ASSERT_TRUE(spec.collision.self);
     spec.collision.self = self;
-    Simulation simulation = simulation_of(spec);
+    Simulation simulation = testing::one_thread_simulation(spec);
     ASSERT_TRUE(simulation.advance_to(4.0));
     ends.push_back(simulation.state());
     self_contacts.push_back(simulation.contact_statistics().self_total + simulation.contact_statistics().self_impacts);
