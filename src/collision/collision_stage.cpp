@@ -8,7 +8,10 @@ namespace clothsim {
 
 double CollisionStage::begin_step(const ClothModel& model, const ClothState& state, int threads) {
   active_ = !model.colliders.empty() || model.collision.self;
-  if (!active_) return std::numeric_limits<double>::infinity();
+  if (!active_) {
+    obstacles_.surface_contacts().any = false;
+    return std::numeric_limits<double>::infinity();
+  }
   start_time_ = state.time;
   start_position_.resize(state.position.size());
   parallel_for(state.position.size(), threads, [&](std::size_t p) { start_position_[p] = state.position[p]; });
@@ -19,7 +22,8 @@ CollisionCounts CollisionStage::apply(const ClothModel& model, ClothState& state
   CollisionCounts counts;
   if (!active_) return counts;
   counts.obstacles = obstacles_.apply(model, state, start_position_, start_time_, terms, threads);
-  counts.self = self_.apply(model, state, start_position_, state.time - start_time_, terms, threads);
+  counts.self = self_.apply(model, state, start_position_, state.time - start_time_,
+                            obstacles_.surface_contacts().end_velocity_share, terms, threads);
   return counts;
 }
 

@@ -39,6 +39,9 @@ class CollisionStage {
   // state.contact_work.
   CollisionCounts apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads);
   std::size_t bytes() const;
+  // Particles resting on a collider at the step's start, for an integrator to hold on its surface
+  // (integrators/surface_contacts.h); refreshed by begin_step().
+  SurfaceContacts& surface_contacts() { return obstacles_.surface_contacts(); }
 
  private:
   bool active_ = false;  // begin_step() found colliders or self-collision

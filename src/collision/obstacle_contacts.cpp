@@ -34,9 +34,11 @@ struct ParticleContact {
 
 // Resolves one particle against one collider (steps 1 to 4 of the header). `particle` holds its
 // position and velocity after the step (and after earlier colliders), `start` its position at the
-// step's start t0; the collider is taken at the step's end t1.
+// step's start t0; the collider is taken at the step's end t1. `held` is the normal velocity change
+// the integrator's surface constraint made during the step (impulse / mass, m/s; zero if it did
+// not hold the particle on this collider): friction acts on it as on the speed removed here.
 void resolve(double mu, double thickness, double t0, double t1, const Collider& collider, const Vec3& start,
-             ParticleContact& particle) {
+             double held, double end_velocity_share, ParticleContact& particle) {
   const double tolerance = shell_tolerance(thickness);
   const Vec3 x1 = particle.position;
   // The sweep runs in the collider's frame: the start point moves with the shape's translation
@@ -70,30 +72,36 @@ void resolve(double mu, double thickness, double t0, double t1, const Collider& 
         }
       }
     }
-    if (!hit) {
-      if (at_end.distance >= thickness) return;  // a free flight past the collider
-    } else if (at_end.distance >= thickness || dot(at_end.normal, entry.normal) < kSameSideCosine) {
+    const bool same_side = dot(at_end.normal, entry.normal) >= kSameSideCosine;
+    if (!hit || (same_side && at_end.distance >= thickness)) {
+      // A free flight past the collider, or a graze: the motion came within the shell's tolerance
+      // and ended outside on the side it came from (a particle beside a collider sliding along its
+      // own surface, which the sweep in the collider's frame sees as a long motion parallel to it).
+      if (at_end.distance >= thickness) return;
+    } else if (at_end.distance >= thickness || !same_side) {
       // 2. Passed through, or ended nearer another side: the entry point.
       contact = entry;
       contact_point = entry_point;
     }
-  } else if (at_end.distance >= thickness) {
-    return;  // resting at x0 and lifted off (or sliding) outside the shell
+  } else if (at_end.distance >= thickness && held <= 0.0) {
+    return;  // resting at x0 and lifted off (or sliding) outside the shell, not held on it
   }
 
-  // 2. To exactly the thickness along the normal.
+  // 2. To exactly the thickness along the normal (a held particle that ended outside the shell,
+  // on a curved surface, stays where it is: only friction acts on it).
   const Vec3& n = contact.normal;
-  Vec3 position = contact_point + (thickness - contact.distance) * n;
+  Vec3 position = contact_point + std::max(0.0, thickness - contact.distance) * n;
 
   // 3. Inelastic normal, Coulomb tangential, relative to the shape.
   const Vec3 relative = particle.velocity - contact.velocity;
   const double normal_speed = dot(relative, n);  // m/s, negative approaching
   const double removed = std::max(0.0, -normal_speed);
+  const double pressed = removed + (sustained ? held : 0.0);  // m/s, the normal impulse over the mass
   Vec3 tangential = relative - normal_speed * n;
   const double tangential_speed = norm(tangential);
   double keep = 1.0;  // fraction of the tangential relative velocity friction leaves
-  if (removed > 0.0 && mu > 0.0) {
-    keep = tangential_speed > mu * removed ? 1.0 - mu * removed / tangential_speed : 0.0;
+  if (pressed > 0.0 && mu > 0.0) {
+    keep = tangential_speed > mu * pressed ? 1.0 - mu * pressed / tangential_speed : 0.0;
   }
   const Vec3 friction_change = (keep - 1.0) * tangential;  // m/s, the velocity friction removes
   const Vec3 velocity = contact.velocity + keep * tangential + std::max(0.0, normal_speed) * n;
@@ -102,7 +110,7 @@ void resolve(double mu, double thickness, double t0, double t1, const Collider& 
   // friction deceleration acted through the step, so the slide shrinks by half the step times the
   // velocity friction removed (exact for constant deceleration). At rest on a slope below the
   // friction angle this undoes the step's slide exactly: no creep.
-  if (sustained) position = position + 0.5 * (t1 - t0) * friction_change;
+  if (sustained) position = position + end_velocity_share * (t1 - t0) * friction_change;
   particle.position = position;
   particle.velocity = velocity;
   particle.touched = true;
@@ -117,29 +125,47 @@ void ObstacleContacts::resize(const ClothModel& model) {
   resolved_velocity_.assign(n, Vec3{0.0, 0.0, 0.0});
   moved_.assign(n, 0);
   arrival_.assign(n, 0.0);
+  surface_.resize(n);
 }
 
 double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& state, int threads) {
-  if (model.colliders.empty()) return std::numeric_limits<double>::infinity();
+  if (model.colliders.empty()) {
+    surface_.any = false;
+    return std::numeric_limits<double>::infinity();
+  }
   resize(model);
   const double thickness = model.collision.thickness;
+  const double tolerance = shell_tolerance(thickness);
   // With no thickness at all, a micrometre: the limit must leave the step some length.
   const double impact_depth = std::max(kImpactDepth * thickness, 1e-6);  // m
   parallel_for(model.particle_count(), threads, [&](std::size_t p) {
     arrival_[p] = std::numeric_limits<double>::infinity();
+    surface_.collider[p] = SurfaceContacts::kNone;
+    surface_.impulse[p] = 0.0;
     if (model.is_anchored(p)) return;
-    for (const Collider& collider : model.colliders) {
-      const SurfaceDistance surface = signed_distance(collider, state.position[p], state.time);
-      const double approach = -dot(state.velocity[p] - surface.velocity, surface.normal);  // m/s
+    for (std::size_t c = 0; c < model.colliders.size(); ++c) {
+      const SurfaceDistance surface = signed_distance(model.colliders[c], state.position[p], state.time);
       // A particle already within the shell is in contact, not approaching one: the pass resolves
       // it where it ends, without a sweep. (After this pass every particle is at the thickness with
       // no approach; one within it and approaching was pressed there by the self-collision pass,
-      // which runs after this one, and limiting the step for it halved the steps of `pile`.)
-      if (approach <= 0.0 || surface.distance < thickness) continue;
+      // which runs after this one, and limiting the step for it halved the steps of `pile`.) An
+      // integrator may hold it on the surface during the step (integrators/surface_contacts.h).
+      if (surface.distance <= thickness + tolerance) {
+        if (surface_.collider[p] == SurfaceContacts::kNone) {
+          surface_.collider[p] = static_cast<std::uint32_t>(c);
+          surface_.normal[p] = surface.normal;
+          surface_.velocity[p] = surface.velocity;
+        }
+        continue;
+      }
+      const double approach = -dot(state.velocity[p] - surface.velocity, surface.normal);  // m/s
+      if (approach <= 0.0) continue;
       const double gap = surface.distance - thickness;
       arrival_[p] = std::min(arrival_[p], (gap + impact_depth) / approach);
     }
   });
+  surface_.any = std::any_of(surface_.collider.begin(), surface_.collider.end(),
+                             [](std::uint32_t c) { return c != SurfaceContacts::kNone; });
   // The minimum does not depend on the order, so a serial pass over the per-particle values is
   // the same for any thread count.
   double arrival = std::numeric_limits<double>::infinity();
@@ -161,9 +187,12 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
     moved_[p] = 0;
     if (model.is_anchored(p)) return;
     ParticleContact particle{state.position[p], state.velocity[p], false};
-    for (const Collider& collider : model.colliders) {
+    for (std::size_t c = 0; c < model.colliders.size(); ++c) {
+      const Collider& collider = model.colliders[c];
       const double mu = collider.friction >= 0.0 ? collider.friction : model.collision.friction;
-      resolve(mu, thickness, start_time, t1, collider, start[p], particle);
+      const double held =
+          surface_.collider[p] == c ? surface_.impulse[p] * model.particle_inverse_mass[p] : 0.0;  // m/s
+      resolve(mu, thickness, start_time, t1, collider, start[p], held, surface_.end_velocity_share, particle);
     }
     if (!particle.touched) return;
     moved_[p] = 1;
@@ -187,7 +216,7 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
 
 std::size_t ObstacleContacts::bytes() const {
   return arrival_.capacity() * sizeof(double) + (resolved_position_.capacity() + resolved_velocity_.capacity()) * sizeof(Vec3) +
-         moved_.capacity() + energy_.bytes();
+         moved_.capacity() + energy_.bytes() + surface_.bytes();
 }
 
 }  // namespace clothsim

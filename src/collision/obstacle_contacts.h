@@ -2,9 +2,10 @@
 // between accepted steps (docs/collisions.md).
 //
 // Design: a projection plus a velocity correction on the accepted state, after the step and
-// before the events, instead of a contact force inside the derivative. The integrators never
-// see a contact, so every one of them (RKF45's error control included) integrates smooth stages,
-// and a contact is resolved exactly to the thickness at every step end. Rejected: penalty
+// before the events, instead of a contact force inside the derivative. The explicit integrators
+// never see a contact, so every one of them (RKF45's error control included) integrates smooth
+// stages, and a contact is resolved exactly to the thickness at every step end; implicit Euler
+// also holds resting particles on their surface within its step (below). Rejected: penalty
 // forces, whose stiffness would set RKF45's step size everywhere near an obstacle, and which
 // leave particles inside by an amount that depends on the load.
 //
@@ -21,15 +22,20 @@
 //   2. place     the contact point is x1 if it is inside the shell and its nearest surface point
 //                is on the side the particle entered through (its normal agrees with the entry
 //                point's); otherwise (it passed through, or deeper than the shape's middle) the
-//                entry point. The particle moves along the normal there to exactly the thickness.
+//                entry point. A motion that ends outside the shell on the side it came from only
+//                grazed it (a particle beside a collider moving along its own surface, a long
+//                motion parallel to it in the collider's frame): no contact. The particle moves
+//                along the normal to exactly the thickness.
 //   3. velocity  relative to the shape's velocity u: the approaching normal part
 //                dv_n = -min(0, (v - u).n) is removed (inelastic), and the tangential part's
 //                length is reduced by mu dv_n, never below zero (Coulomb; mu is the collider's
 //                friction, or the scene's collision.friction when the collider's is negative).
 //   4. slide     for a particle in contact at x0, the friction acted through the whole step:
-//                its position moves by h/2 times the velocity change friction made (exact for a
-//                constant deceleration), so a particle that friction holds does not creep down a
-//                slope (at rest it is back where it was, exactly).
+//                its position moves by s h times the velocity change friction made, with s the
+//                integrator's weight of the end velocity in its position update (1/2 for
+//                Runge-Kutta, exact for a constant deceleration; 1 for symplectic and implicit
+//                Euler; integrators/surface_contacts.h), so a particle that friction holds does
+//                not creep down a slope (at rest it is back where it was, exactly).
 // Energy: the stage changes positions and velocities, so it changes the sheet's energy by
 // E_after - E_before, booked as ClothState::contact_work. Only the moved particles' kinetic and
 // gravitational energy and the springs touching them change; those are summed (in particle and
@@ -38,9 +44,14 @@
 // neighbours move on while it is pushed back, storing energy in the springs between them. The
 // stage therefore limits the next step so that an approaching particle reaches at most a tenth of
 // the thickness inside the shell (begin_step()); the integrator's own step control does the rest.
-// Limit: a particle pressed onto an obstacle by a load dips into it within every step and is put
-// back at the step's end; whatever the integrator dissipates during that dip (spring damping, its
-// own numerical damping) the projection books back as positive contact work (docs/collisions.md).
+// Resting particles: begin_step() also lists the particles within a collider's shell at the step's
+// start (integrators/surface_contacts.h). Implicit Euler holds them on the surface within its step
+// and hands back the normal impulse that took, which step 3 adds to the speed it removed when it
+// sizes the friction (Coulomb on the whole normal impulse of the step).
+// Limit: with the explicit integrators, a particle pressed onto an obstacle by a load dips into it
+// within every step and is put back at the step's end; whatever the integrator dissipates during
+// that dip (spring damping, its own numerical damping) the projection books back as positive
+// contact work (docs/collisions.md).
 // Determinism: particles are resolved in parallel, each writing only its own scratch entries;
 // the bookkeeping that follows runs in particle index order.
 //
@@ -56,6 +67,7 @@
 #include "collision/contact_energy.h"
 #include "core/vec3.h"
 #include "forces/forces.h"
+#include "integrators/surface_contacts.h"
 #include "model/cloth_model.h"
 
 namespace clothsim {
@@ -80,6 +92,9 @@ class ObstacleContacts {
   // energy booked is the energy the balance measures.
   ContactCounts apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double start_time,
                       ForceTerms terms, int threads);
+  // The particles begin_step() found resting on a collider, for the integrator to hold there; the
+  // integrator writes the impulses, which apply() turns into friction.
+  SurfaceContacts& surface_contacts() { return surface_; }
   // Bytes of scratch memory held.
   std::size_t bytes() const;
 
@@ -91,6 +106,7 @@ class ObstacleContacts {
   std::vector<double> arrival_;          // [particles] s from the step's start, see begin_step()
   std::vector<std::uint8_t> moved_;      // [particles] 1: the pass changes this particle
   ContactEnergy energy_;                 // the bookkeeping of what moved
+  SurfaceContacts surface_;              // particles resting on a collider at the step's start
 };
 
 }  // namespace clothsim

@@ -111,7 +111,7 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
   for (std::size_t p = 0; p < n; ++p) free_[p] = model.is_anchored(p) ? 0 : 1;
   revision_ = model.revision;
   for (std::vector<Vec3>* vector :
-       {&displacement_, &rhs_, &dv_, &residual_, &preconditioned_, &direction_, &product_}) {
+       {&displacement_, &rhs_, &dv_, &residual_, &preconditioned_, &direction_, &product_, &held_normal_}) {
     vector->assign(n, Vec3{});
   }
   if (settings.cg_two_level && model.rows > 0 && model.cols > 0 &&
@@ -281,6 +281,7 @@ double ImplicitEuler::precondition() {
         const double* correction = &coarse_vector_[3 * particle_aggregate_[p]];
         z += Vec3{correction[0], correction[1], correction[2]};
       }
+      z = held(p, z);
       preconditioned_[p] = z;
       sums[0] += dot(residual_[p], z);
     }
@@ -288,13 +289,14 @@ double ImplicitEuler::precondition() {
   })[0];
 }
 
+Vec3 ImplicitEuler::row_product(std::size_t p, const std::vector<Vec3>& vector) const {
+  Vec3 sum;
+  for (std::uint32_t k = row_offset_[p]; k < row_offset_[p + 1]; ++k) sum += block_[k] * vector[column_[k]];
+  return sum;
+}
+
 int ImplicitEuler::solve() {
   const std::size_t n = model_.particle_count();
-  const auto row_product = [&](std::size_t p, const std::vector<Vec3>& vector) {
-    Vec3 sum;
-    for (std::uint32_t k = row_offset_[p]; k < row_offset_[p + 1]; ++k) sum += block_[k] * vector[column_[k]];
-    return sum;
-  };
 
   // r = b - A dv (anchored columns included).
   const std::array<double, 3> initial =
@@ -305,10 +307,10 @@ int ImplicitEuler::solve() {
             residual_[p] = direction_[p] = Vec3{};
             continue;
           }
-          const Vec3 r = rhs_[p] - row_product(p, dv_);
+          const Vec3 r = held(p, rhs_[p] - row_product(p, dv_));
           residual_[p] = r;
           sums[1] += squared_norm(r);
-          sums[2] += squared_norm(rhs_[p]);
+          sums[2] += squared_norm(held(p, rhs_[p]));
         }
         return sums;
       });
@@ -328,7 +330,7 @@ int ImplicitEuler::solve() {
               product_[p] = Vec3{};
               continue;
             }
-            product_[p] = row_product(p, direction_);
+            product_[p] = held(p, row_product(p, direction_));
             sums[0] += dot(direction_[p], product_[p]);
           }
           return sums;
@@ -455,6 +457,60 @@ void ImplicitEuler::solve_coarse() {
   }
 }
 
+void ImplicitEuler::hold_on_surfaces(const ClothState& state, double h) {
+  holding_ = false;
+  const SurfaceContacts* contacts = surface_contacts_;
+  if (contacts == nullptr || !contacts->any) return;
+  std::fill(held_normal_.begin(), held_normal_.end(), Vec3{});
+  const std::size_t n = model_.particle_count();
+  for (std::size_t p = 0; p < n; ++p) {
+    if (!free_[p] || contacts->collider[p] == SurfaceContacts::kNone) continue;
+    const Vec3& normal = contacts->normal[p];
+    const Vec3& surface_velocity = contacts->velocity[p];
+    // Held when the explicit prediction of the step's end velocity moves it into the surface.
+    const Vec3 predicted = state.velocity[p] + h * model_.particle_inverse_mass[p] * force_[p];
+    if (dot(predicted - surface_velocity, normal) >= 0.0) continue;
+    held_normal_[p] = normal;
+    holding_ = true;
+    // The normal part of dv is known: the step ends moving with the surface along the normal.
+    const Vec3 tangential = dv_[p] - dot(dv_[p], normal) * normal;
+    dv_[p] = tangential + dot(surface_velocity - state.velocity[p], normal) * normal;
+  }
+}
+
+bool ImplicitEuler::release_pulled_particles() {
+  if (!holding_) return false;
+  bool released = false;
+  const std::size_t n = model_.particle_count();
+  for (std::size_t p = 0; p < n; ++p) {
+    const Vec3 normal = held_normal_[p];
+    if (normal == Vec3{}) continue;
+    // The impulse the surface exerts, A dv - b along the normal: a surface cannot pull.
+    if (dot(normal, row_product(p, dv_) - rhs_[p]) < 0.0) {
+      held_normal_[p] = Vec3{};
+      released = true;
+    }
+  }
+  return released;
+}
+
+void ImplicitEuler::book_surface_impulses(ClothState& state) {
+  if (!holding_) return;
+  SurfaceContacts& contacts = *surface_contacts_;
+  const std::size_t n = model_.particle_count();
+  double work = 0.0;
+  for (std::size_t p = 0; p < n; ++p) {
+    const Vec3 normal = held_normal_[p];
+    if (normal == Vec3{}) continue;
+    const double impulse = std::max(0.0, dot(normal, row_product(p, dv_) - rhs_[p]));  // N s
+    contacts.impulse[p] = impulse;
+    // Its work, with the end-of-step velocity like the other work integrals: zero on a surface at
+    // rest, where the particle ends with no normal velocity.
+    work += impulse * dot(state.velocity[p], normal);
+  }
+  state.contact_work += work;
+}
+
 StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
   const std::size_t n = model_.particle_count();
@@ -486,7 +542,9 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   }
   assemble(h);
   if (coarse_dofs_ > 0) assemble_coarse();
+  hold_on_surfaces(state, h);
   last_iterations_ = solve();
+  if (release_pulled_particles()) last_iterations_ += solve();
   stats_.linear_iterations += static_cast<std::uint64_t>(last_iterations_);
   stats_.max_linear_iterations = std::max(stats_.max_linear_iterations, static_cast<std::uint64_t>(last_iterations_));
 
@@ -507,6 +565,7 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
     state.velocity[anchor.particle] = anchor.path.velocity_at(end_time);
   }
   state.time = end_time;
+  book_surface_impulses(state);
 
   // Work integrals with the end-of-step powers (backward Euler quadrature).
   const Powers powers = evaluate(state.time, state.position, state.velocity);

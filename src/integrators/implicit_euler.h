@@ -18,6 +18,19 @@
 // S = 0 on anchored particles and I elsewhere. (Their partially constrained directions, S = I -
 // p p^T, are not needed: an anchor fixes all three coordinates.)
 //
+// Particles resting on an obstacle (integrators/surface_contacts.h, filled by the collision
+// stage) are held on its surface the same way, along their contact normal n only: one whose
+// predicted end velocity v0 + h f0 / m moves into the surface has the normal part of its dv fixed,
+// so that it ends moving with the surface along n, and the filter S = I - n n^T removes that
+// direction from the solve (Baraff and Witkin's partially constrained particles, sec. 5.3). The
+// tangential directions stay free: the particle slides, and its neighbours respond to it being held
+// within the same solve. After the solve, the surface's impulse is n . (A dv - b); a surface cannot
+// pull, so particles with a negative impulse are let go and the system is solved once more. The
+// impulses are handed back to the obstacle pass, which turns them into Coulomb friction. Without
+// this, a particle pressed onto an obstacle moves into it within each step and is pushed back by
+// the projection after it, which stretches its springs (cotton at 1 ms steps stored up to 66 J of
+// connector energy that way in `pile`; docs/collisions.md).
+//
 // The matrix. A = M + h C + h^2 K is stored as a block-sparse matrix (CSR of 3x3 blocks) following
 // the lattice's particle adjacency: particle p couples to itself, its 4 connector neighbours, the
 // 4 diagonal neighbours through adjacent radial springs and the 4 particles two away through
@@ -82,6 +95,7 @@ class ImplicitEuler final : public Integrator {
   ImplicitEuler(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options);
   IntegratorKind kind() const override { return IntegratorKind::implicit_euler; }
   StepOutcome step(ClothState& state, double t_limit) override;
+  double end_velocity_share() const override { return 1.0; }  // x1 = x0 + h v1
 
   // Block-sparse structure of the system matrix, for tests: row p's blocks are
   // [row_offset()[p], row_offset()[p + 1]) with columns column()[k], ascending.
@@ -100,8 +114,22 @@ class ImplicitEuler final : public Integrator {
   Powers evaluate(double time, std::span<const Vec3> position, std::span<const Vec3> velocity);
   void compute_element_jacobians(const ClothState& state);
   void assemble(double h);
-  // Solves A dv = b over the free particles; returns the iterations taken.
+  // Solves A dv = b over the free particles, the held directions excluded; returns the iterations taken.
   int solve();
+  // Row p of A times `vector`.
+  Vec3 row_product(std::size_t p, const std::vector<Vec3>& vector) const;
+  // Surface contacts (integrators/surface_contacts.h): which particles the step holds on their
+  // surface, with the normal part of their dv set; after a solve, lets go of those the surface
+  // would have to pull (returns whether any); after the step, the impulses and their work.
+  void hold_on_surfaces(const ClothState& state, double h);
+  bool release_pulled_particles();
+  void book_surface_impulses(ClothState& state);
+  // v with the held normal of particle p removed (the filter S_p = I - n n^T); v where not held.
+  Vec3 held(std::size_t p, const Vec3& v) const {
+    if (!holding_) return v;
+    const Vec3& normal = held_normal_[p];
+    return v - dot(v, normal) * normal;
+  }
   // preconditioned_ = M^-1 residual_ (zero on anchored particles); returns residual . preconditioned.
   double precondition();
   // The coarse matrix P^T A P and its banded Cholesky factor; the coarse solve in place on coarse_vector_.
@@ -159,6 +187,10 @@ class ImplicitEuler final : public Integrator {
   std::vector<double> block_sum_b_;
   std::vector<double> block_sum_c_;
   int last_iterations_ = 0;
+
+  // Particles held on an obstacle's surface this step: their unit normal, zero where not held.
+  std::vector<Vec3> held_normal_;  // [particle_count()]
+  bool holding_ = false;           // some particle is held this step
 };
 
 }  // namespace clothsim

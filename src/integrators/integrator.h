@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "forces/forces.h"
+#include "integrators/surface_contacts.h"
 #include "model/cloth_model.h"
 
 namespace clothsim {
@@ -107,6 +108,15 @@ class Integrator {
   virtual std::vector<PhaseTime> phase_times() const { return {}; }
   // Bytes of scratch memory the integrator holds: stage arrays, force buffers, and so on.
   virtual std::size_t workspace_bytes() const { return 0; }
+  // The particles resting on obstacles, which the collision stage refreshes before each step: an
+  // integrator that can hold them on their surface within a step reads them and writes the
+  // impulses it needed (integrators/surface_contacts.h). Null (the default): none.
+  void set_surface_contacts(SurfaceContacts* contacts) {
+    surface_contacts_ = contacts;
+    if (contacts != nullptr) contacts->end_velocity_share = end_velocity_share();
+  }
+  // The weight of the step's end velocity in the position update (SurfaceContacts::end_velocity_share).
+  virtual double end_velocity_share() const { return 0.5; }
 
  protected:
   // Counts an accepted step of size h (s) in stats_.
@@ -119,6 +129,7 @@ class Integrator {
 
   IntegratorStats stats_;
   double force_seconds_ = 0.0;
+  SurfaceContacts* surface_contacts_ = nullptr;
 };
 
 std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const IntegratorSettings& settings,

@@ -33,6 +33,7 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   CLOTHSIM_ASSERT(state_.velocity.size() == model_->particle_count(), "state matches the model");
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
   integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_, settings.kernel});
+  integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
   initial_energy_ = energy().total() - (state_.damping_work + state_.drag_work + state_.anchor_work +
                                         state_.plastic_work + state_.fracture_work + state_.contact_work);
   check_state();
@@ -264,6 +265,7 @@ void Simulation::set_integrator(const IntegratorSettings& settings) {
 void Simulation::restart_integrator() {
   retired_stats_ = integrator_stats();
   integrator_ = make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
+  integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
 }
 
 void Simulation::hold_on_path(std::uint32_t particle, const AnchorPath& path) {

@@ -214,10 +214,10 @@ TEST(SelfCrossings, CornersBroughtTogetherCrossWithoutSelfCollision) {
 
 // The built-in pile, at its default 50 x 50, checked 30 times over its 3 s; its floor's height, m.
 constexpr int kPileChecks = 30;
-constexpr double kPileFloor = -0.55;
+constexpr double kPileFloor = -1.25;
 
 // Direction changes along z of lattice column `col` where it lies on the floor (within
-// `band` of it): each is a fold of the sheet, which is lowered along z onto the ground.
+// `band` of it): each is a fold of the sheet, whose folds lie along x (parallel to the rod).
 int folds_on_the_floor(const SceneSpec& spec, const ClothState& state, int col, double floor, double band) {
   int folds = 0;
   double previous_step = 0.0;
@@ -249,8 +249,9 @@ TEST(SelfCrossings, PileLandsFoldsAndCrossesWithoutSelfCollision) {
     low_z = std::min(low_z, x.z);
     high_z = std::max(high_z, x.z);
   }
+  // (Measured: 2.8 cm high, 0.69 m wide, 5 folds along every fifth column.)
   EXPECT_LT(highest, kPileFloor + 0.1);
-  EXPECT_LT(high_z - low_z, 0.7) << "of the sheet's 1 m";
+  EXPECT_LT(high_z - low_z, 0.8) << "of the sheet's 1 m";
   EXPECT_GE(folds_on_the_floor(spec, run.final_state, spec.lattice.cols / 2, kPileFloor, 0.05), 3);
 }
 
@@ -272,8 +273,10 @@ TEST(SelfCollision, PileNeverCrossesAndComesToRest) {
   for (std::size_t check = 0; check < run.crossings.size(); ++check) {
     EXPECT_EQ(run.crossings[check], 0u) << "check " << check + 1 << " of " << kPileChecks;
   }
-  // At rest in its folds, no jitter: the kinetic energy left is below 0.2 % of the ~0.6 J of
-  // potential energy the fall released (measured: 3.5e-4 J).
+  // On the ground, folded onto itself (measured: 3 folds along the middle column).
+  EXPECT_GE(folds_on_the_floor(spec, run.final_state, spec.lattice.cols / 2, kPileFloor, 0.05), 3);
+  // At rest in its folds, no jitter: the kinetic energy left is below 0.1 % of the ~1.6 J of
+  // potential energy the fall released (measured: 8e-6 J).
   const ClothModel model = build_model(spec);
   double kinetic = 0.0;
   for (std::size_t p = 0; p < model.particle_count(); ++p) {
