@@ -289,6 +289,10 @@ double ImplicitEuler::precondition() {
   })[0];
 }
 
+std::uint32_t ImplicitEuler::diagonal_block(std::size_t p) const {
+  return find_block(row_offset_, column_, static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(p));
+}
+
 Vec3 ImplicitEuler::row_product(std::size_t p, const std::vector<Vec3>& vector) const {
   Vec3 sum;
   for (std::uint32_t k = row_offset_[p]; k < row_offset_[p + 1]; ++k) sum += block_[k] * vector[column_[k]];
@@ -310,7 +314,10 @@ int ImplicitEuler::solve() {
           const Vec3 r = held(p, rhs_[p] - row_product(p, dv_));
           residual_[p] = r;
           sums[1] += squared_norm(r);
-          sums[2] += squared_norm(held(p, rhs_[p]));
+          // The target is relative to the whole right-hand side, held directions included: at
+          // rest on a floor the filtered one is nearly zero, and a target relative to it took 5 to
+          // 9 times the iterations for nothing.
+          sums[2] += squared_norm(rhs_[p]);
         }
         return sums;
       });
@@ -472,6 +479,13 @@ void ImplicitEuler::hold_on_surfaces(const ClothState& state, double h) {
     if (dot(predicted - surface_velocity, normal) >= 0.0) continue;
     held_normal_[p] = normal;
     holding_ = true;
+    // Block Jacobi on the two free directions: the inverse of S D S, completed by n n^T so that it
+    // is invertible (the filter removes n again).
+    // With D symmetric, S D S = D - n (D n)^T - (D n) n^T + (n . D n) n n^T.
+    const Mat3& diagonal = block_[diagonal_block(p)];
+    const Vec3 dn = diagonal * normal;
+    preconditioner_[p] = inverse(diagonal - outer(normal, dn) - outer(dn, normal) +
+                                 (dot(normal, dn) + 1.0) * outer(normal, normal));
     // The normal part of dv is known: the step ends moving with the surface along the normal.
     const Vec3 tangential = dv_[p] - dot(dv_[p], normal) * normal;
     dv_[p] = tangential + dot(surface_velocity - state.velocity[p], normal) * normal;

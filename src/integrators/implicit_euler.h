@@ -116,6 +116,8 @@ class ImplicitEuler final : public Integrator {
   void assemble(double h);
   // Solves A dv = b over the free particles, the held directions excluded; returns the iterations taken.
   int solve();
+  // The index of row p's diagonal block in block_.
+  std::uint32_t diagonal_block(std::size_t p) const;
   // Row p of A times `vector`.
   Vec3 row_product(std::size_t p, const std::vector<Vec3>& vector) const;
   // Surface contacts (integrators/surface_contacts.h): which particles the step holds on their

@@ -273,8 +273,12 @@ TEST(SelfCollision, PileNeverCrossesAndComesToRest) {
   for (std::size_t check = 0; check < run.crossings.size(); ++check) {
     EXPECT_EQ(run.crossings[check], 0u) << "check " << check + 1 << " of " << kPileChecks;
   }
-  // On the ground, folded onto itself (measured: 3 folds along the middle column).
-  EXPECT_GE(folds_on_the_floor(spec, run.final_state, spec.lattice.cols / 2, kPileFloor, 0.05), 3);
+  // On the ground, folded onto itself at least twice (three layers) all along the rod: at least 2
+  // folds along every tenth column (measured: 3 along each, in runs whose frames differ; where it
+  // lands is chaotic, so the count may change by one with the step sequence).
+  for (int col = spec.lattice.cols / 10; col < spec.lattice.cols; col += spec.lattice.cols / 5) {
+    EXPECT_GE(folds_on_the_floor(spec, run.final_state, col, kPileFloor, 0.05), 2) << "column " << col;
+  }
   // At rest in its folds, no jitter: the kinetic energy left is below 0.1 % of the ~1.6 J of
   // potential energy the fall released (measured: 8e-6 J).
   const ClothModel model = build_model(spec);
