@@ -22,8 +22,7 @@ CollisionCounts CollisionStage::apply(const ClothModel& model, ClothState& state
   CollisionCounts counts;
   if (!active_) return counts;
   counts.obstacles = obstacles_.apply(model, state, start_position_, start_time_, terms, threads);
-  counts.self = self_.apply(model, state, start_position_, state.time - start_time_,
-                            obstacles_.surface_contacts().end_velocity_share, terms, threads);
+  counts.self = self_.apply(model, state, start_position_, state.time - start_time_, terms, threads);
   return counts;
 }
 

@@ -38,7 +38,7 @@ struct ParticleContact {
 // the integrator's surface constraint made during the step (impulse / mass, m/s; zero if it did
 // not hold the particle on this collider): friction acts on it as on the speed removed here.
 void resolve(double mu, double thickness, double t0, double t1, const Collider& collider, const Vec3& start,
-             double held, double end_velocity_share, ParticleContact& particle) {
+             double held, ParticleContact& particle) {
   const double tolerance = shell_tolerance(thickness);
   const Vec3 x1 = particle.position;
   // The sweep runs in the collider's frame: the start point moves with the shape's translation
@@ -110,7 +110,7 @@ void resolve(double mu, double thickness, double t0, double t1, const Collider& 
   // friction deceleration acted through the step, so the slide shrinks by half the step times the
   // velocity friction removed (exact for constant deceleration). At rest on a slope below the
   // friction angle this undoes the step's slide exactly: no creep.
-  if (sustained) position = position + end_velocity_share * (t1 - t0) * friction_change;
+  if (sustained) position = position + 0.5 * (t1 - t0) * friction_change;
   particle.position = position;
   particle.velocity = velocity;
   particle.touched = true;
@@ -155,6 +155,8 @@ double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& s
           surface_.collider[p] = static_cast<std::uint32_t>(c);
           surface_.normal[p] = surface.normal;
           surface_.velocity[p] = surface.velocity;
+          const Collider& collider = model.colliders[c];
+          surface_.friction[p] = collider.friction >= 0.0 ? collider.friction : model.collision.friction;
         }
         continue;
       }
@@ -192,7 +194,7 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
       const double mu = collider.friction >= 0.0 ? collider.friction : model.collision.friction;
       const double held =
           surface_.collider[p] == c ? surface_.impulse[p] * model.particle_inverse_mass[p] : 0.0;  // m/s
-      resolve(mu, thickness, start_time, t1, collider, start[p], held, surface_.end_velocity_share, particle);
+      resolve(mu, thickness, start_time, t1, collider, start[p], held, particle);
     }
     if (!particle.touched) return;
     moved_[p] = 1;

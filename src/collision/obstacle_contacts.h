@@ -31,11 +31,10 @@
 //                length is reduced by mu dv_n, never below zero (Coulomb; mu is the collider's
 //                friction, or the scene's collision.friction when the collider's is negative).
 //   4. slide     for a particle in contact at x0, the friction acted through the whole step:
-//                its position moves by s h times the velocity change friction made, with s the
-//                integrator's weight of the end velocity in its position update (1/2 for
-//                Runge-Kutta, exact for a constant deceleration; 1 for symplectic and implicit
-//                Euler; integrators/surface_contacts.h), so a particle that friction holds does
-//                not creep down a slope (at rest it is back where it was, exactly).
+//                its position moves by h/2 times the velocity change friction made (exact for a
+//                constant deceleration), so a particle that friction holds does not creep down a
+//                slope (at rest it is back where it was, exactly). Implicit Euler holds such a
+//                particle in place within its step instead (sticking, below).
 // Energy: the stage changes positions and velocities, so it changes the sheet's energy by
 // E_after - E_before, booked as ClothState::contact_work. Only the moved particles' kinetic and
 // gravitational energy and the springs touching them change; those are summed (in particle and

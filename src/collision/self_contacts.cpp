@@ -369,8 +369,7 @@ void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const
   }
 }
 
-std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState& state, double step,
-                                            double end_velocity_share) {
+std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState& state, double step) {
   const double thickness = model.collision.thickness;
   const double mu = model.collision.friction;
   std::size_t pushed = 0;
@@ -394,8 +393,7 @@ std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState&
           remove_closing_velocity(pair, start.weight, inverse_mass_, effective, n, mu, state.velocity);
       // In contact through the whole step: friction acted all along it (obstacle pass, step 4).
       if (squared_norm(friction_change) > 0.0 && start.distance <= (1.0 + kSustainedSlack) * thickness) {
-        spread(pair, start.weight, inverse_mass_, effective, friction_change, end_velocity_share * step,
-               state.position);
+        spread(pair, start.weight, inverse_mass_, effective, friction_change, 0.5 * step, state.position);
       }
     }
     if (sweep == 0) pushed = pushed_this_sweep;
@@ -519,7 +517,7 @@ void SelfContacts::move_zones(const ClothModel& model, ClothState& state, std::s
 }
 
 SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
-                                      double step, double end_velocity_share, ForceTerms terms, int threads) {
+                                      double step, ForceTerms terms, int threads) {
   SelfContactCounts counts;
   if (!model.collision.self) return counts;
   const std::size_t n = model.particle_count();
@@ -531,7 +529,7 @@ SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state
 
   refresh_candidates(model, start, state.position, threads);
   detect_proximity(start, state.position, thickness, threads);
-  counts.contacts = resolve_proximity(model, state, step, end_velocity_share);
+  counts.contacts = resolve_proximity(model, state, step);
   if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);
 
   // Bookkeeping: the particles whose position or velocity the pass changed.

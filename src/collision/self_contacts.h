@@ -105,9 +105,8 @@ class SelfContacts {
  public:
   // After the step of length `step` from `start` [particle_count()]: stages 1 to 4 on `state`
   // (see the top of the file), the energy change booked in state.contact_work.
-  // `end_velocity_share` is the integrator's (integrators/surface_contacts.h).
   SelfContactCounts apply(const ClothModel& model, ClothState& state, std::span<const Vec3> start, double step,
-                          double end_velocity_share, ForceTerms terms, int threads);
+                          ForceTerms terms, int threads);
 
   // Stage 1 alone: the candidate pairs of elements at `start` -> `end` with boxes grown by
   // `margin`, in the pass's order (for tests; the pass keeps them in candidates()).
@@ -121,7 +120,7 @@ class SelfContacts {
   void prune_candidates(std::span<const Vec3> x, double reach, int threads);
   void select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
   void detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
-  std::size_t resolve_proximity(const ClothModel& model, ClothState& state, double step, double end_velocity_share);
+  std::size_t resolve_proximity(const ClothModel& model, ClothState& state, double step);
   bool resolve_impacts(const ClothModel& model, ClothState& state, std::span<const Vec3> start,
                        SelfContactCounts& counts, int threads);
   void move_zones(const ClothModel& model, ClothState& state, std::span<const Vec3> start, SelfContactCounts& counts,

@@ -41,6 +41,15 @@ std::array<double, 3> blocked_sums(std::size_t n, int threads, std::vector<doubl
   return total;
 }
 
+// S_p B S_q with S = I - n n^T (the identity where n is zero): the block of the held system,
+// B - n_p (B^T n_p)^T - (B n_q) n_q^T + (n_p . B n_q) n_p n_q^T.
+Mat3 held_block(const Mat3& b, const Vec3& np, const Vec3& nq) {
+  const Vec3 bt_np{b(0, 0) * np.x + b(1, 0) * np.y + b(2, 0) * np.z, b(0, 1) * np.x + b(1, 1) * np.y + b(2, 1) * np.z,
+                   b(0, 2) * np.x + b(1, 2) * np.y + b(2, 2) * np.z};
+  const Vec3 b_nq = b * nq;
+  return b - outer(np, bt_np) - outer(b_nq, nq) + dot(np, b_nq) * outer(np, nq);
+}
+
 std::uint32_t find_block(const std::vector<std::uint32_t>& row_offset, const std::vector<std::uint32_t>& column,
                          std::uint32_t row, std::uint32_t col) {
   const auto first = column.begin() + row_offset[row];
@@ -114,6 +123,8 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
        {&displacement_, &rhs_, &dv_, &residual_, &preconditioned_, &direction_, &product_, &held_normal_}) {
     vector->assign(n, Vec3{});
   }
+  hold_.assign(n, Hold::none);
+  slipped_.assign(n, 0);
   if (settings.cg_two_level && model.rows > 0 && model.cols > 0 &&
       static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == n) {
     // Aggregates of kAggregateSize x kAggregateSize particles, numbered row by row.
@@ -315,8 +326,8 @@ int ImplicitEuler::solve() {
           residual_[p] = r;
           sums[1] += squared_norm(r);
           // The target is relative to the whole right-hand side, held directions included: at
-          // rest on a floor the filtered one is nearly zero, and a target relative to it took 5 to
-          // 9 times the iterations for nothing.
+          // rest on a floor the filtered one is nearly zero, and a target relative to it would ask
+          // for a far smaller residual than the loads the step resolves.
           sums[2] += squared_norm(rhs_[p]);
         }
         return sums;
@@ -381,7 +392,11 @@ void ImplicitEuler::assemble_coarse() {
       if (!free_[q]) continue;
       const std::size_t column_aggregate = particle_aggregate_[q];
       if (column_aggregate > row_aggregate) continue;
-      const Mat3& block = block_[k];
+      Mat3 block = block_[k];
+      if (holding_) {
+        block = hold_[p] == Hold::all || hold_[q] == Hold::all ? Mat3{}
+                                                               : held_block(block, held_normal_[p], held_normal_[q]);
+      }
       for (int r = 0; r < 3; ++r) {
         const std::size_t i = 3 * row_aggregate + static_cast<std::size_t>(r);
         for (int c = 0; c < 3; ++c) {
@@ -464,67 +479,6 @@ void ImplicitEuler::solve_coarse() {
   }
 }
 
-void ImplicitEuler::hold_on_surfaces(const ClothState& state, double h) {
-  holding_ = false;
-  const SurfaceContacts* contacts = surface_contacts_;
-  if (contacts == nullptr || !contacts->any) return;
-  std::fill(held_normal_.begin(), held_normal_.end(), Vec3{});
-  const std::size_t n = model_.particle_count();
-  for (std::size_t p = 0; p < n; ++p) {
-    if (!free_[p] || contacts->collider[p] == SurfaceContacts::kNone) continue;
-    const Vec3& normal = contacts->normal[p];
-    const Vec3& surface_velocity = contacts->velocity[p];
-    // Held when the explicit prediction of the step's end velocity moves it into the surface.
-    const Vec3 predicted = state.velocity[p] + h * model_.particle_inverse_mass[p] * force_[p];
-    if (dot(predicted - surface_velocity, normal) >= 0.0) continue;
-    held_normal_[p] = normal;
-    holding_ = true;
-    // Block Jacobi on the two free directions: the inverse of S D S, completed by n n^T so that it
-    // is invertible (the filter removes n again).
-    // With D symmetric, S D S = D - n (D n)^T - (D n) n^T + (n . D n) n n^T.
-    const Mat3& diagonal = block_[diagonal_block(p)];
-    const Vec3 dn = diagonal * normal;
-    preconditioner_[p] = inverse(diagonal - outer(normal, dn) - outer(dn, normal) +
-                                 (dot(normal, dn) + 1.0) * outer(normal, normal));
-    // The normal part of dv is known: the step ends moving with the surface along the normal.
-    const Vec3 tangential = dv_[p] - dot(dv_[p], normal) * normal;
-    dv_[p] = tangential + dot(surface_velocity - state.velocity[p], normal) * normal;
-  }
-}
-
-bool ImplicitEuler::release_pulled_particles() {
-  if (!holding_) return false;
-  bool released = false;
-  const std::size_t n = model_.particle_count();
-  for (std::size_t p = 0; p < n; ++p) {
-    const Vec3 normal = held_normal_[p];
-    if (normal == Vec3{}) continue;
-    // The impulse the surface exerts, A dv - b along the normal: a surface cannot pull.
-    if (dot(normal, row_product(p, dv_) - rhs_[p]) < 0.0) {
-      held_normal_[p] = Vec3{};
-      released = true;
-    }
-  }
-  return released;
-}
-
-void ImplicitEuler::book_surface_impulses(ClothState& state) {
-  if (!holding_) return;
-  SurfaceContacts& contacts = *surface_contacts_;
-  const std::size_t n = model_.particle_count();
-  double work = 0.0;
-  for (std::size_t p = 0; p < n; ++p) {
-    const Vec3 normal = held_normal_[p];
-    if (normal == Vec3{}) continue;
-    const double impulse = std::max(0.0, dot(normal, row_product(p, dv_) - rhs_[p]));  // N s
-    contacts.impulse[p] = impulse;
-    // Its work, with the end-of-step velocity like the other work integrals: zero on a surface at
-    // rest, where the particle ends with no normal velocity.
-    work += impulse * dot(state.velocity[p], normal);
-  }
-  state.contact_work += work;
-}
-
 StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
   const std::size_t n = model_.particle_count();
@@ -555,10 +509,10 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
     dv_[p] = anchor.path.velocity_at(end_time) - state.velocity[p];
   }
   assemble(h);
-  if (coarse_dofs_ > 0) assemble_coarse();
   hold_on_surfaces(state, h);
+  if (coarse_dofs_ > 0) assemble_coarse();
   last_iterations_ = solve();
-  if (release_pulled_particles()) last_iterations_ += solve();
+  if (release_held_particles()) last_iterations_ += solve();
   stats_.linear_iterations += static_cast<std::uint64_t>(last_iterations_);
   stats_.max_linear_iterations = std::max(stats_.max_linear_iterations, static_cast<std::uint64_t>(last_iterations_));
 

@@ -19,17 +19,25 @@
 // p p^T, are not needed: an anchor fixes all three coordinates.)
 //
 // Particles resting on an obstacle (integrators/surface_contacts.h, filled by the collision
-// stage) are held on its surface the same way, along their contact normal n only: one whose
-// predicted end velocity v0 + h f0 / m moves into the surface has the normal part of its dv fixed,
-// so that it ends moving with the surface along n, and the filter S = I - n n^T removes that
-// direction from the solve (Baraff and Witkin's partially constrained particles, sec. 5.3). The
-// tangential directions stay free: the particle slides, and its neighbours respond to it being held
-// within the same solve. After the solve, the surface's impulse is n . (A dv - b); a surface cannot
-// pull, so particles with a negative impulse are let go and the system is solved once more. The
-// impulses are handed back to the obstacle pass, which turns them into Coulomb friction. Without
-// this, a particle pressed onto an obstacle moves into it within each step and is pushed back by
-// the projection after it, which stretches its springs (cotton at 1 ms steps stored up to 66 J of
-// connector energy that way in `pile`; docs/collisions.md).
+// stage) are held on its surface the same way (Baraff and Witkin's constrained particles, sec.
+// 5.3; implicit_euler_contacts.cpp). One whose predicted end velocity v0 + h f0 / m moves into the
+// surface is held:
+//   sliding   along its contact normal n only: the normal part of its dv is fixed, so that it ends
+//             moving with the surface along n, and the filter S = I - n n^T removes that direction
+//             from the solve; the tangential directions stay free;
+//   stuck     in all three directions (S = 0, it ends moving with the surface), when friction can
+//             stop its slide and hold it against the tangential force within the step:
+//             |m v_t / h + f_t| <= mu |f_n| (Coulomb's static friction).
+// Its neighbours respond to it being held within the same solve. After the solve, the surface's
+// impulse on it is A dv - b: a surface cannot pull, so particles with a negative normal impulse
+// are let go and the system is solved once more (the preconditioner keeps the first set: its
+// Jacobi blocks and its coarse matrix, P^T S A S P, are those of the system with the first set
+// held); a stuck particle that needed more than mu times its normal impulse slides from the next
+// step on (solving again for it took a second solve in most steps of a sheet on a table). The
+// normal impulses are handed back to the obstacle pass, which turns them into Coulomb friction for
+// the sliding particles. Without this, a particle pressed onto an obstacle moves into it within
+// each step and is pushed back by the projection after it, which stretches its springs (cotton at
+// 1 ms steps stored up to 66 J of connector energy that way in `pile`; docs/collisions.md).
 //
 // The matrix. A = M + h C + h^2 K is stored as a block-sparse matrix (CSR of 3x3 blocks) following
 // the lattice's particle adjacency: particle p couples to itself, its 4 connector neighbours, the
@@ -95,7 +103,6 @@ class ImplicitEuler final : public Integrator {
   ImplicitEuler(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options);
   IntegratorKind kind() const override { return IntegratorKind::implicit_euler; }
   StepOutcome step(ClothState& state, double t_limit) override;
-  double end_velocity_share() const override { return 1.0; }  // x1 = x0 + h v1
 
   // Block-sparse structure of the system matrix, for tests: row p's blocks are
   // [row_offset()[p], row_offset()[p + 1]) with columns column()[k], ascending.
@@ -123,12 +130,17 @@ class ImplicitEuler final : public Integrator {
   // Surface contacts (integrators/surface_contacts.h): which particles the step holds on their
   // surface, with the normal part of their dv set; after a solve, lets go of those the surface
   // would have to pull (returns whether any); after the step, the impulses and their work.
+  // (implicit_euler_contacts.cpp)
+  enum class Hold : std::uint8_t { none, normal, all };
   void hold_on_surfaces(const ClothState& state, double h);
-  bool release_pulled_particles();
+  bool release_held_particles();
   void book_surface_impulses(ClothState& state);
-  // v with the held normal of particle p removed (the filter S_p = I - n n^T); v where not held.
+  void set_hold(std::size_t p, Hold hold, const Vec3& normal);
+  // v with the held directions of particle p removed (the filter S_p: I - n n^T held along the
+  // normal, 0 stuck); v where not held.
   Vec3 held(std::size_t p, const Vec3& v) const {
     if (!holding_) return v;
+    if (hold_[p] == Hold::all) return Vec3{};
     const Vec3& normal = held_normal_[p];
     return v - dot(v, normal) * normal;
   }
@@ -190,7 +202,9 @@ class ImplicitEuler final : public Integrator {
   std::vector<double> block_sum_c_;
   int last_iterations_ = 0;
 
-  // Particles held on an obstacle's surface this step: their unit normal, zero where not held.
+  // Particles held on an obstacle's surface this step: how, and their unit normal (zero where not held).
+  std::vector<Hold> hold_;         // [particle_count()]
+  std::vector<std::uint8_t> slipped_;  // [particle_count()] 1: held stuck by more than Coulomb's friction last step
   std::vector<Vec3> held_normal_;  // [particle_count()]
   bool holding_ = false;           // some particle is held this step
 };

@@ -111,12 +111,7 @@ class Integrator {
   // The particles resting on obstacles, which the collision stage refreshes before each step: an
   // integrator that can hold them on their surface within a step reads them and writes the
   // impulses it needed (integrators/surface_contacts.h). Null (the default): none.
-  void set_surface_contacts(SurfaceContacts* contacts) {
-    surface_contacts_ = contacts;
-    if (contacts != nullptr) contacts->end_velocity_share = end_velocity_share();
-  }
-  // The weight of the step's end velocity in the position update (SurfaceContacts::end_velocity_share).
-  virtual double end_velocity_share() const { return 0.5; }
+  void set_surface_contacts(SurfaceContacts* contacts) { surface_contacts_ = contacts; }
 
  protected:
   // Counts an accepted step of size h (s) in stats_.

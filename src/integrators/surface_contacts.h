@@ -26,27 +26,23 @@ struct SurfaceContacts {
   std::vector<std::uint32_t> collider;  // [particles]
   std::vector<Vec3> normal;             // [particles] unit, out of the surface (valid where collider != kNone)
   std::vector<Vec3> velocity;           // [particles] m/s, the surface's velocity at the step's start
+  std::vector<double> friction;         // [particles] the Coulomb coefficient between them
   // Written by an integrator that holds particles on their surface: the normal impulse the surface
   // exerted on the particle over the step (N s, >= 0); zero where the particle was not held.
   std::vector<double> impulse;  // [particles]
   bool any = false;             // some particle has a collider
-  // How the integrator's position update weighs the step's end velocity: x1 - x0 = h ((1 - s) v0 +
-  // s v1) for a constant acceleration. 1/2 for the Runge-Kutta methods (exact there), 1 for
-  // symplectic and implicit Euler (x1 = x0 + h v1). The collision stage moves a particle that
-  // friction slowed over a whole step by s h times the velocity friction took, so that what it
-  // holds at rest does not creep, whichever the integrator.
-  double end_velocity_share = 0.5;
 
   void resize(std::size_t particles) {
     collider.assign(particles, kNone);
     normal.assign(particles, Vec3{});
     velocity.assign(particles, Vec3{});
+    friction.assign(particles, 0.0);
     impulse.assign(particles, 0.0);
     any = false;
   }
   std::size_t bytes() const {
     return collider.capacity() * sizeof(std::uint32_t) + (normal.capacity() + velocity.capacity()) * sizeof(Vec3) +
-           impulse.capacity() * sizeof(double);
+           (friction.capacity() + impulse.capacity()) * sizeof(double);
   }
 };
 

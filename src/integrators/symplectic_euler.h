@@ -13,7 +13,6 @@ class SymplecticEuler final : public Integrator {
   SymplecticEuler(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options);
   IntegratorKind kind() const override { return IntegratorKind::symplectic_euler; }
   StepOutcome step(ClothState& state, double t_limit) override;
-  double end_velocity_share() const override { return 1.0; }  // x1 = x0 + h v1
   std::vector<PhaseTime> phase_times() const override { return {{"solution update", update_seconds_}}; }
   std::size_t workspace_bytes() const override { return dynamics_.bytes() + rate_.bytes(); }
 
