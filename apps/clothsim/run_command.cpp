@@ -15,11 +15,15 @@
 #include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <iomanip>
+#include <iostream>
+#include <sstream>
 
 #include "commands.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "forces/forces.h"
+#include "integrators/stable_step.h"
 #include "io/run_writer.h"
 #include "progress_bar.h"
 #include "run_render.h"
@@ -166,6 +170,19 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
   std::fflush(stdout);
 }
 
+// Warns when a fixed-step explicit method's step exceeds the stable step estimated from the
+// stiffest springs (integrators/stable_step.h).
+void warn_about_stability(const ClothModel& model, const IntegratorSettings& integrator) {
+  const StableStep stable = estimate_stable_step(model, integrator.kind);
+  if (!(integrator.time_step > stable.step)) return;
+  std::ostringstream estimate;
+  estimate << std::setprecision(3) << stable.step;
+  std::cerr << "clothsim: warning: integrator.time_step = " << format_number(integrator.time_step) << " s is above "
+            << to_string(integrator.kind) << "'s estimated stable step, " << estimate.str()
+            << " s (the stiffest springs are at " << model.describe_particle(stable.particle)
+            << "); the run may blow up. A smaller --time-step, or --integrator rkf45 or implicit-euler, avoids it.\n";
+}
+
 int run(const RunOptions& options, const Invocation& invocation) {
   // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
   //    anything exists on disk.
@@ -178,6 +195,9 @@ int run(const RunOptions& options, const Invocation& invocation) {
   // The OpenGL context and ffmpeg are checked now, before the run: a machine that cannot make
   // pictures fails at once (exit 3, suggesting --render none), not after a long simulation.
   RunRecorder recorder(render_plan, model);
+
+  // A fixed step past the explicit methods' stability: warned, not refused (the estimate is a bound).
+  if (!options.quiet) warn_about_stability(model, spec.integrator);
 
   // 2. The run.
   SimulationSettings settings;

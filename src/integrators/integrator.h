@@ -50,6 +50,9 @@ struct IntegratorSettings {
   // Adds a coarse-grid correction to the Jacobi preconditioner: the system restricted to
   // aggregates of 4 x 4 particles, solved exactly (two-level additive preconditioner).
   bool cg_two_level = true;
+  // The blow-up check (sim/simulation.h): a run whose energy balance gains more than this fraction
+  // of its energy scale stops as failed.
+  double energy_error_limit = 10.0;  // dimensionless
 };
 
 // Counters for one run, reported in summary.json.

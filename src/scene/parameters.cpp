@@ -154,6 +154,11 @@ constexpr std::array kScalarParameters = {
                     "implicit Euler: most conjugate-gradient iterations per step",
                     [](const SceneSpec& s) { return double(s.integrator.cg_max_iterations); },
                     [](SceneSpec& s, double v) { s.integrator.cg_max_iterations = static_cast<int>(v); }},
+    ScalarParameter{"integrator.energy_error_limit", ParameterType::real, "", closed_range(1e-6, 1e6),
+                    "a run whose energy balance error gains more than this fraction of its energy scale stops as "
+                    "failed (blown up)",
+                    [](const SceneSpec& s) { return s.integrator.energy_error_limit; },
+                    [](SceneSpec& s, double v) { s.integrator.energy_error_limit = v; }},
     ScalarParameter{"integrator.cg_two_level", ParameterType::boolean, "", closed_range(0.0, 1.0),
                     "implicit Euler: add a coarse-grid correction (4 x 4 aggregates) to the Jacobi preconditioner",
                     [](const SceneSpec& s) { return s.integrator.cg_two_level ? 1.0 : 0.0; },

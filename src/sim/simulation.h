@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <array>
 #include <span>
 #include <string>
 #include <vector>
@@ -201,6 +202,8 @@ class Simulation {
 
  private:
   void check_state();
+  // The blow-up check on the energy balance, after advance_to()'s steps; false once failed.
+  bool check_energy_balance();
   void fail(std::string element, std::string message);
   // The next anchor event after the current time (a moving driven anchor arriving, an anchor's
   // release time), or +infinity.
@@ -230,6 +233,12 @@ class Simulation {
   std::unique_ptr<Integrator> integrator_;
   IntegratorStats retired_stats_;  // summed over integrators replaced by set_integrator()
   double initial_energy_ = 0.0;
+  // The blow-up check: the energies at the start, and the largest energy scale seen (J).
+  EnergyReport initial_report_;
+  double energy_scale_ = 0.0;
+  double released_ = 0.0;                // J, the largest change of gravitational energy so far
+  double moved_work_ = 0.0;              // J, the work integrals' changes summed in magnitude over checks
+  std::array<double, 5> last_works_{};   // anchor, contact, edit, plastic, fracture work at the last check
   double edit_work_ = 0.0;  // J, see EnergyBalance::edit_work
   StepProfile profile_;
   SpringEvents spring_events_;

@@ -59,7 +59,7 @@ TEST(Session, ScriptedRunsAreReproducible) {
   const Script script = parse_script(R"({"events": [
       {"at": 0.1, "drag": {"row": 4, "col": 2, "to": [0, 2, 3], "duration": 0.3}},
       {"at": 0.2, "pin": {"row": 0, "col": 0}},
-      {"at": 0.3, "set": {"springs.adjacent.stiffness": 40, "integrator.method": "rk4", "integrator.time_step": 0.001}},
+      {"at": 0.3, "set": {"springs.adjacent.stiffness": 40, "integrator.method": "rk4", "integrator.time_step": 0.0002}},
       {"at": 0.5, "release": {"row": 4, "col": 2}}]})",
                                      "run.json");
   const auto run = [&script] {
