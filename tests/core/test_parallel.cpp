@@ -1,6 +1,7 @@
 // Thread-count resolution and parallel_for: every index visited exactly once for any thread count.
 #include <gtest/gtest.h>
 
+
 #include <atomic>
 #include <vector>
 
@@ -16,6 +17,9 @@ TEST(Parallel, ExplicitThreadCountsAreKept) {
 
 TEST(Parallel, ChosenCountIsOneForSmallProblemsAndAtMostTheHardwareOtherwise) {
   EXPECT_EQ(resolve_thread_count(0, 100, 4096), 1);
+  // Above the threshold it takes the idle threads it is given (so a chooser stuck at 1 fails here).
+  EXPECT_EQ(resolve_thread_count(0, 1'000'000, 4096, 2), 2);
+  EXPECT_EQ(resolve_thread_count(0, 4096, 4096, 2), 2);
   const int chosen = resolve_thread_count(0, 1'000'000, 4096);
   EXPECT_GE(chosen, 1);
   EXPECT_LE(chosen, hardware_thread_count());
