@@ -33,7 +33,7 @@ mutations=(
   "src/events/spring_events.cpp@  break_connector(model, connector, state.time);@  (void)connector;@Tearing|ChangingScenes|EventRuns@a connector past its limit not broken"
   "src/events/spring_events.cpp@      set_connector_rest_length(model, connector, new_rest);@      (void)new_rest;@PermanentStretching|ChangingScenes|EventRuns@a yielded connector keeps its rest length"
   "src/collision/obstacle_contacts.cpp@Vec3 position = contact_point + std::max(0.0, thickness - contact.distance) * n;@Vec3 position = contact_point;@ObstacleContacts@obstacle contacts not pushed out to the thickness"
-  "src/collision/self_contacts.cpp@if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);@(void)counts;@SelfCollision.CornersBroughtTogetherNeverCross@self-collision without its impact stages"
+  "src/collision/self_contacts.cpp@if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);@(void)counts;@SelfContacts|SelfCollision.CornersBroughtTogetherNeverCross@self-collision without its impact stages"
 )
 
 echo "scratch clone: $copy"

@@ -40,7 +40,7 @@ class CollisionStage {
   CollisionCounts apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads);
   std::size_t bytes() const;
   // Particles resting on a collider at the step's start, for an integrator to hold on its surface
-  // (integrators/surface_contacts.h); refreshed by begin_step().
+  // (model/surface_contacts.h); refreshed by begin_step().
   SurfaceContacts& surface_contacts() { return obstacles_.surface_contacts(); }
 
  private:

@@ -149,7 +149,7 @@ double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& s
       // it where it ends, without a sweep. (After this pass every particle is at the thickness with
       // no approach; one within it and approaching was pressed there by the self-collision pass,
       // which runs after this one, and limiting the step for it halved the steps of `pile`.) An
-      // integrator may hold it on the surface during the step (integrators/surface_contacts.h).
+      // integrator may hold it on the surface during the step (model/surface_contacts.h).
       if (surface.distance <= thickness + tolerance) {
         if (surface_.collider[p] == SurfaceContacts::kNone) {
           surface_.collider[p] = static_cast<std::uint32_t>(c);

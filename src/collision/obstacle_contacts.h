@@ -44,7 +44,7 @@
 // stage therefore limits the next step so that an approaching particle reaches at most a tenth of
 // the thickness inside the shell (begin_step()); the integrator's own step control does the rest.
 // Resting particles: begin_step() also lists the particles within a collider's shell at the step's
-// start (integrators/surface_contacts.h). Implicit Euler holds them on the surface within its step
+// start (model/surface_contacts.h). Implicit Euler holds them on the surface within its step
 // and hands back the normal impulse that took, which step 3 adds to the speed it removed when it
 // sizes the friction (Coulomb on the whole normal impulse of the step).
 // Limit: with the explicit integrators, a particle pressed onto an obstacle by a load dips into it
@@ -66,7 +66,7 @@
 #include "collision/contact_energy.h"
 #include "core/vec3.h"
 #include "forces/forces.h"
-#include "integrators/surface_contacts.h"
+#include "model/surface_contacts.h"
 #include "model/cloth_model.h"
 
 namespace clothsim {

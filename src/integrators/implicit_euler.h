@@ -18,7 +18,7 @@
 // S = 0 on anchored particles and I elsewhere. (Their partially constrained directions, S = I -
 // p p^T, are not needed: an anchor fixes all three coordinates.)
 //
-// Particles resting on an obstacle (integrators/surface_contacts.h, filled by the collision
+// Particles resting on an obstacle (model/surface_contacts.h, filled by the collision
 // stage) are held on its surface the same way (Baraff and Witkin's constrained particles, sec.
 // 5.3; implicit_euler_contacts.cpp). One whose predicted end velocity v0 + h f0 / m moves into the
 // surface is held:
@@ -127,7 +127,7 @@ class ImplicitEuler final : public Integrator {
   std::uint32_t diagonal_block(std::size_t p) const;
   // Row p of A times `vector`.
   Vec3 row_product(std::size_t p, const std::vector<Vec3>& vector) const;
-  // Surface contacts (integrators/surface_contacts.h): which particles the step holds on their
+  // Surface contacts (model/surface_contacts.h): which particles the step holds on their
   // surface, with the normal part of their dv set; after a solve, lets go of those the surface
   // would have to pull (returns whether any); after the step, the impulses and their work.
   // (implicit_euler_contacts.cpp)

@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "forces/forces.h"
-#include "integrators/surface_contacts.h"
+#include "model/surface_contacts.h"
 #include "model/cloth_model.h"
 
 namespace clothsim {
@@ -113,7 +113,7 @@ class Integrator {
   virtual std::size_t workspace_bytes() const { return 0; }
   // The particles resting on obstacles, which the collision stage refreshes before each step: an
   // integrator that can hold them on their surface within a step reads them and writes the
-  // impulses it needed (integrators/surface_contacts.h). Null (the default): none.
+  // impulses it needed (model/surface_contacts.h). Null (the default): none.
   void set_surface_contacts(SurfaceContacts* contacts) { surface_contacts_ = contacts; }
 
  protected:

@@ -315,7 +315,7 @@ TEST(ObstacleContacts, FastSphereDoesNotPassThroughParticles) {
 // A sheet resting on a plane inclined by `angle` (rad) about z, friction mu = 0.5; returns how
 // far its centre moved along the slope in `duration` s. Implicit Euler holds the resting sheet on
 // the plane within its steps, and the friction comes from the impulse that took
-// (integrators/surface_contacts.h); the explicit methods' comes from the projection's.
+// (model/surface_contacts.h); the explicit methods' comes from the projection's.
 double slide_on_slope(double angle, double duration, IntegratorKind kind = IntegratorKind::rkf45) {
   const Vec3 normal{-std::sin(angle), std::cos(angle), 0.0};
   Collider slope = plane({0.0, 0.0, 0.0}, normal);
