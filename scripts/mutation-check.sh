@@ -50,10 +50,11 @@ number=0
 for entry in "${mutations[@]}"; do
   IFS='@' read -r file original mutated tests description <<< "$entry"
   number=$((number + 1))
+  shown="${tests//|/\\|}"  # the regex in a Markdown table cell
   target="$copy/$file"
   count=$(grep -cF -- "$original" "$target" || true)
   if [[ "$count" != 1 ]]; then
-    echo "| $number | $description | \`$file\` | \`$tests\` | NOT APPLIED: the line occurs $count times |"
+    echo "| $number | $description | \`$file\` | \`$shown\` | NOT APPLIED: the line occurs $count times |"
     missed=$((missed + 1))
     continue
   fi
@@ -70,7 +71,7 @@ for entry in "${mutations[@]}"; do
     first=$(grep -m1 -oE '^\s+[0-9]+ - [^ ]+' "$scratch/mutation-$number.test.log" | sed -E 's/^\s+[0-9]+ - //')
     result="caught: $failed failed, e.g. \`$first\`"
   fi
-  echo "| $number | $description | \`$file\` | \`$tests\` | $result |"
+  echo "| $number | $description | \`$file\` | \`$shown\` | $result |"
   cp "$scratch/original" "$target"
 done
 cmake --build "$copy/build" > /dev/null 2>&1 || true
