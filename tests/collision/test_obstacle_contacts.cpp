@@ -183,8 +183,8 @@ TEST(ObstacleContacts, EveryIntegratorKeepsTheSheetOutside) {
   // The stage acts on accepted states, so it needs nothing from the integrator. A sheet on a
   // static box is a passive system: its energy never grows. (contact_work alone may: a fixed-step
   // method's damping, numerical or physical, of a supported particle's dip into the box within a
-  // step is booked back by the stage's projection, +137 J with RK4 and +19 J with implicit Euler
-  // here against -52 J with RKF45; docs/collisions.md.)
+  // step is booked back by the stage's projection, +137 J with RK4 here against -52 J with RKF45;
+  // implicit Euler, before it held resting particles, +19 J; docs/collisions.md.)
   for (IntegratorKind kind : all_integrator_kinds()) {
     SCOPED_TRACE(std::string(to_string(kind)));
     // The paper's own spacing (1 m) and steps the fixed-step methods are stable at without any
