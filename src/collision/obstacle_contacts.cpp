@@ -155,8 +155,7 @@ double ObstacleContacts::begin_step(const ClothModel& model, const ClothState& s
           surface_.collider[p] = static_cast<std::uint32_t>(c);
           surface_.normal[p] = surface.normal;
           surface_.velocity[p] = surface.velocity;
-          const Collider& collider = model.colliders[c];
-          surface_.friction[p] = collider.friction >= 0.0 ? collider.friction : model.collision.friction;
+          surface_.friction[p] = collider_friction(model.colliders[c], model.collision);
         }
         continue;
       }
@@ -191,7 +190,7 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
     ParticleContact particle{state.position[p], state.velocity[p], false};
     for (std::size_t c = 0; c < model.colliders.size(); ++c) {
       const Collider& collider = model.colliders[c];
-      const double mu = collider.friction >= 0.0 ? collider.friction : model.collision.friction;
+      const double mu = collider_friction(collider, model.collision);
       const double held =
           surface_.collider[p] == c ? surface_.impulse[p] * model.particle_inverse_mass[p] : 0.0;  // m/s
       resolve(mu, thickness, start_time, t1, collider, start[p], held, particle);

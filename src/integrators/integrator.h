@@ -15,8 +15,8 @@
 #include <vector>
 
 #include "forces/forces.h"
-#include "model/surface_contacts.h"
 #include "model/cloth_model.h"
+#include "model/surface_contacts.h"
 
 namespace clothsim {
 

@@ -94,6 +94,11 @@ struct CollisionSettings {
   double friction = 0.3;      // Coulomb coefficient of cloth on cloth, and of obstacles without their own
 };
 
+// The Coulomb coefficient between the sheet and `collider`: its own, or the scene's default.
+inline double collider_friction(const Collider& collider, const CollisionSettings& settings) {
+  return collider.friction >= 0.0 ? collider.friction : settings.friction;
+}
+
 // The largest collision.thickness self-collision allows on a lattice of connector rest length
 // `spacing` (exclusive): half of it. On the flat lattice the nearest pieces of sheet that share no
 // particle are spacing / sqrt(2) apart (a particle and the diagonal of the quad beyond it), and a

@@ -34,10 +34,10 @@
 // the edit, and a viewer's energy plot would jump.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
-#include <array>
 #include <span>
 #include <string>
 #include <vector>
