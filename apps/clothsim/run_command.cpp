@@ -18,15 +18,22 @@
 #include <iomanip>
 #include <iostream>
 #include <sstream>
+#include <vector>
+
+#include <nlohmann/json.hpp>
 
 #include "commands.h"
 #include "core/error.h"
 #include "core/timer.h"
 #include "forces/forces.h"
 #include "integrators/stable_step.h"
+#include "io/checkpoint.h"
+#include "io/npy.h"
+#include "io/run_checkpoints.h"
 #include "io/run_writer.h"
 #include "progress_bar.h"
 #include "run_render.h"
+#include "run_resume.h"
 #include "scene_options.h"
 #include "scene/parameters.h"
 #include "sim/profile.h"
@@ -64,6 +71,7 @@ class InterruptGuard {
 struct RunOptions {
   SceneOptions scene;  // SCENE or --paper-args, --set and the field flags (scene_options.h)
   std::string out;
+  std::string resume;  // --resume PATH
   bool until_rest = false;
   bool quiet = false;
   bool no_progress = false;
@@ -183,44 +191,62 @@ void warn_about_stability(const ClothModel& model, const IntegratorSettings& int
             << "); the run may blow up. A smaller --time-step, or --integrator rkf45 or implicit-euler, avoids it.\n";
 }
 
-int run(const RunOptions& options, const Invocation& invocation) {
-  // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
-  //    anything exists on disk.
-  const SceneSpec spec = make_run_scene(options);
-  ClothModel model = build_model(spec);
-  ClothState initial = build_initial_state(model, spec);
-  const std::string out = options.given("--out") ? options.out : default_output_folder(spec);
-  RunWriter writer(out, RunInfo{CLOTHSIM_VERSION, invocation.command_line});
-  const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
-  // The OpenGL context and ffmpeg are checked now, before the run: a machine that cannot make
-  // pictures fails at once (exit 3, suggesting --render none), not after a long simulation.
-  RunRecorder recorder(render_plan, model);
+// The frame loop's checkpoints (io/run_checkpoints.h): after the first frame at least
+// output.checkpoint_every after the previous one (or the run's start), and after the last frame of
+// an interrupted run, so that it resumes where it stopped.
+class Checkpointer {
+ public:
+  Checkpointer(const SceneSpec& spec, RunCheckpoint& run, const Stopwatch& wall)
+      : every_(spec.output.checkpoint_every), run_(run), wall_(wall), wall_before_(run.wall_seconds) {
+    // A resumed run's last checkpoint was at its first frame's predecessor.
+    last_time_ = static_cast<double>(run.writer.frames > 0 ? run.writer.frames - 1 : 0) / spec.output.fps;
+  }
+  bool enabled() const { return every_ > 0.0; }
+  // After a frame at `time`: a checkpoint when one is due.
+  void after_frame(RunWriter& writer, Simulation& simulation, double time) {
+    // The relative margin keeps a frame that lands on the interval by rounding from waiting a frame.
+    if (enabled() && time - last_time_ >= every_ * (1.0 - 1e-9)) write(writer, simulation);
+  }
+  // Before an early end: a checkpoint of the last frame, unless it has one.
+  void before_end(RunWriter& writer, Simulation& simulation) {
+    if (enabled() && written_frames_ != writer.frames() && !simulation.failure()) write(writer, simulation);
+  }
 
-  // A fixed step past the explicit methods' stability: warned, not refused (the estimate is a bound).
-  if (!options.quiet) warn_about_stability(model, spec.integrator);
+ private:
+  void write(RunWriter& writer, Simulation& simulation) {
+    run_.writer = writer.flush();
+    run_.wall_seconds = wall_before_ + wall_.seconds();
+    try {
+      write_run_checkpoint(writer.partial(), run_, simulation);
+    } catch (const std::exception& error) {
+      throw OutputError(std::string("cannot write a checkpoint: ") + error.what());
+    }
+    last_time_ = simulation.state().time;
+    written_frames_ = writer.frames();
+  }
 
-  // 2. The run.
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = spec.threads;
-  const Stopwatch wall;
-  Simulation simulation(std::move(model), std::move(initial), settings);
+  double every_;
+  RunCheckpoint& run_;
+  const Stopwatch& wall_;
+  double wall_before_;
+  double last_time_ = 0.0;
+  std::size_t written_frames_ = 0;
+};
+
+// The frames from run.writer.frames (1 for a new run: frame 0 is written) to the end, each written
+// as it comes, with checkpoints. Returns how the run ended.
+RunStatus simulate_frames(const SceneSpec& spec, const RunOptions& options, Simulation& simulation,
+                          RunWriter& writer, RunRecorder& recorder, RunCheckpoint& run, const Stopwatch& wall) {
   const InterruptGuard interrupt;
-  writer.begin(spec, simulation);
-  writer.write_frame(simulation);
-  // Pictures go into the partial folder too, so they appear (or not) with everything else.
-  recorder.begin(writer.partial(), spec.output.fps);
-  recorder.frame(simulation.model(), simulation.state().position, simulation.state().time);
-
+  Checkpointer checkpointer(spec, run, wall);
   const int fps = spec.output.fps;
   const auto last_frame = static_cast<std::uint64_t>(std::llround(spec.output.duration * fps));
   ProgressBar progress(!options.quiet && !options.no_progress, static_cast<double>(last_frame) / fps);
   RunStatus status = RunStatus::completed;
   // --until-rest: frames in a row whose kinetic energy is below the threshold, and how many make
   // rest_duration (the first such frame and the one rest_duration later, and all between).
-  std::uint64_t quiet_frames = 0;
   const auto rest_frames = static_cast<std::uint64_t>(std::llround(spec.output.rest_duration * fps)) + 1;
-  for (std::uint64_t frame = 1; frame <= last_frame; ++frame) {
+  for (std::uint64_t frame = run.writer.frames; frame <= last_frame; ++frame) {
     if (interrupt.interrupted()) {
       status = RunStatus::interrupted;
       break;
@@ -235,24 +261,31 @@ int run(const RunOptions& options, const Invocation& invocation) {
     if (spec.output.until_rest) {
       const bool quiet =
           kinetic_energy(simulation.model(), simulation.state().velocity) < spec.output.rest_kinetic_energy;
-      quiet_frames = quiet ? quiet_frames + 1 : 0;
-      if (quiet_frames >= rest_frames) {
+      run.quiet_frames = quiet ? run.quiet_frames + 1 : 0;
+      if (run.quiet_frames >= rest_frames) {
         status = RunStatus::at_rest;
         break;
       }
     }
+    checkpointer.after_frame(writer, simulation, simulation.state().time);
   }
+  if (status == RunStatus::interrupted) checkpointer.before_end(writer, simulation);
   progress.clear();
-  const double wall_seconds = wall.seconds();
+  return status;
+}
+
+// The end of a run, new or resumed: the pictures and the folder finished, the summary printed;
+// returns the exit code.
+int finish_run(const SceneSpec& spec, const RunOptions& options, const RenderPlan& render_plan, Simulation& simulation,
+               RunWriter& writer, RunRecorder& recorder, RunStatus status, double wall_seconds) {
   recorder.finish(writer);
   writer.finish(simulation, status, wall_seconds);
 
-  // 3. Report.
   if (!options.quiet) {
     print_summary(spec, simulation, writer, status, wall_seconds);
     if (recorder.active()) {
       std::printf("pictures     %s: %ld frames in %s (%.3g ms per frame); %s\n",
-                  describe_render_outputs(*render_plan).c_str(), recorder.frames(),
+                  describe_render_outputs(render_plan).c_str(), recorder.frames(),
                   format_duration(recorder.seconds()).c_str(),
                   recorder.frames() > 0 ? 1e3 * recorder.seconds() / static_cast<double>(recorder.frames()) : 0.0,
                   recorder.description().c_str());
@@ -276,11 +309,175 @@ int run(const RunOptions& options, const Invocation& invocation) {
     return kExitSimulationFailed;
   }
   if (status == RunStatus::interrupted) {
-    std::fprintf(stderr, "clothsim: interrupted at t = %s s; %zu frames kept in %s (status \"interrupted\")\n",
-                 format_number_short(writer.last_time()).c_str(), writer.frames(), writer.out().c_str());
+    std::fprintf(stderr, "clothsim: interrupted at t = %s s; %zu frames kept in %s (status \"interrupted\")%s\n",
+                 format_number_short(writer.last_time()).c_str(), writer.frames(), writer.out().c_str(),
+                 spec.output.checkpoint_every > 0.0
+                     ? ("; continue it with: clothsim run --resume " + writer.out().string()).c_str()
+                     : "");
     return kExitInterrupted;
   }
   return kExitSuccess;
+}
+
+// The picture flags as a checkpoint keeps them (RunCheckpoint::options), and back.
+std::string render_flags_json(const RenderFlags& flags) {
+  return nlohmann::json{{"render", flags.render}, {"size", flags.size},       {"camera", flags.camera},
+                        {"mesh", flags.mesh},     {"show", flags.show},       {"samples", flags.samples}}
+      .dump();
+}
+
+// The stored flags, each replaced by the one given on the resuming command, if any.
+RenderFlags resumed_render_flags(const std::string& stored, const RunOptions& options) {
+  RenderFlags flags;
+  const nlohmann::json json = nlohmann::json::parse(stored, nullptr, /*allow_exceptions=*/false);
+  const auto take = [&](std::string& field, const char* key, std::string_view flag, const std::string& given) {
+    if (options.given(flag)) {
+      field = given;
+    } else if (json.is_object() && json.contains(key) && json[key].is_string()) {
+      field = json[key].get<std::string>();
+    }
+  };
+  take(flags.render, "render", "--render", options.render.render);
+  take(flags.size, "size", "--size", options.render.size);
+  take(flags.camera, "camera", "--camera", options.render.camera);
+  take(flags.mesh, "mesh", "--mesh", options.render.mesh);
+  take(flags.show, "show", "--show", options.render.show);
+  take(flags.samples, "samples", "--samples", options.render.samples);
+  return flags;
+}
+
+// Item 4 of the run's order: the partial folders earlier runs into the same folder left when they
+// died, reported at the start; a run that completes replaces them.
+void report_leftovers(const std::vector<LeftoverRun>& leftovers, const RunOptions& options) {
+  if (options.quiet) return;
+  for (const LeftoverRun& leftover : leftovers) {
+    std::fprintf(stderr, "clothsim: note: an earlier run (process %ld) died and left %s; ", static_cast<long>(leftover.pid),
+                 leftover.folder.c_str());
+    if (leftover.has_checkpoint) {
+      std::fprintf(stderr, "to continue it instead, stop this run and use: clothsim run --resume %s. ",
+                   leftover.folder.c_str());
+    }
+    std::fprintf(stderr, "It is deleted when this run completes.\n");
+  }
+}
+
+void remove_leftovers(const std::vector<LeftoverRun>& leftovers, const RunOptions& options) {
+  for (const LeftoverRun& leftover : leftovers) {
+    std::error_code error;
+    std::filesystem::remove_all(leftover.folder, error);
+    if (!options.quiet) {
+      std::fprintf(stderr, "clothsim: %s %s, left by the run that died\n", error ? "could not delete" : "deleted",
+                   leftover.folder.c_str());
+    }
+  }
+}
+
+int run(const RunOptions& options, const Invocation& invocation) {
+  // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
+  //    anything exists on disk.
+  const SceneSpec spec = make_run_scene(options);
+  ClothModel model = build_model(spec);
+  ClothState initial = build_initial_state(model, spec);
+  const std::string out = options.given("--out") ? options.out : default_output_folder(spec);
+  RunWriter writer(out, RunInfo{CLOTHSIM_VERSION, invocation.command_line});
+  const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
+  // The OpenGL context and ffmpeg are checked now, before the run: a machine that cannot make
+  // pictures fails at once (exit 3, suggesting --render none), not after a long simulation.
+  RunRecorder recorder(render_plan, model);
+
+  // A fixed step past the explicit methods' stability: warned, not refused (the estimate is a bound).
+  if (!options.quiet) warn_about_stability(model, spec.integrator);
+  const std::vector<LeftoverRun> leftovers = find_leftover_runs(writer.out());
+  report_leftovers(leftovers, options);
+
+  // 2. The run.
+  SimulationSettings settings;
+  settings.integrator = spec.integrator;
+  settings.threads = spec.threads;
+  const Stopwatch wall;
+  Simulation simulation(std::move(model), std::move(initial), settings);
+  writer.begin(spec, simulation);
+  writer.write_frame(simulation);
+  // Pictures go into the partial folder too, so they appear (or not) with everything else.
+  recorder.begin(writer.partial(), spec.output.fps);
+  recorder.frame(simulation.model(), simulation.state().position, simulation.state().time);
+  RunCheckpoint run;
+  run.writer.frames = 1;
+  run.command_line = invocation.command_line;
+  run.options = render_flags_json(options.render);
+  const RunStatus status = simulate_frames(spec, options, simulation, writer, recorder, run, wall);
+
+  // 3. Report.
+  const int exit_code = finish_run(spec, options, *render_plan, simulation, writer, recorder, status, wall.seconds());
+  if (status == RunStatus::completed || status == RunStatus::at_rest) remove_leftovers(leftovers, options);
+  return exit_code;
+}
+
+// --resume PATH: the run PATH names (run_resume.h) goes on from its newest good checkpoint.
+int resume(const RunOptions& options, const Invocation& invocation) {
+  // 1. Input: the run, its scene and checkpoint, the output folder. As for a new run, every
+  //    refusal comes before anything on disk changes.
+  const auto given = [&options](std::string_view flag) {
+    return options.scene.app->get_option_no_throw(std::string(flag)) != nullptr && options.given(flag);
+  };
+  for (std::string_view flag : {"SCENE", "--paper-args", "--set", "--material", "--out", "--until-rest"}) {
+    if (given(flag)) {
+      throw InputError("--resume", "", std::string("cannot be combined with ") + std::string(flag) +
+                                           ": a resumed run goes on with the scene and output folder it began with");
+    }
+  }
+  for (const FieldFlag& flag : kFieldFlags) {
+    if (given(flag.flag)) {
+      throw InputError("--resume", "", "cannot be combined with " + std::string(flag.flag) +
+                                           ": a resumed run goes on with the scene it began with (its scene.json)");
+    }
+  }
+  const ResumeTarget target = find_resume_target(options.resume);
+  const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
+  ClothModel model = build_model(spec);
+  ClothState initial = build_initial_state(model, spec);
+  SimulationSettings settings;
+  settings.integrator = spec.integrator;
+  settings.threads = spec.threads;
+  const Stopwatch wall;
+  Simulation simulation(std::move(model), std::move(initial), settings);
+  RunCheckpoint run;
+  std::filesystem::path used;
+  try {
+    used = load_run_checkpoint(target.checkpoints, simulation, run, [](const std::string& reason) {
+      std::fprintf(stderr, "clothsim: warning: skipping a damaged checkpoint: %s\n", reason.c_str());
+    });
+  } catch (const CheckpointError& error) {
+    throw InputError("--resume", "", error.what());
+  }
+  const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(resumed_render_flags(run.options, options));
+  RunWriter writer(target.out, RunInfo{CLOTHSIM_VERSION, run.command_line}, "--resume");
+  RunRecorder recorder(render_plan, simulation.model());
+  const int fps = spec.output.fps;
+  const auto last_frame = static_cast<std::uint64_t>(std::llround(spec.output.duration * fps));
+  if (!options.quiet) {
+    std::fprintf(stderr, "clothsim: resuming %s from %s: t = %s s, frame %llu of %llu\n", target.folder.c_str(),
+                 used.c_str(), format_number_short(simulation.state().time).c_str(),
+                 static_cast<unsigned long long>(run.writer.frames - 1), static_cast<unsigned long long>(last_frame));
+  }
+
+  // 2. The run, from the frame after the checkpoint's. The pictures are made again up to there,
+  //    from the frames on disk (the video is one stream).
+  writer.resume(target.folder, spec, simulation, run.writer, invocation.command_line);
+  recorder.begin(writer.partial(), fps);
+  if (recorder.active()) {
+    std::vector<Vec3> position(simulation.model().particle_count());
+    const std::string positions = (writer.partial() / RunWriter::kPositionsFile).string();
+    for (std::uint64_t frame = 0; frame < run.writer.frames; ++frame) {
+      read_npy_frame(positions, frame, position);
+      recorder.frame(simulation.model(), position, static_cast<double>(frame) / fps);
+    }
+  }
+  const double wall_before = run.wall_seconds;
+  const RunStatus status = simulate_frames(spec, options, simulation, writer, recorder, run, wall);
+
+  // 3. Report.
+  return finish_run(spec, options, *render_plan, simulation, writer, recorder, status, wall_before + wall.seconds());
 }
 
 std::string run_footer() {
@@ -327,10 +524,15 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   add_scene_options(*app, options->scene,
                     {{"--duration"}, {"--fps"}, {"--integrator"}, {"--rtol"}, {"--atol"}, {"--time-step"},
                      {"--gravity"}, {"--anchor"}, {"--threads"}, {"--rest-energy"}, {"--self-collision"},
-                     {"--thickness"}, {"--export"}});
+                     {"--thickness"}, {"--checkpoint-every"}, {"--export"}});
   app->add_flag("--until-rest", options->until_rest,
                 "stop once the kinetic energy has stayed below --rest-energy at every frame for "
                 "output.rest_duration (default 1 s); without --duration, run at most max(scene duration, 3600 s)");
+  app->add_option("--resume", options->resume,
+                  "continue a run from its newest checkpoint: PATH is its output folder (interrupted), the partial "
+                  "folder <out>.partial-<pid> a killed run left, or a checkpoint file in either; no scene or scene "
+                  "flags with it")
+      ->type_name("PATH");
   app->add_option("--out", options->out, "output folder (default out/<scene name>)")
       ->type_name("DIR")
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
@@ -340,7 +542,9 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
                 "print where the wall time went: forces, integration (stage sums, error control), checks, output");
   add_render_flags(*app, options->render);
   app->footer(run_footer());
-  return {app, [options, invocation] { return run(*options, invocation); }};
+  return {app, [options, invocation] {
+            return options->given("--resume") ? resume(*options, invocation) : run(*options, invocation);
+          }};
 }
 
 }  // namespace clothsim::cli

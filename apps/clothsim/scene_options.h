@@ -30,7 +30,7 @@ struct FieldFlag {
   std::string_view what;  // help text; the allowed range is appended from the registry
 };
 
-inline constexpr std::array<FieldFlag, 13> kFieldFlags = {{
+inline constexpr std::array<FieldFlag, 14> kFieldFlags = {{
     {"--duration", "output.duration", "SECONDS", "simulated time to run"},
     {"--fps", "output.fps", "N", "frames written per simulated second"},
     {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler or implicit-euler"},
@@ -44,6 +44,8 @@ inline constexpr std::array<FieldFlag, 13> kFieldFlags = {{
     // on|off rather than the registry's true|false: a switch reads better on the command line.
     {"--self-collision", "collision.self", "on|off", "self-collision: keep the sheet from passing through itself"},
     {"--thickness", "collision.thickness", "M", "collision thickness: distance kept from colliders (and the sheet), m"},
+    {"--checkpoint-every", "output.checkpoint_every", "SECONDS",
+     "write a checkpoint every this much simulated time, for --resume (0: none)"},
     {"--export", "output.export", "LIST",
      "files for other tools, comma-separated: pc2 (animation.pc2 and rest.obj), obj-sequence (frames/*.obj); none"},
 }};

@@ -372,4 +372,10 @@ StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
   }
 }
 
+void AdaptiveRungeKutta::transfer_state(StateArchive& archive) {
+  Integrator::transfer_state(archive);
+  archive.value("rkf45.proposed_step", proposed_step_);
+  archive.value("rkf45.previous_error", previous_error_);
+}
+
 }  // namespace clothsim

@@ -68,6 +68,8 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
   StepOutcome step(ClothState& state, double t_limit) override;
   // The step the controller will try next, s.
   double proposed_step() const { return proposed_step_; }
+  // The statistics, the next step and the controller's error history.
+  void transfer_state(StateArchive& archive) override;
 
  private:
   struct ErrorNorm {

@@ -545,4 +545,10 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   return {StepStatus::ok, h, 0, false};
 }
 
+void ImplicitEuler::transfer_state(StateArchive& archive) {
+  Integrator::transfer_state(archive);
+  archive.array("implicit_euler.dv", dv_);
+  archive.array("implicit_euler.slipped", slipped_);
+}
+
 }  // namespace clothsim

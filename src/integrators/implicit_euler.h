@@ -110,6 +110,9 @@ class ImplicitEuler final : public Integrator {
   const std::vector<std::uint32_t>& column() const { return column_; }
   // CG iterations of the last step.
   int last_iterations() const { return last_iterations_; }
+  // The statistics, the warm start of the next solve (the last step's velocity change) and which
+  // particles slipped on their surface in the last step.
+  void transfer_state(StateArchive& archive) override;
 
  private:
   struct Powers {

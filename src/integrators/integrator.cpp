@@ -1,5 +1,8 @@
 #include "integrators/integrator.h"
 
+#include <stdexcept>
+#include <string>
+
 #include <utility>
 
 #include "core/assert.h"
@@ -41,6 +44,24 @@ bool parse_integrator_kind(std::string_view text, IntegratorKind& kind) {
     }
   }
   return false;
+}
+
+void Integrator::transfer_state(StateArchive& archive) {
+  std::uint64_t kind_code = static_cast<std::uint64_t>(kind());
+  archive.value("integrator.kind", kind_code);
+  if (archive.loading() && kind_code != static_cast<std::uint64_t>(kind())) {
+    throw std::runtime_error("field 'integrator.kind' is " + std::to_string(kind_code) + ", not " +
+                             std::string(to_string(kind())) + "'s " + std::to_string(static_cast<int>(kind())));
+  }
+  archive.value("integrator.accepted_steps", stats_.accepted_steps);
+  archive.value("integrator.rejected_steps", stats_.rejected_steps);
+  archive.value("integrator.force_evaluations", stats_.force_evaluations);
+  archive.value("integrator.smallest_step", stats_.smallest_step);
+  archive.value("integrator.largest_step", stats_.largest_step);
+  archive.value("integrator.last_step", stats_.last_step);
+  archive.value("integrator.linear_iterations", stats_.linear_iterations);
+  archive.value("integrator.max_linear_iterations", stats_.max_linear_iterations);
+  archive.value("integrator.unconverged_solves", stats_.unconverged_solves);
 }
 
 std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const IntegratorSettings& settings,

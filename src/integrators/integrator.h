@@ -14,6 +14,7 @@
 #include <string_view>
 #include <vector>
 
+#include "core/state_archive.h"
 #include "forces/forces.h"
 #include "model/cloth_model.h"
 #include "model/surface_contacts.h"
@@ -115,6 +116,12 @@ class Integrator {
   // integrator that can hold them on their surface within a step reads them and writes the
   // impulses it needed (model/surface_contacts.h). Null (the default): none.
   void set_surface_contacts(SurfaceContacts* contacts) { surface_contacts_ = contacts; }
+  // Saves or restores what the next step depends on besides the state and the model, so that a
+  // restored integrator takes the steps the saved one would have (checkpoints, io/checkpoint.h):
+  // the statistics, and in the derived classes their controller state (RKF45's next step and
+  // error history, implicit Euler's warm start). Scratch that every step recomputes is not saved.
+  // Restoring requires an integrator of the same kind, made for the same model.
+  virtual void transfer_state(StateArchive& archive);
 
  protected:
   // Counts an accepted step of size h (s) in stats_.

@@ -272,6 +272,27 @@ NpyWriter::NpyWriter(std::string path, std::size_t items, std::size_t components
   }
 }
 
+NpyWriter::NpyWriter(std::string path, std::size_t items, std::size_t components, std::size_t frames)
+    : path_(std::move(path)), items_(items), components_(components), frames_(frames) {
+  const std::array<std::size_t, 3> widest = {std::numeric_limits<std::size_t>::max(), items_, components_};
+  header_bytes_ = make_header(widest).size();
+  if (header_bytes_ == 0) throw io_error(path_, "header too long", 0);
+  const std::uintmax_t keep = header_bytes_ + static_cast<std::uintmax_t>(frames) * items * components * sizeof(double);
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path_, error);
+  if (error) throw io_error(path_, "cannot reopen: " + error.message(), 0);
+  if (size < keep) {
+    throw io_error(path_, "holds " + std::to_string(size) + " bytes, fewer than the " + std::to_string(keep) + " of " +
+                              std::to_string(frames) + " frames", 0);
+  }
+  std::filesystem::resize_file(path_, keep, error);
+  if (error) throw io_error(path_, "cannot cut off the later frames: " + error.message(), 0);
+  file_ = std::fopen(path_.c_str(), "r+b");
+  if (file_ == nullptr) throw io_error(path_, "cannot reopen", errno);
+  std::setvbuf(file_, nullptr, _IOFBF, kWriteBufferBytes);
+  write_header();  // the frame count, and the position at the end
+}
+
 NpyWriter::~NpyWriter() {
   try {
     close();
@@ -405,15 +426,22 @@ void write_npy(const std::string& path, std::span<const std::int32_t> data, std:
   if (std::fclose(file.release()) != 0) throw io_error(path, "close failed", errno);
 }
 
-NpyArray read_npy(const std::string& path) {
-  FilePointer file(std::fopen(path.c_str(), "rb"));
-  if (file == nullptr) throw io_error(path, "cannot open file", errno);
+namespace {
 
+// A file's preamble and header dict, read and checked; the file is left at the data.
+struct ParsedHeader {
+  std::vector<std::size_t> shape;
+  std::string descr;         // "<f8" or "<i4"
+  std::size_t value_bytes = 0;
+  std::size_t data_offset = 0;  // bytes
+};
+
+ParsedHeader read_header(std::FILE* file, const std::string& path) {
   const auto read_exactly = [&](void* buffer, std::size_t bytes, const char* what) {
     errno = 0;
-    if (std::fread(buffer, 1, bytes, file.get()) != bytes) {
+    if (std::fread(buffer, 1, bytes, file) != bytes) {
       throw io_error(path, std::string("truncated .npy file: cannot read the ") + what,
-                     std::ferror(file.get()) != 0 ? errno : 0);
+                     std::ferror(file) != 0 ? errno : 0);
     }
   };
 
@@ -440,25 +468,44 @@ NpyArray read_npy(const std::string& path) {
   std::string header(header_length, '\0');
   read_exactly(header.data(), header_length, "header");
 
-  std::string descr;
+  ParsedHeader parsed;
   bool fortran_order = false;
-  NpyArray array;
-  HeaderParser(header, path).parse(descr, fortran_order, array.shape);
-  if (descr != "<f8" && descr != "<i4") {
+  HeaderParser(header, path).parse(parsed.descr, fortran_order, parsed.shape);
+  if (parsed.descr != "<f8" && parsed.descr != "<i4") {
     throw io_error(
         path,
-        "dtype '" + descr + "' is not supported: read_npy reads little-endian float64 ('<f8') and int32 ('<i4') only",
+        "dtype '" + parsed.descr + "' is not supported: read_npy reads little-endian float64 ('<f8') and int32 ('<i4') only",
         0);
   }
-  const std::size_t value_bytes = descr == "<f8" ? sizeof(double) : sizeof(std::int32_t);
+  parsed.value_bytes = parsed.descr == "<f8" ? sizeof(double) : sizeof(std::int32_t);
   if (fortran_order) throw io_error(path, "Fortran-order arrays are not supported (C order only)", 0);
+  parsed.data_offset = length_size + preamble.size() + header_length;
+  return parsed;
+}
+
+}  // namespace
+
+NpyArray read_npy(const std::string& path) {
+  FilePointer file(std::fopen(path.c_str(), "rb"));
+  if (file == nullptr) throw io_error(path, "cannot open file", errno);
+  const auto read_exactly = [&](void* buffer, std::size_t bytes, const char* what) {
+    errno = 0;
+    if (std::fread(buffer, 1, bytes, file.get()) != bytes) {
+      throw io_error(path, std::string("truncated .npy file: cannot read the ") + what,
+                     std::ferror(file.get()) != 0 ? errno : 0);
+    }
+  };
+  ParsedHeader header = read_header(file.get(), path);
+  NpyArray array;
+  array.shape = std::move(header.shape);
+  const std::size_t value_bytes = header.value_bytes;
+  const std::size_t data_offset = header.data_offset;
 
   std::size_t count = 0;
   if (!element_count(array.shape, count) || count > std::numeric_limits<std::size_t>::max() / sizeof(double)) {
     throw io_error(path, "shape " + shape_text(array.shape) + " is too large", 0);
   }
   // Check the size before allocating, so a corrupt shape gives a message, not std::bad_alloc.
-  const std::size_t data_offset = length_size + preamble.size() + header_length;
   std::error_code error;
   const std::uintmax_t file_bytes = std::filesystem::file_size(path, error);
   if (error) throw io_error(path, "cannot determine the file size: " + error.message(), 0);
@@ -478,6 +525,25 @@ NpyArray read_npy(const std::string& path) {
     std::copy(values.begin(), values.end(), array.data.begin());
   }
   return array;
+}
+
+void read_npy_frame(const std::string& path, std::size_t frame, std::span<Vec3> out) {
+  FilePointer file(std::fopen(path.c_str(), "rb"));
+  if (file == nullptr) throw io_error(path, "cannot open file", errno);
+  const ParsedHeader header = read_header(file.get(), path);
+  if (header.descr != "<f8" || header.shape.size() != 3 || header.shape[1] != out.size() || header.shape[2] != 3) {
+    throw io_error(path, "expected float64 frames of shape (" + std::to_string(out.size()) + ", 3), found " +
+                             header.descr + " " + shape_text(header.shape), 0);
+  }
+  const std::uintmax_t offset = header.data_offset + static_cast<std::uintmax_t>(frame) * out.size_bytes();
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path, error);
+  if (error || size < offset + out.size_bytes()) throw io_error(path, "has no frame " + std::to_string(frame), 0);
+  errno = 0;
+  if (std::fseek(file.get(), static_cast<long>(offset), SEEK_SET) != 0 ||
+      std::fread(out.data(), 1, out.size_bytes(), file.get()) != out.size_bytes()) {
+    throw io_error(path, "cannot read frame " + std::to_string(frame), errno);
+  }
 }
 
 }  // namespace clothsim

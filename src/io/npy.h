@@ -37,6 +37,10 @@ class NpyWriter {
   // Creates (truncates) `path` and writes a header for shape [0, items, components].
   // Throws std::runtime_error naming the path and the system's reason if it cannot be created.
   NpyWriter(std::string path, std::size_t items, std::size_t components = 3);
+  // Reopens `path`, a file an NpyWriter of the same shape wrote, to go on after its first `frames`
+  // frames; anything after them (frames of a run that went on past a checkpoint) is cut off.
+  // Throws std::runtime_error naming the path if the file holds fewer data bytes.
+  NpyWriter(std::string path, std::size_t items, std::size_t components, std::size_t frames);
   // Closes the file if close() was not called; never throws (errors are lost: call close() to
   // see them).
   ~NpyWriter();
@@ -102,5 +106,10 @@ struct NpyArray {
 // throws std::runtime_error naming the path and what is wrong. Bytes past the array's end are
 // ignored, as numpy.load does.
 NpyArray read_npy(const std::string& path);
+
+// Reads frame `frame` of a float64 file of shape [frames, out.size(), 3] into `out` (the frames
+// present in the data count, whatever the header's count says: a crashed run's file). Throws
+// std::runtime_error naming the path for another shape or a frame past the end.
+void read_npy_frame(const std::string& path, std::size_t frame, std::span<Vec3> out);
 
 }  // namespace clothsim

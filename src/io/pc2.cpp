@@ -8,6 +8,8 @@
 #include <bit>
 #include <cerrno>
 #include <cstring>
+#include <filesystem>
+#include <system_error>
 #include <limits>
 #include <stdexcept>
 
@@ -49,6 +51,28 @@ Pc2Writer::Pc2Writer(std::string path, std::size_t point_count, float start_fram
   write_bytes(file_, &no_samples, sizeof(no_samples), path_);
 }
 
+Pc2Writer::Pc2Writer(std::string path, std::size_t point_count, std::size_t samples)
+    : path_(std::move(path)), point_count_(point_count), samples_(samples), buffer_(3 * point_count) {
+  file_ = std::fopen(path_.c_str(), "r+b");
+  if (file_ == nullptr) throw pc2_error(path_, "cannot reopen", errno);
+  char magic[sizeof(kMagic)] = {};
+  std::int32_t version = 0;
+  std::int32_t points = 0;
+  if (std::fread(magic, 1, sizeof magic, file_) != sizeof magic || std::memcmp(magic, kMagic, sizeof magic) != 0 ||
+      std::fread(&version, sizeof version, 1, file_) != 1 || version != kVersion ||
+      std::fread(&points, sizeof points, 1, file_) != 1 || points < 0 ||
+      static_cast<std::size_t>(points) != point_count) {
+    throw pc2_error(path_, "not a point cache of " + std::to_string(point_count) + " points", 0);
+  }
+  const std::uintmax_t keep = kHeaderBytes + static_cast<std::uintmax_t>(samples) * point_count * 3 * sizeof(float);
+  std::error_code error;
+  const std::uintmax_t size = std::filesystem::file_size(path_, error);
+  if (error || size < keep) throw pc2_error(path_, "holds fewer than " + std::to_string(samples) + " samples", 0);
+  std::filesystem::resize_file(path_, keep, error);
+  if (error) throw pc2_error(path_, "cannot cut off the later samples: " + error.message(), 0);
+  if (std::fseek(file_, 0, SEEK_END) != 0) throw pc2_error(path_, "cannot seek", errno);
+}
+
 Pc2Writer::~Pc2Writer() {
   if (file_ != nullptr) std::fclose(file_);
 }
@@ -65,6 +89,10 @@ void Pc2Writer::append(std::span<const Vec3> position) {
   }
   write_bytes(file_, buffer_.data(), buffer_.size() * sizeof(float), path_);
   ++samples_;
+}
+
+void Pc2Writer::flush() {
+  if (file_ != nullptr && std::fflush(file_) != 0) throw pc2_error(path_, "cannot write file", errno);
 }
 
 void Pc2Writer::close() {

@@ -39,6 +39,10 @@ class Pc2Writer {
   // Throws std::runtime_error naming the path and the reason (also when point_count does not
   // fit the format's int32).
   Pc2Writer(std::string path, std::size_t point_count, float start_frame, float sample_rate);
+  // Reopens `path`, a cache of `point_count` points a Pc2Writer wrote, to go on after its first
+  // `samples` samples; later ones are cut off. Throws std::runtime_error naming the path if the
+  // file is not such a cache or holds fewer samples.
+  Pc2Writer(std::string path, std::size_t point_count, std::size_t samples);
   // Closes the file if close() was not called; never throws (call close() to see errors).
   ~Pc2Writer();
 
@@ -48,6 +52,8 @@ class Pc2Writer {
   // Appends one sample: `position` [point_count], m, rounded to float32. Throws on a size
   // mismatch or a write error.
   void append(std::span<const Vec3> position);
+  // Hands the buffered samples to the operating system. Throws on failure.
+  void flush();
   // Writes the sample count into the header and closes the file. Throws on failure.
   void close();
 

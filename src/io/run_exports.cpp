@@ -69,6 +69,25 @@ RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, c
   }
 }
 
+RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, const ClothModel& model,
+                       std::string scene_name, std::size_t frames, std::span<const Vec3> first_position)
+    : folder_(std::move(folder)), scene_name_(std::move(scene_name)), points_(model.particle_count()), frames_(frames) {
+  for (ExportFormat format : formats) {
+    if (format == ExportFormat::pc2) {
+      cache_.emplace((folder_ / kPointCacheFile).string(), model.particle_count(), frames);
+      first_position_.assign(first_position.begin(), first_position.end());
+    } else if (format == ExportFormat::obj_sequence) {
+      obj_sequence_ = true;
+      fs::create_directories(folder_ / kFramesFolder);
+      // Frames past the checkpoint's, which the resumed run writes again.
+      for (std::size_t frame = frames;; ++frame) {
+        std::error_code error;
+        if (!fs::remove(folder_ / frame_file_name(frame), error)) break;
+      }
+    }
+  }
+}
+
 void RunExports::write_frame(const ClothModel& model, std::span<const Vec3> position, double time) {
   if (cache_) {
     cache_->append(position);

@@ -49,11 +49,20 @@ class RunExports {
   // Throws std::runtime_error naming the path on an I/O failure.
   RunExports(std::filesystem::path folder, std::span<const ExportFormat> formats, const ClothModel& model,
              std::string scene_name);
+  // Takes over the files of `formats` in `folder`, written up to `frames` frames by a run resumed
+  // from a checkpoint (io/run_checkpoints.h): cuts off what came after them and goes on from
+  // frame `frames`. `first_position` is frame 0 (rest.obj's vertices). Throws std::runtime_error.
+  RunExports(std::filesystem::path folder, std::span<const ExportFormat> formats, const ClothModel& model,
+             std::string scene_name, std::size_t frames, std::span<const Vec3> first_position);
 
   // Writes the sheet at `position` [particle_count()], m, time `time`, s, as the next frame
   // (frame 0 first: the initial state).
   void write_frame(const ClothModel& model, std::span<const Vec3> position, double time);
 
+  // Hands the cache's buffered samples to the operating system (the OBJ files are whole already).
+  void flush() {
+    if (cache_) cache_->flush();
+  }
   // Closes the cache and writes rest.obj from the model's final broken connectors.
   void finish(const ClothModel& model);
 

@@ -258,6 +258,74 @@ void RunWriter::write_frame(const Simulation& simulation) {
   ++frames_;
 }
 
+RunWriter::Progress RunWriter::flush() {
+  CLOTHSIM_ASSERT(begun_ && !finished_, "flush() between begin() and finish()");
+  ScopedTimer timer(output_seconds_);
+  Progress progress;
+  try {
+    positions_->flush();
+    velocities_->flush();
+    if (exports_) exports_->flush();
+    errno = 0;
+    const long energy_bytes = std::fflush(energy_file_) == 0 ? std::ftell(energy_file_) : -1;
+    if (energy_bytes < 0) throw std::runtime_error((partial_ / kEnergyFile).string() + ": " + std::strerror(errno));
+    progress.energy_bytes = static_cast<std::uint64_t>(energy_bytes);
+  } catch (...) {
+    rethrow_as_output_error("cannot flush the output files");
+  }
+  progress.frames = frames_;
+  progress.initial = initial_energy_;
+  return progress;
+}
+
+void RunWriter::resume(const fs::path& from, const SceneSpec& scene, const Simulation& simulation,
+                       const Progress& progress, std::string command_line) {
+  CLOTHSIM_ASSERT(!begun_, "resume() instead of begin()");
+  resumed_by_ = std::move(command_line);
+  resumed_at_ = simulation.state().time;
+  CLOTHSIM_ASSERT(progress.frames > 0, "a checkpoint follows frame 0 at least");
+  ScopedTimer timer(output_seconds_);
+  const std::size_t particles = simulation.model().particle_count();
+  const auto frames = static_cast<std::size_t>(progress.frames);
+  try {
+    fs::remove_all(partial_);
+    std::error_code not_there;
+    if (fs::equivalent(from, out_, not_there)) {
+      fs::copy(from, partial_, fs::copy_options::recursive);
+    } else {
+      fs::rename(from, partial_);
+    }
+    begun_ = true;
+    scene_ = scene;
+    // What finish() writes anew; a finished folder's pictures are made again from frame 0.
+    for (std::string_view name : {kSummaryFile, kFinalMeshFile, kBreakTimeFile, RunExports::kRestMeshFile,
+                                  std::string_view("final.png"), std::string_view("animation.mp4")}) {
+      fs::remove(partial_ / name);
+    }
+    positions_.emplace((partial_ / kPositionsFile).string(), particles, 3, frames);
+    velocities_.emplace((partial_ / kVelocitiesFile).string(), particles, 3, frames);
+
+    const fs::path energy_path = partial_ / kEnergyFile;
+    fs::resize_file(energy_path, progress.energy_bytes);
+    energy_file_ = std::fopen(energy_path.c_str(), "r+b");
+    if (energy_file_ == nullptr || std::fseek(energy_file_, 0, SEEK_END) != 0) {
+      throw std::runtime_error(energy_path.string() + ": cannot reopen: " + std::strerror(errno));
+    }
+    if (!scene.output.exports.empty()) {
+      std::vector<Vec3> first(particles);
+      read_npy_frame((partial_ / kPositionsFile).string(), 0, first);
+      exports_.emplace(partial_, scene.output.exports, simulation.model(), scene.name, frames, first);
+    }
+  } catch (...) {
+    rethrow_as_output_error("cannot resume the output folder");
+  }
+  frames_ = frames;
+  initial_energy_ = progress.initial;
+  last_energy_ = simulation.energy_balance();
+  last_time_ = simulation.state().time;
+  last_position_ = simulation.state().position;
+}
+
 void RunWriter::add_file(std::string name, nlohmann::ordered_json details) {
   extra_files_.emplace_back(std::move(name), std::move(details));
 }
@@ -293,6 +361,9 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
   ordered_json summary;
   summary["clothsim_version"] = info_.version;
   summary["command_line"] = info_.command_line;
+  if (!resumed_by_.empty()) {
+    summary["resumed"] = ordered_json{{"command_line", resumed_by_}, {"from_time", resumed_at_}};
+  }
   summary["status"] = std::string(to_string(status));
   if (status == RunStatus::failed && simulation.failure()) {
     const Diagnosis& diagnosis = *simulation.failure();

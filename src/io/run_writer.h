@@ -74,7 +74,7 @@ class OutputError : public std::runtime_error {
 // What the writer records about the program that made the run.
 struct RunInfo {
   std::string version;       // summary.json "clothsim_version"; its presence marks a clothsim folder
-  std::string command_line;  // summary.json "command_line", as the user typed it
+  std::string command_line;  // summary.json "command_line", as the user typed it (the first, for a resumed run)
 };
 
 class RunWriter {
@@ -115,6 +115,26 @@ class RunWriter {
   // Throws OutputError.
   void write_frame(const Simulation& simulation);
 
+  // Where the streamed files stand, for a checkpoint (io/run_checkpoints.h): a resumed run cuts
+  // them back to this and goes on.
+  struct Progress {
+    std::uint64_t frames = 0;        // frames written, frame 0 included
+    std::uint64_t energy_bytes = 0;  // length of energy.csv after them
+    EnergyBalance initial;           // summary.json's "initial" energies
+  };
+  // Hands the streamed files' buffers to the operating system (so a process killed from here on
+  // loses none of these frames) and says where they stand. Throws OutputError.
+  Progress flush();
+  // Instead of begin(): goes on with a run from a checkpoint. `from` is the run's folder: a
+  // partial folder left by a run that died (renamed to partial()) or a finished one (copied to
+  // partial(), so that `out` stays whole until finish() replaces it). The streamed files are cut
+  // back to `progress`, the files finish() writes are removed, and the next frame written is
+  // frame progress.frames. The simulation must be restored to that frame's state. summary.json
+  // "resumed" records `command_line` (the resuming command) and the time resumed from. Throws
+  // OutputError.
+  void resume(const std::filesystem::path& from, const SceneSpec& scene, const Simulation& simulation,
+              const Progress& progress, std::string command_line);
+
   // Records a file that someone else wrote into partial() (e.g. the pictures of a run) under
   // summary.json "files", after the writer's own; `details` describes it (an object).
   void add_file(std::string name, nlohmann::ordered_json details);
@@ -145,6 +165,8 @@ class RunWriter {
   std::filesystem::path out_;
   std::filesystem::path partial_;  // `<out>.partial-<pid>`
   RunInfo info_;
+  std::string resumed_by_;  // resume(): the resuming command line
+  double resumed_at_ = 0.0;  // resume(): the time resumed from, s
   bool replace_existing_ = false;
   bool begun_ = false;
   bool finished_ = false;

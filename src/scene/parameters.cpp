@@ -184,6 +184,12 @@ constexpr std::array kScalarParameters = {
                     "the sheet to count as at rest (0: the first frame below)",
                     [](const SceneSpec& s) { return s.output.rest_duration; },
                     [](SceneSpec& s, double v) { s.output.rest_duration = v; }},
+    ScalarParameter{"output.checkpoint_every", ParameterType::real, "s", closed_range(0.0, 1e7),
+                    "write a checkpoint (checkpoints/ in the output folder) after the first frame at least this "
+                    "much simulated time after the last one, so that `clothsim run --resume` can continue the run "
+                    "(0: none)",
+                    [](const SceneSpec& s) { return s.output.checkpoint_every; },
+                    [](SceneSpec& s, double v) { s.output.checkpoint_every = v; }},
     // Collisions (issue 8; the obstacles themselves are the "colliders" list).
     ScalarParameter{"collision.thickness", ParameterType::real, "m", left_open_range(0.0, 1.0),
                     "particles are kept this far outside every collider, and (with self) the sheet from itself",

@@ -77,6 +77,9 @@ struct OutputSettings {
   // single frame is not enough: a sheet bouncing as a whole passes through zero kinetic energy at
   // every turning point (paper-fig4 does, every 3 s, with hundreds of joules in the bounce).
   double rest_duration = 1.0;
+  // Checkpoints (io/run_checkpoints.h): one after the first frame at least this much simulated
+  // time after the previous one, s; 0: none.
+  double checkpoint_every = 0.0;
   // Extra files for other tools ("output.export"), each format at most once, in the order given.
   std::vector<ExportFormat> exports;
 };

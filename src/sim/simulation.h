@@ -150,6 +150,16 @@ class Simulation {
   // Contacts with obstacles so far.
   const ContactStatistics& contact_statistics() const { return contact_statistics_; }
 
+  // Checkpoints (io/checkpoint.h): saves the simulation into a saving archive, or restores it
+  // from a loading one, between advance_to() calls. Saved: the state, the model's changes since
+  // it was built (model/model_state.h), the integrator's controller state, the work integrals,
+  // the blow-up check's scale and the run's counters; not the wall-time profile. Restore into a
+  // simulation built from the same scene (and so the same model and settings): the result then
+  // goes on exactly as the saved one would have, bit for bit. A failed simulation cannot be
+  // saved (std::logic_error). Restoring throws std::runtime_error naming the field when the
+  // archive does not fit; the simulation is then unusable.
+  void transfer_state(StateArchive& archive);
+
   // Live parameter edits, between advance_to() calls (see the top of this file). Values must be
   // valid (the caller checks input against the parameter registry, scene/parameters.h).
   //

@@ -1,0 +1,43 @@
+// `clothsim run --resume PATH` and the leftovers of runs that died: which run folder PATH names,
+// where its output goes, and which checkpoints it has (io/run_checkpoints.h); and, for a new run,
+// the partial folders earlier runs into the same output folder left behind.
+//
+// PATH may name
+//   a partial folder `<out>.partial-<pid>` left by a run that died (killed, out of power): it is
+//     taken over and completes as `<out>`;
+//   an output folder `<out>` that a run finished early (status "interrupted"): it is copied and
+//     completed, and replaces `<out>` at the end;
+//   a checkpoint file inside either (`.../checkpoints/frame_000120.ckpt`): that checkpoint first,
+//     then the older ones of its folder.
+// A partial folder whose process is still alive is refused: that run is still writing it.
+#pragma once
+
+#include <filesystem>
+#include <string>
+#include <sys/types.h>
+#include <vector>
+
+namespace clothsim::cli {
+
+struct ResumeTarget {
+  std::filesystem::path folder;                    // the run's folder, holding scene.json and the output so far
+  std::filesystem::path out;                       // where the completed output goes
+  std::vector<std::filesystem::path> checkpoints;  // to try in order: newest first
+};
+
+// Finds the run PATH names (see the top of the file). Throws InputError naming --resume when PATH
+// is not a run folder or checkpoint, has no checkpoint, is still being written, or is complete.
+ResumeTarget find_resume_target(const std::string& path);
+
+// A partial folder a run left behind: its path and the process id in its name.
+struct LeftoverRun {
+  std::filesystem::path folder;
+  pid_t pid = 0;
+  bool has_checkpoint = false;
+};
+
+// The partial folders `<out>.partial-<pid>` beside `out` whose process is no longer running (other
+// than this process's own).
+std::vector<LeftoverRun> find_leftover_runs(const std::filesystem::path& out);
+
+}  // namespace clothsim::cli

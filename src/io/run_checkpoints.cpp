@@ -1,0 +1,125 @@
+#include "io/run_checkpoints.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdio>
+#include <optional>
+#include <system_error>
+
+#include "io/checkpoint.h"
+
+namespace clothsim {
+namespace {
+
+namespace fs = std::filesystem;
+
+// The frame of "frame_000120.ckpt", or false for any other name.
+bool parse_checkpoint_name(const std::string& name, std::uint64_t& frame) {
+  constexpr std::string_view kPrefix = "frame_";
+  constexpr std::string_view kSuffix = ".ckpt";
+  if (name.size() <= kPrefix.size() + kSuffix.size() || !name.starts_with(kPrefix) || !name.ends_with(kSuffix)) {
+    return false;
+  }
+  const std::string digits = name.substr(kPrefix.size(), name.size() - kPrefix.size() - kSuffix.size());
+  if (digits.size() > 18 || !std::all_of(digits.begin(), digits.end(), [](char c) { return c >= '0' && c <= '9'; })) {
+    return false;
+  }
+  frame = std::stoull(digits);
+  return true;
+}
+
+void transfer_energy(StateArchive& archive, EnergyBalance& balance) {
+  archive.value("run.initial.kinetic", balance.energy.kinetic);
+  archive.value("run.initial.gravitational", balance.energy.gravitational);
+  archive.value("run.initial.connector", balance.energy.connector);
+  archive.value("run.initial.radial_adjacent", balance.energy.radial_adjacent);
+  archive.value("run.initial.radial_opposite", balance.energy.radial_opposite);
+  archive.value("run.initial.initial_total", balance.initial_total);
+  archive.value("run.initial.damping_work", balance.damping_work);
+  archive.value("run.initial.drag_work", balance.drag_work);
+  archive.value("run.initial.anchor_work", balance.anchor_work);
+  archive.value("run.initial.edit_work", balance.edit_work);
+  archive.value("run.initial.plastic_work", balance.plastic_work);
+  archive.value("run.initial.fracture_work", balance.fracture_work);
+  archive.value("run.initial.contact_work", balance.contact_work);
+}
+
+}  // namespace
+
+void transfer_run_checkpoint(StateArchive& archive, RunCheckpoint& run) {
+  archive.value("run.frames", run.writer.frames);
+  archive.value("run.energy_bytes", run.writer.energy_bytes);
+  transfer_energy(archive, run.writer.initial);
+  archive.value("run.quiet_frames", run.quiet_frames);
+  archive.value("run.wall_seconds", run.wall_seconds);
+  archive.text("run.command_line", run.command_line);
+  archive.text("run.options", run.options);
+  if (archive.loading() && run.writer.frames == 0) {
+    throw CheckpointError("field 'run.frames' is 0: a checkpoint follows frame 0 at least");
+  }
+}
+
+std::string checkpoint_file_name(std::uint64_t frame) {
+  std::array<char, 40> name{};
+  std::snprintf(name.data(), name.size(), "frame_%06llu.ckpt", static_cast<unsigned long long>(frame));
+  return name.data();
+}
+
+fs::path write_run_checkpoint(const fs::path& folder, RunCheckpoint run, Simulation& simulation) {
+  const fs::path directory = folder / kCheckpointFolder;
+  fs::create_directories(directory);
+  const fs::path path = directory / checkpoint_file_name(run.writer.frames - 1);
+  write_checkpoint(path, [&](StateArchive& archive) {
+    transfer_run_checkpoint(archive, run);
+    simulation.transfer_state(archive);
+  });
+  const std::vector<fs::path> all = list_run_checkpoints(folder);
+  for (std::size_t k = kKeptCheckpoints; k < all.size(); ++k) {
+    std::error_code ignored;
+    fs::remove(all[k], ignored);
+  }
+  return path;
+}
+
+std::vector<fs::path> list_run_checkpoints(const fs::path& folder) {
+  std::vector<std::pair<std::uint64_t, fs::path>> found;
+  std::error_code error;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder / kCheckpointFolder, error)) {
+    std::uint64_t frame = 0;
+    if (entry.is_regular_file(error) && parse_checkpoint_name(entry.path().filename().string(), frame)) {
+      found.emplace_back(frame, entry.path());
+    }
+  }
+  std::sort(found.begin(), found.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<fs::path> paths;
+  for (auto& [frame, path] : found) paths.push_back(std::move(path));
+  return paths;
+}
+
+fs::path load_run_checkpoint(std::span<const fs::path> candidates, Simulation& simulation, RunCheckpoint& run,
+                             const std::function<void(const std::string&)>& skipped) {
+  for (const fs::path& path : candidates) {
+    std::optional<CheckpointReader> reader;
+    try {
+      reader.emplace(path);  // the whole file is checked here, before anything is applied
+    } catch (const CheckpointError& error) {
+      skipped(error.what());
+      continue;
+    }
+    try {
+      transfer_run_checkpoint(*reader, run);
+      simulation.transfer_state(*reader);
+      reader->finish();
+    } catch (const CheckpointError&) {
+      throw;
+    } catch (const std::exception& error) {
+      throw CheckpointError(path.string() + ": " + error.what());
+    }
+    return path;
+  }
+  throw CheckpointError(candidates.empty() ? std::string("no checkpoint to resume from")
+                                           : "no usable checkpoint among the " + std::to_string(candidates.size()) +
+                                                 " found (each was damaged: see above)");
+}
+
+}  // namespace clothsim

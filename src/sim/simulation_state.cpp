@@ -1,0 +1,92 @@
+// Simulation::transfer_state: what a checkpoint holds of a simulation (sim/simulation.h), in one
+// list that saves and restores (core/state_archive.h).
+#include <stdexcept>
+#include <string>
+
+#include "model/model_state.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+void transfer(StateArchive& archive, const std::string& name, EnergyReport& report) {
+  archive.value(name + ".kinetic", report.kinetic);
+  archive.value(name + ".gravitational", report.gravitational);
+  archive.value(name + ".connector", report.connector);
+  archive.value(name + ".radial_adjacent", report.radial_adjacent);
+  archive.value(name + ".radial_opposite", report.radial_opposite);
+}
+
+void transfer(StateArchive& archive, IntegratorStats& stats) {
+  archive.value("retired.accepted_steps", stats.accepted_steps);
+  archive.value("retired.rejected_steps", stats.rejected_steps);
+  archive.value("retired.force_evaluations", stats.force_evaluations);
+  archive.value("retired.smallest_step", stats.smallest_step);
+  archive.value("retired.largest_step", stats.largest_step);
+}
+
+void transfer(StateArchive& archive, ContactStatistics& contacts) {
+  archive.value("contacts.last_step", contacts.last_step);
+  archive.value("contacts.total", contacts.total);
+  archive.value("contacts.max_in_a_step", contacts.max_in_a_step);
+  archive.value("contacts.self_last_step", contacts.self_last_step);
+  archive.value("contacts.self_total", contacts.self_total);
+  archive.value("contacts.self_max_in_a_step", contacts.self_max_in_a_step);
+  archive.value("contacts.self_impacts", contacts.self_impacts);
+  archive.value("contacts.self_zones", contacts.self_zones);
+  archive.value("contacts.self_unresolved", contacts.self_unresolved);
+}
+
+}  // namespace
+
+void Simulation::transfer_state(StateArchive& archive) {
+  if (!archive.loading() && failure_) {
+    throw std::logic_error("a failed simulation is not saved: its state is the last good one, not one to go on from");
+  }
+  // The state.
+  archive.value("time", state_.time);
+  archive.array("position", state_.position);
+  archive.array("velocity", state_.velocity);
+  archive.value("damping_work", state_.damping_work);
+  archive.value("drag_work", state_.drag_work);
+  archive.value("anchor_work", state_.anchor_work);
+  archive.value("plastic_work", state_.plastic_work);
+  archive.value("fracture_work", state_.fracture_work);
+  archive.value("contact_work", state_.contact_work);
+  archive.value("edit_work", edit_work_);
+
+  // The model as the run has changed it; a restored model gets a new integrator, which then takes
+  // the saved one's controller state.
+  transfer_model_changes(archive, *model_);
+  if (archive.loading()) {
+    integrator_ = make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
+    integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
+  }
+  integrator_->transfer_state(archive);
+  transfer(archive, retired_stats_);
+
+  // The energy balance's reference and the blow-up check's scale.
+  archive.value("initial_energy", initial_energy_);
+  transfer(archive, "initial_report", initial_report_);
+  archive.value("energy_scale", energy_scale_);
+  archive.value("released", released_);
+  archive.value("moved_work", moved_work_);
+  archive.array("last_works", last_works_);
+
+  // Counts over the run.
+  archive.value("events.breaks", event_totals_.breaks);
+  archive.value("events.yields", event_totals_.yields);
+  archive.value("events.creases", event_totals_.creases);
+  transfer(archive, contact_statistics_);
+
+  if (archive.loading()) {
+    // The stages' scratch and caches start afresh from the restored model: both rebuild what
+    // they keep between steps from the model and the state (their results do not depend on it).
+    collision_stage_ = CollisionStage{};
+    spring_events_ = SpringEvents{};
+    failure_.reset();
+    check_state();
+  }
+}
+
+}  // namespace clothsim
