@@ -405,6 +405,7 @@ int run(const RunOptions& options, const Invocation& invocation) {
   run.writer.frames = 1;
   run.command_line = invocation.command_line;
   run.options = render_flags_json(options.render);
+  run.scene = scene_to_json(spec).dump();
   const RunStatus status = simulate_frames(spec, options, simulation, writer, recorder, run, wall);
 
   // 3. Report.
@@ -450,6 +451,11 @@ int resume(const RunOptions& options, const Invocation& invocation) {
   } catch (const CheckpointError& error) {
     throw InputError("--resume", "", error.what());
   }
+  // The simulation's arrays fit; the scene must be the one the checkpoint was written for too.
+  if (run.scene != scene_to_json(spec).dump()) {
+    throw InputError("--resume", "", used.string() + " was written for another scene than " +
+                                         (target.folder / RunWriter::kSceneFile).string());
+  }
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(resumed_render_flags(run.options, options));
   RunWriter writer(target.out, RunInfo{CLOTHSIM_VERSION, run.command_line}, "--resume");
   RunRecorder recorder(render_plan, simulation.model());
@@ -464,6 +470,7 @@ int resume(const RunOptions& options, const Invocation& invocation) {
   // 2. The run, from the frame after the checkpoint's. The pictures are made again up to there,
   //    from the frames on disk (the video is one stream).
   writer.resume(target.folder, spec, simulation, run.writer, invocation.command_line);
+  discard_unfinished_checkpoints(writer.partial());
   recorder.begin(writer.partial(), fps);
   if (recorder.active()) {
     std::vector<Vec3> position(simulation.model().particle_count());

@@ -177,7 +177,9 @@ CheckpointReader::CheckpointReader(fs::path path) : path_(std::move(path)) {
   if (payload > std::numeric_limits<std::uint64_t>::max() - kHeaderBytes - kTrailerBytes ||
       size != kHeaderBytes + payload + kTrailerBytes) {
     fail("truncated or damaged: " + std::to_string(size) + " bytes, but its header promises " +
-         (payload > size ? std::string("more") : std::to_string(kHeaderBytes + payload + kTrailerBytes)));
+         (payload > std::numeric_limits<std::uint64_t>::max() - kHeaderBytes - kTrailerBytes
+              ? std::string("more than 2^64")
+              : std::to_string(kHeaderBytes + payload + kTrailerBytes)));
   }
   // The checksum over the whole payload, before any field is handed out.
   std::vector<unsigned char> buffer(std::size_t{1} << 20);

@@ -54,6 +54,7 @@ void transfer_run_checkpoint(StateArchive& archive, RunCheckpoint& run) {
   archive.value("run.wall_seconds", run.wall_seconds);
   archive.text("run.command_line", run.command_line);
   archive.text("run.options", run.options);
+  archive.text("run.scene", run.scene);
   if (archive.loading() && run.writer.frames == 0) {
     throw CheckpointError("field 'run.frames' is 0: a checkpoint follows frame 0 at least");
   }
@@ -94,6 +95,16 @@ std::vector<fs::path> list_run_checkpoints(const fs::path& folder) {
   std::vector<fs::path> paths;
   for (auto& [frame, path] : found) paths.push_back(std::move(path));
   return paths;
+}
+
+void discard_unfinished_checkpoints(const fs::path& folder) {
+  std::error_code error;
+  std::vector<fs::path> unfinished;
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder / kCheckpointFolder, error)) {
+    const std::string name = entry.path().filename().string();
+    if (name.starts_with(".") && name.find(".tmp-") != std::string::npos) unfinished.push_back(entry.path());
+  }
+  for (const fs::path& path : unfinished) fs::remove(path, error);
 }
 
 fs::path load_run_checkpoint(std::span<const fs::path> candidates, Simulation& simulation, RunCheckpoint& run,

@@ -42,6 +42,7 @@ struct RunCheckpoint {
   double wall_seconds = 0.0;       // wall time the run has taken so far, in every process, s
   std::string command_line;        // the command that began the run
   std::string options;             // the application's own settings, as JSON text (the picture flags)
+  std::string scene;               // the scene as run (scene_to_json), to check it against the folder's
 };
 
 // Saves or restores `run`'s fields.
@@ -59,6 +60,10 @@ std::filesystem::path write_run_checkpoint(const std::filesystem::path& folder, 
 // The checkpoint files in `folder`/checkpoints/, newest (highest frame) first; none if there is no
 // such folder.
 std::vector<std::filesystem::path> list_run_checkpoints(const std::filesystem::path& folder);
+
+// Deletes the temporary files of checkpoint writes that a killed run left unfinished in
+// `folder`/checkpoints/ (io/checkpoint.h names them ".<name>.tmp-<pid>").
+void discard_unfinished_checkpoints(const std::filesystem::path& folder);
 
 // Restores `simulation` and `run` from the first of `candidates` (newest first) that passes its
 // checks (io/checkpoint.h); for each one passed over, calls `skipped` with the reason. Returns the

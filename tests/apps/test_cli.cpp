@@ -40,6 +40,7 @@
 
 #include "io/npy.h"
 #include "scene/scene.h"
+#include "cli_harness.h"
 #include "test_checks.h"
 
 namespace clothsim {
@@ -56,64 +57,13 @@ constexpr std::size_t kSmallParticles = 25;
 constexpr std::size_t kSmallCentre = 12;
 
 using Result = checks::ProcessResult;
+using cli_harness::contains;
+using cli_harness::describe;
+using cli_harness::entries;
+using cli_harness::spawn_clothsim;
+using cli_harness::wait_clothsim;
 using checks::read_text;
 using checks::write_text;
-
-// Starts clothsim with `args` in folder `cwd`, stdout and stderr going to files in `capture`
-// (outside `cwd`, so they do not count as output). Returns the child's process id.
-pid_t spawn_clothsim(const fs::path& cwd, const std::vector<std::string>& args, const fs::path& capture) {
-  const std::string out_path = (capture / "stdout.txt").string();
-  const std::string err_path = (capture / "stderr.txt").string();
-  std::vector<std::string> words = {CLOTHSIM_EXE};
-  words.insert(words.end(), args.begin(), args.end());
-  std::vector<char*> argv;
-  for (std::string& word : words) argv.push_back(word.data());
-  argv.push_back(nullptr);
-  std::fflush(nullptr);
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (out < 0 || err < 0 || ::chdir(cwd.c_str()) != 0) ::_exit(126);
-    ::dup2(out, STDOUT_FILENO);
-    ::dup2(err, STDERR_FILENO);
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
-
-Result wait_clothsim(pid_t pid, const fs::path& capture) {
-  Result result;
-  int status = 0;
-  if (pid > 0 && ::waitpid(pid, &status, 0) == pid) {
-    if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) result.exit_code = 128 + WTERMSIG(status);
-  }
-  result.out = read_text(capture / "stdout.txt");
-  result.err = read_text(capture / "stderr.txt");
-  return result;
-}
-
-// Every path under `folder`, relative to it.
-std::set<std::string> entries(const fs::path& folder) {
-  std::set<std::string> names;
-  for (const fs::directory_entry& entry : fs::recursive_directory_iterator(folder)) {
-    names.insert(fs::relative(entry.path(), folder).string());
-  }
-  return names;
-}
-
-::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "missing '" << part << "' in:\n" << text;
-}
-
-std::string describe(const Result& result) {
-  std::ostringstream text;
-  text << "exit code " << result.exit_code << "\n--- stdout\n" << result.out << "--- stderr\n" << result.err;
-  return text.str();
-}
 
 // energy.csv as numbers: rows[frame][column]; the header line is checked separately.
 struct Csv {
