@@ -502,9 +502,10 @@ std::string run_footer() {
       "final.png (the last frame) and "
       "animation.mp4 (H.264, one video frame per output frame, at --fps); with --export pc2, animation.pc2 and "
       "rest.obj (a point cache of every frame, for Blender's Mesh Cache modifier), with --export obj-sequence, "
-      "frames/frame_000000.obj and on (docs/exports.md). It is written as <out>.partial-<pid> and "
-      "renamed into place at "
-      "the end; an existing <out> is replaced only if a clothsim run wrote it.",
+      "frames/frame_000000.obj and on (docs/exports.md); with --checkpoint-every, checkpoints/ (the "
+      "newest two checkpoints). It is written as <out>.partial-<pid> and renamed into place at the end; an "
+      "existing <out> is replaced only if a clothsim run wrote it. A run killed or interrupted after a "
+      "checkpoint continues with --resume, bit for bit as if it had not stopped (docs/cli.md).",
       100, 0);
   text +=
       "\n\n"
@@ -518,6 +519,8 @@ std::string run_footer() {
       "  clothsim run paper-fig5 --size 1920x1080 --camera 0,10 --show wireframe\n"
       "  clothsim run drape-corners --render none   # data only, no OpenGL\n"
       "  clothsim run paper-fig5 --export pc2,obj-sequence   # for Blender and other tools\n"
+      "  clothsim run cotton-drape --checkpoint-every 0.5   # then, if it is killed:\n"
+      "  clothsim run --resume out/cotton-drape.partial-4711\n"
       "\n";
   text += exit_code_help();
   return text;
