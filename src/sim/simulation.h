@@ -144,6 +144,9 @@ class Simulation {
 
   EnergyReport energy() const;
   EnergyBalance energy_balance() const;
+  // The blow-up check's energy scale so far, J: what energy_balance().error() is measured against
+  // (docs/cli.md, "The blow-up check").
+  double energy_scale() const { return energy_scale_; }
   ModelChanges model_changes() const;
   // Breaks, yields and creases applied by the event stage so far (not counting cuts).
   const SpringEventCounts& event_totals() const { return event_totals_; }
