@@ -19,28 +19,27 @@
 // by hand, and a comment explaining a parameter choice is worth keeping.
 //
 // The parts: json_fields.h reads and checks single values (from JSON and from --set text) and
-// parses JSON text; anchors_json.h reads, checks and writes anchors and cuts; material_json.h the
-// material object. This file keeps the paper's argument vector, the reader of the whole document
-// and the public API.
+// parses JSON text; anchors_json.h reads, checks and writes anchors and cuts; colliders_json.h the
+// obstacles; material_json.h the material object; paper_args.h the paper's argument vector;
+// validate_scene.cpp the checks of a whole scene; scene_model.cpp builds the model and the initial
+// state from a scene. This file keeps the reader of the whole document, the single-field setter
+// (--set) and the writer back to JSON.
 #include "scene/scene.h"
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <filesystem>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
 #include "core/input_file.h"
-#include "model/lattice_cuts.h"
-#include "model/model_edits.h"
-#include "model/spring_limits.h"
 #include "scene/anchors_json.h"
 #include "scene/colliders_json.h"
 #include "scene/json_fields.h"
 #include "scene/material_json.h"
+#include "scene/paper_args.h"
 #include "scene/parameters.h"
 
 namespace clothsim {
@@ -94,68 +93,6 @@ std::vector<ExportFormat> read_text_exports(std::string_view text, const std::st
   if (trim(text) == "none") return exports;
   for (std::string_view item : split_list(text)) add_export(exports, item, quoted(item), source);
   return exports;
-}
-
-// ---------------------------------------------------------------------------------------------
-// The paper's argument vector.
-
-struct PaperArgument {
-  std::string_view key;   // registry key the argument sets
-  std::string_view name;  // as the paper lists it
-};
-
-constexpr std::array<PaperArgument, 10> kPaperArguments = {{
-    {"lattice.rows", "rows"},
-    {"lattice.cols", "cols"},
-    {"lattice.particle_mass", "mass"},
-    {"springs.adjacent.stiffness", "k adjacent"},
-    {"springs.adjacent.damping", "c adjacent"},
-    {"springs.opposite.stiffness", "k opposite"},
-    {"springs.opposite.damping", "c opposite"},
-    {"springs.connector.stiffness", "k connector"},
-    {"springs.connector.damping", "c connector"},
-    {"lattice.spacing", "connector length"},
-}};
-
-std::string paper_argument_field(std::size_t i) {
-  return "paper_args[" + std::to_string(i) + "] (" + std::string(kPaperArguments[i].name) + ")";
-}
-
-std::string paper_argument_count_reason(std::size_t count) {
-  std::vector<std::string_view> names;
-  for (const PaperArgument& argument : kPaperArguments) names.push_back(argument.name);
-  return "must be exactly 10 numbers (" + join_names(names) + "), got " + std::to_string(count);
-}
-
-// Sets the ten fields (values already checked) and anchors the centre particle, as in every run
-// of the paper.
-void apply_paper_arguments(SceneSpec& spec, const std::array<double, 10>& values) {
-  for (std::size_t i = 0; i < kPaperArguments.size(); ++i) {
-    find_scalar_parameter(kPaperArguments[i].key)->set(spec, values[i]);
-  }
-  parse_anchor_preset("center", spec.lattice, spec.anchors);
-}
-
-std::array<double, 10> read_paper_arguments(const json& value, const std::string& source) {
-  if (!value.is_array()) fail(source, "paper_args", "must be an array of 10 numbers, got " + describe_json(value));
-  if (value.size() != kPaperArguments.size()) fail(source, "paper_args", paper_argument_count_reason(value.size()));
-  std::array<double, 10> values{};
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const ScalarParameter& parameter = *find_scalar_parameter(kPaperArguments[i].key);
-    values[i] = read_value(value[i], parameter.type, parameter.range, source, paper_argument_field(i));
-  }
-  return values;
-}
-
-std::array<double, 10> read_text_paper_arguments(std::string_view text, const std::string& source) {
-  const std::vector<std::string_view> items = split_list(text);
-  if (items.size() != kPaperArguments.size()) fail(source, "paper_args", paper_argument_count_reason(items.size()));
-  std::array<double, 10> values{};
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const ScalarParameter& parameter = *find_scalar_parameter(kPaperArguments[i].key);
-    values[i] = read_text_value(items[i], parameter.type, parameter.range, source, paper_argument_field(i));
-  }
-  return values;
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -280,18 +217,6 @@ SceneSpec load_scene_file(const std::string& path) {
   return parse_scene(read_input_file(path), path, std::filesystem::path(path).parent_path().string());
 }
 
-SceneSpec scene_from_paper_args(std::string_view text, const std::string& source) {
-  const std::array<double, 10> values = read_text_paper_arguments(text, source);
-  SceneSpec spec;
-  apply_paper_arguments(spec, values);
-  std::vector<std::string> numbers;
-  for (double value : values) numbers.push_back(format_number(value));
-  spec.name = "paper-args";
-  spec.description = "The paper's argument vector [" + join_names(numbers) + "], centre particle anchored.";
-  validate_scene(spec, source);
-  return spec;
-}
-
 bool parse_anchor_preset(std::string_view text, const LatticeDef& lattice, std::vector<AnchorSpec>& anchors) {
   const int last_row = lattice.rows - 1;
   const int last_col = lattice.cols - 1;
@@ -359,86 +284,6 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
   }
 }
 
-// Self-collision needs a thickness the lattice's own neighbours stay apart by
-// (self_collision_thickness_limit, model/collider.h).
-void check_self_collision_thickness(const SceneSpec& spec, const std::string& source) {
-  if (!spec.collision.self) return;
-  const double limit = self_collision_thickness_limit(spec.lattice.spacing);
-  const double thickness = spec.collision.thickness;
-  if (thickness < limit) return;
-  fail(source, "collision.thickness",
-       "must be below half the lattice spacing (" + format_number(limit) +
-           " m) when collision.self is on, got " + format_number(thickness) +
-           " (lower it with --thickness, or use fewer, larger lattice cells)");
-}
-
-void validate_scene(const SceneSpec& spec, const std::string& source) {
-  for (const ScalarParameter& parameter : scalar_parameters()) {
-    const double value = parameter.get(spec);
-    if (!is_allowed(parameter.type, parameter.range, value)) {
-      fail(source, std::string(parameter.key),
-           "must be " + describe_allowed(parameter.type, parameter.range) + ", got " + format_number(value));
-    }
-  }
-  for (const VectorParameter& parameter : vector_parameters()) {
-    const Vec3 value = parameter.get(spec);
-    for (int axis = 0; axis < 3; ++axis) {
-      if (!parameter.component_range.contains(value[axis])) {
-        fail(source, std::string(parameter.key) + "[" + std::to_string(axis) + "]",
-             "must be a number in " + describe_range(parameter.component_range) + ", got " +
-                 format_number(value[axis]));
-      }
-    }
-  }
-  const LatticeDef& lattice = spec.lattice;
-  if (static_cast<long long>(lattice.rows) * lattice.cols < 2) {
-    fail(source, "lattice.rows", "lattice.rows x lattice.cols must be at least 2 particles, got " +
-                                     std::to_string(lattice.rows) + " x " + std::to_string(lattice.cols));
-  }
-  if (yields_after_breaking(lattice.limits.yield_strain, lattice.limits.break_strain)) {
-    fail(source, "springs.connector.yield_strain",
-         "must be <= springs.connector.break_strain (" + format_number(lattice.limits.break_strain) + "), got " +
-             format_number(lattice.limits.yield_strain) + ": a connector would break before it stretches for good");
-  }
-  if (spec.material) {
-    for (const MaterialParameter& parameter : material_parameters()) {
-      const double value = parameter.get(*spec.material);
-      if (!is_allowed(parameter.type, parameter.range, value)) {
-        fail(source, "material." + std::string(parameter.key),
-             "must be " + describe_allowed(parameter.type, parameter.range) + ", got " + format_number(value));
-      }
-    }
-    check_material(*spec.material, source, "material");
-  }
-  const IntegratorSettings& integrator = spec.integrator;
-  if (integrator.min_step > integrator.max_step) {
-    fail(source, "integrator.min_step", "must be <= integrator.max_step (" + format_number(integrator.max_step) +
-                                            "), got " + format_number(integrator.min_step));
-  }
-  if (integrator.min_step > integrator.time_step) {
-    fail(source, "integrator.min_step", "must be <= integrator.time_step (" + format_number(integrator.time_step) +
-                                            "), got " + format_number(integrator.min_step));
-  }
-  // Anchors: inside the lattice, each particle at most once. A map over the anchors, not an array
-  // over the particles: a 4096 x 4096 lattice would need 64 MiB to check two anchors.
-  std::map<std::uint32_t, std::size_t> anchor_of_particle;
-  for (std::size_t i = 0; i < spec.anchors.size(); ++i) {
-    const AnchorSpec& anchor = spec.anchors[i];
-    const std::string field = "anchors[" + std::to_string(i) + "]";
-    validate_anchor(anchor, lattice, spec.output.duration, source, field);
-    const std::uint32_t particle = lattice_index(lattice.cols, anchor.row, anchor.col);
-    const auto [previous, inserted] = anchor_of_particle.emplace(particle, i);
-    if (!inserted) {
-      fail(source, field, "particle (row " + std::to_string(anchor.row) + ", col " + std::to_string(anchor.col) +
-                              ") is anchored twice (also by anchors[" + std::to_string(previous->second) + "])");
-    }
-  }
-  for (std::size_t i = 0; i < spec.colliders.size(); ++i) {
-    validate_collider(spec.colliders[i], source, "colliders[" + std::to_string(i) + "]");
-  }
-  check_self_collision_thickness(spec, source);
-}
-
 json scene_to_json(const SceneSpec& spec) {
   json out = json::object();
   // The node at a dotted key, created on the way down.
@@ -492,50 +337,9 @@ json scene_to_json(const SceneSpec& spec) {
   return out;
 }
 
-Vec3 lattice_rest_position(const LatticeDef& lattice, int row, int col) {
-  // The same expression as build_lattice(), so that an anchor at its default origin sits exactly
-  // on its particle's rest position.
-  return {(col - (lattice.cols - 1) / 2.0) * lattice.spacing, 0.0, (row - (lattice.rows - 1) / 2.0) * lattice.spacing};
-}
-
-std::vector<Anchor> resolve_anchors(const SceneSpec& spec) {
-  std::vector<Anchor> anchors;
-  anchors.reserve(spec.anchors.size());
-  for (const AnchorSpec& anchor : spec.anchors) {
-    AnchorPath path = anchor.path;
-    if (!anchor.origin_given) path.origin = lattice_rest_position(spec.lattice, anchor.row, anchor.col);
-    anchors.push_back(Anchor{lattice_index(spec.lattice.cols, anchor.row, anchor.col), path, anchor.release_time});
-  }
-  return anchors;
-}
-
 void set_scene_material(SceneSpec& spec, const MaterialDef& material, const std::string& source) {
   apply_material(material, spec.lattice.spacing, spec.lattice, source);
   spec.material = material;
-}
-
-ClothModel build_model(const SceneSpec& spec) {
-  const std::vector<Anchor> anchors = resolve_anchors(spec);
-  ClothModel model = build_lattice(spec.lattice, spec.environment, anchors, "scene '" + spec.name + "'");
-  // The scene's seed varies the break strains, as it varies the initial perturbation.
-  SpringLimits limits = spec.lattice.limits;
-  limits.variation_seed = spec.initial.seed;
-  apply_spring_limits(model, limits);
-  // Notches: broken before the run starts (t = 0), so they store no energy and book no work.
-  for (const CutSpec& cut : spec.cuts) {
-    for (std::uint32_t connector : connectors_crossed_in_lattice(model, cut.from, cut.to)) {
-      break_connector(model, connector, 0.0);
-    }
-  }
-  for (const ColliderSpec& collider : spec.colliders) model.colliders.push_back(collider.collider);
-  model.collision = spec.collision;
-  return model;
-}
-
-ClothState build_initial_state(const ClothModel& model, const SceneSpec& spec) {
-  ClothState state = make_rest_state(model);
-  apply_initial_conditions(model, spec.initial, state);
-  return state;
 }
 
 }  // namespace clothsim
