@@ -9,7 +9,7 @@
 // Accuracy: the rational approximation of atan on [-0.66, 0.66] and the range reduction are
 // those of the Cephes library (S. L. Moshier, "Methods and Programs for Mathematical Functions",
 // 1989; cephes/double/atan.c), whose stated peak relative error is 1.8e-16 (about 1 ulp) in IEEE
-// double. tests/forces/test_vector_math.cpp compares it with std::atan2 over the whole range.
+// double. tests/forces/test_lattice_kernel.cpp compares it with std::atan2 over the whole range.
 #pragma once
 
 namespace clothsim::vector_math {
