@@ -34,6 +34,8 @@ mutations=(
   "src/events/spring_events.cpp@      set_connector_rest_length(model, connector, new_rest);@      (void)new_rest;@PermanentStretching|ChangingScenes|EventRuns@a yielded connector keeps its rest length"
   "src/collision/obstacle_contacts.cpp@Vec3 position = contact_point + std::max(0.0, thickness - contact.distance) * n;@Vec3 position = contact_point;@ObstacleContacts@obstacle contacts not pushed out to the thickness"
   "src/collision/self_contacts.cpp@if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);@(void)counts;@SelfContacts|SelfCollision.CornersBroughtTogetherNeverCross@self-collision without its impact stages"
+  "src/integrators/explicit_runge_kutta.cpp@  archive.value(\"rkf45.proposed_step\", proposed_step_);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without RKF45's next step"
+  "src/integrators/implicit_euler.cpp@  archive.array(\"implicit_euler.dv\", dv_);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without implicit Euler's warm start"
 )
 
 echo "scratch clone: $copy"
