@@ -124,10 +124,16 @@ int main(int argc, char** argv) {
 
   const bool flat = peak_growth <= kMemoryGrowthLimit;
   const bool balanced = worst_ratio <= limit;
-  std::printf("%s: %.6g s simulated in %.1f s wall, %" PRIu64 " steps; resident memory %.1f MiB at t = %g s, "
-              "largest growth after it %lld bytes (%s); largest |balance error| / energy scale %.3g (limit %g: %s)\n",
-              name.c_str(), simulation.state().time, wall.seconds(), simulation.integrator_stats().accepted_steps,
-              static_cast<double>(first_resident) / (1 << 20), std::min(every, duration), peak_growth, flat ? "flat" : "GROWS", worst_ratio, limit,
-              balanced ? "within" : "OUTSIDE");
+  std::printf("%s: %.6g s simulated in %.1f s wall, %" PRIu64 " steps; ", name.c_str(), simulation.state().time,
+              wall.seconds(), simulation.integrator_stats().accepted_steps);
+  if (first_resident < 0) {
+    std::printf("memory not measured (stopped before t = %g s); ", std::min(every, duration));
+  } else {
+    std::printf("resident memory %.1f MiB at t = %g s, largest growth after it %lld bytes (%s); ",
+                static_cast<double>(first_resident) / (1 << 20), std::min(every, duration), peak_growth,
+                flat ? "flat" : "GROWS");
+  }
+  std::printf("largest |balance error| / energy scale %.3g (limit %g: %s)%s\n", worst_ratio, limit,
+              balanced ? "within" : "OUTSIDE", ok ? "" : "; FAILED");
   return ok && flat && balanced ? 0 : 1;
 }
