@@ -380,6 +380,42 @@ CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients&
 
 }  // namespace
 
+namespace {
+
+// Visits the springs of a rows x cols lattice in build_lattice()'s order, which is the order of
+// the model's element arrays: connector(e, p, south) for connector e from particle p east (south
+// false) or south, and radial(r, p, pair) for radial spring r centred at p between the arms of
+// kPairs[pair]. Stops at the first visit that returns false; returns whether every visit
+// returned true. Walking the lattice like this needs no table of where each spring goes (8 bytes
+// per connector and radial spring, 32 bytes per particle).
+template <typename Connector, typename Radial>
+bool for_each_lattice_spring(std::size_t rows, std::size_t cols, Connector&& connector, Radial&& radial) {
+  std::uint32_t e = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t j = 0; j < cols; ++j) {
+      const auto p = static_cast<std::uint32_t>(i * cols + j);
+      if (j + 1 < cols && !connector(e++, p, false)) return false;
+      if (i + 1 < rows && !connector(e++, p, true)) return false;
+    }
+  }
+  std::uint32_t r = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t j = 0; j < cols; ++j) {
+      const auto p = static_cast<std::uint32_t>(i * cols + j);
+      // Arms 0 east, 1 south, 2 west, 3 north.
+      const std::array<bool, 4> arm{j + 1 < cols, i + 1 < rows, j > 0, i > 0};
+      for (std::size_t pair = 0; pair < kPairs.size(); ++pair) {
+        const auto [b, c] = kPairs[pair];
+        if (!arm[static_cast<std::size_t>(b)] || !arm[static_cast<std::size_t>(c)]) continue;
+        if (!radial(r++, p, pair)) return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 bool LatticeKernel::prepare(const ClothModel& model) {
   active_ = false;
   scratch_.clear();
@@ -388,41 +424,33 @@ bool LatticeKernel::prepare(const ClothModel& model) {
       static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) != model.particle_count()) {
     return false;
   }
-  const auto cols = static_cast<std::uint32_t>(model.cols);
+  const auto rows = static_cast<std::size_t>(model.rows);
+  const auto cols = static_cast<std::size_t>(model.cols);
   const std::size_t n = model.particle_count();
-  // Where each spring's parameters go: connector e to its first particle's east or south slot,
-  // radial spring r to its centre's slot of its pair. The layout says the springs are the
-  // lattice's; the check here costs one pass and keeps a model that was edited by hand (and no
-  // longer matches its layout) off the kernel.
-  connector_slot_.assign(model.connector_count(), 0);
-  radial_slot_.assign(model.radial_count(), 0);
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    const auto [a, b] = model.connector_particles[e];
-    const bool east = b == a + 1 && a % cols + 1 < cols;
-    const bool south = b == a + cols && b < n;
-    if (!east && !south) return false;
-    connector_slot_[e] = (a << 1) | (south ? 1u : 0u);
-  }
-  // South and north first: with one column, +-1 is also +-cols, and there is no east or west.
-  const auto direction = [&](std::uint32_t centre, std::uint32_t other) -> int {
-    if (other == centre + cols) return 1;
-    if (other + cols == centre) return 3;
-    if (other == centre + 1) return 0;
-    if (other + 1 == centre) return 2;
-    return -1;
+  // The layout says the springs are the lattice's, in build_lattice()'s order; the check here
+  // costs one pass and keeps a model that was edited by hand (and no longer matches its layout)
+  // off the kernel. refresh() then finds each spring's place by walking the lattice again.
+  const LatticeCounts counts = lattice_counts(rows, cols);
+  if (model.connector_count() != counts.connectors || model.radial_count() != counts.radials) return false;
+  const auto step = [cols](std::uint32_t p, int arm) -> std::uint32_t {
+    const auto c = static_cast<std::uint32_t>(cols);
+    return arm == 0 ? p + 1 : arm == 1 ? p + c : arm == 2 ? p - 1 : p - c;
   };
-  for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    const auto [centre, b, c] = model.radial_particles[r];
-    const std::array<int, 2> pair{direction(centre, b), direction(centre, c)};
-    const auto found = std::find(kPairs.begin(), kPairs.end(), pair);
-    if (found == kPairs.end()) return false;
-    radial_slot_[r] =
-        centre * static_cast<std::uint32_t>(kPairs.size()) + static_cast<std::uint32_t>(found - kPairs.begin());
-  }
+  const bool matches = for_each_lattice_spring(
+      rows, cols,
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const std::array<std::uint32_t, 2> expected{p, step(p, south ? 1 : 0)};
+        return model.connector_particles[e] == expected;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        const std::array<std::uint32_t, 3> expected{p, step(p, kPairs[pair][0]), step(p, kPairs[pair][1])};
+        return model.radial_particles[r] == expected;
+      });
+  if (!matches) return false;
   rows_ = model.rows;
   cols_ = model.cols;
-  padding_ = static_cast<std::size_t>(cols_) + 8;
-  stride_ = (n + 2 * padding_ + 7) / 8 * 8;
+  padding_ = padding(cols);
+  stride_ = stride(n, cols);
   scratch_.assign(kArrayCount * stride_, 0.0);
   block_power_.assign(deterministic_sum_blocks(n), 0.0);
   active_ = true;
@@ -430,27 +458,33 @@ bool LatticeKernel::prepare(const ClothModel& model) {
   return true;
 }
 
+std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts) {
+  return (kArrayCount * stride(counts.particles, counts.cols) + deterministic_sum_blocks(counts.particles)) *
+         sizeof(double);
+}
+
 void LatticeKernel::refresh(const ClothModel& model) {
   double* base = scratch_.data() + padding_;
   const auto array = [&](std::size_t a) { return base + a * stride_; };
   // Missing springs (borders) keep zeros: no stiffness, no damping, not live.
   std::fill(scratch_.begin() + static_cast<std::ptrdiff_t>(kEastStiffness * stride_), scratch_.end(), 0.0);
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    const std::size_t p = connector_slot_[e] >> 1;
-    const std::size_t first = (connector_slot_[e] & 1u) != 0 ? kSouthStiffness : kEastStiffness;
-    array(first)[p] = model.connector_stiffness[e];
-    array(first + 1)[p] = model.connector_damping[e];
-    array(first + 2)[p] = model.connector_rest_length[e];
-    array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
-  }
-  for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    const std::size_t p = radial_slot_[r] / kPairs.size();
-    const std::size_t pair = radial_slot_[r] % kPairs.size();
-    const bool live = model.radial_live[r] != 0;
-    array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
-    array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
-    array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
-  }
+  for_each_lattice_spring(
+      static_cast<std::size_t>(rows_), static_cast<std::size_t>(cols_),
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const std::size_t first = south ? kSouthStiffness : kEastStiffness;
+        array(first)[p] = model.connector_stiffness[e];
+        array(first + 1)[p] = model.connector_damping[e];
+        array(first + 2)[p] = model.connector_rest_length[e];
+        array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
+        return true;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        const bool live = model.radial_live[r] != 0;
+        array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
+        array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
+        array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
+        return true;
+      });
   revision_ = model.revision;
 }
 

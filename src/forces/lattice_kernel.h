@@ -88,24 +88,28 @@ class LatticeKernel {
                   std::uint32_t terms, int threads, std::span<Vec3> force);
 
   // Bytes of scratch memory held.
-  std::size_t bytes() const {
-    return (scratch_.capacity() + block_power_.capacity()) * sizeof(double) +
-           (connector_slot_.capacity() + radial_slot_.capacity()) * sizeof(std::uint32_t);
-  }
+  std::size_t bytes() const { return (scratch_.capacity() + block_power_.capacity()) * sizeof(double); }
+  // The bytes bytes() reports after prepare() for the lattice build_lattice() makes with `counts`
+  // (the memory estimate, sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts);
 
  private:
   // Copies every spring's stiffness, damping, rest value and liveness into the padded arrays.
   void refresh(const ClothModel& model);
+  // Zero entries before and after each array, and doubles per array (padding + particles +
+  // padding, rounded up to whole 64-byte lines).
+  static std::size_t padding(std::size_t cols) { return cols + 8; }
+  static std::size_t stride(std::size_t particles, std::size_t cols) {
+    return (particles + 2 * padding(cols) + 7) / 8 * 8;
+  }
 
   bool active_ = false;
   int rows_ = 0;
   int cols_ = 0;
   std::size_t padding_ = 0;  // zero entries before and after each array
   std::size_t stride_ = 0;   // doubles per array (padding + particles + padding, rounded up)
-  std::uint64_t revision_ = 0;                 // ClothModel::revision the parameters were copied at
-  std::vector<std::uint32_t> connector_slot_;  // [connectors] 2 p + (1 if south): where its parameters go
-  std::vector<std::uint32_t> radial_slot_;     // [radials] 6 centre + pair: where its parameters go
-  std::vector<double> scratch_;
+  std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
+  std::vector<double> scratch_;  // kArrayCount arrays of stride_ doubles (lattice_kernel.cpp)
   std::vector<double> block_power_;
 };
 

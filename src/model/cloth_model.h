@@ -149,6 +149,9 @@ struct ClothModel {
   std::size_t force_slot_count() const { return 2 * connector_count() + 3 * radial_count(); }
 
   bool is_anchored(std::size_t particle) const { return particle_anchor[particle] >= 0; }
+  // Bytes held by the arrays (capacity, not just size); the obstacles are not counted (a mesh is
+  // shared with the scene, and the rest is a few hundred bytes each).
+  std::size_t bytes() const;
   bool is_intact() const { return broken_connector_count == 0; }
   // Connectors broken so far (kept by model_edits.h).
   std::size_t broken_connector_count = 0;
@@ -175,6 +178,22 @@ struct ClothState {
   // moving obstacle that pushes the sheet does positive work.
   double contact_work = 0.0;
 };
+
+// The element counts of the rows x cols lattice that build_lattice() makes: what a scene needs can
+// be known before it is built (the memory estimate, sim/memory_estimate.h).
+struct LatticeCounts {
+  std::size_t rows = 0;
+  std::size_t cols = 0;
+  std::size_t particles = 0;   // rows cols
+  std::size_t connectors = 0;  // rows (cols - 1) + (rows - 1) cols
+  std::size_t radials = 0;     // 4 (rows - 1)(cols - 1) adjacent + rows (cols - 2) + cols (rows - 2) opposite
+};
+LatticeCounts lattice_counts(std::size_t rows, std::size_t cols);
+
+// The bytes ClothModel::bytes() reports for the model build_lattice() makes with `counts` and
+// `anchors` anchors, before it is built (the force gather table has 2 slots per connector and 3
+// per radial spring).
+std::size_t lattice_model_bytes(const LatticeCounts& counts, std::size_t anchors);
 
 // Builds the lattice of the paper: particle (i, j) has index i*cols + j and rest position
 // ((j - (cols-1)/2) L, 0, (i - (rows-1)/2) L). Anchors name particles by index; a particle may be
