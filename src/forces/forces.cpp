@@ -36,8 +36,8 @@ std::size_t ForceBuffers::bytes() const {
          lattice.bytes();
 }
 
-std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel kernel) {
-  if (kernel != ForceKernel::general) return LatticeKernel::bytes_for(counts);
+std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays) {
+  if (kernel != ForceKernel::general) return LatticeKernel::bytes_for(counts, parameter_arrays);
   const std::size_t elements = counts.connectors + counts.radials;
   const std::size_t slots = 2 * counts.connectors + 3 * counts.radials;
   return slots * sizeof(decltype(slot_force)::value_type) +

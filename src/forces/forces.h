@@ -60,8 +60,9 @@ struct ForceBuffers {
   // Bytes of scratch memory held.
   std::size_t bytes() const;
   // The bytes bytes() reports after resize() for the lattice build_lattice() makes with `counts`,
-  // with `kernel` (the memory estimate, sim/memory_estimate.h).
-  static std::size_t bytes_for(const LatticeCounts& counts, ForceKernel kernel);
+  // with `kernel`; `parameter_arrays`: whether the lattice kernel keeps them (LatticeKernel::
+  // bytes_for) (the memory estimate, sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays);
 };
 
 // Powers of the dissipative forces at the evaluated state (W, never positive).

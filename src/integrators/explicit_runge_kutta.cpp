@@ -201,10 +201,10 @@ std::size_t ExplicitRungeKutta::workspace_bytes() const {
   return bytes;
 }
 
-std::size_t ExplicitRungeKutta::workspace_bytes_for(int stages, const LatticeCounts& counts, ForceKernel kernel) {
-  return ForceBuffers::bytes_for(counts, kernel) +
-         static_cast<std::size_t>(stages) * StateDerivative::bytes_for(counts.particles) +
-         2 * counts.particles * sizeof(Vec3);
+std::size_t ExplicitRungeKutta::workspace_bytes_for(int stages, std::size_t particles) {
+  // The accelerations of every stage, and the stage (then trial) positions and velocities.
+  return static_cast<std::size_t>(stages) * StateDerivative::bytes_for(particles) +
+         2 * particles * sizeof(decltype(stage_position_)::value_type);
 }
 
 void ExplicitRungeKutta::accept(ClothState& state, double h, double t) {

@@ -36,9 +36,9 @@ class ExplicitRungeKutta : public Integrator {
   const ButcherTableau& tableau() const { return tableau_; }
   std::vector<PhaseTime> phase_times() const override;
   std::size_t workspace_bytes() const override;
-  // The bytes workspace_bytes() reports for a method of `stages` stages on a lattice of `counts`
-  // (the memory estimate, sim/memory_estimate.h).
-  static std::size_t workspace_bytes_for(int stages, const LatticeCounts& counts, ForceKernel kernel);
+  // The bytes workspace_bytes() reports for a method of `stages` stages and `particles`
+  // particles, besides the force buffers (ForceBuffers::bytes_for) (sim/memory_estimate.h).
+  static std::size_t workspace_bytes_for(int stages, std::size_t particles);
 
  protected:
   // A row of weights w (a stage's a_i, b or b - b^) in Nystrom form: the combination
