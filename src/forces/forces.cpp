@@ -24,8 +24,10 @@ void ForceBuffers::resize(const ClothModel& model) {
     std::vector<Vec3>().swap(slot_force);
     std::vector<double>().swap(element_power);
     std::vector<double>().swap(block_power);
+    gather = GatherTable{};
     return;
   }
+  gather.build(model);
   slot_force.assign(model.force_slot_count(), Vec3{});
   element_power.assign(model.connector_count() + model.radial_count(), 0.0);
   block_power.assign((element_power.size() + kReductionBlock - 1) / kReductionBlock, 0.0);
@@ -33,7 +35,7 @@ void ForceBuffers::resize(const ClothModel& model) {
 
 std::size_t ForceBuffers::bytes() const {
   return slot_force.capacity() * sizeof(Vec3) + (element_power.capacity() + block_power.capacity()) * sizeof(double) +
-         lattice.bytes();
+         gather.bytes() + lattice.bytes();
 }
 
 std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays) {
@@ -41,7 +43,8 @@ std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel ker
   const std::size_t elements = counts.connectors + counts.radials;
   const std::size_t slots = 2 * counts.connectors + 3 * counts.radials;
   return slots * sizeof(decltype(slot_force)::value_type) +
-         (elements + (elements + kReductionBlock - 1) / kReductionBlock) * sizeof(decltype(element_power)::value_type);
+         (elements + (elements + kReductionBlock - 1) / kReductionBlock) * sizeof(decltype(element_power)::value_type) +
+         GatherTable::bytes_for(counts);
 }
 
 std::size_t deterministic_sum_blocks(std::size_t count) { return (count + kReductionBlock - 1) / kReductionBlock; }
@@ -67,8 +70,8 @@ void gather_forces(const ClothModel& model, std::span<const Vec3> velocity, Forc
   const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
   parallel_for(model.particle_count(), threads, [&](std::size_t p) {
     Vec3 sum = model.particle_mass[p] * gravity - drag * velocity[p];
-    for (std::uint32_t k = model.gather_offset[p]; k < model.gather_offset[p + 1]; ++k) {
-      sum += buffers.slot_force[model.gather_slot[k]];
+    for (std::uint32_t k = buffers.gather.offset[p]; k < buffers.gather.offset[p + 1]; ++k) {
+      sum += buffers.slot_force[buffers.gather.slot[k]];
     }
     force[p] = sum;
   });

@@ -18,27 +18,6 @@ constexpr std::uint32_t kNoConnector = std::numeric_limits<std::uint32_t>::max()
 // east (+x, col+1), south (+z, row+1), west, north.
 constexpr std::array<std::array<int, 2>, 4> kDirections = {{{0, 1}, {1, 0}, {0, -1}, {-1, 0}}};
 
-void build_gather_table(ClothModel& model) {
-  const std::size_t n = model.particle_count();
-  std::vector<std::uint32_t> count(n + 1, 0);
-  const auto slot_owner = [&](std::size_t slot) -> std::uint32_t {
-    if (slot < model.radial_slot_base()) {
-      return model.connector_particles[slot / 2][slot % 2];
-    }
-    const std::size_t local = slot - model.radial_slot_base();
-    return model.radial_particles[local / 3][local % 3];
-  };
-  const std::size_t slots = model.force_slot_count();
-  for (std::size_t s = 0; s < slots; ++s) ++count[slot_owner(s) + 1];
-  for (std::size_t p = 0; p < n; ++p) count[p + 1] += count[p];
-  model.gather_offset = count;
-  model.gather_slot.assign(slots, 0);
-  std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
-  // Slots are visited in ascending order, so each particle's list is sorted: a fixed order of
-  // summation that does not depend on how the work is split between threads.
-  for (std::size_t s = 0; s < slots; ++s) model.gather_slot[cursor[slot_owner(s)]++] = static_cast<std::uint32_t>(s);
-}
-
 void build_connector_radial_table(ClothModel& model) {
   const std::size_t connectors = model.connector_count();
   std::vector<std::uint32_t> count(connectors + 1, 0);
@@ -73,9 +52,7 @@ void finish_model(ClothModel& model) {
   if (model.radial_yield_angle.size() != radials) model.radial_yield_angle.assign(radials, kNever);
   model.broken_connector_count =
       static_cast<std::size_t>(std::count(model.connector_live.begin(), model.connector_live.end(), std::uint8_t{0}));
-  build_gather_table(model);
   build_connector_radial_table(model);
-  CLOTHSIM_ASSERT(model.gather_offset.back() == model.force_slot_count(), "gather table covers every slot");
 }
 
 namespace {
@@ -103,8 +80,7 @@ std::size_t ClothModel::bytes() const {
          vector_bytes(radial_connectors) + vector_bytes(radial_kind) + vector_bytes(radial_rest_angle) +
          vector_bytes(radial_stiffness) + vector_bytes(radial_damping) + vector_bytes(radial_live) +
          vector_bytes(radial_original_angle) + vector_bytes(radial_yield_angle) +
-         vector_bytes(connector_radial_offset) + vector_bytes(radial_of_connector) + vector_bytes(anchors) +
-         vector_bytes(gather_offset) + vector_bytes(gather_slot);
+         vector_bytes(connector_radial_offset) + vector_bytes(radial_of_connector) + vector_bytes(anchors);
 }
 
 LatticeCounts lattice_counts(std::size_t rows, std::size_t cols) {
@@ -135,8 +111,7 @@ std::size_t lattice_model_bytes(const LatticeCounts& counts, std::size_t anchors
          array_bytes<&M::radial_damping>(r) + array_bytes<&M::radial_live>(r) +
          array_bytes<&M::radial_original_angle>(r) + array_bytes<&M::radial_yield_angle>(r) +
          array_bytes<&M::connector_radial_offset>(e + 1) + array_bytes<&M::radial_of_connector>(2 * r) +
-         array_bytes<&M::anchors>(anchors) + array_bytes<&M::gather_offset>(n + 1) +
-         array_bytes<&M::gather_slot>(2 * e + 3 * r);
+         array_bytes<&M::anchors>(anchors);
 }
 
 std::size_t count_pieces(const ClothModel& model) {

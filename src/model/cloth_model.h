@@ -134,12 +134,8 @@ struct ClothModel {
   std::vector<Collider> colliders;
   CollisionSettings collision;
 
-  // Force gather table (CSR). Element forces are written to per-element slots, then each
-  // particle sums its slots in ascending order; this is what makes results independent of the
-  // thread count. Connector e owns slots 2e (a) and 2e+1 (b); radial spring r owns slots
-  // radial_slot_base() + 3r (centre), +1 (b), +2 (c).
-  std::vector<std::uint32_t> gather_offset;  // [particle_count() + 1]
-  std::vector<std::uint32_t> gather_slot;    // [gather_offset.back()]
+  // Element force slots of the general force path (model/gather_table.h): connector e owns slots
+  // 2e (a) and 2e+1 (b); radial spring r owns slots radial_slot_base() + 3r (centre), +1 (b), +2 (c).
 
   std::size_t particle_count() const { return particle_mass.size(); }
   std::size_t connector_count() const { return connector_particles.size(); }
@@ -191,8 +187,7 @@ struct LatticeCounts {
 LatticeCounts lattice_counts(std::size_t rows, std::size_t cols);
 
 // The bytes ClothModel::bytes() reports for the model build_lattice() makes with `counts` and
-// `anchors` anchors, before it is built (the force gather table has 2 slots per connector and 3
-// per radial spring).
+// `anchors` anchors, before it is built.
 std::size_t lattice_model_bytes(const LatticeCounts& counts, std::size_t anchors);
 
 // Builds the lattice of the paper: particle (i, j) has index i*cols + j and rest position
@@ -206,8 +201,8 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
 ClothState make_rest_state(const ClothModel& model);
 
 // Completes a model whose element arrays are filled in: the per-spring state of tearing and
-// plasticity (intact, limits +inf, original rest values) where it is missing, the force gather
-// table and the connector-to-radial table. build_lattice() calls it; so does code that builds a
+// plasticity (intact, limits +inf, original rest values) where it is missing, and the
+// connector-to-radial table. build_lattice() calls it; so does code that builds a
 // model by hand (tests of irregular sheets).
 void finish_model(ClothModel& model);
 
