@@ -25,6 +25,7 @@
 #include "forces/forces.h"
 #include "integrators/stable_step.h"
 #include "io/run_writer.h"
+#include "memory_check.h"
 #include "progress_bar.h"
 #include "run_render.h"
 #include "scene_options.h"
@@ -69,6 +70,7 @@ struct RunOptions {
   bool no_progress = false;
   bool profile = false;
   RenderFlags render;  // --render, --size, --camera, --mesh, --show (run_render.h)
+  MemoryFlags memory;  // --max-memory (memory_check.h)
 
   bool given(std::string_view flag) const { return scene.given(flag); }
 };
@@ -187,6 +189,7 @@ int run(const RunOptions& options, const Invocation& invocation) {
   // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
   //    anything exists on disk.
   const SceneSpec spec = make_run_scene(options);
+  check_run_memory(spec, options.render, options.memory);  // a scene too large is refused before its model is built
   ClothModel model = build_model(spec);
   ClothState initial = build_initial_state(model, spec);
   const std::string out = options.given("--out") ? options.out : default_output_folder(spec);
@@ -339,6 +342,7 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   app->add_flag("--profile", options->profile,
                 "print where the wall time went: forces, integration (stage sums, error control), checks, output");
   add_render_flags(*app, options->render);
+  add_memory_flag(*app, options->memory);
   app->footer(run_footer());
   return {app, [options, invocation] { return run(*options, invocation); }};
 }
