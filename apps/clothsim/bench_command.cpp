@@ -14,7 +14,9 @@
 #include "bench/suite.h"
 #include "commands.h"
 #include "core/error.h"
+#include "io/run_memory.h"
 #include "io/run_writer.h"
+#include "memory_check.h"
 
 namespace clothsim::cli {
 namespace {
@@ -28,6 +30,7 @@ struct BenchFlags {
   int threads = 0;
   double seconds = 0.0;
   double simulated_cap = 0.0;
+  MemoryFlags memory;  // --max-memory (memory_check.h)
 
   bool given(const char* flag) const { return app->count(flag) > 0; }
 };
@@ -114,8 +117,25 @@ void write_csv(const std::string& path, const std::string& text) {
   }
 }
 
+// Every case must fit before any runs (each case's simulation is freed before the next).
+void check_bench_memory(const BenchOptions& options, const MemoryFlags& flags) {
+  const MemoryLimit limit = memory_limit(flags);
+  const std::vector<IntegratorKind> kinds = options.integrators.empty() ? all_integrator_kinds() : options.integrators;
+  for (int size : options.sizes) {
+    for (IntegratorKind kind : kinds) {
+      MemoryEstimate estimate = estimate_simulation_memory(simulation_shape(bench_case_scene(size, kind, options)));
+      estimate.add("program", resident_memory());
+      check_memory(estimate, limit,
+                   "the case " + std::to_string(size) + " x " + std::to_string(size) + " with " +
+                       std::string(to_string(kind)));
+    }
+  }
+  cap_run_growth(limit);
+}
+
 int bench(const BenchFlags& flags) {
   const BenchOptions options = make_options(flags);
+  check_bench_memory(options, flags.memory);
   if (!flags.csv.empty()) {
     // Fail before minutes of benchmarking, not after, if the CSV cannot be written.
     const std::filesystem::path parent = std::filesystem::path(flags.csv).parent_path();
@@ -162,6 +182,7 @@ Subcommand add_bench_command(CLI::App& parent) {
   app->add_option("--seconds", flags->seconds, "wall-time budget per case, s (default 1.5)")->type_name("S");
   app->add_option("--sim-cap", flags->simulated_cap, "simulated time per case at most, s (default 2)")->type_name("S");
   app->add_option("--csv", flags->csv, "also write the results as CSV to FILE")->type_name("FILE");
+  add_memory_flag(*app, flags->memory);
   app->footer(
       "Each case is the paper's material on an N x N lattice held by its centre particle, falling from rest, "
       "advanced at 60 frames per simulated second without writing output.\n"
@@ -173,7 +194,7 @@ Subcommand add_bench_command(CLI::App& parent) {
       "\n"
       "Exit codes:\n"
       "  0    the suite ran (a case whose simulation failed is reported in its row)\n"
-      "  2    bad flag value; nothing was run or written\n"
+      "  2    bad flag value, or a case too large for the memory; nothing was run or written\n"
       "  3    the CSV file could not be written");
   return {app, [flags] { return bench(*flags); }};
 }

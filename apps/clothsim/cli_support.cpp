@@ -15,7 +15,7 @@ std::string exit_code_help() {
   return "Exit codes:\n"
          "  0    success (the run completed or came to rest)\n"
          "  1    the simulation failed; diagnosis on stderr, output folder kept with status \"failed\"\n"
-         "  2    bad input (scene file, flag, value out of range); nothing was written\n"
+         "  2    bad input (scene, flag or value; a scene too large for the memory); nothing was written\n"
          "  3    output error (the output folder could not be written)\n"
          "  130  interrupted (SIGINT); output folder kept with status \"interrupted\"";
 }
@@ -34,7 +34,9 @@ int run_subcommand(const std::function<int()>& run) {
     print_error(error.what());
     return kExitOutputError;
   } catch (const std::bad_alloc&) {
-    print_error("out of memory");
+    print_error(
+        "out of memory: the run needed more than its estimate and the memory it may use (see --max-memory; "
+        "docs/performance.md, \"Memory\")");
     return kExitSimulationFailed;
   } catch (const std::exception& error) {
     // Not an expected failure: every anticipated error has its own type above.

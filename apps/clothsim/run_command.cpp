@@ -31,6 +31,7 @@
 #include "io/npy.h"
 #include "io/run_checkpoints.h"
 #include "io/run_writer.h"
+#include "memory_check.h"
 #include "progress_bar.h"
 #include "run_render.h"
 #include "run_resume.h"
@@ -77,6 +78,7 @@ struct RunOptions {
   bool no_progress = false;
   bool profile = false;
   RenderFlags render;  // --render, --size, --camera, --mesh, --show (run_render.h)
+  MemoryFlags memory;  // --max-memory (memory_check.h)
 
   bool given(std::string_view flag) const { return scene.given(flag); }
 };
@@ -376,6 +378,7 @@ int run(const RunOptions& options, const Invocation& invocation) {
   // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
   //    anything exists on disk.
   const SceneSpec spec = make_run_scene(options);
+  check_run_memory(spec, options.render, options.memory);  // a scene too large is refused before its model is built
   ClothModel model = build_model(spec);
   ClothState initial = build_initial_state(model, spec);
   const std::string out = options.given("--out") ? options.out : default_output_folder(spec);
@@ -435,6 +438,7 @@ int resume(const RunOptions& options, const Invocation& invocation) {
   }
   const ResumeTarget target = find_resume_target(options.resume);
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
+  check_run_memory(spec, options.render, options.memory);
   ClothModel model = build_model(spec);
   ClothState initial = build_initial_state(model, spec);
   SimulationSettings settings;
@@ -551,6 +555,7 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   app->add_flag("--profile", options->profile,
                 "print where the wall time went: forces, integration (stage sums, error control), checks, output");
   add_render_flags(*app, options->render);
+  add_memory_flag(*app, options->memory);
   app->footer(run_footer());
   return {app, [options, invocation] {
             return options->given("--resume") ? resume(*options, invocation) : run(*options, invocation);

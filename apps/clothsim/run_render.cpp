@@ -1,6 +1,7 @@
 // The --render family of flags and the headless recorder of `clothsim run` (run_render.h).
 #include "run_render.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -9,6 +10,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "io/run_writer.h"
+#include "memory_check.h"
 
 #if CLOTHSIM_HAVE_RENDER
 #include <condition_variable>
@@ -218,6 +220,15 @@ std::shared_ptr<const RenderPlan> parse_render_flags(const RenderFlags& flags) {
   }
 #endif
   return plan;
+}
+
+std::size_t estimate_render_bytes(const RenderPlan& plan, const LatticeCounts& counts, std::size_t anchors) {
+  if (!plan.image && !plan.video) return 0;
+  // Besides drawing (memory_check.h): the model copied for the rendering thread, and the frames
+  // queued and recycled (RunRecorder::Impl::kQueueDepth, one being drawn, one spare).
+  constexpr std::size_t kFramesHeld = 3 + 2;
+  return picture_bytes(plan.width, plan.height, plan.samples, counts) + lattice_model_bytes(counts, anchors) +
+         counts.particles * kFramesHeld * sizeof(Vec3);
 }
 
 std::string describe_render_outputs(const RenderPlan& plan) {

@@ -48,6 +48,11 @@ struct RenderPlan;
 // Parses and checks the flags; throws InputError naming the flag and the allowed values.
 std::shared_ptr<const RenderPlan> parse_render_flags(const RenderFlags& flags);
 
+// The memory the pictures of the plan take for the lattice of `counts` with `anchors` anchors
+// (0 for --render none): the graphics stack, the framebuffers, the recorder's copy of the model
+// and its frames, the sheet mesh and the driver's buffers (memory_check.h).
+std::size_t estimate_render_bytes(const RenderPlan& plan, const LatticeCounts& counts, std::size_t anchors);
+
 // The files the plan writes, e.g. "final.png and animation.mp4", or "" for none.
 std::string describe_render_outputs(const RenderPlan& plan);
 

@@ -10,6 +10,7 @@
 #include "commands.h"
 #include "core/error.h"
 #include "io/run_writer.h"
+#include "memory_check.h"
 #include "render/render_error.h"
 #include "scene_options.h"
 #include "viewer/script.h"
@@ -35,6 +36,7 @@ struct ViewOptions {
   int samples = -1;
   bool no_vsync = false;
   bool hide_panel = false;
+  MemoryFlags memory;  // --max-memory (memory_check.h)
 };
 
 bool parse_whole(std::string_view text, std::uint64_t& value) {
@@ -103,6 +105,7 @@ int view(const ViewOptions& options) {
   }
   viewer_options.vsync = !options.no_vsync;
   viewer_options.show_panel = !options.hide_panel;
+  check_view_memory(spec, viewer_options.width, viewer_options.height, options.memory);
   viewer::Session session(spec);
 
   // 2. The window.
@@ -184,6 +187,7 @@ Subcommand add_view_command(CLI::App& parent) {
       ->type_name("N");
   app->add_flag("--no-vsync", options->no_vsync, "draw as fast as possible instead of at the display's rate");
   app->add_flag("--hide-panel", options->hide_panel, "start with the panel hidden (H shows it)");
+  add_memory_flag(*app, options->memory);
   app->footer(view_footer());
   return {app, [options] { return view(*options); }};
 }

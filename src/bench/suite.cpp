@@ -31,13 +31,18 @@ BenchOptions BenchOptions::quick() {
   return options;
 }
 
-BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptions& options) {
+SceneSpec bench_case_scene(int size, IntegratorKind integrator, const BenchOptions& options) {
   const std::string n = std::to_string(size);
   SceneSpec spec = scene_from_paper_args(n + "," + n + ",1,4,1,1400,200,80,5,1", "bench");
   spec.integrator.kind = integrator;
   if (integrator == IntegratorKind::rk4 || integrator == IntegratorKind::symplectic_euler) {
     spec.integrator.time_step = options.explicit_fixed_step;
   }
+  return spec;
+}
+
+BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptions& options) {
+  const SceneSpec spec = bench_case_scene(size, integrator, options);
   ClothModel model = build_model(spec);
   ClothState initial = build_initial_state(model, spec);
   SimulationSettings settings;

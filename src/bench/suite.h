@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "integrators/integrator.h"
+#include "scene/scene.h"
 
 namespace clothsim {
 
@@ -62,6 +63,9 @@ struct BenchResult {
     return force_evaluations > 0 ? 1e6 * force_seconds / static_cast<double>(force_evaluations) : 0.0;
   }
 };
+
+// The scene of one case: the paper's material on a size x size lattice, with `integrator`.
+SceneSpec bench_case_scene(int size, IntegratorKind integrator, const BenchOptions& options);
 
 BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptions& options);
 

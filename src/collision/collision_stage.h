@@ -39,6 +39,13 @@ class CollisionStage {
   // state.contact_work.
   CollisionCounts apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads);
   std::size_t bytes() const;
+  // The bytes the stage holds on the lattice of `counts` with colliders (`obstacles`) and
+  // self-collision, once they have run (sim/memory_estimate.h); none with neither.
+  static std::size_t bytes_for(const LatticeCounts& counts, bool obstacles, bool self_collision) {
+    if (!obstacles && !self_collision) return 0;
+    return counts.particles * sizeof(Vec3) + (obstacles ? ObstacleContacts::bytes_for(counts) : 0) +
+           (self_collision ? SelfContacts::bytes_for(counts) : 0);
+  }
   // Particles resting on a collider at the step's start, for an integrator to hold on its surface
   // (model/surface_contacts.h); refreshed by begin_step().
   SurfaceContacts& surface_contacts() { return obstacles_.surface_contacts(); }

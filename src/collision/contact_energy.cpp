@@ -4,6 +4,7 @@ namespace clothsim {
 
 void ContactEnergy::collect(const ClothModel& model, std::span<const std::uint8_t> changed) {
   const std::size_t connectors = model.connector_count();
+  if (!gather_.built_for(model)) gather_.build(model);
   element_mark_.resize(connectors + model.radial_count(), 0);
   for (std::uint32_t element : elements_) element_mark_[element] = 0;
   particles_.clear();
@@ -12,8 +13,8 @@ void ContactEnergy::collect(const ClothModel& model, std::span<const std::uint8_
   for (std::size_t p = 0; p < changed.size(); ++p) {
     if (changed[p] == 0) continue;
     particles_.push_back(static_cast<std::uint32_t>(p));
-    for (std::uint32_t i = model.gather_offset[p]; i < model.gather_offset[p + 1]; ++i) {
-      const std::size_t slot = model.gather_slot[i];
+    for (std::uint32_t i = gather_.offset[p]; i < gather_.offset[p + 1]; ++i) {
+      const std::size_t slot = gather_.slot[i];
       const std::size_t element = slot < base ? slot / 2 : connectors + (slot - base) / 3;
       if (element_mark_[element] != 0) continue;
       element_mark_[element] = 1;
@@ -44,7 +45,8 @@ double ContactEnergy::energy(const ClothModel& model, std::span<const Vec3> posi
 }
 
 std::size_t ContactEnergy::bytes() const {
-  return element_mark_.capacity() + (particles_.capacity() + elements_.capacity()) * sizeof(std::uint32_t);
+  return element_mark_.capacity() + (particles_.capacity() + elements_.capacity()) * sizeof(std::uint32_t) +
+         gather_.bytes();
 }
 
 }  // namespace clothsim

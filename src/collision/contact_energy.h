@@ -4,10 +4,10 @@
 // A pass moves some particles and changes some velocities; the sheet's energy changes by the
 // kinetic and gravitational energy of those particles and the elastic energy of the springs that
 // touch them. Summing only those costs in proportion to what the pass touched, where summing the
-// whole sheet twice per step would cost more than the pass. The springs are found through the
-// model's gather table (connector e owns slots 2e, 2e+1; radial r owns radial_slot_base() + 3r
-// ..+2), and everything is summed in particle and slot order, so the sum is the same for any
-// thread count.
+// whole sheet twice per step would cost more than the pass. The springs are found through a
+// gather table (model/gather_table.h: connector e owns slots 2e, 2e+1; radial r owns
+// radial_slot_base() + 3r ..+2), built at the first collect(), and everything is summed in
+// particle and slot order, so the sum is the same for any thread count.
 #pragma once
 
 #include <cstddef>
@@ -18,6 +18,7 @@
 #include "core/vec3.h"
 #include "forces/forces.h"
 #include "model/cloth_model.h"
+#include "model/gather_table.h"
 
 namespace clothsim {
 
@@ -32,11 +33,19 @@ class ContactEnergy {
                 ForceTerms terms) const;
   std::span<const std::uint32_t> particles() const { return particles_; }
   std::size_t bytes() const;
+  // The most bytes() reports on the lattice of `counts`: every particle and spring collected
+  // (a sheet lying on the floor) (sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts) {
+    const std::size_t elements = counts.connectors + counts.radials;
+    return elements * (sizeof(std::uint8_t) + sizeof(std::uint32_t)) + counts.particles * sizeof(std::uint32_t) +
+           GatherTable::bytes_for(counts);
+  }
 
  private:
   std::vector<std::uint8_t> element_mark_;  // [connectors + radials] 1: in elements_
   std::vector<std::uint32_t> particles_;    // collected particles, ascending
   std::vector<std::uint32_t> elements_;     // connectors e, then radials as connector_count() + r
+  GatherTable gather_;                      // the model's, built at the first collect()
 };
 
 }  // namespace clothsim

@@ -96,6 +96,12 @@ class ObstacleContacts {
   SurfaceContacts& surface_contacts() { return surface_; }
   // Bytes of scratch memory held.
   std::size_t bytes() const;
+  // The most bytes() reports on the lattice of `counts` once a collider is in the scene
+  // (sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts) {
+    return counts.particles * (2 * sizeof(Vec3) + sizeof(double) + sizeof(std::uint8_t)) +
+           ContactEnergy::bytes_for(counts) + SurfaceContacts::bytes_for(counts.particles);
+  }
 
  private:
   void resize(const ClothModel& model);

@@ -1,6 +1,7 @@
 #include "collision/self_contacts.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -544,6 +545,27 @@ SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state
   counts.work = after - before;
   state.contact_work += counts.work;
   return counts;
+}
+
+std::size_t SelfContacts::bytes_for(const LatticeCounts& counts) {
+  const std::size_t n = counts.particles;
+  const std::size_t cells = counts.rows > 0 && counts.cols > 0 ? (counts.rows - 1) * (counts.cols - 1) : 0;
+  const std::size_t triangles = 2 * cells;
+  const std::size_t edges = counts.connectors + cells;  // connectors, then one diagonal per cell
+  std::size_t bytes = triangles * sizeof(elements_.triangle[0]) + edges * sizeof(elements_.edge[0]);
+  bytes += (n + triangles + edges) * sizeof(Box);
+  // Each grid: a low cell per box, entries for the cells each box spans, two bucket arrays of
+  // at least twice the entries (BoxGrid::build).
+  for (const std::size_t boxes : {triangles, edges}) {
+    const auto entries = static_cast<std::size_t>(kGridEntriesPerBox * static_cast<double>(boxes));
+    bytes += boxes * 3 * sizeof(std::int64_t) + entries * (3 * sizeof(std::int64_t) + sizeof(std::uint64_t)) +
+             2 * std::bit_ceil(std::max<std::size_t>(2 * entries, 16)) * sizeof(std::uint32_t);
+  }
+  bytes += n * (4 * sizeof(Vec3) + sizeof(double) + sizeof(std::uint32_t) + 2 * sizeof(std::uint8_t));
+  // Candidates: kept in their blocks and in one list, with flags and the active ones' indices.
+  const auto pairs = static_cast<std::size_t>(kCandidatesPerParticle * static_cast<double>(n));
+  bytes += pairs * (2 * sizeof(SelfPair) + 3 * sizeof(std::uint8_t) + 2 * sizeof(std::uint32_t));
+  return bytes + ContactEnergy::bytes_for(counts);
 }
 
 std::size_t SelfContacts::bytes() const {

@@ -115,6 +115,15 @@ class SelfContacts {
   std::span<const SelfPair> candidates() const { return candidates_; }
   const SheetElements& elements() const { return elements_; }
   std::size_t bytes() const;
+  // The bytes the pass holds on the lattice of `counts` (sim/memory_estimate.h): its per-particle
+  // and per-element arrays, the two grids, and the candidate pairs. The number of candidates and
+  // of grid entries depends on how the sheet lies and how fast it moves, so those two are
+  // allowances, measured (docs/performance.md, "Memory"): a flat sheet falling finds about 9
+  // candidates per particle, `pile` about 40 while it folds, and up to 233 for the few steps
+  // of its impact on the rod. The estimate takes 40; an impact can need more for a moment.
+  static std::size_t bytes_for(const LatticeCounts& counts);
+  static constexpr double kCandidatesPerParticle = 40.0;
+  static constexpr double kGridEntriesPerBox = 4.0;
 
  private:
   void prune_candidates(std::span<const Vec3> x, double reach, int threads);

@@ -78,6 +78,12 @@ class SpringEvents {
     return connector_flag_.capacity() + radial_flag_.capacity() + connector_unit_.capacity() * sizeof(Vec3) +
            (radial_orientation_.capacity() + cos_upper_.capacity() + cos_lower_.capacity()) * sizeof(double);
   }
+  // The bytes bytes() reports once apply() has run with a finite limit on the lattice of `counts`
+  // (sim/memory_estimate.h); none while every limit is infinite.
+  static std::size_t bytes_for(const LatticeCounts& counts) {
+    return counts.connectors * (sizeof(std::uint8_t) + sizeof(Vec3)) +
+           counts.radials * (sizeof(std::uint8_t) + 3 * sizeof(double));
+  }
 
  private:
   void resize(const ClothModel& model);

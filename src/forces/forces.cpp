@@ -15,18 +15,36 @@ constexpr std::size_t kReductionBlock = 1024;
 }  // namespace
 
 void ForceBuffers::resize(const ClothModel& model) {
-  slot_force.assign(model.force_slot_count(), Vec3{});
-  element_power.assign(model.connector_count() + model.radial_count(), 0.0);
-  block_power.assign((element_power.size() + kReductionBlock - 1) / kReductionBlock, 0.0);
   const bool lattice_ready = kernel != ForceKernel::general && lattice.prepare(model);
   if (kernel == ForceKernel::general) lattice = LatticeKernel{};
   CLOTHSIM_ASSERT(kernel != ForceKernel::lattice || lattice_ready,
                   "ForceKernel::lattice needs a model with the lattice layout");
+  if (lattice_ready) {
+    // Released, not just cleared: a ForceBuffers resized for another model may hold them.
+    std::vector<Vec3>().swap(slot_force);
+    std::vector<double>().swap(element_power);
+    std::vector<double>().swap(block_power);
+    gather = GatherTable{};
+    return;
+  }
+  gather.build(model);
+  slot_force.assign(model.force_slot_count(), Vec3{});
+  element_power.assign(model.connector_count() + model.radial_count(), 0.0);
+  block_power.assign((element_power.size() + kReductionBlock - 1) / kReductionBlock, 0.0);
 }
 
 std::size_t ForceBuffers::bytes() const {
   return slot_force.capacity() * sizeof(Vec3) + (element_power.capacity() + block_power.capacity()) * sizeof(double) +
-         lattice.bytes();
+         gather.bytes() + lattice.bytes();
+}
+
+std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays) {
+  if (kernel != ForceKernel::general) return LatticeKernel::bytes_for(counts, parameter_arrays);
+  const std::size_t elements = counts.connectors + counts.radials;
+  const std::size_t slots = 2 * counts.connectors + 3 * counts.radials;
+  return slots * sizeof(decltype(slot_force)::value_type) +
+         (elements + (elements + kReductionBlock - 1) / kReductionBlock) * sizeof(decltype(element_power)::value_type) +
+         GatherTable::bytes_for(counts);
 }
 
 std::size_t deterministic_sum_blocks(std::size_t count) { return (count + kReductionBlock - 1) / kReductionBlock; }
@@ -52,8 +70,8 @@ void gather_forces(const ClothModel& model, std::span<const Vec3> velocity, Forc
   const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
   parallel_for(model.particle_count(), threads, [&](std::size_t p) {
     Vec3 sum = model.particle_mass[p] * gravity - drag * velocity[p];
-    for (std::uint32_t k = model.gather_offset[p]; k < model.gather_offset[p + 1]; ++k) {
-      sum += buffers.slot_force[model.gather_slot[k]];
+    for (std::uint32_t k = buffers.gather.offset[p]; k < buffers.gather.offset[p + 1]; ++k) {
+      sum += buffers.slot_force[buffers.gather.slot[k]];
     }
     force[p] = sum;
   });
@@ -61,11 +79,11 @@ void gather_forces(const ClothModel& model, std::span<const Vec3> velocity, Forc
 
 ForcePowers evaluate_forces(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                             ForceTerms terms, int threads, ForceBuffers& buffers, std::span<Vec3> force) {
-  CLOTHSIM_ASSERT(buffers.slot_force.size() == model.force_slot_count(), "ForceBuffers::resize(model) was called");
   ForcePowers powers;
   if (buffers.lattice.active()) {
     powers.damping = buffers.lattice.evaluate(model, position, velocity, terms, threads, force);
   } else {
+    CLOTHSIM_ASSERT(buffers.slot_force.size() == model.force_slot_count(), "ForceBuffers::resize(model) was called");
     accumulate_connector_springs(model, position, velocity, terms, threads, buffers);
     accumulate_radial_springs(model, position, velocity, terms, threads, buffers);
     gather_forces(model, velocity, terms, threads, buffers, force);

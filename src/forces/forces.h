@@ -24,6 +24,7 @@
 #include "core/vec3.h"
 #include "forces/lattice_kernel.h"
 #include "model/cloth_model.h"
+#include "model/gather_table.h"
 
 namespace clothsim {
 
@@ -46,17 +47,24 @@ enum class ForceKernel : std::uint8_t {
 
 // Scratch memory for one force evaluation, sized by resize() for a model. Changes through
 // model/model_edits.h (tearing, plasticity, live edits) need no resize(): elements keep their
-// index, and the kernel follows the model's revision.
+// index, and the kernel follows the model's revision. Only the chosen path's scratch is held: the
+// general path's per-slot arrays and gather table stay empty while the lattice kernel is in use
+// (they would be 684 bytes per particle of a lattice, more than the kernel's own scratch).
 struct ForceBuffers {
   ForceKernel kernel = ForceKernel::automatic;  // set before resize()
-  std::vector<Vec3> slot_force;     // [model.force_slot_count()], N
-  std::vector<double> element_power;  // [connectors + radials], damping power per element, W
-  std::vector<double> block_power;    // partial sums over fixed blocks of element_power
+  std::vector<Vec3> slot_force;     // general path: [model.force_slot_count()], N
+  std::vector<double> element_power;  // general path: [connectors + radials], damping power per element, W
+  std::vector<double> block_power;    // general path: partial sums over fixed blocks of element_power
+  GatherTable gather;                 // general path: each particle's slots
   LatticeKernel lattice;              // scratch of the structured kernel, when it is in use
   void resize(const ClothModel& model);
   bool uses_lattice_kernel() const { return lattice.active(); }
   // Bytes of scratch memory held.
   std::size_t bytes() const;
+  // The bytes bytes() reports after resize() for the lattice build_lattice() makes with `counts`,
+  // with `kernel`; `parameter_arrays`: whether the lattice kernel keeps them (LatticeKernel::
+  // bytes_for) (the memory estimate, sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays);
 };
 
 // Powers of the dissipative forces at the evaluated state (W, never positive).

@@ -41,6 +41,8 @@ enum Array : std::size_t {
   kArrayCount = kRadialRestAngle + 6
 };
 // clang-format on
+// A uniform sheet (LatticeKernel::uniform()) keeps only the arrays before the parameters.
+constexpr std::size_t kUniformArrayCount = kEastStiffness;
 
 // Particles per band of the radial and gather passes (at least; bands are whole rows).
 constexpr std::size_t kBandParticles = 256;
@@ -54,7 +56,9 @@ constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {
 
 // Switches of one evaluation: 1 for a force term that is on, 0 for one that is off, multiplied
 // onto the per-spring constants (multiplying by 1 is exact, so a term that is on gives the same
-// bits as without the switch).
+// bits as without the switch). On a uniform sheet, also the one value of each parameter of each
+// family, read instead of the parameter arrays: the products are the same as with the arrays,
+// so both forms give the same bits.
 struct Coefficients {
   double connector_elastic = 0.0;
   double connector_damped = 0.0;
@@ -64,6 +68,16 @@ struct Coefficients {
   double opposite_damped = 0.0;
   Vec3 gravity;
   double drag = 0.0;
+  // Uniform sheets only.
+  double connector_stiffness = 0.0;
+  double connector_damping = 0.0;
+  double connector_rest_length = 0.0;
+  double adjacent_stiffness = 0.0;
+  double adjacent_damping = 0.0;
+  double adjacent_rest_angle = 0.0;
+  double opposite_stiffness = 0.0;
+  double opposite_damping = 0.0;
+  double opposite_rest_angle = 0.0;
 };
 
 // One radial spring between the connectors centre->b and centre->c, from their unit vectors and
@@ -155,22 +169,24 @@ struct Arrays {
 
 // Connector from each particle p in [begin, missing_from) to p + offset (east: 1, south: cols),
 // read straight from the Vec3 arrays; particles from `missing_from` to `end` have none (the last
-// column has no east connector, the last row no south one).
-CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
-                                         const Vec3* __restrict v, std::size_t begin, std::size_t end,
-                                         std::size_t offset, std::size_t missing_from, std::size_t ux_array,
-                                         double* __restrict power) {
+// column has no east connector, the last row no south one). kUniform: the parameters are the
+// family's (Coefficients), every connector intact.
+template <bool kUniform>
+[[gnu::always_inline]] inline void connector_row_of(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
+                                                    const Vec3* __restrict v, std::size_t begin, std::size_t end,
+                                                    std::size_t offset, std::size_t missing_from,
+                                                    std::size_t ux_array, double* __restrict power) {
   double* __restrict ux = s[ux_array];
   double* __restrict uy = s[ux_array + 1];
   double* __restrict uz = s[ux_array + 2];
   double* __restrict inverse_length = s[ux_array + 3];
   double* __restrict tension = s[ux_array + 4];
-  // The parameter arrays of this direction (east and south are laid out alike).
+  // The parameter arrays of this direction (east and south are laid out alike); null when uniform.
   const std::size_t parameters = ux_array == kEastX ? kEastStiffness : kSouthStiffness;
-  const double* __restrict stiffness = s[parameters];
-  const double* __restrict damping = s[parameters + 1];
-  const double* __restrict rest_length = s[parameters + 2];
-  const double* __restrict live = s[parameters + 3];
+  const double* __restrict stiffness = kUniform ? nullptr : s[parameters];
+  const double* __restrict damping = kUniform ? nullptr : s[parameters + 1];
+  const double* __restrict rest_length = kUniform ? nullptr : s[parameters + 2];
+  const double* __restrict live = kUniform ? nullptr : s[parameters + 3];
   const double elastic = k.connector_elastic;
   const double damped = k.connector_damped;
 #pragma GCC ivdep
@@ -179,12 +195,14 @@ CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k,
     const double length = std::sqrt(dot(e, e));
     // A broken connector is stored like a missing one: 1/length = 0 and no tension, which also
     // switches off the radial springs that use it.
-    const bool exists = length > 0.0 && live[p] > 0.0;
+    const bool exists = length > 0.0 && (kUniform || live[p] > 0.0);
     const double inverse = exists ? 1.0 / length : 0.0;
     const Vec3 u = inverse * e;
     const double rate = dot(v[p + offset] - v[p], u);
-    const double c = damped * damping[p];
-    const double t = elastic * stiffness[p] * (length - rest_length[p]) + c * rate;
+    const double c = damped * (kUniform ? k.connector_damping : damping[p]);
+    const double t = elastic * (kUniform ? k.connector_stiffness : stiffness[p]) *
+                         (length - (kUniform ? k.connector_rest_length : rest_length[p])) +
+                     c * rate;
     ux[p] = u.x;
     uy[p] = u.y;
     uz[p] = u.z;
@@ -194,6 +212,20 @@ CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k,
   }
   // No connector from the last column eastwards, or from the last row southwards.
   for (std::size_t p = missing_from; p < end; ++p) ux[p] = uy[p] = uz[p] = inverse_length[p] = tension[p] = 0.0;
+}
+
+CLOTHSIM_MULTIVERSION void connector_row(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
+                                         const Vec3* __restrict v, std::size_t begin, std::size_t end,
+                                         std::size_t offset, std::size_t missing_from, std::size_t ux_array,
+                                         double* __restrict power) {
+  connector_row_of<false>(s, k, x, v, begin, end, offset, missing_from, ux_array, power);
+}
+
+CLOTHSIM_MULTIVERSION void uniform_connector_row(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
+                                                 const Vec3* __restrict v, std::size_t begin, std::size_t end,
+                                                 std::size_t offset, std::size_t missing_from, std::size_t ux_array,
+                                                 double* __restrict power) {
+  connector_row_of<true>(s, k, x, v, begin, end, offset, missing_from, ux_array, power);
 }
 
 // The row's velocities into the SoA arrays read by the radial and gather passes.
@@ -248,8 +280,10 @@ constexpr std::size_t pair_index() {
   return kPairs.size();
 }
 
-// The spring between arms kB and kC of particle p, with its own stiffness, damping and rest angle.
-template <bool kResolveSingular, int kB, int kC>
+// The spring between arms kB and kC of particle p, with its own stiffness, damping and rest angle
+// (kUniform: its family's). On a uniform sheet a spring that does not exist (at a border) has the
+// family's values, not zeros, and contributes nothing all the same: one of its arms has 1/length 0.
+template <bool kUniform, bool kResolveSingular, int kB, int kC>
 [[gnu::always_inline]] inline RadialResult spring_at(const Arrays& s, const Coefficients& k, std::size_t p,
                                                      std::size_t cols) {
   constexpr bool kOpposite = (kB + 2) % 4 == kC;
@@ -259,9 +293,20 @@ template <bool kResolveSingular, int kB, int kC>
   const Arm c = arm<kC>(s, p, cols);
   const double elastic = kOpposite ? k.opposite_elastic : k.adjacent_elastic;
   const double damped = kOpposite ? k.opposite_damped : k.adjacent_damped;
+  double stiffness = 0.0;
+  double damping = 0.0;
+  double rest_angle = 0.0;
+  if constexpr (kUniform) {
+    stiffness = kOpposite ? k.opposite_stiffness : k.adjacent_stiffness;
+    damping = kOpposite ? k.opposite_damping : k.adjacent_damping;
+    rest_angle = kOpposite ? k.opposite_rest_angle : k.adjacent_rest_angle;
+  } else {
+    stiffness = s[kRadialStiffness + kPair][p];
+    damping = s[kRadialDamping + kPair][p];
+    rest_angle = s[kRadialRestAngle + kPair][p];
+  }
   return radial_spring<kResolveSingular>(b.unit, b.inverse_length, c.unit, c.inverse_length, b.relative_velocity,
-                                         c.relative_velocity, elastic * s[kRadialStiffness + kPair][p],
-                                         damped * s[kRadialDamping + kPair][p], s[kRadialRestAngle + kPair][p]);
+                                         c.relative_velocity, elastic * stiffness, damped * damping, rest_angle);
 }
 
 // The to_<direction> x array of each direction.
@@ -271,14 +316,15 @@ constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, 
 // (S,N), written as forces on its four neighbours; each neighbour's sum and the power are
 // accumulated in that order (resolve_spring_row repeats exactly these sums). Returns a positive
 // number if one of the springs is singular.
+template <bool kUniform>
 [[gnu::always_inline]] inline double radial_particle(const Arrays& s, const Coefficients& k, std::size_t p,
                                                      std::size_t cols) {
-  const RadialResult es = spring_at<false, 0, 1>(s, k, p, cols);
-  const RadialResult sw = spring_at<false, 1, 2>(s, k, p, cols);
-  const RadialResult wn = spring_at<false, 2, 3>(s, k, p, cols);
-  const RadialResult ne = spring_at<false, 3, 0>(s, k, p, cols);
-  const RadialResult ew = spring_at<false, 0, 2>(s, k, p, cols);
-  const RadialResult sn = spring_at<false, 1, 3>(s, k, p, cols);
+  const RadialResult es = spring_at<kUniform, false, 0, 1>(s, k, p, cols);
+  const RadialResult sw = spring_at<kUniform, false, 1, 2>(s, k, p, cols);
+  const RadialResult wn = spring_at<kUniform, false, 2, 3>(s, k, p, cols);
+  const RadialResult ne = spring_at<kUniform, false, 3, 0>(s, k, p, cols);
+  const RadialResult ew = spring_at<kUniform, false, 0, 2>(s, k, p, cols);
+  const RadialResult sn = spring_at<kUniform, false, 1, 3>(s, k, p, cols);
   const Vec3 to_east = es.on_b + ne.on_c + ew.on_b;
   const Vec3 to_south = es.on_c + sw.on_b + sn.on_b;
   const Vec3 to_west = sw.on_c + wn.on_b + ew.on_c;
@@ -304,7 +350,7 @@ constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, 
 // into the neighbours' sums in the order of radial_particle (`first_b`/`first_c`: the spring is
 // the first term of that neighbour's sum). One spring per loop keeps the body small enough for
 // GCC to if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
-template <int kB, int kC, bool kFirstB, bool kFirstC>
+template <bool kUniform, int kB, int kC, bool kFirstB, bool kFirstC>
 [[gnu::always_inline]] inline void resolve_spring_row(const Arrays& s, const Coefficients& k, std::size_t begin,
                                                       std::size_t end, std::size_t cols) {
   double* __restrict bx = s[kToArray[kB]];
@@ -316,7 +362,7 @@ template <int kB, int kC, bool kFirstB, bool kFirstC>
   double* __restrict power = s[kPower];
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    const RadialResult r = spring_at<true, kB, kC>(s, k, p, cols);
+    const RadialResult r = spring_at<kUniform, true, kB, kC>(s, k, p, cols);
     bx[p] = (kFirstB ? 0.0 : bx[p]) + r.on_b.x;
     by[p] = (kFirstB ? 0.0 : by[p]) + r.on_b.y;
     bz[p] = (kFirstB ? 0.0 : bz[p]) + r.on_b.z;
@@ -327,8 +373,9 @@ template <int kB, int kC, bool kFirstB, bool kFirstC>
   }
 }
 
-CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin,
-                                       std::size_t end, std::size_t cols) {
+template <bool kUniform>
+[[gnu::always_inline]] inline void radial_band_of(const Arrays& arrays, const Coefficients& coefficients,
+                                                  std::size_t begin, std::size_t end, std::size_t cols) {
   // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
   const Arrays s = arrays;
   const Coefficients k = coefficients;
@@ -336,7 +383,7 @@ CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients&
   int any_singular = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    singular[p] = radial_particle(s, k, p, cols);
+    singular[p] = radial_particle<kUniform>(s, k, p, cols);
     any_singular |= singular[p] > 0.0 ? 1 : 0;
   }
   if (any_singular != 0) {
@@ -345,13 +392,23 @@ CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients&
     // where it is undefined. Particles without a singular spring get the same values again.
     double* __restrict power = s[kPower];
     for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
-    resolve_spring_row<0, 1, true, true>(s, k, begin, end, cols);    // (E,S): first into east and south
-    resolve_spring_row<1, 2, false, true>(s, k, begin, end, cols);   // (S,W): first into west
-    resolve_spring_row<2, 3, false, true>(s, k, begin, end, cols);   // (W,N): first into north
-    resolve_spring_row<3, 0, false, false>(s, k, begin, end, cols);  // (N,E)
-    resolve_spring_row<0, 2, false, false>(s, k, begin, end, cols);  // (E,W)
-    resolve_spring_row<1, 3, false, false>(s, k, begin, end, cols);  // (S,N)
+    resolve_spring_row<kUniform, 0, 1, true, true>(s, k, begin, end, cols);    // (E,S): first into east and south
+    resolve_spring_row<kUniform, 1, 2, false, true>(s, k, begin, end, cols);   // (S,W): first into west
+    resolve_spring_row<kUniform, 2, 3, false, true>(s, k, begin, end, cols);   // (W,N): first into north
+    resolve_spring_row<kUniform, 3, 0, false, false>(s, k, begin, end, cols);  // (N,E)
+    resolve_spring_row<kUniform, 0, 2, false, false>(s, k, begin, end, cols);  // (E,W)
+    resolve_spring_row<kUniform, 1, 3, false, false>(s, k, begin, end, cols);  // (S,N)
   }
+}
+
+CLOTHSIM_MULTIVERSION void radial_band(const Arrays& arrays, const Coefficients& coefficients, std::size_t begin,
+                                       std::size_t end, std::size_t cols) {
+  radial_band_of<false>(arrays, coefficients, begin, end, cols);
+}
+
+CLOTHSIM_MULTIVERSION void uniform_radial_band(const Arrays& arrays, const Coefficients& coefficients,
+                                               std::size_t begin, std::size_t end, std::size_t cols) {
+  radial_band_of<true>(arrays, coefficients, begin, end, cols);
 }
 
 CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients& coefficients,
@@ -380,6 +437,42 @@ CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients&
 
 }  // namespace
 
+namespace {
+
+// Visits the springs of a rows x cols lattice in build_lattice()'s order, which is the order of
+// the model's element arrays: connector(e, p, south) for connector e from particle p east (south
+// false) or south, and radial(r, p, pair) for radial spring r centred at p between the arms of
+// kPairs[pair]. Stops at the first visit that returns false; returns whether every visit
+// returned true. Walking the lattice like this needs no table of where each spring goes (8 bytes
+// per connector and radial spring, 32 bytes per particle).
+template <typename Connector, typename Radial>
+bool for_each_lattice_spring(std::size_t rows, std::size_t cols, Connector&& connector, Radial&& radial) {
+  std::uint32_t e = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t j = 0; j < cols; ++j) {
+      const auto p = static_cast<std::uint32_t>(i * cols + j);
+      if (j + 1 < cols && !connector(e++, p, false)) return false;
+      if (i + 1 < rows && !connector(e++, p, true)) return false;
+    }
+  }
+  std::uint32_t r = 0;
+  for (std::size_t i = 0; i < rows; ++i) {
+    for (std::size_t j = 0; j < cols; ++j) {
+      const auto p = static_cast<std::uint32_t>(i * cols + j);
+      // Arms 0 east, 1 south, 2 west, 3 north.
+      const std::array<bool, 4> arm{j + 1 < cols, i + 1 < rows, j > 0, i > 0};
+      for (std::size_t pair = 0; pair < kPairs.size(); ++pair) {
+        const auto [b, c] = kPairs[pair];
+        if (!arm[static_cast<std::size_t>(b)] || !arm[static_cast<std::size_t>(c)]) continue;
+        if (!radial(r++, p, pair)) return false;
+      }
+    }
+  }
+  return true;
+}
+
+}  // namespace
+
 bool LatticeKernel::prepare(const ClothModel& model) {
   active_ = false;
   scratch_.clear();
@@ -388,70 +481,111 @@ bool LatticeKernel::prepare(const ClothModel& model) {
       static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) != model.particle_count()) {
     return false;
   }
-  const auto cols = static_cast<std::uint32_t>(model.cols);
+  const auto rows = static_cast<std::size_t>(model.rows);
+  const auto cols = static_cast<std::size_t>(model.cols);
   const std::size_t n = model.particle_count();
-  // Where each spring's parameters go: connector e to its first particle's east or south slot,
-  // radial spring r to its centre's slot of its pair. The layout says the springs are the
-  // lattice's; the check here costs one pass and keeps a model that was edited by hand (and no
-  // longer matches its layout) off the kernel.
-  connector_slot_.assign(model.connector_count(), 0);
-  radial_slot_.assign(model.radial_count(), 0);
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    const auto [a, b] = model.connector_particles[e];
-    const bool east = b == a + 1 && a % cols + 1 < cols;
-    const bool south = b == a + cols && b < n;
-    if (!east && !south) return false;
-    connector_slot_[e] = (a << 1) | (south ? 1u : 0u);
-  }
-  // South and north first: with one column, +-1 is also +-cols, and there is no east or west.
-  const auto direction = [&](std::uint32_t centre, std::uint32_t other) -> int {
-    if (other == centre + cols) return 1;
-    if (other + cols == centre) return 3;
-    if (other == centre + 1) return 0;
-    if (other + 1 == centre) return 2;
-    return -1;
+  // The layout says the springs are the lattice's, in build_lattice()'s order; the check here
+  // costs one pass and keeps a model that was edited by hand (and no longer matches its layout)
+  // off the kernel. refresh() then finds each spring's place by walking the lattice again.
+  const LatticeCounts counts = lattice_counts(rows, cols);
+  if (model.connector_count() != counts.connectors || model.radial_count() != counts.radials) return false;
+  const auto step = [cols](std::uint32_t p, int arm) -> std::uint32_t {
+    const auto c = static_cast<std::uint32_t>(cols);
+    return arm == 0 ? p + 1 : arm == 1 ? p + c : arm == 2 ? p - 1 : p - c;
   };
-  for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    const auto [centre, b, c] = model.radial_particles[r];
-    const std::array<int, 2> pair{direction(centre, b), direction(centre, c)};
-    const auto found = std::find(kPairs.begin(), kPairs.end(), pair);
-    if (found == kPairs.end()) return false;
-    radial_slot_[r] =
-        centre * static_cast<std::uint32_t>(kPairs.size()) + static_cast<std::uint32_t>(found - kPairs.begin());
-  }
+  const bool matches = for_each_lattice_spring(
+      rows, cols,
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const std::array<std::uint32_t, 2> expected{p, step(p, south ? 1 : 0)};
+        return model.connector_particles[e] == expected;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        const std::array<std::uint32_t, 3> expected{p, step(p, kPairs[pair][0]), step(p, kPairs[pair][1])};
+        return model.radial_particles[r] == expected;
+      });
+  if (!matches) return false;
   rows_ = model.rows;
   cols_ = model.cols;
-  padding_ = static_cast<std::size_t>(cols_) + 8;
-  stride_ = (n + 2 * padding_ + 7) / 8 * 8;
-  scratch_.assign(kArrayCount * stride_, 0.0);
+  padding_ = padding(cols);
+  stride_ = stride(n, cols);
+  // The parameter arrays only where the sheet is not uniform or a law can make it so.
+  const bool arrays = !is_uniform(model) || model.limits.changes_sheet();
+  scratch_.assign((arrays ? kArrayCount : kUniformArrayCount) * stride_, 0.0);
   block_power_.assign(deterministic_sum_blocks(n), 0.0);
   active_ = true;
   refresh(model);
   return true;
 }
 
+std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays) {
+  const std::size_t arrays = parameter_arrays ? kArrayCount : kUniformArrayCount;
+  return (arrays * stride(counts.particles, counts.cols) + deterministic_sum_blocks(counts.particles)) *
+         sizeof(double);
+}
+
+bool LatticeKernel::is_uniform(const ClothModel& model) {
+  if (model.connector_count() == 0 || model.broken_connector_count != 0) return false;
+  std::array<FamilyValues, 3> family{};
+  std::array<bool, 3> seen{};
+  const auto same = [&](std::size_t f, const FamilyValues& values) {
+    if (!seen[f]) {
+      seen[f] = true;
+      family[f] = values;
+    }
+    return family[f] == values;
+  };
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    if (model.connector_live[e] == 0 ||
+        !same(0, {model.connector_stiffness[e], model.connector_damping[e], model.connector_rest_length[e]})) {
+      return false;
+    }
+  }
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const std::size_t f = model.radial_kind[r] == RadialKind::adjacent ? 1 : 2;
+    if (model.radial_live[r] == 0 ||
+        !same(f, {model.radial_stiffness[r], model.radial_damping[r], model.radial_rest_angle[r]})) {
+      return false;
+    }
+  }
+  return true;
+}
+
 void LatticeKernel::refresh(const ClothModel& model) {
+  revision_ = model.revision;
+  const bool arrays = scratch_.size() == kArrayCount * stride_;
+  uniform_ = !arrays && is_uniform(model);
+  if (uniform_) {
+    family_[0] = {model.connector_stiffness[0], model.connector_damping[0], model.connector_rest_length[0]};
+    for (std::size_t r = 0; r < model.radial_count(); ++r) {
+      const std::size_t f = model.radial_kind[r] == RadialKind::adjacent ? 1 : 2;
+      family_[f] = {model.radial_stiffness[r], model.radial_damping[r], model.radial_rest_angle[r]};
+    }
+    return;
+  }
+  // A uniform sheet made non-uniform by a live edit: the parameter arrays now, kept from then on
+  // (see the top of lattice_kernel.h).
+  if (!arrays) scratch_.resize(kArrayCount * stride_, 0.0);
   double* base = scratch_.data() + padding_;
   const auto array = [&](std::size_t a) { return base + a * stride_; };
   // Missing springs (borders) keep zeros: no stiffness, no damping, not live.
   std::fill(scratch_.begin() + static_cast<std::ptrdiff_t>(kEastStiffness * stride_), scratch_.end(), 0.0);
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    const std::size_t p = connector_slot_[e] >> 1;
-    const std::size_t first = (connector_slot_[e] & 1u) != 0 ? kSouthStiffness : kEastStiffness;
-    array(first)[p] = model.connector_stiffness[e];
-    array(first + 1)[p] = model.connector_damping[e];
-    array(first + 2)[p] = model.connector_rest_length[e];
-    array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
-  }
-  for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    const std::size_t p = radial_slot_[r] / kPairs.size();
-    const std::size_t pair = radial_slot_[r] % kPairs.size();
-    const bool live = model.radial_live[r] != 0;
-    array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
-    array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
-    array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
-  }
-  revision_ = model.revision;
+  for_each_lattice_spring(
+      static_cast<std::size_t>(rows_), static_cast<std::size_t>(cols_),
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const std::size_t first = south ? kSouthStiffness : kEastStiffness;
+        array(first)[p] = model.connector_stiffness[e];
+        array(first + 1)[p] = model.connector_damping[e];
+        array(first + 2)[p] = model.connector_rest_length[e];
+        array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
+        return true;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        const bool live = model.radial_live[r] != 0;
+        array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
+        array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
+        array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
+        return true;
+      });
 }
 
 double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
@@ -471,9 +605,21 @@ double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> po
   k.opposite_damped = k.opposite_elastic * damped;
   k.gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
   k.drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
+  if (uniform_) {
+    k.connector_stiffness = family_[0].stiffness;
+    k.connector_damping = family_[0].damping;
+    k.connector_rest_length = family_[0].rest;
+    k.adjacent_stiffness = family_[1].stiffness;
+    k.adjacent_damping = family_[1].damping;
+    k.adjacent_rest_angle = family_[1].rest;
+    k.opposite_stiffness = family_[2].stiffness;
+    k.opposite_damping = family_[2].damping;
+    k.opposite_rest_angle = family_[2].rest;
+  }
 
   Arrays s;
-  for (std::size_t a = 0; a < kArrayCount; ++a) s.a[a] = scratch_.data() + a * stride_ + padding_;
+  const std::size_t arrays = scratch_.size() / stride_;  // without the parameter arrays on a uniform sheet
+  for (std::size_t a = 0; a < kArrayCount; ++a) s.a[a] = a < arrays ? scratch_.data() + a * stride_ + padding_ : nullptr;
   const std::size_t cols = static_cast<std::size_t>(cols_);
   const std::size_t rows = static_cast<std::size_t>(rows_);
   const std::size_t n = rows * cols;
@@ -494,15 +640,16 @@ double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> po
       const std::size_t end = begin + cols;
       velocity_row(s, velocity.data(), begin, end);
       std::fill(s[kConnectorPower] + begin, s[kConnectorPower] + end, 0.0);
-      connector_row(s, k, position.data(), velocity.data(), begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
-      connector_row(s, k, position.data(), velocity.data(), begin, end, cols, i + 1 < rows ? end : begin, kSouthX,
-                    s[kConnectorPower]);
+      const auto row = uniform_ ? uniform_connector_row : connector_row;
+      row(s, k, position.data(), velocity.data(), begin, end, 1, end - 1, kEastX, s[kConnectorPower]);
+      row(s, k, position.data(), velocity.data(), begin, end, cols, i + 1 < rows ? end : begin, kSouthX,
+          s[kConnectorPower]);
       return;
     }
     const std::size_t begin = item * band_rows * cols;
     const std::size_t end = std::min(n, begin + band_rows * cols);
     if (which == 1) {
-      radial_band(s, k, begin, end, cols);
+      (uniform_ ? uniform_radial_band : radial_band)(s, k, begin, end, cols);
     } else {
       gather_band(s, k, mass, begin, end, cols, out);
     }

@@ -22,6 +22,17 @@
 // times slower), and per-family constants with a mask only (plasticity and creasing make every
 // rest value different).
 //
+// Uniform sheets. The 26 parameter arrays are 208 bytes per particle, half the kernel's scratch,
+// and on an intact sheet whose springs all have their family's values (the paper's sheets, and
+// a material's) they hold three values per family. There the kernel keeps no parameter arrays
+// and reads the family's value instead (uniform(); a second instantiation of the connector and
+// radial loops); both forms compute the same products, so they give the same bits. The kernel
+// reads the arrays whenever it holds them. prepare() allocates them when the sheet is not
+// uniform, or when a law can make it so (SpringLimits::changes_sheet), so that tearing,
+// stretching and creasing never allocate inside a step; a uniform sheet that a live edit makes
+// non-uniform (a cut in the viewer, a test setting one rest length) gets them when refresh()
+// sees the edit, at its next evaluation: the one allocation this kernel makes after prepare().
+//
 // Passes, each a vectorised loop over particles: row by row for the connectors, over bands of
 // whole rows (at least 256 particles, so that short rows still make long vector loops) for the
 // other two:
@@ -62,6 +73,7 @@
 // parts in 1e7: the error estimate would be rounding noise (docs/performance.md).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -80,6 +92,10 @@ class LatticeKernel {
   // sheets keep it); false (and no scratch) otherwise.
   bool prepare(const ClothModel& model);
   bool active() const { return active_; }
+  // True when the kernel reads one value per family instead of the parameter arrays: every
+  // connector is intact, every spring has its family's stiffness, damping and rest value, and
+  // the kernel holds no arrays (see the top of this file).
+  bool uniform() const { return uniform_; }
 
   // The force function of forces.h for the prepared lattice; returns the spring damping power
   // (W). `force` [particle_count()]. When the model's revision has moved since the parameters
@@ -88,23 +104,44 @@ class LatticeKernel {
                   std::uint32_t terms, int threads, std::span<Vec3> force);
 
   // Bytes of scratch memory held.
-  std::size_t bytes() const {
-    return (scratch_.capacity() + block_power_.capacity()) * sizeof(double) +
-           (connector_slot_.capacity() + radial_slot_.capacity()) * sizeof(std::uint32_t);
-  }
+  std::size_t bytes() const { return (scratch_.capacity() + block_power_.capacity()) * sizeof(double); }
+  // The bytes bytes() reports after prepare() for the lattice build_lattice() makes with `counts`,
+  // with the parameter arrays or without them (a uniform sheet whose limits are all infinite; see
+  // the top of this file) (the memory estimate, sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts, bool parameter_arrays);
 
  private:
-  // Copies every spring's stiffness, damping, rest value and liveness into the padded arrays.
+  // Takes the model's parameters: one value per family on a uniform sheet, else every spring's
+  // stiffness, damping, rest value and liveness into the padded arrays.
   void refresh(const ClothModel& model);
+  // Every connector intact, and every spring of a family with the same stiffness, damping and
+  // rest value.
+  static bool is_uniform(const ClothModel& model);
+  // Zero entries before and after each array, and doubles per array (padding + particles +
+  // padding, rounded up to whole 64-byte lines).
+  static std::size_t padding(std::size_t cols) { return cols + 8; }
+  static std::size_t stride(std::size_t particles, std::size_t cols) {
+    return (particles + 2 * padding(cols) + 7) / 8 * 8;
+  }
+
+  // One family's parameters while the sheet is uniform.
+  struct FamilyValues {
+    double stiffness = 0.0;
+    double damping = 0.0;
+    double rest = 0.0;  // rest length (m) or rest angle (rad)
+    bool operator==(const FamilyValues&) const = default;
+  };
 
   bool active_ = false;
+  bool uniform_ = false;
+  std::array<FamilyValues, 3> family_{};  // connector, adjacent, opposite (uniform sheets)
   int rows_ = 0;
   int cols_ = 0;
   std::size_t padding_ = 0;  // zero entries before and after each array
   std::size_t stride_ = 0;   // doubles per array (padding + particles + padding, rounded up)
-  std::uint64_t revision_ = 0;                 // ClothModel::revision the parameters were copied at
-  std::vector<std::uint32_t> connector_slot_;  // [connectors] 2 p + (1 if south): where its parameters go
-  std::vector<std::uint32_t> radial_slot_;     // [radials] 6 centre + pair: where its parameters go
+  std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
+  // kArrayCount arrays of stride_ doubles, the parameter arrays last and only while needed
+  // (lattice_kernel.cpp).
   std::vector<double> scratch_;
   std::vector<double> block_power_;
 };

@@ -5,13 +5,10 @@
 
 namespace clothsim {
 
-void StateDerivative::resize(std::size_t particles) {
-  position_rate.assign(particles, Vec3{});
-  velocity_rate.assign(particles, Vec3{});
-}
+void StateDerivative::resize(std::size_t particles) { velocity_rate.assign(particles, Vec3{}); }
 
 ClothDynamics::ClothDynamics(const ClothModel& model, const ForceOptions& options)
-    : model_(model), options_(options), force_(model.particle_count()) {
+    : model_(model), options_(options) {
   buffers_.kernel = options.kernel;
   buffers_.resize(model);
 }
@@ -27,23 +24,22 @@ void ClothDynamics::evaluate(double time, std::span<const Vec3> position, std::s
                              StateDerivative& out) {
   ScopedTimer timer(seconds_);
   ++evaluations_;
+  // The forces go straight into the acceleration array and are divided by the masses in place.
+  const std::span<Vec3> acceleration = out.velocity_rate;
   const ForcePowers powers =
-      evaluate_forces(model_, position, velocity, options_.terms, options_.threads, buffers_, force_);
+      evaluate_forces(model_, position, velocity, options_.terms, options_.threads, buffers_, acceleration);
   const ClothModel& model = model_;
-  const std::span<const Vec3> force = force_;
-  parallel_for(model.particle_count(), options_.threads, [&](std::size_t p) {
-    out.position_rate[p] = velocity[p];
-    out.velocity_rate[p] = model.particle_inverse_mass[p] * force[p];
-  });
-  // Anchors: the path's acceleration, and the power of the force the anchor must exert to keep
-  // the particle on its path, m a - f, which is the work the anchor does on the sheet.
+  // Anchors: the power of the force the anchor must exert to keep the particle on its path,
+  // m a - f, which is the work the anchor does on the sheet; f is read before it is divided.
   double anchor_power = 0.0;
   for (const Anchor& anchor : model.anchors) {
     const std::uint32_t p = anchor.particle;
-    const Vec3 acceleration = anchor.path.acceleration(time);
-    out.velocity_rate[p] = acceleration;
-    anchor_power += dot(velocity[p], model.particle_mass[p] * acceleration - force[p]);
+    anchor_power += dot(velocity[p], model.particle_mass[p] * anchor.path.acceleration(time) - acceleration[p]);
   }
+  parallel_for(model.particle_count(), options_.threads,
+               [&](std::size_t p) { acceleration[p] = model.particle_inverse_mass[p] * acceleration[p]; });
+  // An anchored particle's acceleration is its path's.
+  for (const Anchor& anchor : model.anchors) acceleration[anchor.particle] = anchor.path.acceleration(time);
   out.damping_power = powers.damping;
   out.drag_power = powers.drag;
   out.anchor_power = anchor_power;

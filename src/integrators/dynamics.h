@@ -1,5 +1,9 @@
 // The ODE right-hand side: y = (x, v, W) -> y' = (v, f(x, v) / m, P), for every integrator.
 //
+// The position rate is the velocity itself, so a StateDerivative holds only the acceleration and
+// the powers: an integrator that needs the position rate of a stage reads (or, like the
+// Runge-Kutta driver, rewrites in terms of) that stage's velocity, instead of keeping a copy.
+//
 // Anchored particles are not integrated: before a stage is evaluated, constrain() puts them at
 // their path's exact position and velocity for the stage time, and their derivative is the path's
 // velocity and acceleration. W are the three work integrals of ClothState and P their rates
@@ -17,13 +21,14 @@
 namespace clothsim {
 
 struct StateDerivative {
-  std::vector<Vec3> position_rate;  // [particle_count()], m/s
   std::vector<Vec3> velocity_rate;  // [particle_count()], m/s^2
   double damping_power = 0.0;       // W
   double drag_power = 0.0;          // W
   double anchor_power = 0.0;        // W, power the anchors put into the sheet
   void resize(std::size_t particles);
-  std::size_t bytes() const { return (position_rate.capacity() + velocity_rate.capacity()) * sizeof(Vec3); }
+  std::size_t bytes() const { return velocity_rate.capacity() * sizeof(Vec3); }
+  // Bytes one StateDerivative holds for `particles` (the memory estimate, sim/memory_estimate.h).
+  static constexpr std::size_t bytes_for(std::size_t particles) { return particles * sizeof(Vec3); }
 };
 
 class ClothDynamics {
@@ -32,21 +37,21 @@ class ClothDynamics {
 
   // Puts anchored particles at their path's position and velocity at `time`.
   void constrain(double time, std::span<Vec3> position, std::span<Vec3> velocity) const;
-  // y' at (time, position, velocity). Anchored particles must already be constrained.
+  // y' at (time, position, velocity). Anchored particles must already be constrained. The forces
+  // are computed into out.velocity_rate and divided by the masses there: no force array of its own.
   void evaluate(double time, std::span<const Vec3> position, std::span<const Vec3> velocity, StateDerivative& out);
 
   const ClothModel& model() const { return model_; }
   int threads() const { return options_.threads; }
   std::uint64_t evaluations() const { return evaluations_; }
   double seconds() const { return seconds_; }
-  // Bytes of scratch memory held (force buffers and the force array).
-  std::size_t bytes() const { return buffers_.bytes() + force_.capacity() * sizeof(Vec3); }
+  // Bytes of scratch memory held (the force buffers).
+  std::size_t bytes() const { return buffers_.bytes(); }
 
  private:
   const ClothModel& model_;
   ForceOptions options_;
   ForceBuffers buffers_;
-  std::vector<Vec3> force_;  // [particle_count()], N
   std::uint64_t evaluations_ = 0;
   double seconds_ = 0.0;
 };

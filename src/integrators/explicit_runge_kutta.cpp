@@ -16,14 +16,21 @@ namespace {
 // Particles per block of the parallel error-norm reduction; fixed so the result never depends
 // on the thread count.
 constexpr std::size_t kErrorBlock = 1024;
+// Particles per piece of a block whose error estimate is formed at once (on the stack, 2 x 6 KiB).
+constexpr std::size_t kErrorPiece = 256;
 
 // Doubles per block of the parallel linear combinations.
 constexpr std::size_t kCombinationBlock = 4096;
 
-// out[k] = base[k] + c[0] in[0][k] + c[1] in[1][k] + ..., summed left to right (from 0 when base
-// is null), for k in
-// [begin, end) of flat double arrays (a Vec3 array is 3n doubles). The number of terms is a
-// template parameter so that the term loop unrolls and the loop over k vectorises.
+// Terms of a combination: the velocity and one acceleration per stage (Nystrom form).
+constexpr int kMaxTerms = kMaxStages + 1;
+using Terms = std::array<const double*, kMaxTerms>;
+using Coefficients = std::array<double, kMaxTerms>;
+
+// out[k - begin] = base[k] + c[0] in[0][k] + c[1] in[1][k] + ..., summed left to right (from 0
+// when base is null), for k in [begin, end) of flat double arrays (a Vec3 array is 3n doubles).
+// The number of terms is a template parameter so that the term loop unrolls and the loop over k
+// vectorises.
 template <int kTerms>
 [[gnu::always_inline]] inline void combination_block(double* __restrict out, const double* __restrict base,
                                                      const double* const* in, const double* c, std::size_t begin,
@@ -38,11 +45,11 @@ template <int kTerms>
   for (std::size_t k = begin; k < end; ++k) {
     double sum = base != nullptr ? base[k] : 0.0;
     for (int t = 0; t < kTerms; ++t) sum += coefficient[t] * term[t][k];
-    out[k] = sum;
+    out[k - begin] = sum;
   }
 }
 
-// combination_block for a run-time number of terms (0 to kMaxStages), vectorised for the CPU's
+// combination_block for a run-time number of terms (0 to kMaxTerms), vectorised for the CPU's
 // widest vectors (core/multiversion.h).
 CLOTHSIM_MULTIVERSION void combination_range(double* out, const double* base, const double* const* in, const double* c,
                                              int terms, std::size_t begin, std::size_t end) {
@@ -53,25 +60,28 @@ CLOTHSIM_MULTIVERSION void combination_range(double* out, const double* base, co
     case 3: combination_block<3>(out, base, in, c, begin, end); break;
     case 4: combination_block<4>(out, base, in, c, begin, end); break;
     case 5: combination_block<5>(out, base, in, c, begin, end); break;
-    default: combination_block<6>(out, base, in, c, begin, end); break;
+    case 6: combination_block<6>(out, base, in, c, begin, end); break;
+    default: combination_block<7>(out, base, in, c, begin, end); break;
   }
+  static_assert(kMaxTerms == 7, "one case per term count");
 }
 
-// Linear combination of Vec3 arrays: out = base + sum_t c[t] in[t] (base empty: 0 + ...).
-// The same sums, in the same order, as adding c[t] * in[t][p] to a Vec3 term by term, so the
-// result is independent of the blocking and of the thread count.
-void linear_combination(std::span<Vec3> out, std::span<const Vec3> base, const std::array<const Vec3*, kMaxStages>& in,
-                        const std::array<double, kMaxStages>& c, int terms, int threads) {
-  const std::size_t size = 3 * out.size();
-  double* out_data = &out.data()->x;
-  const double* base_data = base.empty() ? nullptr : &base.data()->x;
-  std::array<const double*, kMaxStages> flat{};
-  for (int t = 0; t < terms; ++t) flat[static_cast<std::size_t>(t)] = &in[static_cast<std::size_t>(t)]->x;
-  const std::size_t blocks = (size + kCombinationBlock - 1) / kCombinationBlock;
+// Linear combination of Vec3 arrays over particles p in [begin, end): out[p - begin] = base[p] +
+// sum_t c[t] in[t][p] (base null: 0 + ...). The same sums, in the same order, as adding
+// c[t] * in[t][p] to a Vec3 term by term, so the result is independent of the blocking and of
+// the thread count.
+void linear_combination(Vec3* out, const Vec3* base, const Terms& in, const Coefficients& c, int terms,
+                        std::size_t begin, std::size_t end, int threads) {
+  const std::size_t first = 3 * begin;
+  const std::size_t size = 3 * end;
+  double* out_data = &out->x;
+  const double* base_data = base == nullptr ? nullptr : &base->x;
+  const std::size_t blocks = (size - first + kCombinationBlock - 1) / kCombinationBlock;
   parallel_for(blocks, threads, [&](std::size_t block) {
-    const std::size_t begin = block * kCombinationBlock;
-    const std::size_t end = std::min(size, begin + kCombinationBlock);
-    combination_range(out_data, base_data, flat.data(), c.data(), terms, begin, end);
+    const std::size_t block_begin = first + block * kCombinationBlock;
+    const std::size_t block_end = std::min(size, block_begin + kCombinationBlock);
+    combination_range(out_data + (block_begin - first), base_data, in.data(), c.data(), terms, block_begin,
+                      block_end);
   });
 }
 
@@ -86,70 +96,95 @@ constexpr double kControllerAlpha = 0.2 - 0.75 * kControllerBeta;
 ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const IntegratorSettings& settings,
                                        const ForceOptions& options, const ButcherTableau& tableau)
     : model_(model), settings_(settings), tableau_(tableau), dynamics_(model, options) {
+  for (int i = 0; i < tableau_.stages; ++i) {
+    stage_rows_[static_cast<std::size_t>(i)] = nystrom_row(tableau_.coefficients[static_cast<std::size_t>(i)]);
+  }
+  solution_row_ = nystrom_row(tableau_.weights);
   const std::size_t n = model.particle_count();
+  stage_rate_.resize(static_cast<std::size_t>(tableau_.stages));
   for (StateDerivative& rate : stage_rate_) rate.resize(n);
   stage_position_.resize(n);
   stage_velocity_.resize(n);
-  trial_.position.resize(n);
-  trial_.velocity.resize(n);
+}
+
+ExplicitRungeKutta::NystromRow ExplicitRungeKutta::nystrom_row(const std::array<double, kMaxStages>& weights) const {
+  NystromRow row;
+  for (int i = 0; i < tableau_.stages; ++i) {
+    const double w = weights[static_cast<std::size_t>(i)];
+    row.velocity_sum += w;
+    row.velocity[static_cast<std::size_t>(i)] = w;
+    for (int l = 0; l < i; ++l) {
+      row.position[static_cast<std::size_t>(l)] +=
+          w * tableau_.coefficients[static_cast<std::size_t>(i)][static_cast<std::size_t>(l)];
+    }
+  }
+  return row;
+}
+
+void ExplicitRungeKutta::combine_row(const NystromRow& row, double h, const Vec3* base_position,
+                                     const Vec3* base_velocity, const Vec3* velocity, Vec3* position_out,
+                                     Vec3* velocity_out, std::size_t begin, std::size_t end, int threads) const {
+  // Positions: h (sum w) v + h^2 sum_l position_l K_l; velocities: h sum_l w_l K_l. Zero
+  // coefficients are skipped (an unused stage, Fehlberg's second one in b).
+  Coefficients position_coefficient{};
+  Coefficients velocity_coefficient{};
+  Terms position_term{};
+  Terms velocity_term{};
+  int position_terms = 0;
+  int velocity_terms = 0;
+  if (row.velocity_sum != 0.0) {
+    position_coefficient[0] = h * row.velocity_sum;
+    position_term[0] = &velocity->x;
+    position_terms = 1;
+  }
+  for (std::size_t l = 0; l < stage_rate_.size(); ++l) {
+    const double* acceleration = &stage_rate_[l].velocity_rate.data()->x;
+    if (row.position[l] != 0.0) {
+      const auto t = static_cast<std::size_t>(position_terms++);
+      position_coefficient[t] = h * h * row.position[l];
+      position_term[t] = acceleration;
+    }
+    if (row.velocity[l] != 0.0) {
+      const auto t = static_cast<std::size_t>(velocity_terms++);
+      velocity_coefficient[t] = h * row.velocity[l];
+      velocity_term[t] = acceleration;
+    }
+  }
+  linear_combination(position_out, base_position, position_term, position_coefficient, position_terms, begin, end,
+                     threads);
+  linear_combination(velocity_out, base_velocity, velocity_term, velocity_coefficient, velocity_terms, begin, end,
+                     threads);
 }
 
 void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
+  const std::size_t n = model_.particle_count();
   for (int i = 0; i < tableau_.stages; ++i) {
-    const auto& a = tableau_.coefficients[static_cast<std::size_t>(i)];
-    // Stage state y_i = y + h sum_{j<i} a_ij k_j, over the stages with a non-zero coefficient.
-    const double stage_time = state.time + tableau_.nodes[static_cast<std::size_t>(i)] * h;
+    const auto k = static_cast<std::size_t>(i);
+    // Stage state y_i = y + h sum_{j<i} a_ij (V_j, K_j), over the terms with a non-zero coefficient.
+    const double stage_time = state.time + tableau_.nodes[k] * h;
     {
       ScopedTimer timer(stage_sum_seconds_);
-      std::array<double, kMaxStages> coefficient{};
-      std::array<const Vec3*, kMaxStages> position_rate{};
-      std::array<const Vec3*, kMaxStages> velocity_rate{};
-      int terms = 0;
-      for (int j = 0; j < i; ++j) {
-        const double ha = h * a[static_cast<std::size_t>(j)];
-        if (ha == 0.0) continue;
-        const auto t = static_cast<std::size_t>(terms++);
-        coefficient[t] = ha;
-        position_rate[t] = stage_rate_[static_cast<std::size_t>(j)].position_rate.data();
-        velocity_rate[t] = stage_rate_[static_cast<std::size_t>(j)].velocity_rate.data();
-      }
-      linear_combination(stage_position_, state.position, position_rate, coefficient, terms, dynamics_.threads());
-      linear_combination(stage_velocity_, state.velocity, velocity_rate, coefficient, terms, dynamics_.threads());
+      combine_row(stage_rows_[k], h, state.position.data(), state.velocity.data(), state.velocity.data(),
+                  stage_position_.data(), stage_velocity_.data(), 0, n, dynamics_.threads());
       dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
     }
-    dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[static_cast<std::size_t>(i)]);
+    dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[k]);
   }
   stats_.force_evaluations = dynamics_.evaluations();
   force_seconds_ = dynamics_.seconds();
 }
 
-void ExplicitRungeKutta::combine(const ClothState& state, double h, const std::array<double, kMaxStages>& weights,
-                                 ClothState& out) {
+void ExplicitRungeKutta::combine_solution(const ClothState& state, double h) {
   ScopedTimer timer(solution_seconds_);
-  const int stages = tableau_.stages;
-  std::array<double, kMaxStages> coefficient{};
-  std::array<const Vec3*, kMaxStages> position_rate{};
-  std::array<const Vec3*, kMaxStages> velocity_rate{};
-  int terms = 0;
-  for (int i = 0; i < stages; ++i) {
-    const double hb = h * weights[static_cast<std::size_t>(i)];
-    if (hb == 0.0) continue;
-    const auto t = static_cast<std::size_t>(terms++);
-    coefficient[t] = hb;
-    position_rate[t] = stage_rate_[static_cast<std::size_t>(i)].position_rate.data();
-    velocity_rate[t] = stage_rate_[static_cast<std::size_t>(i)].velocity_rate.data();
-  }
-  linear_combination(out.position, state.position, position_rate, coefficient, terms, dynamics_.threads());
-  linear_combination(out.velocity, state.velocity, velocity_rate, coefficient, terms, dynamics_.threads());
-  out.damping_work = state.damping_work;
-  out.drag_work = state.drag_work;
-  out.anchor_work = state.anchor_work;
-  for (int i = 0; i < stages; ++i) {
-    const double hb = h * weights[static_cast<std::size_t>(i)];
-    const StateDerivative& rate = stage_rate_[static_cast<std::size_t>(i)];
-    out.damping_work += hb * rate.damping_power;
-    out.drag_work += hb * rate.drag_power;
-    out.anchor_work += hb * rate.anchor_power;
+  combine_row(solution_row_, h, state.position.data(), state.velocity.data(), state.velocity.data(),
+              stage_position_.data(), stage_velocity_.data(), 0, model_.particle_count(), dynamics_.threads());
+  trial_work_ = {state.damping_work, state.drag_work, state.anchor_work};
+  for (std::size_t i = 0; i < stage_rate_.size(); ++i) {
+    const double hb = h * tableau_.weights[i];
+    const StateDerivative& rate = stage_rate_[i];
+    trial_work_.damping += hb * rate.damping_power;
+    trial_work_.drag += hb * rate.drag_power;
+    trial_work_.anchor += hb * rate.anchor_power;
   }
 }
 
@@ -163,17 +198,22 @@ std::size_t ExplicitRungeKutta::workspace_bytes() const {
   std::size_t bytes = dynamics_.bytes();
   for (const StateDerivative& rate : stage_rate_) bytes += rate.bytes();
   bytes += (stage_position_.capacity() + stage_velocity_.capacity()) * sizeof(Vec3);
-  bytes += (trial_.position.capacity() + trial_.velocity.capacity()) * sizeof(Vec3);
   return bytes;
 }
 
+std::size_t ExplicitRungeKutta::workspace_bytes_for(int stages, std::size_t particles) {
+  // The accelerations of every stage, and the stage (then trial) positions and velocities.
+  return static_cast<std::size_t>(stages) * StateDerivative::bytes_for(particles) +
+         2 * particles * sizeof(decltype(stage_position_)::value_type);
+}
+
 void ExplicitRungeKutta::accept(ClothState& state, double h, double t) {
-  // Swap rather than copy: trial_ keeps the old buffers as scratch for the next step.
-  std::swap(state.position, trial_.position);
-  std::swap(state.velocity, trial_.velocity);
-  state.damping_work = trial_.damping_work;
-  state.drag_work = trial_.drag_work;
-  state.anchor_work = trial_.anchor_work;
+  // Swap rather than copy: the stage arrays keep the old buffers as scratch for the next step.
+  std::swap(state.position, stage_position_);
+  std::swap(state.velocity, stage_velocity_);
+  state.damping_work = trial_work_.damping;
+  state.drag_work = trial_work_.drag;
+  state.anchor_work = trial_work_.anchor;
   state.time = t;
   dynamics_.constrain(t, state.position, state.velocity);
   record_accepted_step(h);
@@ -184,9 +224,9 @@ StepOutcome FixedStepRungeKutta::step(ClothState& state, double t_limit) {
   bool clipped = false;
   const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
   compute_stages(state, h);
-  combine(state, h, tableau_.weights, trial_);
+  combine_solution(state, h);
   for (std::size_t p = 0; p < model_.particle_count(); ++p) {
-    if (!is_finite(trial_.position[p]) || !is_finite(trial_.velocity[p])) {
+    if (!is_finite(stage_position_[p]) || !is_finite(stage_velocity_[p])) {
       return {StepStatus::non_finite, h, static_cast<std::uint32_t>(p), true};
     }
   }
@@ -198,6 +238,9 @@ AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const Integrator
                                        const ForceOptions& options, const ButcherTableau& tableau)
     : ExplicitRungeKutta(model, settings, options, tableau) {
   CLOTHSIM_ASSERT(tableau.embedded_order > 0, "an adaptive method needs an embedded error estimate");
+  std::array<double, kMaxStages> difference{};
+  for (std::size_t i = 0; i < difference.size(); ++i) difference[i] = tableau.weights[i] - tableau.embedded_weights[i];
+  error_row_ = nystrom_row(difference);
   const std::size_t blocks = (model.particle_count() + kErrorBlock - 1) / kErrorBlock;
   block_error_.resize(blocks);
 }
@@ -241,40 +284,28 @@ CLOTHSIM_MULTIVERSION std::uint64_t largest_error_bits(const Vec3* error_x, cons
 
 AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& state, double h) {
   ScopedTimer timer(error_seconds_);
-  // The error estimate h sum (b_i - b*_i) k_i, into the stage arrays (free until the next step).
-  std::array<double, kMaxStages> difference{};
-  std::array<const Vec3*, kMaxStages> position_rate{};
-  std::array<const Vec3*, kMaxStages> velocity_rate{};
-  int terms = 0;
-  for (int i = 0; i < tableau_.stages; ++i) {
-    const auto k = static_cast<std::size_t>(i);
-    const double d = h * (tableau_.weights[k] - tableau_.embedded_weights[k]);
-    if (d == 0.0) continue;
-    const auto t = static_cast<std::size_t>(terms++);
-    difference[t] = d;
-    position_rate[t] = stage_rate_[k].position_rate.data();
-    velocity_rate[t] = stage_rate_[k].velocity_rate.data();
-  }
-  linear_combination(stage_position_, {}, position_rate, difference, terms, dynamics_.threads());
-  linear_combination(stage_velocity_, {}, velocity_rate, difference, terms, dynamics_.threads());
-
   const double atol = settings_.absolute_tolerance;
   const double rtol = settings_.relative_tolerance;
   const std::size_t n = model_.particle_count();
-  const Vec3* error_x = stage_position_.data();
-  const Vec3* error_v = stage_velocity_.data();
   const Vec3* x0 = state.position.data();
-  const Vec3* x1 = trial_.position.data();
+  const Vec3* x1 = stage_position_.data();
   const Vec3* v0 = state.velocity.data();
-  const Vec3* v1 = trial_.velocity.data();
+  const Vec3* v1 = stage_velocity_.data();
   const std::int32_t* anchor = model_.particle_anchor.data();
-  const auto particle_bits = [&](std::size_t p) {
-    return scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0);
-  };
+  // Each block forms its error estimate h sum (b_i - b^_i) (V_i, K_i) in pieces of
+  // kErrorPiece particles on the stack, then takes their largest scaled error.
   parallel_for(block_error_.size(), dynamics_.threads(), [&](std::size_t block) {
-    const std::size_t end = std::min(n, (block + 1) * kErrorBlock);
-    block_error_[block] = std::bit_cast<double>(
-        largest_error_bits(error_x, error_v, x0, x1, v0, v1, anchor, atol, rtol, block * kErrorBlock, end));
+    std::array<Vec3, kErrorPiece> error_x;
+    std::array<Vec3, kErrorPiece> error_v;
+    std::uint64_t worst = 0;
+    const std::size_t block_end = std::min(n, (block + 1) * kErrorBlock);
+    for (std::size_t begin = block * kErrorBlock; begin < block_end; begin += kErrorPiece) {
+      const std::size_t end = std::min(block_end, begin + kErrorPiece);
+      combine_row(error_row_, h, nullptr, nullptr, v0, error_x.data(), error_v.data(), begin, end, 1);
+      worst = std::max(worst, largest_error_bits(error_x.data(), error_v.data(), x0 + begin, x1 + begin, v0 + begin,
+                                                 v1 + begin, anchor + begin, atol, rtol, 0, end - begin));
+    }
+    block_error_[block] = std::bit_cast<double>(worst);
   });
   // The first block with the largest error, and (only when the step fails, where it is reported)
   // the first particle in it with that error.
@@ -291,9 +322,12 @@ AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& s
   norm.value = std::bit_cast<double>(worst);
   norm.particle = static_cast<std::uint32_t>(worst_block * kErrorBlock);
   if (!(norm.value <= 1.0)) {
-    const std::size_t end = std::min(n, (worst_block + 1) * kErrorBlock);
-    for (std::size_t p = worst_block * kErrorBlock; p < end; ++p) {
-      if (particle_bits(p) == worst) {
+    const std::size_t block_end = std::min(n, (worst_block + 1) * kErrorBlock);
+    for (std::size_t p = worst_block * kErrorBlock; p < block_end; ++p) {
+      Vec3 error_x;
+      Vec3 error_v;
+      combine_row(error_row_, h, nullptr, nullptr, v0, &error_x, &error_v, p, p + 1, 1);
+      if (scaled_error_bits(error_x, error_v, x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0) == worst) {
         norm.particle = static_cast<std::uint32_t>(p);
         break;
       }
@@ -319,7 +353,8 @@ double AdaptiveRungeKutta::initial_step(const ClothState& state, double t_limit)
       const double sx = settings_.absolute_tolerance + settings_.relative_tolerance * std::abs(state.position[p][axis]);
       const double sv = settings_.absolute_tolerance + settings_.relative_tolerance * std::abs(state.velocity[p][axis]);
       d0 = std::max({d0, std::abs(state.position[p][axis]) / sx, std::abs(state.velocity[p][axis]) / sv});
-      d1 = std::max({d1, std::abs(rate.position_rate[p][axis]) / sx, std::abs(rate.velocity_rate[p][axis]) / sv});
+      // The position rate is the velocity.
+      d1 = std::max({d1, std::abs(state.velocity[p][axis]) / sx, std::abs(rate.velocity_rate[p][axis]) / sv});
     }
   }
   double h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
@@ -338,7 +373,7 @@ StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
       return {StepStatus::step_underflow, h, 0, false};
     }
     compute_stages(state, h);
-    combine(state, h, tableau_.weights, trial_);
+    combine_solution(state, h);
     const ErrorNorm error = error_norm(state, h);
 
     if (std::isnan(error.value) || error.value > 1.0) {

@@ -4,9 +4,22 @@
 // AdaptiveRungeKutta wraps it in step-size control (RKF45), FixedStepRungeKutta takes steps of
 // the configured size (RK4, or any tableau in tests). All scratch arrays are allocated in the
 // constructor.
+//
+// Memory. The stages are kept in the form of a Runge-Kutta-Nystrom method: for y = (x, v) with
+// x' = v, the stage velocity V_i = v + h sum_j a_ij K_j is the position rate of stage i, so the
+// stage position x + h sum_j a_ij V_j equals
+//   x + h (sum_j a_ij) v + h^2 sum_l (sum_j a_ij a_jl) K_l,
+// and the same holds for the solution and error rows with b_i or b_i - b^_i in place of a_ij.
+// Only the accelerations K_i are kept per stage, not the position rates (copies of the stage
+// velocities): 24 bytes per particle and stage less. The combinations are the same method, equal
+// up to rounding. The trial solution is written into the stage arrays, which are free once the
+// last stage is evaluated, and the error estimate is formed block by block inside its norm: the
+// workspace is s accelerations and one stage state, (s + 2) x 24 bytes per particle besides the
+// force buffers (docs/performance.md, "Memory").
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
@@ -23,23 +36,53 @@ class ExplicitRungeKutta : public Integrator {
   const ButcherTableau& tableau() const { return tableau_; }
   std::vector<PhaseTime> phase_times() const override;
   std::size_t workspace_bytes() const override;
+  // The bytes workspace_bytes() reports for a method of `stages` stages and `particles`
+  // particles, besides the force buffers (ForceBuffers::bytes_for) (sim/memory_estimate.h).
+  static std::size_t workspace_bytes_for(int stages, std::size_t particles);
 
  protected:
+  // A row of weights w (a stage's a_i, b or b - b^) in Nystrom form: the combination
+  // h sum_i w_i (V_i, K_i) is (h velocity_sum v + h^2 sum_l position_l K_l, h sum_l w_l K_l).
+  struct NystromRow {
+    double velocity_sum = 0.0;                   // sum_i w_i
+    std::array<double, kMaxStages> position{};   // sum_i w_i a_il
+    std::array<double, kMaxStages> velocity{};   // w_l
+  };
+  NystromRow nystrom_row(const std::array<double, kMaxStages>& weights) const;
+
   // Evaluates every stage of a step of size h from `state`.
   void compute_stages(const ClothState& state, double h);
-  // Writes state + h sum_i weights_i k_i into `out` (positions, velocities and work integrals).
-  void combine(const ClothState& state, double h, const std::array<double, kMaxStages>& weights, ClothState& out);
-  // Accepts `trial` as the new state at time t: exact anchor positions, statistics.
+  // Writes (x, v) + h sum_i w_i (V_i, K_i) of particles p in [begin, end) into position_out[p -
+  // begin] and velocity_out[p - begin]: all particles, or a piece of them (the error estimate).
+  // Null bases: 0 + h sum ... .
+  void combine_row(const NystromRow& row, double h, const Vec3* base_position, const Vec3* base_velocity,
+                   const Vec3* velocity, Vec3* position_out, Vec3* velocity_out, std::size_t begin, std::size_t end,
+                   int threads) const;
+  // Writes the propagated solution state + h sum_i b_i (V_i, K_i) into the stage arrays, and its
+  // work integrals into trial_work_.
+  void combine_solution(const ClothState& state, double h);
+  // Accepts the solution in the stage arrays as the new state at time t: exact anchor positions,
+  // statistics.
   void accept(ClothState& state, double h, double t);
+
+  // The work integrals of the trial solution, J.
+  struct Work {
+    double damping = 0.0;
+    double drag = 0.0;
+    double anchor = 0.0;
+  };
 
   const ClothModel& model_;
   IntegratorSettings settings_;
   ButcherTableau tableau_;
+  std::array<NystromRow, kMaxStages> stage_rows_;  // the rows a_i of the stages
+  NystromRow solution_row_;                        // the row b
   ClothDynamics dynamics_;
-  std::array<StateDerivative, kMaxStages> stage_rate_;
-  std::vector<Vec3> stage_position_;  // [particle_count()]
-  std::vector<Vec3> stage_velocity_;  // [particle_count()]
-  ClothState trial_;                  // the propagated solution of the current trial step
+  std::vector<StateDerivative> stage_rate_;  // [stages]: K_i and the powers of stage i
+  // The state of the stage being evaluated; after the last stage, the trial solution.
+  std::vector<Vec3> stage_position_;  // [particle_count()], m
+  std::vector<Vec3> stage_velocity_;  // [particle_count()], m/s
+  Work trial_work_;
   // Profile: wall time of the stage sums y + h sum a_ij k_j (with the anchor constraint), of the
   // solution update y + h sum b_i k_i, and of the error norm (adaptive methods), s.
   double stage_sum_seconds_ = 0.0;
@@ -76,9 +119,12 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
     double value = 0.0;           // max scaled error; NaN if any value was non-finite
     std::uint32_t particle = 0;   // where it was largest
   };
+  // The max norm of the error estimate h sum_i (b_i - b^_i) (V_i, K_i), formed block by block.
+  // The trial solution must be in the stage arrays.
   ErrorNorm error_norm(const ClothState& state, double h);
   double initial_step(const ClothState& state, double t_limit);
 
+  NystromRow error_row_;        // the row b - b^
   double proposed_step_ = 0.0;  // 0 until the first step
   double previous_error_ = 1e-4;
   std::vector<double> block_error_;  // per-block maxima of the error norm

@@ -66,34 +66,42 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
   const std::size_t n = model.particle_count();
   buffers_.resize(model);
+  gather_.build(model);
   force_.resize(n);
   evaluated_position_.resize(n);
   evaluated_velocity_.resize(n);
   connector_jacobian_.resize(model.connector_count());
   radial_jacobian_.resize(model.radial_count());
 
-  // Block structure: each particle's neighbours through any element, and itself, ascending.
-  std::vector<std::vector<std::uint32_t>> neighbours(n);
-  for (std::size_t p = 0; p < n; ++p) neighbours[p].push_back(static_cast<std::uint32_t>(p));
-  for (const auto& [a, b] : model.connector_particles) {
-    neighbours[a].push_back(b);
-    neighbours[b].push_back(a);
-  }
-  for (const auto& particles : model.radial_particles) {
-    for (std::uint32_t i : particles) {
-      for (std::uint32_t j : particles) {
-        if (i != j) neighbours[i].push_back(j);
+  // Block structure: each particle's neighbours through any element, and itself, ascending, found
+  // through its elements in the gather table one particle at a time (a list per particle, or one
+  // flat list of every element's pairs, would briefly need more memory than the matrix's
+  // pattern itself: 2 to 4 times the 52 bytes per particle of column_).
+  std::vector<std::uint32_t> pattern_row;
+  const auto neighbours = [&](std::size_t p) -> const std::vector<std::uint32_t>& {
+    std::vector<std::uint32_t>& row = pattern_row;
+    row.assign(1, static_cast<std::uint32_t>(p));
+    for (std::uint32_t k = gather_.offset[p]; k < gather_.offset[p + 1]; ++k) {
+      const std::size_t slot = gather_.slot[k];
+      if (slot < model.radial_slot_base()) {
+        for (std::uint32_t q : model.connector_particles[slot / 2]) row.push_back(q);
+      } else {
+        for (std::uint32_t q : model.radial_particles[(slot - model.radial_slot_base()) / 3]) row.push_back(q);
       }
     }
-  }
+    std::sort(row.begin(), row.end());
+    row.erase(std::unique(row.begin(), row.end()), row.end());
+    return row;
+  };
   row_offset_.assign(n + 1, 0);
   for (std::size_t p = 0; p < n; ++p) {
-    std::sort(neighbours[p].begin(), neighbours[p].end());
-    neighbours[p].erase(std::unique(neighbours[p].begin(), neighbours[p].end()), neighbours[p].end());
-    row_offset_[p + 1] = row_offset_[p] + static_cast<std::uint32_t>(neighbours[p].size());
+    row_offset_[p + 1] = row_offset_[p] + static_cast<std::uint32_t>(neighbours(p).size());
   }
   column_.reserve(row_offset_.back());
-  for (const auto& row : neighbours) column_.insert(column_.end(), row.begin(), row.end());
+  for (std::size_t p = 0; p < n; ++p) {
+    const std::vector<std::uint32_t>& columns = neighbours(p);
+    column_.insert(column_.end(), columns.begin(), columns.end());
+  }
   block_.resize(column_.size());
 
   connector_block_.resize(2 * model.connector_count());
@@ -151,12 +159,59 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
     coarse_bandwidth_ = 3 * farthest + 2;
     coarse_band_.resize(coarse_dofs_ * (coarse_bandwidth_ + 1));
     coarse_upper_.resize(coarse_band_.size());
-    coarse_lower_.resize(coarse_band_.size());
     coarse_vector_.resize(coarse_dofs_);
   }
   block_sum_a_.resize(block_count(n));
   block_sum_b_.resize(block_count(n));
   block_sum_c_.resize(block_count(n));
+}
+
+std::size_t ImplicitEuler::workspace_bytes() const {
+  const auto bytes = [](const auto& vector) { return vector.capacity() * sizeof(vector[0]); };
+  std::size_t total = buffers_.bytes() + gather_.bytes();
+  total += bytes(force_) + bytes(evaluated_position_) + bytes(evaluated_velocity_);
+  total += bytes(connector_jacobian_) + bytes(radial_jacobian_);
+  total += bytes(row_offset_) + bytes(column_) + bytes(block_) + bytes(connector_block_) + bytes(radial_block_);
+  total += bytes(preconditioner_) + bytes(free_);
+  total += bytes(displacement_) + bytes(rhs_) + bytes(dv_) + bytes(residual_) + bytes(preconditioned_) +
+           bytes(direction_) + bytes(product_);
+  total += bytes(particle_aggregate_) + bytes(coarse_band_) + bytes(coarse_upper_) + bytes(coarse_vector_);
+  total += bytes(block_sum_a_) + bytes(block_sum_b_) + bytes(block_sum_c_);
+  total += bytes(hold_) + bytes(slipped_) + bytes(held_normal_);
+  return total;
+}
+
+std::size_t ImplicitEuler::workspace_bytes_for(const LatticeCounts& counts, const IntegratorSettings& settings) {
+  const std::size_t n = counts.particles;
+  const std::size_t rows = counts.rows;
+  const std::size_t cols = counts.cols;
+  // Blocks: particle pairs joined by an element, itself included: offsets (0, 0), (0, +-1),
+  // (+-1, 0), the 4 diagonals (adjacent radial springs) and (0, +-2), (+-2, 0) (opposite ones).
+  const auto pairs = [&](std::size_t row_offset, std::size_t col_offset) -> std::size_t {
+    return rows > row_offset && cols > col_offset ? (rows - row_offset) * (cols - col_offset) : 0;
+  };
+  const std::size_t blocks =
+      pairs(0, 0) + 2 * (pairs(0, 1) + pairs(1, 0) + 2 * pairs(1, 1) + pairs(0, 2) + pairs(2, 0));
+  std::size_t total = GatherTable::bytes_for(counts);
+  total += 3 * n * sizeof(Vec3);  // forces and the state they were evaluated at
+  total += counts.connectors * sizeof(element::ConnectorJacobian) + counts.radials * sizeof(element::RadialJacobian);
+  total += (n + 1 + blocks) * sizeof(std::uint32_t) + blocks * sizeof(Mat3);
+  total += 2 * counts.connectors * sizeof(std::array<std::uint32_t, 2>) +
+           3 * counts.radials * sizeof(std::array<std::uint32_t, 3>);
+  total += n * (sizeof(Mat3) + sizeof(std::uint8_t));  // preconditioner, free
+  total += 8 * n * sizeof(Vec3);                        // 7 CG vectors and the held normals
+  total += n * (sizeof(Hold) + sizeof(std::uint8_t));   // hold, slipped
+  total += 3 * block_count(n) * sizeof(double);
+  if (settings.cg_two_level && n > 0) {
+    const std::size_t aggregate_cols = (cols + kAggregateSize - 1) / kAggregateSize;
+    const std::size_t aggregate_rows = (rows + kAggregateSize - 1) / kAggregateSize;
+    const std::size_t dofs = 3 * aggregate_rows * aggregate_cols;
+    // Aggregates couple to their 8 neighbours: at most aggregate_cols + 1 apart (the constructor
+    // measures it; this is its value from 5 x 5 particles on).
+    const std::size_t bandwidth = 3 * (aggregate_cols + 1) + 2;
+    total += n * sizeof(std::uint32_t) + (2 * dofs * (bandwidth + 1) + dofs) * sizeof(double);
+  }
+  return total;
 }
 
 ImplicitEuler::Powers ImplicitEuler::evaluate(double time, std::span<const Vec3> position,
@@ -226,8 +281,8 @@ void ImplicitEuler::assemble(double h) {
     // particles and the path's displacement for anchored ones.
     Vec3 stiffness_times_displacement;
     std::uint32_t diagonal = 0;
-    for (std::uint32_t k = model_.gather_offset[p]; k < model_.gather_offset[p + 1]; ++k) {
-      const std::uint32_t slot = model_.gather_slot[k];
+    for (std::uint32_t k = gather_.offset[p]; k < gather_.offset[p + 1]; ++k) {
+      const std::uint32_t slot = gather_.slot[k];
       if (slot < radial_base) {
         const std::uint32_t e = slot / 2;
         const std::uint32_t i = slot % 2;
@@ -253,7 +308,7 @@ void ImplicitEuler::assemble(double h) {
         diagonal = radial_block_[local][static_cast<std::size_t>(i)];
       }
     }
-    if (model_.gather_offset[p] == model_.gather_offset[p + 1]) {
+    if (gather_.offset[p] == gather_.offset[p + 1]) {
       diagonal = static_cast<std::uint32_t>(
           std::lower_bound(column_.begin() + begin, column_.begin() + end, static_cast<std::uint32_t>(p)) -
           column_.begin());
@@ -429,17 +484,23 @@ void ImplicitEuler::assemble_coarse() {
       row_i[i - j] = sum / diagonal;
     }
   }
-  // Copies laid out for the substitutions, each reading memory in ascending order: L by rows in
-  // column order, entry (i, j) at lower[i width + bandwidth - (i - j)], and L^T by rows, entry
-  // (i, k) at upper[i width + k - i].
+  // Layouts for the substitutions, each reading memory in ascending order: L^T by rows, entry
+  // (i, k) at upper[i width + k - i], copied out first; then, in place of the band, L by rows in
+  // column order, entry (i, j) at band[i width + bandwidth - (i - j)] for j < i and the diagonal at
+  // band[i width + bandwidth]. (A third copy, for the band itself, would be a third of the
+  // integrator's memory on a large sheet: docs/performance.md, "Memory".)
   for (std::size_t i = 0; i < coarse_dofs_; ++i) {
-    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
-    for (std::size_t j = first; j <= i; ++j) {
-      coarse_lower_[i * width + (j - first)] = coarse_band_[i * width + (i - j)];
-    }
-    coarse_lower_[i * width + bandwidth] = coarse_band_[i * width];
     const std::size_t last = std::min(coarse_dofs_ - 1, i + bandwidth);
     for (std::size_t k = i; k <= last; ++k) coarse_upper_[i * width + (k - i)] = coarse_band_[k * width + (k - i)];
+  }
+  for (std::size_t i = 0; i < coarse_dofs_; ++i) {
+    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
+    double* row = &coarse_band_[i * width];
+    const double diagonal = row[0];
+    // row[d] = L(i, i - d), d = 1 .. i - first, becomes row[m] = L(i, first + m), m = 0 .. i - first - 1.
+    std::reverse(row + 1, row + 1 + (i - first));
+    std::copy(row + 1, row + 1 + (i - first), row);
+    row[bandwidth] = diagonal;
   }
 }
 
@@ -467,7 +528,7 @@ void ImplicitEuler::solve_coarse() {
   const std::size_t bandwidth = coarse_bandwidth_;
   std::vector<double>& x = coarse_vector_;
   for (std::size_t i = 0; i < coarse_dofs_; ++i) {  // L y = b, with L by reversed rows (see assemble_coarse)
-    const double* row_i = &coarse_lower_[i * width];
+    const double* row_i = &coarse_band_[i * width];
     const std::size_t first = i > bandwidth ? i - bandwidth : 0;
     // row_i[m] = L(i, first + m) for m < i - first; row_i[bandwidth] = L(i, i).
     x[i] = (x[i] - band_dot(row_i, &x[first], i - first)) / row_i[bandwidth];

@@ -95,6 +95,7 @@
 #include "forces/element_jacobian.h"
 #include "forces/forces.h"
 #include "integrators/integrator.h"
+#include "model/gather_table.h"
 
 namespace clothsim {
 
@@ -103,6 +104,13 @@ class ImplicitEuler final : public Integrator {
   ImplicitEuler(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options);
   IntegratorKind kind() const override { return IntegratorKind::implicit_euler; }
   StepOutcome step(ClothState& state, double t_limit) override;
+  std::size_t workspace_bytes() const override;
+  // The bytes workspace_bytes() reports on the lattice build_lattice() makes with `counts` (at
+  // least 5 x 5; smaller ones may need less), besides the force buffers
+  // (ForceBuffers::bytes_for): element Jacobians, the block matrix (13 blocks per interior
+  // particle), the CG vectors, and with cg_two_level the coarse matrix's banded factor, which
+  // grows as particles x cols (sim/memory_estimate.h).
+  static std::size_t workspace_bytes_for(const LatticeCounts& counts, const IntegratorSettings& settings);
 
   // Block-sparse structure of the system matrix, for tests: row p's blocks are
   // [row_offset()[p], row_offset()[p + 1]) with columns column()[k], ascending.
@@ -171,6 +179,9 @@ class ImplicitEuler final : public Integrator {
   std::vector<element::ConnectorJacobian> connector_jacobian_;  // [connector_count()]
   std::vector<element::RadialJacobian> radial_jacobian_;        // [radial_count()]
 
+  // Each particle's element slots: the order in which its block row is assembled.
+  GatherTable gather_;
+
   // System matrix (CSR of 3x3 blocks) and where each element slot adds its blocks: slot s of a
   // connector adds to blocks connector_block_[s][j], j over its 2 particles; likewise radial.
   std::vector<std::uint32_t> row_offset_;   // [particle_count() + 1]
@@ -195,9 +206,8 @@ class ImplicitEuler final : public Integrator {
   std::vector<std::uint32_t> particle_aggregate_;  // [particle_count()]
   std::size_t coarse_dofs_ = 0;                    // 3 per aggregate; 0 without the correction
   std::size_t coarse_bandwidth_ = 0;
-  std::vector<double> coarse_band_;    // [coarse_dofs_ (coarse_bandwidth_ + 1)], L by rows
+  std::vector<double> coarse_band_;    // [coarse_dofs_ (coarse_bandwidth_ + 1)], L by rows, then in column order
   std::vector<double> coarse_upper_;   // L^T by rows, for the backward substitution
-  std::vector<double> coarse_lower_;   // L by rows in column order, for the forward substitution
   std::vector<double> coarse_vector_;  // [coarse_dofs_]
 
   std::vector<double> block_sum_a_;  // per-block partial sums of the reductions

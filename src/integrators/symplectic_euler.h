@@ -15,6 +15,9 @@ class SymplecticEuler final : public Integrator {
   StepOutcome step(ClothState& state, double t_limit) override;
   std::vector<PhaseTime> phase_times() const override { return {{"solution update", update_seconds_}}; }
   std::size_t workspace_bytes() const override { return dynamics_.bytes() + rate_.bytes(); }
+  // The bytes workspace_bytes() reports for `particles` particles, besides the force buffers
+  // (ForceBuffers::bytes_for) (sim/memory_estimate.h).
+  static std::size_t workspace_bytes_for(std::size_t particles) { return StateDerivative::bytes_for(particles); }
 
  private:
   const ClothModel& model_;

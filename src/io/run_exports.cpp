@@ -1,6 +1,7 @@
 // The exports of a run; what they hold and the rule for torn sheets are in run_exports.h.
 #include "io/run_exports.h"
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <system_error>
@@ -86,6 +87,23 @@ RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, c
       }
     }
   }
+}
+
+RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> formats) {
+  Memory memory;
+  const std::size_t mesh = SheetMesh::bytes_for(counts.rows, counts.cols);
+  for (ExportFormat format : formats) {
+    if (format == ExportFormat::pc2) {
+      // A float32 sample per particle, frame 0's positions; at the end rest.obj's mesh and the
+      // lattice's triangles it is cut from.
+      memory.held += counts.particles * (3 * sizeof(float) + sizeof(Vec3));
+      const std::size_t cells = counts.rows > 0 && counts.cols > 0 ? (counts.rows - 1) * (counts.cols - 1) : 0;
+      memory.peak = std::max(memory.peak, mesh + 2 * cells * sizeof(std::array<std::uint32_t, 3>));
+    } else if (format == ExportFormat::obj_sequence) {
+      memory.peak = std::max(memory.peak, mesh);  // each frame's mesh
+    }
+  }
+  return memory;
 }
 
 void RunExports::write_frame(const ClothModel& model, std::span<const Vec3> position, double time) {

@@ -72,6 +72,15 @@ class RunExports {
   // "frames/frame_000042.obj".
   static std::string frame_file_name(std::size_t frame);
 
+  // Memory for the lattice of `counts` writing `formats`: held from the first frame to the end
+  // (the cache's frame buffer and frame 0's positions), and the most held for a moment (a frame's
+  // mesh, rest.obj's mesh) (io/run_memory.h).
+  struct Memory {
+    std::size_t held = 0;
+    std::size_t peak = 0;
+  };
+  static Memory bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> formats);
+
  private:
   std::filesystem::path folder_;
   std::string scene_name_;

@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <array>
 #include <cerrno>
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "io/obj.h"
+#include "model/sheet_mesh.h"
 
 namespace clothsim {
 namespace {
@@ -219,6 +221,14 @@ void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
   }
   initial_energy_ = simulation.energy_balance();
   last_position_.reserve(simulation.model().particle_count());
+}
+
+std::size_t RunWriter::bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> exports) {
+  const std::size_t last_position = counts.particles * sizeof(decltype(last_position_)::value_type);
+  const std::size_t connector_table = 2 * counts.connectors * sizeof(std::int32_t);
+  const std::size_t final_mesh = SheetMesh::bytes_for(counts.rows, counts.cols);
+  const RunExports::Memory exported = RunExports::bytes_for(counts, exports);
+  return last_position + exported.held + std::max({connector_table, final_mesh, exported.peak});
 }
 
 void RunWriter::write_frame(const Simulation& simulation) {

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <type_traits>
+#include <utility>
 
 #include "core/assert.h"
 #include "core/error.h"
@@ -15,27 +17,6 @@ constexpr std::uint32_t kNoConnector = std::numeric_limits<std::uint32_t>::max()
 // Directions around a particle in the lattice plane, counter-clockwise seen from +y:
 // east (+x, col+1), south (+z, row+1), west, north.
 constexpr std::array<std::array<int, 2>, 4> kDirections = {{{0, 1}, {1, 0}, {0, -1}, {-1, 0}}};
-
-void build_gather_table(ClothModel& model) {
-  const std::size_t n = model.particle_count();
-  std::vector<std::uint32_t> count(n + 1, 0);
-  const auto slot_owner = [&](std::size_t slot) -> std::uint32_t {
-    if (slot < model.radial_slot_base()) {
-      return model.connector_particles[slot / 2][slot % 2];
-    }
-    const std::size_t local = slot - model.radial_slot_base();
-    return model.radial_particles[local / 3][local % 3];
-  };
-  const std::size_t slots = model.force_slot_count();
-  for (std::size_t s = 0; s < slots; ++s) ++count[slot_owner(s) + 1];
-  for (std::size_t p = 0; p < n; ++p) count[p + 1] += count[p];
-  model.gather_offset = count;
-  model.gather_slot.assign(slots, 0);
-  std::vector<std::uint32_t> cursor(count.begin(), count.end() - 1);
-  // Slots are visited in ascending order, so each particle's list is sorted: a fixed order of
-  // summation that does not depend on how the work is split between threads.
-  for (std::size_t s = 0; s < slots; ++s) model.gather_slot[cursor[slot_owner(s)]++] = static_cast<std::uint32_t>(s);
-}
 
 void build_connector_radial_table(ClothModel& model) {
   const std::size_t connectors = model.connector_count();
@@ -71,9 +52,66 @@ void finish_model(ClothModel& model) {
   if (model.radial_yield_angle.size() != radials) model.radial_yield_angle.assign(radials, kNever);
   model.broken_connector_count =
       static_cast<std::size_t>(std::count(model.connector_live.begin(), model.connector_live.end(), std::uint8_t{0}));
-  build_gather_table(model);
   build_connector_radial_table(model);
-  CLOTHSIM_ASSERT(model.gather_offset.back() == model.force_slot_count(), "gather table covers every slot");
+}
+
+namespace {
+
+template <typename T>
+std::size_t vector_bytes(const std::vector<T>& v) {
+  return v.capacity() * sizeof(T);
+}
+
+// Bytes of an array of `count` elements of the model's member `member` (its element type).
+template <auto kMember>
+constexpr std::size_t array_bytes(std::size_t count) {
+  using Vector = std::remove_reference_t<decltype(std::declval<ClothModel>().*kMember)>;
+  return count * sizeof(typename Vector::value_type);
+}
+
+}  // namespace
+
+std::size_t ClothModel::bytes() const {
+  return vector_bytes(particle_mass) + vector_bytes(particle_inverse_mass) + vector_bytes(particle_anchor) +
+         vector_bytes(particle_rest_position) + vector_bytes(connector_particles) + vector_bytes(connector_rest_length) +
+         vector_bytes(connector_stiffness) + vector_bytes(connector_damping) + vector_bytes(connector_live) +
+         vector_bytes(connector_break_time) + vector_bytes(connector_original_length) +
+         vector_bytes(connector_break_strain) + vector_bytes(connector_yield_strain) + vector_bytes(radial_particles) +
+         vector_bytes(radial_connectors) + vector_bytes(radial_kind) + vector_bytes(radial_rest_angle) +
+         vector_bytes(radial_stiffness) + vector_bytes(radial_damping) + vector_bytes(radial_live) +
+         vector_bytes(radial_original_angle) + vector_bytes(radial_yield_angle) +
+         vector_bytes(connector_radial_offset) + vector_bytes(radial_of_connector) + vector_bytes(anchors);
+}
+
+LatticeCounts lattice_counts(std::size_t rows, std::size_t cols) {
+  LatticeCounts counts;
+  counts.rows = rows;
+  counts.cols = cols;
+  counts.particles = rows * cols;
+  if (rows == 0 || cols == 0) return counts;
+  counts.connectors = rows * (cols - 1) + (rows - 1) * cols;
+  counts.radials = 4 * (rows - 1) * (cols - 1) + rows * (cols >= 2 ? cols - 2 : 0) + cols * (rows >= 2 ? rows - 2 : 0);
+  return counts;
+}
+
+std::size_t lattice_model_bytes(const LatticeCounts& counts, std::size_t anchors) {
+  using M = ClothModel;
+  const std::size_t n = counts.particles;
+  const std::size_t e = counts.connectors;
+  const std::size_t r = counts.radials;
+  return array_bytes<&M::particle_mass>(n) + array_bytes<&M::particle_inverse_mass>(n) +
+         array_bytes<&M::particle_anchor>(n) + array_bytes<&M::particle_rest_position>(n) +
+         array_bytes<&M::connector_particles>(e) + array_bytes<&M::connector_rest_length>(e) +
+         array_bytes<&M::connector_stiffness>(e) + array_bytes<&M::connector_damping>(e) +
+         array_bytes<&M::connector_live>(e) + array_bytes<&M::connector_break_time>(e) +
+         array_bytes<&M::connector_original_length>(e) + array_bytes<&M::connector_break_strain>(e) +
+         array_bytes<&M::connector_yield_strain>(e) + array_bytes<&M::radial_particles>(r) +
+         array_bytes<&M::radial_connectors>(r) + array_bytes<&M::radial_kind>(r) +
+         array_bytes<&M::radial_rest_angle>(r) + array_bytes<&M::radial_stiffness>(r) +
+         array_bytes<&M::radial_damping>(r) + array_bytes<&M::radial_live>(r) +
+         array_bytes<&M::radial_original_angle>(r) + array_bytes<&M::radial_yield_angle>(r) +
+         array_bytes<&M::connector_radial_offset>(e + 1) + array_bytes<&M::radial_of_connector>(2 * r) +
+         array_bytes<&M::anchors>(anchors);
 }
 
 std::size_t count_pieces(const ClothModel& model) {
@@ -133,6 +171,20 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
     }
   }
 
+  // Every array at its final size from the start: growing by push_back would leave up to twice
+  // the memory in capacity, and copy each array as it grows (docs/performance.md, "Memory").
+  const LatticeCounts counts = lattice_counts(static_cast<std::size_t>(rows), static_cast<std::size_t>(cols));
+  model.connector_particles.reserve(counts.connectors);
+  model.connector_rest_length.reserve(counts.connectors);
+  model.connector_stiffness.reserve(counts.connectors);
+  model.connector_damping.reserve(counts.connectors);
+  model.radial_particles.reserve(counts.radials);
+  model.radial_connectors.reserve(counts.radials);
+  model.radial_kind.reserve(counts.radials);
+  model.radial_rest_angle.reserve(counts.radials);
+  model.radial_stiffness.reserve(counts.radials);
+  model.radial_damping.reserve(counts.radials);
+
   // Connectors, particle by particle: east then south neighbour. neighbour_connector[p][d] is the
   // connector from p in direction d, or kNoConnector at the border.
   std::vector<std::array<std::uint32_t, 4>> neighbour_connector(n, {kNoConnector, kNoConnector, kNoConnector, kNoConnector});
@@ -181,6 +233,7 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
     }
   }
 
+  model.anchors.reserve(anchors.size());
   for (const Anchor& anchor : anchors) {
     if (anchor.particle >= n) {
       throw InputError(source, "anchors", "particle index " + std::to_string(anchor.particle) +
@@ -194,6 +247,8 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
     model.anchors.push_back(anchor);
   }
 
+  CLOTHSIM_ASSERT(model.connector_count() == counts.connectors && model.radial_count() == counts.radials,
+                  "lattice_counts() counts what build_lattice() makes");
   finish_model(model);
   return model;
 }

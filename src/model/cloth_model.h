@@ -134,12 +134,8 @@ struct ClothModel {
   std::vector<Collider> colliders;
   CollisionSettings collision;
 
-  // Force gather table (CSR). Element forces are written to per-element slots, then each
-  // particle sums its slots in ascending order; this is what makes results independent of the
-  // thread count. Connector e owns slots 2e (a) and 2e+1 (b); radial spring r owns slots
-  // radial_slot_base() + 3r (centre), +1 (b), +2 (c).
-  std::vector<std::uint32_t> gather_offset;  // [particle_count() + 1]
-  std::vector<std::uint32_t> gather_slot;    // [gather_offset.back()]
+  // Element force slots of the general force path (model/gather_table.h): connector e owns slots
+  // 2e (a) and 2e+1 (b); radial spring r owns slots radial_slot_base() + 3r (centre), +1 (b), +2 (c).
 
   std::size_t particle_count() const { return particle_mass.size(); }
   std::size_t connector_count() const { return connector_particles.size(); }
@@ -149,6 +145,9 @@ struct ClothModel {
   std::size_t force_slot_count() const { return 2 * connector_count() + 3 * radial_count(); }
 
   bool is_anchored(std::size_t particle) const { return particle_anchor[particle] >= 0; }
+  // Bytes held by the arrays (capacity, not just size); the obstacles are not counted (a mesh is
+  // shared with the scene, and the rest is a few hundred bytes each).
+  std::size_t bytes() const;
   bool is_intact() const { return broken_connector_count == 0; }
   // Connectors broken so far (kept by model_edits.h).
   std::size_t broken_connector_count = 0;
@@ -176,6 +175,21 @@ struct ClothState {
   double contact_work = 0.0;
 };
 
+// The element counts of the rows x cols lattice that build_lattice() makes: what a scene needs can
+// be known before it is built (the memory estimate, sim/memory_estimate.h).
+struct LatticeCounts {
+  std::size_t rows = 0;
+  std::size_t cols = 0;
+  std::size_t particles = 0;   // rows cols
+  std::size_t connectors = 0;  // rows (cols - 1) + (rows - 1) cols
+  std::size_t radials = 0;     // 4 (rows - 1)(cols - 1) adjacent + rows (cols - 2) + cols (rows - 2) opposite
+};
+LatticeCounts lattice_counts(std::size_t rows, std::size_t cols);
+
+// The bytes ClothModel::bytes() reports for the model build_lattice() makes with `counts` and
+// `anchors` anchors, before it is built.
+std::size_t lattice_model_bytes(const LatticeCounts& counts, std::size_t anchors);
+
 // Builds the lattice of the paper: particle (i, j) has index i*cols + j and rest position
 // ((j - (cols-1)/2) L, 0, (i - (rows-1)/2) L). Anchors name particles by index; a particle may be
 // anchored once. Throws InputError naming `source` for inconsistent definitions. Every spring is
@@ -187,8 +201,8 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
 ClothState make_rest_state(const ClothModel& model);
 
 // Completes a model whose element arrays are filled in: the per-spring state of tearing and
-// plasticity (intact, limits +inf, original rest values) where it is missing, the force gather
-// table and the connector-to-radial table. build_lattice() calls it; so does code that builds a
+// plasticity (intact, limits +inf, original rest values) where it is missing, and the
+// connector-to-radial table. build_lattice() calls it; so does code that builds a
 // model by hand (tests of irregular sheets).
 void finish_model(ClothModel& model);
 

@@ -154,6 +154,13 @@ struct SheetMesh {
 
   static constexpr std::uint32_t kNoEdge = 0xFFFFFFFFu;
   std::size_t vertex_count() const { return vertex_position.size(); }
+  // The bytes of the mesh of an intact rows x cols lattice in particles mode: a vertex (position,
+  // normal, source) per particle and 2 triangles per cell (the memory estimate,
+  // sim/memory_estimate.h; a torn sheet has a few more vertices and triangles).
+  static constexpr std::size_t bytes_for(std::size_t rows, std::size_t cols) {
+    const std::size_t cells = rows > 0 && cols > 0 ? (rows - 1) * (cols - 1) : 0;
+    return rows * cols * (2 * sizeof(Vec3) + sizeof(SheetVertexSource)) + 2 * cells * sizeof(std::array<std::uint32_t, 3>);
+  }
 };
 
 // Rest-lattice coordinates (row, col) of a mesh vertex, in particle spacings: particle (i, j) is

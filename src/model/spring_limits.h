@@ -34,6 +34,11 @@ struct SpringLimits {
   double adjacent_yield_angle = kNever;  // in-plane shear that stays
   double opposite_yield_angle = kNever;  // folds that stay
 
+  // True when a law can change the sheet during a run (some limit is finite).
+  bool changes_sheet() const {
+    return break_strain != kNever || yield_strain != kNever || adjacent_yield_angle != kNever ||
+           opposite_yield_angle != kNever;
+  }
   bool operator==(const SpringLimits&) const = default;
 };
 

@@ -40,6 +40,10 @@ struct SurfaceContacts {
     impulse.assign(particles, 0.0);
     any = false;
   }
+  // The bytes bytes() reports after resize(particles).
+  static constexpr std::size_t bytes_for(std::size_t particles) {
+    return particles * (sizeof(std::uint32_t) + 2 * sizeof(Vec3) + 2 * sizeof(double));
+  }
   std::size_t bytes() const {
     return collider.capacity() * sizeof(std::uint32_t) + (normal.capacity() + velocity.capacity()) * sizeof(Vec3) +
            (friction.capacity() + impulse.capacity()) * sizeof(double);

@@ -201,31 +201,8 @@ void Simulation::fail(std::string element, std::string message) {
   failure_ = std::move(diagnosis);
 }
 
-namespace {
-
-template <typename T>
-std::size_t vector_bytes(const std::vector<T>& v) {
-  return v.capacity() * sizeof(T);
-}
-
-std::size_t model_bytes(const ClothModel& m) {
-  return vector_bytes(m.particle_mass) + vector_bytes(m.particle_inverse_mass) + vector_bytes(m.particle_anchor) +
-         vector_bytes(m.particle_rest_position) + vector_bytes(m.connector_particles) +
-         vector_bytes(m.connector_rest_length) + vector_bytes(m.connector_stiffness) +
-         vector_bytes(m.connector_damping) + vector_bytes(m.radial_particles) + vector_bytes(m.radial_connectors) +
-         vector_bytes(m.radial_kind) + vector_bytes(m.radial_rest_angle) + vector_bytes(m.radial_stiffness) +
-         vector_bytes(m.radial_damping) + vector_bytes(m.anchors) + vector_bytes(m.gather_offset) +
-         vector_bytes(m.gather_slot) + vector_bytes(m.connector_live) + vector_bytes(m.connector_break_time) +
-         vector_bytes(m.connector_original_length) + vector_bytes(m.connector_break_strain) +
-         vector_bytes(m.connector_yield_strain) + vector_bytes(m.radial_live) + vector_bytes(m.radial_original_angle) +
-         vector_bytes(m.radial_yield_angle) + vector_bytes(m.connector_radial_offset) +
-         vector_bytes(m.radial_of_connector);
-}
-
-}  // namespace
-
 std::size_t Simulation::memory_bytes() const {
-  return model_bytes(*model_) + vector_bytes(state_.position) + vector_bytes(state_.velocity) +
+  return model_->bytes() + (state_.position.capacity() + state_.velocity.capacity()) * sizeof(Vec3) +
          integrator_->workspace_bytes() + spring_events_.bytes() +
          collision_stage_.bytes();
 }

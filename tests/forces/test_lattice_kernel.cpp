@@ -1,8 +1,9 @@
 // The structured lattice kernel against the general element-list path: the same forces and
 // damping power up to rounding on random configurations (stretched, bent, folded, flat with
 // motion: the singular case), on intact sheets and on torn and plastic ones, bit-for-bit thread
-// independence of both paths, the choice of the kernel by the recorded layout, edits followed
-// through the model's revision, and the vectorisable arctangent against std::atan2.
+// independence of both paths, uniform sheets read without parameter arrays giving the same bits,
+// the choice of the kernel by the recorded layout, edits followed through the model's revision,
+// and the vectorisable arctangent against std::atan2.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -15,6 +16,7 @@
 #include "forces/lattice_kernel.h"
 #include "forces/vector_math.h"
 #include "model/model_edits.h"
+#include "model/spring_limits.h"
 #include "test_support.h"
 
 namespace clothsim {
@@ -196,6 +198,45 @@ TEST(LatticeKernel, BothPathsAreBitIdenticalForAnyThreadCount) {
       EXPECT_EQ(std::memcmp(one.force.data(), many.force.data(), one.force.size() * sizeof(Vec3)), 0)
           << threads << " threads";
       EXPECT_EQ(one.powers.damping, many.powers.damping) << threads << " threads";
+    }
+  }
+}
+
+// An intact sheet whose springs have their family's values is read from one value per family,
+// without the 26 parameter arrays; the same sheet read from the arrays (held because a limit can
+// change it) gives the same bits, in the singular branch too and with terms switched off.
+TEST(LatticeKernel, UniformSheetsNeedNoParameterArraysAndGiveTheSameBits) {
+  const ClothModel uniform = lattice(23, 19, 0.1);
+  ClothModel limited = uniform;
+  SpringLimits limits;
+  limits.break_strain = 0.5;
+  apply_spring_limits(limited, limits);
+  ForceBuffers uniform_buffers;
+  uniform_buffers.resize(uniform);
+  ForceBuffers array_buffers;
+  array_buffers.resize(limited);
+  ASSERT_TRUE(uniform_buffers.uses_lattice_kernel() && array_buffers.uses_lattice_kernel());
+  EXPECT_TRUE(uniform_buffers.lattice.uniform());
+  EXPECT_FALSE(array_buffers.lattice.uniform());
+  const LatticeCounts counts = lattice_counts(23, 19);
+  EXPECT_EQ(uniform_buffers.bytes(), ForceBuffers::bytes_for(counts, ForceKernel::automatic, false));
+  EXPECT_EQ(array_buffers.bytes(), ForceBuffers::bytes_for(counts, ForceKernel::automatic, true));
+  EXPECT_LT(uniform_buffers.bytes(), array_buffers.bytes() * 6 / 10);
+
+  std::uint64_t seed = 70;
+  for (double amplitude : {0.0, 0.3}) {  // 0: flat and moving, the singular branch
+    std::vector<Vec3> x, v;
+    randomise(uniform, amplitude, 1.0, seed++, x, v);
+    for (ForceTerms terms : {kAllForceTerms, kAllForceTerms & ~kSpringDamping, kOppositeRadialSprings | kGravity}) {
+      for (int threads : {1, 3}) {
+        std::vector<Vec3> from_values(uniform.particle_count());
+        std::vector<Vec3> from_arrays(uniform.particle_count());
+        const ForcePowers a = evaluate_forces(uniform, x, v, terms, threads, uniform_buffers, from_values);
+        const ForcePowers b = evaluate_forces(limited, x, v, terms, threads, array_buffers, from_arrays);
+        EXPECT_EQ(std::memcmp(from_values.data(), from_arrays.data(), from_values.size() * sizeof(Vec3)), 0)
+            << "amplitude " << amplitude << ", terms " << terms << ", " << threads << " threads";
+        EXPECT_EQ(a.damping, b.damping);
+      }
     }
   }
 }

@@ -7,6 +7,7 @@
 
 #include "core/error.h"
 #include "model/cloth_model.h"
+#include "model/gather_table.h"
 #include "model/initial_conditions.h"
 #include "model/model_edits.h"
 
@@ -72,13 +73,24 @@ TEST(Lattice, RadialSpringsJoinConnectorsOfTheirCentreAtTheRestAngle) {
 
 TEST(Lattice, GatherTableListsEachSlotOnceInAscendingOrder) {
   const ClothModel model = build_lattice(lattice(5, 6), Environment{}, {});
+  GatherTable gather;
+  gather.build(model);
+  EXPECT_TRUE(gather.built_for(model));
+  EXPECT_EQ(gather.bytes(), GatherTable::bytes_for(lattice_counts(5, 6)));
   std::vector<int> seen(model.force_slot_count(), 0);
   for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    for (std::uint32_t k = model.gather_offset[p]; k < model.gather_offset[p + 1]; ++k) {
-      ++seen[model.gather_slot[k]];
-      if (k > model.gather_offset[p]) {
-        EXPECT_LT(model.gather_slot[k - 1], model.gather_slot[k]);
+    for (std::uint32_t k = gather.offset[p]; k < gather.offset[p + 1]; ++k) {
+      ++seen[gather.slot[k]];
+      if (k > gather.offset[p]) {
+        EXPECT_LT(gather.slot[k - 1], gather.slot[k]);
       }
+      // Slot k of the table belongs to an element that joins particle p.
+      const std::size_t slot = gather.slot[k];
+      const std::uint32_t owner = slot < model.radial_slot_base()
+                                      ? model.connector_particles[slot / 2][slot % 2]
+                                      : model.radial_particles[(slot - model.radial_slot_base()) / 3]
+                                                              [(slot - model.radial_slot_base()) % 3];
+      EXPECT_EQ(owner, p);
     }
   }
   for (int count : seen) EXPECT_EQ(count, 1);
