@@ -197,6 +197,12 @@ std::shared_ptr<const TriangleMesh> read_obj_mesh(const std::string& path, doubl
   } catch (const InputError& error) {
     fail(source, field, "mesh file '" + path + "' cannot be read (" + error.what() + ")");
   }
+  return parse_obj_mesh(text, path, scale, translate, source, field);
+}
+
+std::shared_ptr<const TriangleMesh> parse_obj_mesh(std::string_view text, const std::string& path, double scale,
+                                                   const Vec3& translate, const std::string& source,
+                                                   const std::string& field) {
   TriangleMesh mesh;
   struct Corner {
     long long index;  // as written: 1-based, or negative from the end
@@ -208,7 +214,7 @@ std::shared_ptr<const TriangleMesh> read_obj_mesh(const std::string& path, doubl
   while (start <= text.size()) {
     std::size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
-    std::string_view line(text.data() + start, end - start);
+    std::string_view line = text.substr(start, end - start);
     start = end + 1;
     ++line_number;
     if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);
