@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -79,11 +80,15 @@ ColliderShape read_shape(const json& object, const std::string& source, const st
   fail(source, field + ".type", "must be one of " + join_names(kShapeNames) + ", got " + describe_choice(*type));
 }
 
-// A plane's normal: any non-zero direction, stored unit.
+// A plane's normal: any non-zero direction, stored unit. One already unit to rounding is kept as
+// written: normalising is not idempotent in floating point ([1, 1, 0] / its length has a length
+// one ulp off 1, and dividing again changes its last bit), so a scene.json written back would
+// otherwise read a different plane and not reproduce its run bit for bit.
 Vec3 read_normal(const json& value, const std::string& source, const std::string& field) {
   const Vec3 normal = read_vector(value, kColliderPositionRange, source, field);
   const double length = norm(normal);
   if (!(length > 0.0)) fail(source, field, "must be a non-zero direction [x, y, z], got [0, 0, 0]");
+  if (std::abs(length - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon()) return normal;
   return normal / length;
 }
 
