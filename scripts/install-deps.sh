@@ -19,6 +19,10 @@ packages=(
   # The interactive viewer (clothsim view, docs/viewer.md): a GLFW window with Dear ImGui; its
   # tests run under a virtual X server.
   libglfw3-dev libimgui-dev xvfb xauth
+  # Fuzzing (the fuzz preset, tests/fuzz, docs/testing.md): clang with libFuzzer and the clang
+  # sanitizer runtimes (libclang-rt-14-dev, only recommended by clang-14, so named here), LLVM's
+  # OpenMP for clang builds, and llvm-symbolizer (llvm-14) for readable stacks of findings.
+  clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
 )
 
 missing=()

@@ -10,6 +10,7 @@
 #include <charconv>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -79,11 +80,15 @@ ColliderShape read_shape(const json& object, const std::string& source, const st
   fail(source, field + ".type", "must be one of " + join_names(kShapeNames) + ", got " + describe_choice(*type));
 }
 
-// A plane's normal: any non-zero direction, stored unit.
+// A plane's normal: any non-zero direction, stored unit. One already unit to rounding is kept as
+// written: normalising is not idempotent in floating point ([1, 1, 0] / its length has a length
+// one ulp off 1, and dividing again changes its last bit), so a scene.json written back would
+// otherwise read a different plane and not reproduce its run bit for bit.
 Vec3 read_normal(const json& value, const std::string& source, const std::string& field) {
   const Vec3 normal = read_vector(value, kColliderPositionRange, source, field);
   const double length = norm(normal);
   if (!(length > 0.0)) fail(source, field, "must be a non-zero direction [x, y, z], got [0, 0, 0]");
+  if (std::abs(length - 1.0) <= 8.0 * std::numeric_limits<double>::epsilon()) return normal;
   return normal / length;
 }
 
@@ -197,6 +202,12 @@ std::shared_ptr<const TriangleMesh> read_obj_mesh(const std::string& path, doubl
   } catch (const InputError& error) {
     fail(source, field, "mesh file '" + path + "' cannot be read (" + error.what() + ")");
   }
+  return parse_obj_mesh(text, path, scale, translate, source, field);
+}
+
+std::shared_ptr<const TriangleMesh> parse_obj_mesh(std::string_view text, const std::string& path, double scale,
+                                                   const Vec3& translate, const std::string& source,
+                                                   const std::string& field) {
   TriangleMesh mesh;
   struct Corner {
     long long index;  // as written: 1-based, or negative from the end
@@ -208,7 +219,7 @@ std::shared_ptr<const TriangleMesh> read_obj_mesh(const std::string& path, doubl
   while (start <= text.size()) {
     std::size_t end = text.find('\n', start);
     if (end == std::string::npos) end = text.size();
-    std::string_view line(text.data() + start, end - start);
+    std::string_view line = text.substr(start, end - start);
     start = end + 1;
     ++line_number;
     if (const std::size_t hash = line.find('#'); hash != std::string_view::npos) line = line.substr(0, hash);

@@ -11,6 +11,7 @@
 
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "model/collider.h"
@@ -43,5 +44,9 @@ void validate_collider(const ColliderSpec& collider, const std::string& source, 
 // malformed file, the line.
 std::shared_ptr<const TriangleMesh> read_obj_mesh(const std::string& path, double scale, const Vec3& translate,
                                                   const std::string& source, const std::string& field);
+// The same for OBJ text already read; `path` names it in messages.
+std::shared_ptr<const TriangleMesh> parse_obj_mesh(std::string_view text, const std::string& path, double scale,
+                                                   const Vec3& translate, const std::string& source,
+                                                   const std::string& field);
 
 }  // namespace clothsim::scene_json
