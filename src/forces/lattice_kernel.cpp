@@ -10,49 +10,19 @@
 #include "core/multiversion.h"
 #include "forces/element.h"
 #include "forces/forces.h"
+#include "forces/lattice_kernel_layout.h"
 #include "forces/vector_math.h"
 
 namespace clothsim {
 namespace {
 
-// The scratch arrays, each `stride_` doubles, indexed by particle (with padding both sides).
-// clang-format off
-enum Array : std::size_t {
-  kVelocityX, kVelocityY, kVelocityZ,
-  // East connector of each particle (to col + 1) and south connector (to row + 1): unit vector,
-  // 1/length (0 where the connector does not exist or has zero length), tension (N).
-  kEastX, kEastY, kEastZ, kEastInverseLength, kEastTension,
-  kSouthX, kSouthY, kSouthZ, kSouthInverseLength, kSouthTension,
-  kConnectorPower,  // damping power of the east and south connectors, W
-  // Force that the radial springs centred at a particle exert on each of its four neighbours, N.
-  kToEastX, kToEastY, kToEastZ,
-  kToSouthX, kToSouthY, kToSouthZ,
-  kToWestX, kToWestY, kToWestZ,
-  kToNorthX, kToNorthY, kToNorthZ,
-  kPower,  // damping power of everything owned by the particle (2 connectors, 6 radials), W
-  kSingular,  // > 0 where one of the particle's radial springs is singular
-  // Per-spring parameters, copied from the model by refresh() whenever its revision moves.
-  // East and south connector: stiffness, damping, rest length, and 1 if intact (0 if broken or
-  // missing). Radial spring i of the particle (i in the order of kPairs: (E,S), (S,W), (W,N),
-  // (N,E), (E,W), (S,N)): stiffness, damping, rest angle; 0, 0 where it is broken or missing.
-  kEastStiffness, kEastDamping, kEastRestLength, kEastLive,
-  kSouthStiffness, kSouthDamping, kSouthRestLength, kSouthLive,
-  kRadialStiffness, kRadialDamping = kRadialStiffness + 6, kRadialRestAngle = kRadialDamping + 6,
-  kArrayCount = kRadialRestAngle + 6
-};
-// clang-format on
-// A uniform sheet (LatticeKernel::uniform()) keeps only the arrays before the parameters.
-constexpr std::size_t kUniformArrayCount = kEastStiffness;
+using namespace lattice_layout;
 
 // Particles per band of the radial and gather passes (at least; bands are whole rows).
 constexpr std::size_t kBandParticles = 256;
 
 // The row and band functions are compiled for AVX-512, AVX2 and baseline x86-64 and chosen at
 // load time (core/multiversion.h).
-
-// The radial springs of a particle as pairs of its connectors: directions 0 east, 1 south,
-// 2 west, 3 north; the four adjacent pairs, then the two opposite ones (build_lattice's order).
-constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}}};
 
 // Switches of one evaluation: 1 for a force term that is on, 0 for one that is off, multiplied
 // onto the per-spring constants (multiplying by 1 is exact, so a term that is on gives the same
@@ -436,157 +406,6 @@ CLOTHSIM_MULTIVERSION void gather_band(const Arrays& arrays, const Coefficients&
 }
 
 }  // namespace
-
-namespace {
-
-// Visits the springs of a rows x cols lattice in build_lattice()'s order, which is the order of
-// the model's element arrays: connector(e, p, south) for connector e from particle p east (south
-// false) or south, and radial(r, p, pair) for radial spring r centred at p between the arms of
-// kPairs[pair]. Stops at the first visit that returns false; returns whether every visit
-// returned true. Walking the lattice like this needs no table of where each spring goes (8 bytes
-// per connector and radial spring, 32 bytes per particle).
-template <typename Connector, typename Radial>
-bool for_each_lattice_spring(std::size_t rows, std::size_t cols, Connector&& connector, Radial&& radial) {
-  std::uint32_t e = 0;
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t j = 0; j < cols; ++j) {
-      const auto p = static_cast<std::uint32_t>(i * cols + j);
-      if (j + 1 < cols && !connector(e++, p, false)) return false;
-      if (i + 1 < rows && !connector(e++, p, true)) return false;
-    }
-  }
-  std::uint32_t r = 0;
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t j = 0; j < cols; ++j) {
-      const auto p = static_cast<std::uint32_t>(i * cols + j);
-      // Arms 0 east, 1 south, 2 west, 3 north.
-      const std::array<bool, 4> arm{j + 1 < cols, i + 1 < rows, j > 0, i > 0};
-      for (std::size_t pair = 0; pair < kPairs.size(); ++pair) {
-        const auto [b, c] = kPairs[pair];
-        if (!arm[static_cast<std::size_t>(b)] || !arm[static_cast<std::size_t>(c)]) continue;
-        if (!radial(r++, p, pair)) return false;
-      }
-    }
-  }
-  return true;
-}
-
-}  // namespace
-
-bool LatticeKernel::prepare(const ClothModel& model) {
-  active_ = false;
-  scratch_.clear();
-  scratch_.shrink_to_fit();
-  if (model.layout != ModelLayout::lattice || model.rows < 1 || model.cols < 1 ||
-      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) != model.particle_count()) {
-    return false;
-  }
-  const auto rows = static_cast<std::size_t>(model.rows);
-  const auto cols = static_cast<std::size_t>(model.cols);
-  const std::size_t n = model.particle_count();
-  // The layout says the springs are the lattice's, in build_lattice()'s order; the check here
-  // costs one pass and keeps a model that was edited by hand (and no longer matches its layout)
-  // off the kernel. refresh() then finds each spring's place by walking the lattice again.
-  const LatticeCounts counts = lattice_counts(rows, cols);
-  if (model.connector_count() != counts.connectors || model.radial_count() != counts.radials) return false;
-  const auto step = [cols](std::uint32_t p, int arm) -> std::uint32_t {
-    const auto c = static_cast<std::uint32_t>(cols);
-    return arm == 0 ? p + 1 : arm == 1 ? p + c : arm == 2 ? p - 1 : p - c;
-  };
-  const bool matches = for_each_lattice_spring(
-      rows, cols,
-      [&](std::uint32_t e, std::uint32_t p, bool south) {
-        const std::array<std::uint32_t, 2> expected{p, step(p, south ? 1 : 0)};
-        return model.connector_particles[e] == expected;
-      },
-      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
-        const std::array<std::uint32_t, 3> expected{p, step(p, kPairs[pair][0]), step(p, kPairs[pair][1])};
-        return model.radial_particles[r] == expected;
-      });
-  if (!matches) return false;
-  rows_ = model.rows;
-  cols_ = model.cols;
-  padding_ = padding(cols);
-  stride_ = stride(n, cols);
-  // The parameter arrays only where the sheet is not uniform or a law can make it so.
-  const bool arrays = !is_uniform(model) || model.limits.changes_sheet();
-  scratch_.assign((arrays ? kArrayCount : kUniformArrayCount) * stride_, 0.0);
-  block_power_.assign(deterministic_sum_blocks(n), 0.0);
-  active_ = true;
-  refresh(model);
-  return true;
-}
-
-std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays) {
-  const std::size_t arrays = parameter_arrays ? kArrayCount : kUniformArrayCount;
-  return (arrays * stride(counts.particles, counts.cols) + deterministic_sum_blocks(counts.particles)) *
-         sizeof(double);
-}
-
-bool LatticeKernel::is_uniform(const ClothModel& model) {
-  if (model.connector_count() == 0 || model.broken_connector_count != 0) return false;
-  std::array<FamilyValues, 3> family{};
-  std::array<bool, 3> seen{};
-  const auto same = [&](std::size_t f, const FamilyValues& values) {
-    if (!seen[f]) {
-      seen[f] = true;
-      family[f] = values;
-    }
-    return family[f] == values;
-  };
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    if (model.connector_live[e] == 0 ||
-        !same(0, {model.connector_stiffness[e], model.connector_damping[e], model.connector_rest_length[e]})) {
-      return false;
-    }
-  }
-  for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    const std::size_t f = model.radial_kind[r] == RadialKind::adjacent ? 1 : 2;
-    if (model.radial_live[r] == 0 ||
-        !same(f, {model.radial_stiffness[r], model.radial_damping[r], model.radial_rest_angle[r]})) {
-      return false;
-    }
-  }
-  return true;
-}
-
-void LatticeKernel::refresh(const ClothModel& model) {
-  revision_ = model.revision;
-  const bool arrays = scratch_.size() == kArrayCount * stride_;
-  uniform_ = !arrays && is_uniform(model);
-  if (uniform_) {
-    family_[0] = {model.connector_stiffness[0], model.connector_damping[0], model.connector_rest_length[0]};
-    for (std::size_t r = 0; r < model.radial_count(); ++r) {
-      const std::size_t f = model.radial_kind[r] == RadialKind::adjacent ? 1 : 2;
-      family_[f] = {model.radial_stiffness[r], model.radial_damping[r], model.radial_rest_angle[r]};
-    }
-    return;
-  }
-  // A uniform sheet made non-uniform by a live edit: the parameter arrays now, kept from then on
-  // (see the top of lattice_kernel.h).
-  if (!arrays) scratch_.resize(kArrayCount * stride_, 0.0);
-  double* base = scratch_.data() + padding_;
-  const auto array = [&](std::size_t a) { return base + a * stride_; };
-  // Missing springs (borders) keep zeros: no stiffness, no damping, not live.
-  std::fill(scratch_.begin() + static_cast<std::ptrdiff_t>(kEastStiffness * stride_), scratch_.end(), 0.0);
-  for_each_lattice_spring(
-      static_cast<std::size_t>(rows_), static_cast<std::size_t>(cols_),
-      [&](std::uint32_t e, std::uint32_t p, bool south) {
-        const std::size_t first = south ? kSouthStiffness : kEastStiffness;
-        array(first)[p] = model.connector_stiffness[e];
-        array(first + 1)[p] = model.connector_damping[e];
-        array(first + 2)[p] = model.connector_rest_length[e];
-        array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
-        return true;
-      },
-      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
-        const bool live = model.radial_live[r] != 0;
-        array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
-        array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
-        array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
-        return true;
-      });
-}
 
 double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                                std::uint32_t terms, int threads, std::span<Vec3> force) {

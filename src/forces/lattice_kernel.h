@@ -141,7 +141,7 @@ class LatticeKernel {
   std::size_t stride_ = 0;   // doubles per array (padding + particles + padding, rounded up)
   std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
   // kArrayCount arrays of stride_ doubles, the parameter arrays last and only while needed
-  // (lattice_kernel.cpp).
+  // (lattice_kernel_layout.h).
   std::vector<double> scratch_;
   std::vector<double> block_power_;
 };

@@ -1,0 +1,130 @@
+// The lattice kernel's preparation and parameters: whether a model has the lattice layout, the
+// scratch it needs, and the per-spring values it reads (one per family on a uniform sheet). The
+// design is in lattice_kernel.h; the vector loops are in lattice_kernel.cpp.
+#include <algorithm>
+#include <array>
+
+#include "forces/forces.h"
+#include "forces/lattice_kernel.h"
+#include "forces/lattice_kernel_layout.h"
+
+namespace clothsim {
+
+using namespace lattice_layout;
+
+bool LatticeKernel::prepare(const ClothModel& model) {
+  active_ = false;
+  scratch_.clear();
+  scratch_.shrink_to_fit();
+  if (model.layout != ModelLayout::lattice || model.rows < 1 || model.cols < 1 ||
+      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) != model.particle_count()) {
+    return false;
+  }
+  const auto rows = static_cast<std::size_t>(model.rows);
+  const auto cols = static_cast<std::size_t>(model.cols);
+  const std::size_t n = model.particle_count();
+  // The layout says the springs are the lattice's, in build_lattice()'s order; the check here
+  // costs one pass and keeps a model that was edited by hand (and no longer matches its layout)
+  // off the kernel. refresh() then finds each spring's place by walking the lattice again.
+  const LatticeCounts counts = lattice_counts(rows, cols);
+  if (model.connector_count() != counts.connectors || model.radial_count() != counts.radials) return false;
+  const auto step = [cols](std::uint32_t p, int arm) -> std::uint32_t {
+    const auto c = static_cast<std::uint32_t>(cols);
+    return arm == 0 ? p + 1 : arm == 1 ? p + c : arm == 2 ? p - 1 : p - c;
+  };
+  const bool matches = for_each_lattice_spring(
+      rows, cols,
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const std::array<std::uint32_t, 2> expected{p, step(p, south ? 1 : 0)};
+        return model.connector_particles[e] == expected;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        const std::array<std::uint32_t, 3> expected{p, step(p, kPairs[pair][0]), step(p, kPairs[pair][1])};
+        return model.radial_particles[r] == expected;
+      });
+  if (!matches) return false;
+  rows_ = model.rows;
+  cols_ = model.cols;
+  padding_ = padding(cols);
+  stride_ = stride(n, cols);
+  // The parameter arrays only where the sheet is not uniform or a law can make it so.
+  const bool arrays = !is_uniform(model) || model.limits.changes_sheet();
+  scratch_.assign((arrays ? kArrayCount : kUniformArrayCount) * stride_, 0.0);
+  block_power_.assign(deterministic_sum_blocks(n), 0.0);
+  active_ = true;
+  refresh(model);
+  return true;
+}
+
+std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays) {
+  const std::size_t arrays = parameter_arrays ? kArrayCount : kUniformArrayCount;
+  return (arrays * stride(counts.particles, counts.cols) + deterministic_sum_blocks(counts.particles)) *
+         sizeof(double);
+}
+
+bool LatticeKernel::is_uniform(const ClothModel& model) {
+  if (model.connector_count() == 0 || model.broken_connector_count != 0) return false;
+  std::array<FamilyValues, 3> family{};
+  std::array<bool, 3> seen{};
+  const auto same = [&](std::size_t f, const FamilyValues& values) {
+    if (!seen[f]) {
+      seen[f] = true;
+      family[f] = values;
+    }
+    return family[f] == values;
+  };
+  for (std::size_t e = 0; e < model.connector_count(); ++e) {
+    if (model.connector_live[e] == 0 ||
+        !same(0, {model.connector_stiffness[e], model.connector_damping[e], model.connector_rest_length[e]})) {
+      return false;
+    }
+  }
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const std::size_t f = model.radial_kind[r] == RadialKind::adjacent ? 1 : 2;
+    if (model.radial_live[r] == 0 ||
+        !same(f, {model.radial_stiffness[r], model.radial_damping[r], model.radial_rest_angle[r]})) {
+      return false;
+    }
+  }
+  return true;
+}
+
+void LatticeKernel::refresh(const ClothModel& model) {
+  revision_ = model.revision;
+  const bool arrays = scratch_.size() == kArrayCount * stride_;
+  uniform_ = !arrays && is_uniform(model);
+  if (uniform_) {
+    family_[0] = {model.connector_stiffness[0], model.connector_damping[0], model.connector_rest_length[0]};
+    for (std::size_t r = 0; r < model.radial_count(); ++r) {
+      const std::size_t f = model.radial_kind[r] == RadialKind::adjacent ? 1 : 2;
+      family_[f] = {model.radial_stiffness[r], model.radial_damping[r], model.radial_rest_angle[r]};
+    }
+    return;
+  }
+  // A uniform sheet made non-uniform by a live edit: the parameter arrays now, kept from then on
+  // (see the top of lattice_kernel.h).
+  if (!arrays) scratch_.resize(kArrayCount * stride_, 0.0);
+  double* base = scratch_.data() + padding_;
+  const auto array = [&](std::size_t a) { return base + a * stride_; };
+  // Missing springs (borders) keep zeros: no stiffness, no damping, not live.
+  std::fill(scratch_.begin() + static_cast<std::ptrdiff_t>(kEastStiffness * stride_), scratch_.end(), 0.0);
+  for_each_lattice_spring(
+      static_cast<std::size_t>(rows_), static_cast<std::size_t>(cols_),
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const std::size_t first = south ? kSouthStiffness : kEastStiffness;
+        array(first)[p] = model.connector_stiffness[e];
+        array(first + 1)[p] = model.connector_damping[e];
+        array(first + 2)[p] = model.connector_rest_length[e];
+        array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
+        return true;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        const bool live = model.radial_live[r] != 0;
+        array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
+        array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
+        array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
+        return true;
+      });
+}
+
+}  // namespace clothsim
