@@ -1,5 +1,6 @@
 #include "memory_check.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include "core/available_memory.h"
