@@ -320,9 +320,9 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
   } else if (const VectorParameter* vector = find_vector_parameter(key)) {
     vector->set(spec, read_text_vector(value, vector->component_range, source, field));
   } else if (key == "name") {
-    spec.name = std::string(value);
+    spec.name = read_text_string(value, source, field);
   } else if (key == "description") {
-    spec.description = std::string(value);
+    spec.description = read_text_string(value, source, field);
   } else if (key == "integrator.method") {
     if (!parse_integrator_kind(trim(value), spec.integrator.kind)) {
       fail(source, field, "must be one of " + method_choices() + ", got " + quoted(value));
@@ -373,6 +373,8 @@ void check_self_collision_thickness(const SceneSpec& spec, const std::string& so
 }
 
 void validate_scene(const SceneSpec& spec, const std::string& source) {
+  read_text_string(spec.name, source, "name");
+  read_text_string(spec.description, source, "description");
   for (const ScalarParameter& parameter : scalar_parameters()) {
     const double value = parameter.get(spec);
     if (!is_allowed(parameter.type, parameter.range, value)) {
