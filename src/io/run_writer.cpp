@@ -478,7 +478,10 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
 
   ScopedTimer timer(output_seconds_);
   try {
-    write_text_file(partial_ / kSummaryFile, summary.dump(2) + "\n");
+    // The command line is whatever bytes the shell passed (a Latin-1 folder name, say), and JSON
+    // holds only UTF-8: bytes that are not are written as U+FFFD rather than failing the run.
+    write_text_file(partial_ / kSummaryFile,
+                    summary.dump(2, ' ', false, ordered_json::error_handler_t::replace) + "\n");
     install();
   } catch (...) {
     rethrow_as_output_error("cannot finish the output folder");

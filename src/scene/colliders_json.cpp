@@ -234,7 +234,17 @@ std::shared_ptr<const TriangleMesh> parse_obj_mesh(std::string_view text, const 
       const Vec3 local{parse_obj_number(words[1], where, source, field),
                        parse_obj_number(words[2], where, source, field),
                        parse_obj_number(words[3], where, source, field)};
-      mesh.vertex.push_back(scale * local + translate);
+      const Vec3 vertex = scale * local + translate;
+      // Where any other collider may be: the distance arithmetic squares products of coordinates,
+      // and a far vertex (1e111) made it overflow to NaN and the distances wrong.
+      for (int axis = 0; axis < 3; ++axis) {
+        if (!kColliderPositionRange.contains(vertex[axis])) {
+          fail(source, field,
+               where + ": a vertex must lie in " + describe_range(kColliderPositionRange) +
+                   " m on each axis once scaled and translated, got " + format_number(vertex[axis]));
+        }
+      }
+      mesh.vertex.push_back(vertex);
     } else if (words[0] == "f") {
       if (words.size() < 4) fail(source, field, where + ": a face needs at least 3 vertices, got " + quoted(line));
       std::vector<Corner> polygon;

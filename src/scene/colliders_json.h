@@ -39,9 +39,9 @@ void validate_collider(const ColliderSpec& collider, const std::string& source, 
 // A Wavefront OBJ triangle mesh: `v x y z` and `f a b c ...` lines (indices
 // 1-based, negative ones relative to the end, `a/b/c` forms accepted, polygons
 // fanned from their first corner); other lines are ignored. Coordinates are
-// scaled by `scale` then translated by `translate`, and the pseudonormals are
-// computed. Errors are InputError(source, field, ...) naming `path` and, for a
-// malformed file, the line.
+// scaled by `scale` then translated by `translate`, must then lie in
+// kColliderPositionRange, and the pseudonormals are computed. Errors are
+// InputError(source, field, ...) naming `path` and, for a malformed file, the line.
 std::shared_ptr<const TriangleMesh> read_obj_mesh(const std::string& path, double scale, const Vec3& translate,
                                                   const std::string& source, const std::string& field);
 // The same for OBJ text already read; `path` names it in messages.

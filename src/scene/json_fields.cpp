@@ -206,6 +206,49 @@ std::string read_string(const json& value, const std::string& source, const std:
 // ---------------------------------------------------------------------------------------------
 // Values from command-line text.
 
+bool is_utf8(std::string_view text, std::size_t* bad_at) {
+  std::size_t i = 0;
+  while (i < text.size()) {
+    const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
+    const unsigned char lead = byte(i);
+    std::size_t length = 0;
+    unsigned char low = 0x80;  // the allowed range of the second byte, which rules out overlong
+    unsigned char high = 0xBF;  // forms, surrogates and code points past U+10FFFF
+    if (lead < 0x80) {
+      length = 1;
+    } else if (lead >= 0xC2 && lead <= 0xDF) {
+      length = 2;
+    } else if (lead >= 0xE0 && lead <= 0xEF) {
+      length = 3;
+      if (lead == 0xE0) low = 0xA0;
+      if (lead == 0xED) high = 0x9F;
+    } else if (lead >= 0xF0 && lead <= 0xF4) {
+      length = 4;
+      if (lead == 0xF0) low = 0x90;
+      if (lead == 0xF4) high = 0x8F;
+    }
+    bool valid = length > 0 && i + length <= text.size();
+    for (std::size_t k = 1; valid && k < length; ++k) {
+      const unsigned char next = byte(i + k);
+      valid = k == 1 ? next >= low && next <= high : next >= 0x80 && next <= 0xBF;
+    }
+    if (!valid) {
+      if (bad_at != nullptr) *bad_at = i;
+      return false;
+    }
+    i += length;
+  }
+  return true;
+}
+
+std::string read_text_string(std::string_view text, const std::string& source, const std::string& field) {
+  std::size_t bad_at = 0;
+  if (!is_utf8(text, &bad_at)) {
+    fail(source, field, "must be UTF-8 text, got bytes that are not UTF-8 at byte " + std::to_string(bad_at));
+  }
+  return std::string(text);
+}
+
 std::string_view trim(std::string_view text) {
   while (!text.empty() && std::isspace(static_cast<unsigned char>(text.front()))) text.remove_prefix(1);
   while (!text.empty() && std::isspace(static_cast<unsigned char>(text.back()))) text.remove_suffix(1);

@@ -86,6 +86,12 @@ double read_text_value(std::string_view text, ParameterType type, const ValueRan
 std::vector<std::string_view> split_list(std::string_view text);
 Vec3 read_text_vector(std::string_view text, const ValueRange& range, const std::string& source,
                       const std::string& field);
+// Free text (a name, a description) as given, which must be UTF-8 as in a scene file: it is
+// written into scene.json and summary.json, and JSON holds nothing else.
+std::string read_text_string(std::string_view text, const std::string& source, const std::string& field);
+// Whether `text` is well-formed UTF-8 (no overlong forms, surrogates or code points past
+// U+10FFFF), what a JSON text must be; the byte offset of the first bad sequence in `bad_at`.
+bool is_utf8(std::string_view text, std::size_t* bad_at = nullptr);
 
 // ---------------------------------------------------------------------------------------------
 // JSON text.

@@ -245,9 +245,9 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
   } else if (const VectorParameter* vector = find_vector_parameter(key)) {
     vector->set(spec, read_text_vector(value, vector->component_range, source, field));
   } else if (key == "name") {
-    spec.name = std::string(value);
+    spec.name = read_text_string(value, source, field);
   } else if (key == "description") {
-    spec.description = std::string(value);
+    spec.description = read_text_string(value, source, field);
   } else if (key == "integrator.method") {
     if (!parse_integrator_kind(trim(value), spec.integrator.kind)) {
       fail(source, field, "must be one of " + method_choices() + ", got " + quoted(value));
@@ -260,7 +260,8 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
     spec.material.reset();  // a record only: the lattice keeps its values
   } else if (key == "material") {
     const std::string_view text = trim(value);
-    const json material = text.starts_with('{') ? parse_json(text, source) : json(std::string(text));
+    // A preset name goes into a JSON string, which must be UTF-8 (its error message quotes it).
+    const json material = text.starts_with('{') ? parse_json(text, source) : json(read_text_string(text, source, field));
     set_scene_material(spec, read_material(material, source, field), source);
   } else if (key == "cuts") {
     spec.cuts = read_cuts(parse_json(trim(value), source), source);

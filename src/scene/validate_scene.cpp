@@ -33,6 +33,9 @@ void check_self_collision_thickness(const SceneSpec& spec, const std::string& so
 }  // namespace
 
 void validate_scene(const SceneSpec& spec, const std::string& source) {
+  // A scene built in code, or by --set, must hold UTF-8 text, as a scene file does.
+  read_text_string(spec.name, source, "name");
+  read_text_string(spec.description, source, "description");
   for (const ScalarParameter& parameter : scalar_parameters()) {
     const double value = parameter.get(spec);
     if (!is_allowed(parameter.type, parameter.range, value)) {

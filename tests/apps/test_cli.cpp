@@ -498,6 +498,14 @@ TEST_F(CliTest, DefaultOutputFolderIsNamedAfterTheScene) {
   EXPECT_TRUE(fs::exists(work_ / "out" / "paper-args" / "summary.json"));
 }
 
+TEST_F(CliTest, ArgumentsThatAreNotUtf8AreRecordedWithReplacementCharacters) {
+  // A Latin-1 folder name: a valid path, not UTF-8. The run used to end with exit 3 and no output,
+  // the JSON writer refusing summary.json's command_line.
+  const Result result = small_run("caf\xE9", {"--duration", "0.1", "--fps", "10"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_TRUE(contains(summary("caf\xE9")["command_line"].get<std::string>(), "--out 'caf\xEF\xBF\xBD'"));
+}
+
 TEST_F(CliTest, UnwritableOutputExitsThree) {
   write_text(work_ / "blocker", "a file where a folder should be\n");
   const std::set<std::string> before = entries(work_);

@@ -139,12 +139,15 @@ TEST(Colliders, MeshFileErrorsNameTheFileAndLine) {
                                             {"bad.obj", "v 0 0 0\nv 1 0 0\nv 0 x 1\nf 1 2 3\n"},
                                             {"range.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nf 1 2 4\n"},
                                             {"empty.obj", "v 0 0 0\n"},
+                                            {"far.obj", "v 0 0 0\nv 1 0 0\nv 0 0 1\nv 0 0 2e5\nf 1 2 3\n"},
                                             {"missing.json",
                                              R"({"colliders": [{"type": "sphere", "center": [0, 0, 0], "radius": 1},
                                          {"type": "mesh", "file": "nowhere.obj"}]})"},
                                             {"bad.json", R"({"colliders": [{"type": "mesh", "file": "bad.obj"}]})"},
                                             {"range.json", R"({"colliders": [{"type": "mesh", "file": "range.obj"}]})"},
                                             {"empty.json", R"({"colliders": [{"type": "mesh", "file": "empty.obj"}]})"},
+                                            {"far.json", R"({"colliders": [{"type": "mesh", "file": "far.obj",
+                                                                            "scale": 10}]})"},
                                         });
   expect_input_error([&] { load_scene_file(directory + "/missing.json"); },
                      {"missing.json", "colliders[1].file", "nowhere.obj"});
@@ -153,6 +156,9 @@ TEST(Colliders, MeshFileErrorsNameTheFileAndLine) {
   expect_input_error([&] { load_scene_file(directory + "/range.json"); },
                      {"range.obj' line 4", "vertex index 4 is outside [1, 3]"});
   expect_input_error([&] { load_scene_file(directory + "/empty.json"); }, {"empty.obj", "no faces"});
+  // Scaled, the fourth vertex is 2e6 m away: outside [-1e6, 1e6], where every collider must be.
+  expect_input_error([&] { load_scene_file(directory + "/far.json"); },
+                     {"far.obj' line 4", "must lie in [-1e6, 1e6] m", "got 2e6"});
 }
 
 TEST(Colliders, ErrorsNameTheFieldAndTheAllowedRange) {

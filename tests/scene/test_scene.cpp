@@ -506,6 +506,12 @@ TEST(SetSceneField, Errors) {
                      {"--gravity: field 'environment.gravity'", "3 numbers x,y,z"});
   expect_input_error(set("environment.gravity", "0,-9.81,nan", "--gravity"),
                      {"field 'environment.gravity[2]'", "[-1000, 1000]"});
+  // Names and descriptions go into scene.json and summary.json: UTF-8, as in a scene file.
+  expect_input_error(set("name", "caf\xC3", "--set"), {"--set: field 'name': must be UTF-8 text", "at byte 3"});
+  expect_input_error(set("description", "\xED\xA0\x80", "--set"), {"field 'description': must be UTF-8 text"});
+  expect_input_error(set("material", "\x93paper", "--material"), {"--material: field 'material': must be UTF-8 text"});
+  EXPECT_NO_THROW(set_scene_field(spec, "name", "caf\xC3\xA9 \xF0\x9F\xA7\xB5", "--set"));
+  EXPECT_EQ(spec.name, "caf\xC3\xA9 \xF0\x9F\xA7\xB5");
   expect_input_error(set("integrator.method", "euler", "--method"),
                      {"--method: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, "
                       "implicit-euler, got \"euler\""});
