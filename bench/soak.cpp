@@ -89,8 +89,9 @@ int main(int argc, char** argv) {
 
   std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), "w");
   if (!csv_path.empty() && csv == nullptr) return usage(("cannot write " + csv_path).c_str());
-  const char* header = "time,wall_seconds,resident_bytes,simulation_bytes,accepted_steps,total_energy,balance_error,"
-                       "energy_scale,error_over_scale,broken_connectors\n";
+  const char* header =
+      "time,wall_seconds,resident_bytes,simulation_bytes,accepted_steps,total_energy,balance_error,"
+      "energy_scale,error_over_scale,broken_connectors\n";
   if (csv != nullptr) std::fputs(header, csv);
 
   const double limit = spec.integrator.energy_error_limit;

@@ -15,11 +15,11 @@ int main() {
   LatticeDef sheet;
   sheet.rows = 11;
   sheet.cols = 11;
-  sheet.particle_mass = 1.0;             // kg
-  sheet.adjacent = {4.0, 1.0};           // N m/rad, N m s/rad
-  sheet.opposite = {1400.0, 200.0};      // N m/rad, N m s/rad
-  sheet.connector = {80.0, 5.0};         // N/m, N s/m
-  sheet.spacing = 1.0;                   // m
+  sheet.particle_mass = 1.0;         // kg
+  sheet.adjacent = {4.0, 1.0};       // N m/rad, N m s/rad
+  sheet.opposite = {1400.0, 200.0};  // N m/rad, N m s/rad
+  sheet.connector = {80.0, 5.0};     // N/m, N s/m
+  sheet.spacing = 1.0;               // m
 
   const std::uint32_t centre = lattice_index(sheet.cols, sheet.rows / 2, sheet.cols / 2);
   const Anchor anchor{centre, AnchorPath::fixed_at({0, 0, 0})};  // where the centre particle starts

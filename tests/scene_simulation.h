@@ -19,6 +19,8 @@ inline Simulation one_thread_simulation(const SceneSpec& spec, ClothModel model)
   return Simulation(std::move(model), std::move(initial), settings);
 }
 
-inline Simulation one_thread_simulation(const SceneSpec& spec) { return one_thread_simulation(spec, build_model(spec)); }
+inline Simulation one_thread_simulation(const SceneSpec& spec) {
+  return one_thread_simulation(spec, build_model(spec));
+}
 
 }  // namespace clothsim::testing

@@ -125,9 +125,9 @@ void check_bench_memory(const BenchOptions& options, const MemoryFlags& flags) {
     for (IntegratorKind kind : kinds) {
       MemoryEstimate estimate = estimate_simulation_memory(simulation_shape(bench_case_scene(size, kind, options)));
       estimate.add("program", resident_memory());
-      check_memory(estimate, limit,
-                   "the case " + std::to_string(size) + " x " + std::to_string(size) + " with " +
-                       std::string(to_string(kind)));
+      check_memory(
+          estimate, limit,
+          "the case " + std::to_string(size) + " x " + std::to_string(size) + " with " + std::string(to_string(kind)));
     }
   }
   cap_run_growth(limit);

@@ -93,8 +93,8 @@ std::vector<ParameterRow> parameter_rows() {
       default_text += format_number(value.z);
       std::string allowed = "x,y,z each in ";
       allowed += describe_range(vector->component_range);
-      rows.push_back({std::string(key), std::string(vector->unit), allowed, default_text,
-                      std::string(vector->description)});
+      rows.push_back(
+          {std::string(key), std::string(vector->unit), allowed, default_text, std::string(vector->description)});
     } else {
       rows.push_back(special_row(key, defaults));
     }
@@ -115,8 +115,9 @@ int list_parameters() {
     allowed_width = std::max(allowed_width, row.allowed.size());
     default_width = std::max(default_width, row.default_value.size());
   }
-  std::printf("Scene parameters: nest them as objects in a scene file ({\"lattice\": {\"rows\": 21}}) or set\n"
-              "them with 'clothsim run SCENE --set KEY=VALUE'. Vectors are written x,y,z; rest angles in degrees.\n\n");
+  std::printf(
+      "Scene parameters: nest them as objects in a scene file ({\"lattice\": {\"rows\": 21}}) or set\n"
+      "them with 'clothsim run SCENE --set KEY=VALUE'. Vectors are written x,y,z; rest angles in degrees.\n\n");
   const auto print_row = [&](const ParameterRow& row) {
     std::printf("%-*s  %-*s  %-*s  %-*s  %s\n", static_cast<int>(key_width), row.key.c_str(),
                 static_cast<int>(unit_width), row.unit.c_str(), static_cast<int>(allowed_width), row.allowed.c_str(),

@@ -52,8 +52,9 @@ std::string join_command_line(int argc, const char* const* argv) {
   for (int i = 0; i < argc; ++i) {
     const std::string_view word = argv[i];
     if (i > 0) line += ' ';
-    const bool plain = !word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                                                "0123456789-_=+.,/:@%") == std::string_view::npos;
+    const bool plain = !word.empty() && word.find_first_not_of(
+                                            "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                                            "0123456789-_=+.,/:@%") == std::string_view::npos;
     if (plain) {
       line += word;
       continue;

@@ -23,11 +23,11 @@ namespace clothsim::cli {
 
 // Exit codes, documented in docs/cli.md and in the --help footer.
 enum ExitCode : int {
-  kExitSuccess = 0,            // the command did its work (a run completed or came to rest)
-  kExitSimulationFailed = 1,   // the simulation stopped with a diagnosis; its output is kept
-  kExitBadInput = 2,           // a scene, flag or value was rejected; nothing was written
-  kExitOutputError = 3,        // the output could not be written
-  kExitInterrupted = 130,      // stopped by SIGINT (128 + 2, the shell's convention)
+  kExitSuccess = 0,           // the command did its work (a run completed or came to rest)
+  kExitSimulationFailed = 1,  // the simulation stopped with a diagnosis; its output is kept
+  kExitBadInput = 2,          // a scene, flag or value was rejected; nothing was written
+  kExitOutputError = 3,       // the output could not be written
+  kExitInterrupted = 130,     // stopped by SIGINT (128 + 2, the shell's convention)
 };
 
 // The program as invoked, for summary.json.

@@ -45,8 +45,9 @@ MemoryLimit memory_limit(const MemoryFlags& flags) {
   limit.bytes = usable_memory(available);
   limit.cap = available.bytes;
   const auto percent = static_cast<int>(std::lround(100.0 * kUsableMemoryFraction));
-  limit.description = format_memory_size(available.bytes) + " is available (" + available.source + "), of which a run " +
-                      "may use " + std::to_string(percent) + "%, " + format_memory_size(limit.bytes);
+  limit.description = format_memory_size(available.bytes) + " is available (" + available.source +
+                      "), of which a run " + "may use " + std::to_string(percent) + "%, " +
+                      format_memory_size(limit.bytes);
   return limit;
 }
 
@@ -66,7 +67,8 @@ std::size_t picture_bytes(int width, int height, int samples, const LatticeCount
   // The driver's copies of the vertex and index buffers: the rest of the 1250 bytes per
   // particle that pictures cost at 256 x 256 and 512 x 512 (llvmpipe).
   constexpr std::size_t kDriverBytesPerParticle = 420;
-  const std::size_t pixels = static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0));
+  const std::size_t pixels =
+      static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0));
   // Multisampled colour and depth, the resolved colour, the image read back (RGB).
   const std::size_t framebuffers = pixels * (static_cast<std::size_t>(std::max(samples, 1)) * 8 + 4 + 3);
   return kGraphicsStackBytes + framebuffers + SheetMesh::bytes_for(counts.rows, counts.cols) +

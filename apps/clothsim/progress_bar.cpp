@@ -53,8 +53,8 @@ std::string ProgressBar::render(double simulated_time, std::uint64_t steps) cons
   const double realtime_factor = wall > 0.0 ? simulated_time / wall : 0.0;
   const double eta = fraction > 0.0 ? wall * (1.0 - fraction) / fraction : NAN;
   char numbers[160];
-  std::snprintf(numbers, sizeof numbers, " %5.1f%%  t %s/%s s  %llu steps  %.3gx real time  ETA %s",
-                100.0 * fraction, format_number_short(simulated_time).c_str(), format_number_short(end_time_).c_str(),
+  std::snprintf(numbers, sizeof numbers, " %5.1f%%  t %s/%s s  %llu steps  %.3gx real time  ETA %s", 100.0 * fraction,
+                format_number_short(simulated_time).c_str(), format_number_short(end_time_).c_str(),
                 static_cast<unsigned long long>(steps), realtime_factor,
                 std::isfinite(eta) ? format_duration(eta).c_str() : "?");
   line += numbers;

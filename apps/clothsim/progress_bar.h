@@ -36,7 +36,7 @@ class ProgressBar {
   bool enabled_ = false;
   double end_time_ = 0.0;
   Stopwatch wall_;
-  double last_draw_ = -1.0;   // wall time of the last redraw, s
+  double last_draw_ = -1.0;      // wall time of the last redraw, s
   std::size_t drawn_width_ = 0;  // characters on the line now
 };
 

@@ -35,8 +35,8 @@
 #include "progress_bar.h"
 #include "run_render.h"
 #include "run_resume.h"
-#include "scene_options.h"
 #include "scene/parameters.h"
+#include "scene_options.h"
 #include "sim/profile.h"
 #include "sim/simulation.h"
 
@@ -97,8 +97,8 @@ SceneSpec make_run_scene(const RunOptions& options) {
 std::string default_output_folder(const SceneSpec& spec) {
   std::string name;
   for (char c : spec.name) {
-    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' ||
-                      c == '_' || c == '.';
+    const bool safe =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.';
     name += safe ? c : '_';
   }
   if (name.empty() || name.find_first_not_of('.') == std::string::npos) name = "run";
@@ -237,8 +237,8 @@ class Checkpointer {
 
 // The frames from run.writer.frames (1 for a new run: frame 0 is written) to the end, each written
 // as it comes, with checkpoints. Returns how the run ended.
-RunStatus simulate_frames(const SceneSpec& spec, const RunOptions& options, Simulation& simulation,
-                          RunWriter& writer, RunRecorder& recorder, RunCheckpoint& run, const Stopwatch& wall) {
+RunStatus simulate_frames(const SceneSpec& spec, const RunOptions& options, Simulation& simulation, RunWriter& writer,
+                          RunRecorder& recorder, RunCheckpoint& run, const Stopwatch& wall) {
   const InterruptGuard interrupt;
   Checkpointer checkpointer(spec, run, wall);
   const int fps = spec.output.fps;
@@ -323,8 +323,8 @@ int finish_run(const SceneSpec& spec, const RunOptions& options, const RenderPla
 
 // The picture flags as a checkpoint keeps them (RunCheckpoint::options), and back.
 std::string render_flags_json(const RenderFlags& flags) {
-  return nlohmann::json{{"render", flags.render}, {"size", flags.size},       {"camera", flags.camera},
-                        {"mesh", flags.mesh},     {"show", flags.show},       {"samples", flags.samples}}
+  return nlohmann::json{{"render", flags.render}, {"size", flags.size}, {"camera", flags.camera},
+                        {"mesh", flags.mesh},     {"show", flags.show}, {"samples", flags.samples}}
       .dump();
 }
 
@@ -353,8 +353,8 @@ RenderFlags resumed_render_flags(const std::string& stored, const RunOptions& op
 void report_leftovers(const std::vector<LeftoverRun>& leftovers, const RunOptions& options) {
   if (options.quiet) return;
   for (const LeftoverRun& leftover : leftovers) {
-    std::fprintf(stderr, "clothsim: note: an earlier run (process %ld) died and left %s; ", static_cast<long>(leftover.pid),
-                 leftover.folder.c_str());
+    std::fprintf(stderr, "clothsim: note: an earlier run (process %ld) died and left %s; ",
+                 static_cast<long>(leftover.pid), leftover.folder.c_str());
     if (leftover.has_checkpoint) {
       std::fprintf(stderr, "to continue it instead, stop this run and use: clothsim run --resume %s. ",
                    leftover.folder.c_str());
@@ -426,14 +426,16 @@ int resume(const RunOptions& options, const Invocation& invocation) {
   };
   for (std::string_view flag : {"SCENE", "--paper-args", "--set", "--material", "--out", "--until-rest"}) {
     if (given(flag)) {
-      throw InputError("--resume", "", std::string("cannot be combined with ") + std::string(flag) +
-                                           ": a resumed run goes on with the scene and output folder it began with");
+      throw InputError("--resume", "",
+                       std::string("cannot be combined with ") + std::string(flag) +
+                           ": a resumed run goes on with the scene and output folder it began with");
     }
   }
   for (const FieldFlag& flag : kFieldFlags) {
     if (given(flag.flag)) {
-      throw InputError("--resume", "", "cannot be combined with " + std::string(flag.flag) +
-                                           ": a resumed run goes on with the scene it began with (its scene.json)");
+      throw InputError("--resume", "",
+                       "cannot be combined with " + std::string(flag.flag) +
+                           ": a resumed run goes on with the scene it began with (its scene.json)");
     }
   }
   const ResumeTarget target = find_resume_target(options.resume);
@@ -457,8 +459,9 @@ int resume(const RunOptions& options, const Invocation& invocation) {
   }
   // The simulation's arrays fit; the scene must be the one the checkpoint was written for too.
   if (run.scene != scene_to_json(spec).dump()) {
-    throw InputError("--resume", "", used.string() + " was written for another scene than " +
-                                         (target.folder / RunWriter::kSceneFile).string());
+    throw InputError(
+        "--resume", "",
+        used.string() + " was written for another scene than " + (target.folder / RunWriter::kSceneFile).string());
   }
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(resumed_render_flags(run.options, options));
   RunWriter writer(target.out, RunInfo{CLOTHSIM_VERSION, run.command_line}, "--resume");
@@ -536,9 +539,20 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   auto options = std::make_shared<RunOptions>();
   CLI::App* app = parent.add_subcommand("run", "Simulate a scene and write its output folder");
   add_scene_options(*app, options->scene,
-                    {{"--duration"}, {"--fps"}, {"--integrator"}, {"--rtol"}, {"--atol"}, {"--time-step"},
-                     {"--gravity"}, {"--anchor"}, {"--threads"}, {"--rest-energy"}, {"--self-collision"},
-                     {"--thickness"}, {"--checkpoint-every"}, {"--export"}});
+                    {{"--duration"},
+                     {"--fps"},
+                     {"--integrator"},
+                     {"--rtol"},
+                     {"--atol"},
+                     {"--time-step"},
+                     {"--gravity"},
+                     {"--anchor"},
+                     {"--threads"},
+                     {"--rest-energy"},
+                     {"--self-collision"},
+                     {"--thickness"},
+                     {"--checkpoint-every"},
+                     {"--export"}});
   app->add_flag("--until-rest", options->until_rest,
                 "stop once the kinetic energy has stayed below --rest-energy at every frame for "
                 "output.rest_duration (default 1 s); without --duration, run at most max(scene duration, 3600 s)");

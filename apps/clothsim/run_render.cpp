@@ -174,7 +174,8 @@ std::shared_ptr<const RenderPlan> parse_render_flags(const RenderFlags& flags) {
     if (!numbers || std::abs(elevation) > 89.0 || (parts.size() == 3 && !(distance > 0.0))) {
       throw InputError("--camera", "",
                        "expects auto, follow or AZIMUTH,ELEVATION[,DISTANCE] (degrees, elevation in [-89, 89]; "
-                       "distance in m, > 0), got \"" + flags.camera + "\"");
+                       "distance in m, > 0), got \"" +
+                           flags.camera + "\"");
     }
     camera.azimuth = azimuth * kDegree;
     camera.elevation = elevation * kDegree;
@@ -210,7 +211,8 @@ std::shared_ptr<const RenderPlan> parse_render_flags(const RenderFlags& flags) {
         throw InputError("--show", "",
                          "expects a comma-separated list of connectors, radials, wireframe, no-ground, no-anchors, "
                          "no-colliders; "
-                         "got \"" + item + "\"");
+                         "got \"" +
+                             item + "\"");
       }
     }
   }
@@ -375,8 +377,8 @@ RunRecorder::RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothMode
     }
     impl.context.emplace(impl.plan->width, impl.plan->height, impl.plan->samples);
     impl.renderer.emplace();
-    impl.description = std::to_string(impl.plan->width) + "x" + std::to_string(impl.plan->height) + ", " +
-                       impl.context->description();
+    impl.description =
+        std::to_string(impl.plan->width) + "x" + std::to_string(impl.plan->height) + ", " + impl.context->description();
   } catch (...) {
     rethrow_as_output_error();
   }

@@ -82,7 +82,8 @@ ResumeTarget find_resume_target(const std::string& path) {
       refuse(target.folder.string() + " is complete (status \"" + status + "\"): there is nothing to resume");
     }
     if (status == "failed") {
-      refuse(target.folder.string() + " ended with status \"failed\": resumed from a checkpoint it would fail the "
+      refuse(target.folder.string() +
+             " ended with status \"failed\": resumed from a checkpoint it would fail the "
              "same way (summary.json has the diagnosis); change the scene and run it again");
     }
     target.out = target.folder;
@@ -99,7 +100,8 @@ ResumeTarget find_resume_target(const std::string& path) {
     target.checkpoints = std::move(ordered);
   }
   if (target.checkpoints.empty()) {
-    refuse(target.folder.string() + " has no checkpoints: the run was started without --checkpoint-every (or died "
+    refuse(target.folder.string() +
+           " has no checkpoints: the run was started without --checkpoint-every (or died "
            "before its first); run it again, with --checkpoint-every SECONDS");
   }
   return target;

@@ -12,9 +12,9 @@
 // A partial folder whose process is still alive is refused: that run is still writing it.
 #pragma once
 
+#include <sys/types.h>
 #include <filesystem>
 #include <string>
-#include <sys/types.h>
 #include <vector>
 
 namespace clothsim::cli {

@@ -20,8 +20,8 @@
 namespace clothsim::cli {
 namespace {
 
-constexpr int kSmallestWindow = 64;    // pixels
-constexpr int kLargestWindow = 8192;   // pixels
+constexpr int kSmallestWindow = 64;   // pixels
+constexpr int kLargestWindow = 8192;  // pixels
 constexpr std::uint64_t kMostFrames = 1'000'000'000;
 
 struct ViewOptions {
@@ -63,9 +63,9 @@ std::pair<std::uint64_t, std::string> parse_screenshot(const std::string& text) 
   std::uint64_t frame = 0;
   if (colon == std::string::npos || !parse_whole(std::string_view(text).substr(0, colon), frame) ||
       colon + 1 == text.size() || frame > kMostFrames) {
-    throw InputError("--screenshot-at", "",
-                     "expects FRAME:PATH, a frame number in [0, 1e9] and a PNG path (e.g. 120:shot.png), got \"" +
-                         text + "\"");
+    throw InputError(
+        "--screenshot-at", "",
+        "expects FRAME:PATH, a frame number in [0, 1e9] and a PNG path (e.g. 120:shot.png), got \"" + text + "\"");
   }
   return {frame, text.substr(colon + 1)};
 }
@@ -85,7 +85,8 @@ int view(const ViewOptions& options) {
   if (options.scene.given("--frames") && (options.frames < 1 || options.frames > kMostFrames)) {
     throw InputError("--frames", "", "must be a whole number in [1, 1e9], got " + std::to_string(options.frames));
   }
-  if (options.scene.given("--benchmark-frames") && (options.benchmark_frames < 2 || options.benchmark_frames > kMostFrames)) {
+  if (options.scene.given("--benchmark-frames") &&
+      (options.benchmark_frames < 2 || options.benchmark_frames > kMostFrames)) {
     throw InputError("--benchmark-frames", "",
                      "must be a whole number in [2, 1e9], got " + std::to_string(options.benchmark_frames));
   }

@@ -119,8 +119,8 @@ int main(int argc, char** argv) {
     std::filesystem::remove(video);
 
     const std::string name = std::to_string(side) + "x" + std::to_string(side);
-    std::printf("%-9s %9d %10.1f %12.1f %10.1f %12.1f\n", name.c_str(), 2 * (side - 1) * (side - 1),
-                median(draw_times), median(read_times), median(totals), encode);
+    std::printf("%-9s %9d %10.1f %12.1f %10.1f %12.1f\n", name.c_str(), 2 * (side - 1) * (side - 1), median(draw_times),
+                median(read_times), median(totals), encode);
   }
   return 0;
 }

@@ -19,7 +19,8 @@ BoxGrid::Cell BoxGrid::cell_of(const Vec3& x) const {
 std::size_t BoxGrid::bucket_of(const Cell& cell) const {
   // Teschner et al., "Optimized spatial hashing for collision detection of deformable objects"
   // (VMV 2003): three large primes, combined by exclusive or.
-  const auto hash = (static_cast<std::uint64_t>(cell[0]) * 73856093u) ^ (static_cast<std::uint64_t>(cell[1]) * 19349663u) ^
+  const auto hash = (static_cast<std::uint64_t>(cell[0]) * 73856093u) ^
+                    (static_cast<std::uint64_t>(cell[1]) * 19349663u) ^
                     (static_cast<std::uint64_t>(cell[2]) * 83492791u);
   return static_cast<std::size_t>(hash) & bucket_mask_;
 }
@@ -72,7 +73,9 @@ void BoxGrid::build(std::span<const Box> boxes) {
   entries_.resize(entries);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     if (!entered(i)) continue;
-    for_each_cell(boxes[i], [&](const Cell& c) { entries_[fill_[bucket_of(c)]++] = {c, static_cast<std::uint32_t>(i)}; });
+    for_each_cell(boxes[i], [&](const Cell& c) {
+      entries_[fill_[bucket_of(c)]++] = {c, static_cast<std::uint32_t>(i)};
+    });
   }
 }
 
@@ -82,11 +85,12 @@ std::size_t BoxGrid::bytes() const {
 }
 
 std::vector<std::array<std::uint32_t, 2>> overlapping_pairs_brute_force(std::span<const Box> queries,
-                                                                       std::span<const Box> stored) {
+                                                                        std::span<const Box> stored) {
   std::vector<std::array<std::uint32_t, 2>> pairs;
   for (std::size_t i = 0; i < queries.size(); ++i) {
     for (std::size_t j = 0; j < stored.size(); ++j) {
-      if (overlap(queries[i], stored[j])) pairs.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
+      if (overlap(queries[i], stored[j]))
+        pairs.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(j)});
     }
   }
   return pairs;

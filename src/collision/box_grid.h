@@ -53,7 +53,8 @@ class BoxGrid {
     if (boxes_.empty()) return;
     const Cell low = cell_of(query.low);
     // A large query visits at most the cells of the stored boxes' range.
-    const Cell high = {std::min(cell_of(query.high)[0], extent_high_[0]), std::min(cell_of(query.high)[1], extent_high_[1]),
+    const Cell high = {std::min(cell_of(query.high)[0], extent_high_[0]),
+                       std::min(cell_of(query.high)[1], extent_high_[1]),
                        std::min(cell_of(query.high)[2], extent_high_[2])};
     for (std::int64_t x = std::max(low[0], extent_low_[0]); x <= high[0]; ++x) {
       for (std::int64_t y = std::max(low[1], extent_low_[1]); y <= high[1]; ++y) {
@@ -147,13 +148,13 @@ class BoxGrid {
   std::vector<std::uint32_t> oversize_;      // boxes kept aside (see the top of the file), ascending
   Cell extent_low_{};                        // the cells the entered boxes span
   Cell extent_high_{};
-  static constexpr double kOversize = 8.0;   // cells
-  std::vector<std::uint32_t> fill_;          // scratch of build(): next free entry per bucket
+  static constexpr double kOversize = 8.0;  // cells
+  std::vector<std::uint32_t> fill_;         // scratch of build(): next free entry per bucket
 };
 
 // Every pair (i, j) with queries[i] overlapping stored[j], by visiting all pairs: the oracle the
 // grid is tested against. In (i, j) lexicographic order.
 std::vector<std::array<std::uint32_t, 2>> overlapping_pairs_brute_force(std::span<const Box> queries,
-                                                                       std::span<const Box> stored);
+                                                                        std::span<const Box> stored);
 
 }  // namespace clothsim

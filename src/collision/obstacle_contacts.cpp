@@ -216,8 +216,9 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
 }
 
 std::size_t ObstacleContacts::bytes() const {
-  return arrival_.capacity() * sizeof(double) + (resolved_position_.capacity() + resolved_velocity_.capacity()) * sizeof(Vec3) +
-         moved_.capacity() + energy_.bytes() + surface_.bytes();
+  return arrival_.capacity() * sizeof(double) +
+         (resolved_position_.capacity() + resolved_velocity_.capacity()) * sizeof(Vec3) + moved_.capacity() +
+         energy_.bytes() + surface_.bytes();
 }
 
 }  // namespace clothsim

@@ -66,8 +66,8 @@
 #include "collision/contact_energy.h"
 #include "core/vec3.h"
 #include "forces/forces.h"
-#include "model/surface_contacts.h"
 #include "model/cloth_model.h"
+#include "model/surface_contacts.h"
 
 namespace clothsim {
 

@@ -213,7 +213,8 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
     const std::uint32_t index = static_cast<std::uint32_t>(p);
     point_box_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), margin);
   });
-  parallel_for(triangles.size(), threads, [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], margin); });
+  parallel_for(triangles.size(), threads,
+               [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], margin); });
   parallel_for(edges.size(), threads, [&](std::size_t e) { edge_box_[e] = box_of(start, end, edges[e], margin); });
   triangle_grid_.build(triangle_box_);
   edge_grid_.build(edge_box_);
@@ -288,8 +289,8 @@ void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const V
     moved = std::sqrt(moved);
     const double last = same_sheet ? 0.5 * found_reach_ : 0.0;
     const double neighbours = 0.5 * (std::numbers::sqrt2 / 2.0 * model.spacing - thickness);
-    const double reach =
-        std::max({kLeastReach * thickness, kLeastSteps * moved, std::min(std::max(kMostSteps * moved, last), neighbours)});
+    const double reach = std::max(
+        {kLeastReach * thickness, kLeastSteps * moved, std::min(std::max(kMostSteps * moved, last), neighbours)});
     find_candidates(model, start, end, thickness + reach, threads);
     // This step's motion is within `moved` of the end positions, later ones within the reach.
     prune_candidates(end, thickness + 2.0 * std::max(reach, moved), threads);
@@ -316,7 +317,8 @@ void SelfContacts::prune_candidates(std::span<const Vec3> x, double reach, int t
   candidates_.resize(kept);
 }
 
-void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads) {
+void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
+                                 int threads) {
   // Each element's box over the motion, once, then one overlap test per candidate.
   const double grow = 0.5 * thickness;
   const auto& triangles = elements_.triangle;
@@ -328,7 +330,8 @@ void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Ve
     const std::uint32_t index = static_cast<std::uint32_t>(p);
     point_box_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), grow);
   });
-  parallel_for(triangles.size(), threads, [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], grow); });
+  parallel_for(triangles.size(), threads,
+               [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], grow); });
   parallel_for(edges.size(), threads, [&](std::size_t e) { edge_box_[e] = box_of(start, end, edges[e], grow); });
   active_flag_.resize(candidates_.size());
   parallel_for(candidates_.size(), threads, [&](std::size_t i) {

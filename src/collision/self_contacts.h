@@ -149,22 +149,22 @@ class SelfContacts {
   std::vector<Box> edge_box_;                       // [edges]
   std::vector<std::vector<SelfPair>> block_pairs_;  // stage 1's output per block of queries
   std::vector<SelfPair> candidates_;
-  std::vector<std::uint8_t> active_flag_;           // [candidates] scratch flags of pruning and selection
-  std::vector<std::uint32_t> active_;               // active candidates, in order
-  bool selection_current_ = false;                  // active_ was selected in this pass
-  std::vector<Vec3> selected_at_;                   // [particles] end positions the active pairs were selected for
-  std::vector<Vec3> found_at_;                      // [particles] end positions the candidates were found for
-  double found_thickness_ = 0.0;                    // m, the thickness they were found for
-  double found_reach_ = 0.0;                        // m, how far particles may move before they are found again
-  std::vector<double> inverse_mass_;                // [particles] 0 for anchored particles
-  std::vector<std::uint8_t> near_;                  // [active] 1: within the thickness at x0 or x1
-  std::vector<PairGeometry> near_geometry_;         // [list_] each near pair at the step's start
-  std::vector<std::uint8_t> touching_;              // [active] 1: its motion touches
-  std::vector<std::uint32_t> list_;                 // flagged candidates, in order
-  std::vector<std::uint32_t> zone_parent_;          // [particles] union-find of stage 4
-  std::vector<Vec3> before_position_;               // [particles] state at the pass's start
+  std::vector<std::uint8_t> active_flag_;    // [candidates] scratch flags of pruning and selection
+  std::vector<std::uint32_t> active_;        // active candidates, in order
+  bool selection_current_ = false;           // active_ was selected in this pass
+  std::vector<Vec3> selected_at_;            // [particles] end positions the active pairs were selected for
+  std::vector<Vec3> found_at_;               // [particles] end positions the candidates were found for
+  double found_thickness_ = 0.0;             // m, the thickness they were found for
+  double found_reach_ = 0.0;                 // m, how far particles may move before they are found again
+  std::vector<double> inverse_mass_;         // [particles] 0 for anchored particles
+  std::vector<std::uint8_t> near_;           // [active] 1: within the thickness at x0 or x1
+  std::vector<PairGeometry> near_geometry_;  // [list_] each near pair at the step's start
+  std::vector<std::uint8_t> touching_;       // [active] 1: its motion touches
+  std::vector<std::uint32_t> list_;          // flagged candidates, in order
+  std::vector<std::uint32_t> zone_parent_;   // [particles] union-find of stage 4
+  std::vector<Vec3> before_position_;        // [particles] state at the pass's start
   std::vector<Vec3> before_velocity_;
-  std::vector<std::uint8_t> changed_;               // [particles] 1: the pass changed it
+  std::vector<std::uint8_t> changed_;  // [particles] 1: the pass changed it
   ContactEnergy energy_;
 };
 

@@ -17,11 +17,11 @@ AssertHandler set_assert_handler(AssertHandler handler);
 
 }  // namespace clothsim
 
-#define CLOTHSIM_ASSERT(condition, message)                                  \
-  do {                                                                       \
-    if (!(condition)) {                                                      \
-      ::clothsim::assert_failed(#condition, __FILE__, __LINE__, (message));  \
-    }                                                                        \
+#define CLOTHSIM_ASSERT(condition, message)                                 \
+  do {                                                                      \
+    if (!(condition)) {                                                     \
+      ::clothsim::assert_failed(#condition, __FILE__, __LINE__, (message)); \
+    }                                                                       \
   } while (false)
 
 #if defined(CLOTHSIM_VALIDATE)

@@ -21,14 +21,14 @@ constexpr std::array<Unit, 15> kUnits = {{
     {"k", kKibi},
     {"kib", kKibi},
     {"kb", 1e3},
-    {"m", kKibi * kKibi},
-    {"mib", kKibi * kKibi},
+    {"m", kKibi* kKibi},
+    {"mib", kKibi* kKibi},
     {"mb", 1e6},
-    {"g", kKibi * kKibi * kKibi},
-    {"gib", kKibi * kKibi * kKibi},
+    {"g", kKibi* kKibi* kKibi},
+    {"gib", kKibi* kKibi* kKibi},
     {"gb", 1e9},
-    {"t", kKibi * kKibi * kKibi * kKibi},
-    {"tib", kKibi * kKibi * kKibi * kKibi},
+    {"t", kKibi* kKibi* kKibi* kKibi},
+    {"tib", kKibi* kKibi* kKibi* kKibi},
     {"tb", 1e12},
     {"bytes", 1.0},
 }};
@@ -78,8 +78,11 @@ std::string format_memory_size(std::uint64_t bytes) {
     ++unit;
   }
   char buffer[32];
-  std::snprintf(buffer, sizeof buffer, value >= 99.95 ? "%.0f %.*s" : value >= 9.995 ? "%.1f %.*s" : "%.2f %.*s", value,
-                static_cast<int>(kNames[unit].size()), kNames[unit].data());
+  std::snprintf(buffer, sizeof buffer,
+                value >= 99.95   ? "%.0f %.*s"
+                : value >= 9.995 ? "%.1f %.*s"
+                                 : "%.2f %.*s",
+                value, static_cast<int>(kNames[unit].size()), kNames[unit].data());
   return buffer;
 }
 

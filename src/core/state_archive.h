@@ -48,8 +48,7 @@ class StateArchive {
 
   // Any integer, enum or bool, stored as 64 bits.
   template <typename T>
-    requires(std::is_integral_v<T> || std::is_enum_v<T>)
-  void value(std::string_view name, T& x) {
+  requires(std::is_integral_v<T> || std::is_enum_v<T>) void value(std::string_view name, T& x) {
     std::uint64_t stored = static_cast<std::uint64_t>(x);
     value(name, stored);
     if (loading()) x = static_cast<T>(stored);

@@ -6,7 +6,8 @@
 namespace clothsim {
 
 void accumulate_connector_springs(const ClothModel& model, std::span<const Vec3> position,
-                                  std::span<const Vec3> velocity, ForceTerms terms, int threads, ForceBuffers& buffers) {
+                                  std::span<const Vec3> velocity, ForceTerms terms, int threads,
+                                  ForceBuffers& buffers) {
   const bool elastic = (terms & kConnectorSprings) != 0;
   const bool damped = elastic && (terms & kSpringDamping) != 0;
   Vec3* slot = buffers.slot_force.data();

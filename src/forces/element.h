@@ -85,18 +85,18 @@ inline double x_over_sin(double x, double sine) {
 
 // Angle between two connectors and the gradient of that angle.
 struct RadialGeometry {
-  double angle = 0.0;        // theta in [0, pi], rad
-  Vec3 unit_b, unit_c;       // u_b = e_b / |e_b|, u_c = e_c / |e_c|
-  Vec3 w_b, w_c;             // n x u_b and u_c x n, of length sin(theta)
-  Vec3 direction_b;          // p_b: unit, perpendicular to e_b in the plane, towards e_c (zero if undefined)
-  Vec3 direction_c;          // p_c: likewise for e_c, towards e_b
-  double length_b = 0.0;     // |e_b|, m
-  double length_c = 0.0;     // |e_c|, m
-  double sine = 0.0;         // sin(theta)
-  bool obtuse = false;       // theta > pi/2
-  double delta = 0.0;        // pi - theta, accurate near pi; computed only when obtuse
-  bool singular = false;     // sin(theta) below kSingularSine: p_b and p_c not defined by positions
-  bool degenerate = false;   // a zero-length connector: no angle at all
+  double angle = 0.0;       // theta in [0, pi], rad
+  Vec3 unit_b, unit_c;      // u_b = e_b / |e_b|, u_c = e_c / |e_c|
+  Vec3 w_b, w_c;            // n x u_b and u_c x n, of length sin(theta)
+  Vec3 direction_b;         // p_b: unit, perpendicular to e_b in the plane, towards e_c (zero if undefined)
+  Vec3 direction_c;         // p_c: likewise for e_c, towards e_b
+  double length_b = 0.0;    // |e_b|, m
+  double length_c = 0.0;    // |e_c|, m
+  double sine = 0.0;        // sin(theta)
+  bool obtuse = false;      // theta > pi/2
+  double delta = 0.0;       // pi - theta, accurate near pi; computed only when obtuse
+  bool singular = false;    // sin(theta) below kSingularSine: p_b and p_c not defined by positions
+  bool degenerate = false;  // a zero-length connector: no angle at all
 
   Vec3 gradient_b() const { return -(1.0 / length_b) * direction_b; }  // dtheta/dx_b, 1/m
   Vec3 gradient_c() const { return -(1.0 / length_c) * direction_c; }  // dtheta/dx_c, 1/m

@@ -84,10 +84,10 @@ inline ConnectorJacobian connector_jacobian(const Vec3& xa, const Vec3& xb, doub
 
 // Local element indices: 0 the centre particle, 1 particle b, 2 particle c.
 struct RadialJacobian {
-  std::array<Vec3, 3> gradient;       // g = dtheta/dx of the centre, b, c, 1/m (as used by the force)
-  double in_plane_stiffness = 0.0;    // coefficient of g g^T in K, N m/rad (k, or 0 if folded into `transverse`)
-  double damping = 0.0;               // coefficient of g g^T in C, N m s/rad
-  Mat3 transverse;                    // P: n n^T, or I - u u^T at a straight singular pair
+  std::array<Vec3, 3> gradient;     // g = dtheta/dx of the centre, b, c, 1/m (as used by the force)
+  double in_plane_stiffness = 0.0;  // coefficient of g g^T in K, N m/rad (k, or 0 if folded into `transverse`)
+  double damping = 0.0;             // coefficient of g g^T in C, N m s/rad
+  Mat3 transverse;                  // P: n n^T, or I - u u^T at a straight singular pair
   std::array<std::array<double, 3>, 3> transverse_coupling{};  // mu_ij, N m: block (i, j) of K gets mu_ij P
 
   // Block (i, j) of K = -df/dx (approximate, positive semi-definite as a whole), N/m.

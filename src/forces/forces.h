@@ -52,11 +52,11 @@ enum class ForceKernel : std::uint8_t {
 // (they would be 684 bytes per particle of a lattice, more than the kernel's own scratch).
 struct ForceBuffers {
   ForceKernel kernel = ForceKernel::automatic;  // set before resize()
-  std::vector<Vec3> slot_force;     // general path: [model.force_slot_count()], N
-  std::vector<double> element_power;  // general path: [connectors + radials], damping power per element, W
-  std::vector<double> block_power;    // general path: partial sums over fixed blocks of element_power
-  GatherTable gather;                 // general path: each particle's slots
-  LatticeKernel lattice;              // scratch of the structured kernel, when it is in use
+  std::vector<Vec3> slot_force;                 // general path: [model.force_slot_count()], N
+  std::vector<double> element_power;            // general path: [connectors + radials], damping power per element, W
+  std::vector<double> block_power;              // general path: partial sums over fixed blocks of element_power
+  GatherTable gather;                           // general path: each particle's slots
+  LatticeKernel lattice;                        // scratch of the structured kernel, when it is in use
   void resize(const ClothModel& model);
   bool uses_lattice_kernel() const { return lattice.active(); }
   // Bytes of scratch memory held.

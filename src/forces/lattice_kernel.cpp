@@ -144,8 +144,8 @@ struct Arrays {
 template <bool kUniform>
 [[gnu::always_inline]] inline void connector_row_of(const Arrays& s, const Coefficients& k, const Vec3* __restrict x,
                                                     const Vec3* __restrict v, std::size_t begin, std::size_t end,
-                                                    std::size_t offset, std::size_t missing_from,
-                                                    std::size_t ux_array, double* __restrict power) {
+                                                    std::size_t offset, std::size_t missing_from, std::size_t ux_array,
+                                                    double* __restrict power) {
   double* __restrict ux = s[ux_array];
   double* __restrict uy = s[ux_array + 1];
   double* __restrict uz = s[ux_array + 2];
@@ -438,7 +438,8 @@ double LatticeKernel::evaluate(const ClothModel& model, std::span<const Vec3> po
 
   Arrays s;
   const std::size_t arrays = scratch_.size() / stride_;  // without the parameter arrays on a uniform sheet
-  for (std::size_t a = 0; a < kArrayCount; ++a) s.a[a] = a < arrays ? scratch_.data() + a * stride_ + padding_ : nullptr;
+  for (std::size_t a = 0; a < kArrayCount; ++a)
+    s.a[a] = a < arrays ? scratch_.data() + a * stride_ + padding_ : nullptr;
   const std::size_t cols = static_cast<std::size_t>(cols_);
   const std::size_t rows = static_cast<std::size_t>(rows_);
   const std::size_t n = rows * cols;

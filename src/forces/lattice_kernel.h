@@ -137,8 +137,8 @@ class LatticeKernel {
   std::array<FamilyValues, 3> family_{};  // connector, adjacent, opposite (uniform sheets)
   int rows_ = 0;
   int cols_ = 0;
-  std::size_t padding_ = 0;  // zero entries before and after each array
-  std::size_t stride_ = 0;   // doubles per array (padding + particles + padding, rounded up)
+  std::size_t padding_ = 0;     // zero entries before and after each array
+  std::size_t stride_ = 0;      // doubles per array (padding + particles + padding, rounded up)
   std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
   // kArrayCount arrays of stride_ doubles, the parameter arrays last and only while needed
   // (lattice_kernel_layout.h).

@@ -58,8 +58,7 @@ bool LatticeKernel::prepare(const ClothModel& model) {
 
 std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays) {
   const std::size_t arrays = parameter_arrays ? kArrayCount : kUniformArrayCount;
-  return (arrays * stride(counts.particles, counts.cols) + deterministic_sum_blocks(counts.particles)) *
-         sizeof(double);
+  return (arrays * stride(counts.particles, counts.cols) + deterministic_sum_blocks(counts.particles)) * sizeof(double);
 }
 
 bool LatticeKernel::is_uniform(const ClothModel& model) {

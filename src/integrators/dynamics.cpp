@@ -7,8 +7,7 @@ namespace clothsim {
 
 void StateDerivative::resize(std::size_t particles) { velocity_rate.assign(particles, Vec3{}); }
 
-ClothDynamics::ClothDynamics(const ClothModel& model, const ForceOptions& options)
-    : model_(model), options_(options) {
+ClothDynamics::ClothDynamics(const ClothModel& model, const ForceOptions& options) : model_(model), options_(options) {
   buffers_.kernel = options.kernel;
   buffers_.resize(model);
 }

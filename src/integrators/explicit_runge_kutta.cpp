@@ -80,8 +80,7 @@ void linear_combination(Vec3* out, const Vec3* base, const Terms& in, const Coef
   parallel_for(blocks, threads, [&](std::size_t block) {
     const std::size_t block_begin = first + block * kCombinationBlock;
     const std::size_t block_end = std::min(size, block_begin + kCombinationBlock);
-    combination_range(out_data + (block_begin - first), base_data, in.data(), c.data(), terms, block_begin,
-                      block_end);
+    combination_range(out_data + (block_begin - first), base_data, in.data(), c.data(), terms, block_begin, block_end);
   });
 }
 
@@ -260,10 +259,9 @@ namespace {
     const double ratio_value = std::abs(error) / scale + ((error - error) + (after - after));
     return std::bit_cast<std::uint64_t>(std::abs(ratio_value));
   };
-  const std::uint64_t largest =
-      std::max(std::max(std::max(ratio(error_x.x, x0.x, x1.x), ratio(error_x.y, x0.y, x1.y)),
-                        std::max(ratio(error_x.z, x0.z, x1.z), ratio(error_v.x, v0.x, v1.x))),
-               std::max(ratio(error_v.y, v0.y, v1.y), ratio(error_v.z, v0.z, v1.z)));
+  const std::uint64_t largest = std::max(std::max(std::max(ratio(error_x.x, x0.x, x1.x), ratio(error_x.y, x0.y, x1.y)),
+                                                  std::max(ratio(error_x.z, x0.z, x1.z), ratio(error_v.x, v0.x, v1.x))),
+                                         std::max(ratio(error_v.y, v0.y, v1.y), ratio(error_v.z, v0.z, v1.z)));
   return anchored ? 0 : largest;
 }
 
@@ -274,8 +272,8 @@ CLOTHSIM_MULTIVERSION std::uint64_t largest_error_bits(const Vec3* error_x, cons
                                                        std::size_t begin, std::size_t end) {
   std::uint64_t worst = 0;
   for (std::size_t p = begin; p < end; ++p) {
-    worst = std::max(worst, scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol,
-                                              anchor[p] >= 0));
+    worst = std::max(worst,
+                     scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0));
   }
   return worst;
 }
@@ -393,8 +391,8 @@ StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
     // Accept, and propose the next step with the PI controller. After a rejection the step may
     // not grow (Hairer's rule), which stops a rejection cycle at the stability limit.
     const double bounded_error = std::max(error.value, 1e-10);
-    double factor = settings_.safety * std::pow(bounded_error, -kControllerAlpha) *
-                    std::pow(previous_error_, kControllerBeta);
+    double factor =
+        settings_.safety * std::pow(bounded_error, -kControllerAlpha) * std::pow(previous_error_, kControllerBeta);
     factor = std::clamp(factor, settings_.max_shrink, settings_.max_growth);
     if (rejected_before) factor = std::min(factor, 1.0);
     previous_error_ = std::max(error.value, 1e-4);

@@ -44,9 +44,9 @@ class ExplicitRungeKutta : public Integrator {
   // A row of weights w (a stage's a_i, b or b - b^) in Nystrom form: the combination
   // h sum_i w_i (V_i, K_i) is (h velocity_sum v + h^2 sum_l position_l K_l, h sum_l w_l K_l).
   struct NystromRow {
-    double velocity_sum = 0.0;                   // sum_i w_i
-    std::array<double, kMaxStages> position{};   // sum_i w_i a_il
-    std::array<double, kMaxStages> velocity{};   // w_l
+    double velocity_sum = 0.0;                  // sum_i w_i
+    std::array<double, kMaxStages> position{};  // sum_i w_i a_il
+    std::array<double, kMaxStages> velocity{};  // w_l
   };
   NystromRow nystrom_row(const std::array<double, kMaxStages>& weights) const;
 
@@ -116,8 +116,8 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
 
  private:
   struct ErrorNorm {
-    double value = 0.0;           // max scaled error; NaN if any value was non-finite
-    std::uint32_t particle = 0;   // where it was largest
+    double value = 0.0;          // max scaled error; NaN if any value was non-finite
+    std::uint32_t particle = 0;  // where it was largest
   };
   // The max norm of the error estimate h sum_i (b_i - b^_i) (V_i, K_i), formed block by block.
   // The trial solution must be in the stage arrays.

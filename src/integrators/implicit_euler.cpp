@@ -199,8 +199,8 @@ std::size_t ImplicitEuler::workspace_bytes_for(const LatticeCounts& counts, cons
   total += 2 * counts.connectors * sizeof(std::array<std::uint32_t, 2>) +
            3 * counts.radials * sizeof(std::array<std::uint32_t, 3>);
   total += n * (sizeof(Mat3) + sizeof(std::uint8_t));  // preconditioner, free
-  total += 8 * n * sizeof(Vec3);                        // 7 CG vectors and the held normals
-  total += n * (sizeof(Hold) + sizeof(std::uint8_t));   // hold, slipped
+  total += 8 * n * sizeof(Vec3);                       // 7 CG vectors and the held normals
+  total += n * (sizeof(Hold) + sizeof(std::uint8_t));  // hold, slipped
   total += 3 * block_count(n) * sizeof(double);
   if (settings.cg_two_level && n > 0) {
     const std::size_t aggregate_cols = (cols + kAggregateSize - 1) / kAggregateSize;

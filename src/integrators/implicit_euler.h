@@ -184,14 +184,14 @@ class ImplicitEuler final : public Integrator {
 
   // System matrix (CSR of 3x3 blocks) and where each element slot adds its blocks: slot s of a
   // connector adds to blocks connector_block_[s][j], j over its 2 particles; likewise radial.
-  std::vector<std::uint32_t> row_offset_;   // [particle_count() + 1]
-  std::vector<std::uint32_t> column_;       // [blocks]
-  std::vector<Mat3> block_;                 // [blocks], A = M + h C + h^2 K
+  std::vector<std::uint32_t> row_offset_;                      // [particle_count() + 1]
+  std::vector<std::uint32_t> column_;                          // [blocks]
+  std::vector<Mat3> block_;                                    // [blocks], A = M + h C + h^2 K
   std::vector<std::array<std::uint32_t, 2>> connector_block_;  // [2 connector_count()]
   std::vector<std::array<std::uint32_t, 3>> radial_block_;     // [3 radial_count()]
-  std::vector<Mat3> preconditioner_;        // [particle_count()], inverse diagonal blocks (0 if anchored)
-  std::vector<std::uint8_t> free_;          // [particle_count()], 1 for integrated particles
-  std::uint64_t revision_ = 0;              // model revision free_ and the reused forces were made for
+  std::vector<Mat3> preconditioner_;  // [particle_count()], inverse diagonal blocks (0 if anchored)
+  std::vector<std::uint8_t> free_;    // [particle_count()], 1 for integrated particles
+  std::uint64_t revision_ = 0;        // model revision free_ and the reused forces were made for
 
   // Right-hand side and CG vectors [particle_count()].
   std::vector<Vec3> displacement_;  // z: h v0 (free) or the anchor path's displacement, m
@@ -216,10 +216,10 @@ class ImplicitEuler final : public Integrator {
   int last_iterations_ = 0;
 
   // Particles held on an obstacle's surface this step: how, and their unit normal (zero where not held).
-  std::vector<Hold> hold_;         // [particle_count()]
+  std::vector<Hold> hold_;             // [particle_count()]
   std::vector<std::uint8_t> slipped_;  // [particle_count()] 1: held stuck by more than Coulomb's friction last step
-  std::vector<Vec3> held_normal_;  // [particle_count()]
-  bool holding_ = false;           // some particle is held this step
+  std::vector<Vec3> held_normal_;      // [particle_count()]
+  bool holding_ = false;               // some particle is held this step
 };
 
 }  // namespace clothsim

@@ -14,9 +14,7 @@ void ImplicitEuler::set_hold(std::size_t p, Hold hold, const Vec3& normal) {
   held_normal_[p] = hold == Hold::none ? Vec3{} : normal;
   const Mat3& diagonal = block_[diagonal_block(p)];
   switch (hold) {
-    case Hold::none:
-      preconditioner_[p] = inverse(diagonal);
-      break;
+    case Hold::none: preconditioner_[p] = inverse(diagonal); break;
     case Hold::normal: {
       // Block Jacobi on the two free directions: the inverse of S D S, completed by n n^T so that
       // it is invertible (the filter removes n again). With D symmetric,
@@ -26,9 +24,7 @@ void ImplicitEuler::set_hold(std::size_t p, Hold hold, const Vec3& normal) {
           inverse(diagonal - outer(normal, dn) - outer(dn, normal) + (dot(normal, dn) + 1.0) * outer(normal, normal));
       break;
     }
-    case Hold::all:
-      preconditioner_[p] = Mat3{};
-      break;
+    case Hold::all: preconditioner_[p] = Mat3{}; break;
   }
 }
 
@@ -79,8 +75,7 @@ bool ImplicitEuler::release_held_particles() {
     if (pressing < 0.0) {
       set_hold(p, Hold::none, normal);
       changed = true;
-    } else if (hold_[p] == Hold::all &&
-               norm(impulse - pressing * normal) > surface_contacts_->friction[p] * pressing) {
+    } else if (hold_[p] == Hold::all && norm(impulse - pressing * normal) > surface_contacts_->friction[p] * pressing) {
       // Held by more than Coulomb's friction: it slides from the next step on. (Solving again for
       // it, as for a pulling surface, took a second solve in most steps of a sheet on a table.)
       slipped_[p] = 1;

@@ -14,14 +14,10 @@ namespace clothsim {
 
 std::string_view to_string(IntegratorKind kind) {
   switch (kind) {
-    case IntegratorKind::rkf45:
-      return "rkf45";
-    case IntegratorKind::rk4:
-      return "rk4";
-    case IntegratorKind::symplectic_euler:
-      return "symplectic-euler";
-    case IntegratorKind::implicit_euler:
-      return "implicit-euler";
+    case IntegratorKind::rkf45: return "rkf45";
+    case IntegratorKind::rk4: return "rk4";
+    case IntegratorKind::symplectic_euler: return "symplectic-euler";
+    case IntegratorKind::implicit_euler: return "implicit-euler";
   }
   return "unknown";
 }
@@ -70,12 +66,9 @@ std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const Integ
   switch (settings.kind) {
     case IntegratorKind::rkf45:
       return std::make_unique<AdaptiveRungeKutta>(model, settings, force_options, kFehlberg45);
-    case IntegratorKind::rk4:
-      return std::make_unique<FixedStepRungeKutta>(model, settings, force_options, kClassicRk4);
-    case IntegratorKind::symplectic_euler:
-      return std::make_unique<SymplecticEuler>(model, settings, force_options);
-    case IntegratorKind::implicit_euler:
-      return std::make_unique<ImplicitEuler>(model, settings, force_options);
+    case IntegratorKind::rk4: return std::make_unique<FixedStepRungeKutta>(model, settings, force_options, kClassicRk4);
+    case IntegratorKind::symplectic_euler: return std::make_unique<SymplecticEuler>(model, settings, force_options);
+    case IntegratorKind::implicit_euler: return std::make_unique<ImplicitEuler>(model, settings, force_options);
   }
   return nullptr;
 }

@@ -41,12 +41,12 @@ struct IntegratorSettings {
   double min_step = 1e-10;  // s; RKF45 stops with a diagnosis if it needs a smaller step
   double max_step = 0.1;    // s; upper bound on RKF45 steps
   // Step-size controller (Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4).
-  double safety = 0.9;       // factor on the optimal step
-  double max_growth = 5.0;   // largest step increase per step
-  double max_shrink = 0.1;   // smallest step decrease factor after a rejection
+  double safety = 0.9;      // factor on the optimal step
+  double max_growth = 5.0;  // largest step increase per step
+  double max_shrink = 0.1;  // smallest step decrease factor after a rejection
   // Implicit Euler's linear solve (conjugate gradients): stop when the residual's norm is below
   // cg_tolerance times the right-hand side's, or after cg_max_iterations.
-  double cg_tolerance = 1e-3;    // dimensionless
+  double cg_tolerance = 1e-3;  // dimensionless
   int cg_max_iterations = 2000;
   // Adds a coarse-grid correction to the Jacobi preconditioner: the system restricted to
   // aggregates of 4 x 4 particles, solved exactly (two-level additive preconditioner).

@@ -23,8 +23,7 @@ StableStep estimate_stable_step(const ClothModel& model, IntegratorKind kind) {
       decay_limit = 2.0;
       break;
     case IntegratorKind::rkf45:
-    case IntegratorKind::implicit_euler:
-      return result;
+    case IntegratorKind::implicit_euler: return result;
   }
   const std::size_t n = model.particle_count();
   // Gershgorin row sums of the stiffness and damping matrices (N/m, N s/m): sum_j |A_ij|.
@@ -58,7 +57,7 @@ StableStep estimate_stable_step(const ClothModel& model, IntegratorKind kind) {
   for (std::size_t p = 0; p < n; ++p) {
     if (model.is_anchored(p) || !(model.particle_mass[p] > 0.0)) continue;
     const double omega = std::sqrt(stiffness[p] / model.particle_mass[p]);  // rad/s
-    const double gamma = damping[p] / model.particle_mass[p];              // 1/s
+    const double gamma = damping[p] / model.particle_mass[p];               // 1/s
     const double step = std::min(omega > 0.0 ? oscillation_limit / omega : result.step,
                                  gamma > 0.0 ? decay_limit / gamma : result.step);
     if (step < result.step) {

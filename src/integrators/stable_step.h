@@ -17,8 +17,8 @@
 namespace clothsim {
 
 struct StableStep {
-  double step = 0.0;        // s; +infinity for RKF45 and implicit Euler (no fixed-step limit)
-  std::size_t particle = 0; // where the fastest rate is
+  double step = 0.0;         // s; +infinity for RKF45 and implicit Euler (no fixed-step limit)
+  std::size_t particle = 0;  // where the fastest rate is
 };
 
 StableStep estimate_stable_step(const ClothModel& model, IntegratorKind kind);

@@ -11,12 +11,12 @@ inline constexpr int kMaxStages = 6;
 struct ButcherTableau {
   const char* name;
   int stages;
-  int order;           // order of the propagated solution
-  int embedded_order;  // order of the embedded solution used for the error estimate; 0: none
-  std::array<double, kMaxStages> nodes;                                  // c_i
+  int order;                             // order of the propagated solution
+  int embedded_order;                    // order of the embedded solution used for the error estimate; 0: none
+  std::array<double, kMaxStages> nodes;  // c_i
   std::array<std::array<double, kMaxStages>, kMaxStages> coefficients;  // a_ij, j < i
-  std::array<double, kMaxStages> weights;                                // b_i, propagated solution
-  std::array<double, kMaxStages> embedded_weights;                       // b^_i, embedded solution
+  std::array<double, kMaxStages> weights;                               // b_i, propagated solution
+  std::array<double, kMaxStages> embedded_weights;                      // b^_i, embedded solution
 };
 
 // Runge-Kutta-Fehlberg 4(5), the paper's Figure 3 (Fehlberg 1969, via the paper's reference [1]).

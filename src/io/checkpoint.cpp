@@ -18,7 +18,16 @@ namespace clothsim {
 static_assert(std::endian::native == std::endian::little, "checkpoint files are little-endian, as is the host");
 static_assert(sizeof(Vec3) == 3 * sizeof(double), "a Vec3 is stored as its 3 doubles");
 
-enum class CheckpointReader::Type : std::uint8_t { f64 = 1, u64, text, f64_array, vec3_array, u8_array, u32_array, i32_array };
+enum class CheckpointReader::Type : std::uint8_t {
+  f64 = 1,
+  u64,
+  text,
+  f64_array,
+  vec3_array,
+  u8_array,
+  u32_array,
+  i32_array
+};
 
 namespace {
 
@@ -53,11 +62,21 @@ class CheckpointWriter final : public StateArchive {
   void value(std::string_view name, double& x) override { record(name, Type::f64, &x, 1, sizeof x); }
   void value(std::string_view name, std::uint64_t& x) override { record(name, Type::u64, &x, 1, sizeof x); }
   void text(std::string_view name, std::string& x) override { record(name, Type::text, x.data(), x.size(), 1); }
-  void array(std::string_view name, std::span<double> x) override { record(name, Type::f64_array, x.data(), x.size(), sizeof(double)); }
-  void array(std::string_view name, std::span<Vec3> x) override { record(name, Type::vec3_array, x.data(), x.size(), sizeof(Vec3)); }
-  void array(std::string_view name, std::span<std::uint8_t> x) override { record(name, Type::u8_array, x.data(), x.size(), 1); }
-  void array(std::string_view name, std::span<std::uint32_t> x) override { record(name, Type::u32_array, x.data(), x.size(), 4); }
-  void array(std::string_view name, std::span<std::int32_t> x) override { record(name, Type::i32_array, x.data(), x.size(), 4); }
+  void array(std::string_view name, std::span<double> x) override {
+    record(name, Type::f64_array, x.data(), x.size(), sizeof(double));
+  }
+  void array(std::string_view name, std::span<Vec3> x) override {
+    record(name, Type::vec3_array, x.data(), x.size(), sizeof(Vec3));
+  }
+  void array(std::string_view name, std::span<std::uint8_t> x) override {
+    record(name, Type::u8_array, x.data(), x.size(), 1);
+  }
+  void array(std::string_view name, std::span<std::uint32_t> x) override {
+    record(name, Type::u32_array, x.data(), x.size(), 4);
+  }
+  void array(std::string_view name, std::span<std::int32_t> x) override {
+    record(name, Type::i32_array, x.data(), x.size(), 4);
+  }
   void expect_values(std::uint64_t /*count*/, std::size_t /*size*/) override {}
   using StateArchive::value;
 
@@ -193,7 +212,8 @@ CheckpointReader::CheckpointReader(fs::path path) : path_(std::move(path)) {
   std::uint32_t stored = 0;
   if (std::fread(&stored, 1, sizeof stored, file_) != sizeof stored) fail("cannot read the checksum");
   if (crc != stored) fail("damaged: its checksum does not match its contents");
-  if (std::fseek(file_, static_cast<long>(kHeaderBytes), SEEK_SET) != 0) fail("cannot read file: " + system_reason(errno));
+  if (std::fseek(file_, static_cast<long>(kHeaderBytes), SEEK_SET) != 0)
+    fail("cannot read file: " + system_reason(errno));
   remaining_ = payload;
 }
 
@@ -233,7 +253,8 @@ std::uint64_t CheckpointReader::next(std::string_view name, Type type, std::uint
     fail("field '" + stored_name + "' has " + std::to_string(stored_count) + " values, but the simulation has " +
          std::to_string(count) + " (a checkpoint of another scene?)");
   }
-  if (stored_count > remaining_ / value_size(type)) fail("field '" + stored_name + "' runs past the end of the payload");
+  if (stored_count > remaining_ / value_size(type))
+    fail("field '" + stored_name + "' runs past the end of the payload");
   return stored_count;
 }
 
@@ -283,7 +304,8 @@ void CheckpointReader::expect_values(std::uint64_t count, std::size_t size) {
 }
 
 void CheckpointReader::finish() const {
-  if (remaining_ != 0) fail(std::to_string(remaining_) + " bytes of fields left unread (a checkpoint of another build?)");
+  if (remaining_ != 0)
+    fail(std::to_string(remaining_) + " bytes of fields left unread (a checkpoint of another build?)");
 }
 
 }  // namespace clothsim

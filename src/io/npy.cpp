@@ -106,8 +106,7 @@ std::string make_header(std::span<const std::size_t> shape, std::size_t total_by
 // Writes `header` at the start of the file and returns to the end; false with errno set on failure.
 bool write_header_at_start(std::FILE* file, const std::string& header) {
   errno = 0;
-  return std::fseek(file, 0, SEEK_SET) == 0 &&
-         std::fwrite(header.data(), 1, header.size(), file) == header.size() &&
+  return std::fseek(file, 0, SEEK_SET) == 0 && std::fwrite(header.data(), 1, header.size(), file) == header.size() &&
          std::fseek(file, 0, SEEK_END) == 0;
 }
 
@@ -157,8 +156,8 @@ class HeaderParser {
 
  private:
   void skip_space() {
-    while (position_ < text_.size() &&
-           (text_[position_] == ' ' || text_[position_] == '\n' || text_[position_] == '\t' || text_[position_] == '\r')) {
+    while (position_ < text_.size() && (text_[position_] == ' ' || text_[position_] == '\n' ||
+                                        text_[position_] == '\t' || text_[position_] == '\r')) {
       ++position_;
     }
   }
@@ -282,8 +281,10 @@ NpyWriter::NpyWriter(std::string path, std::size_t items, std::size_t components
   const std::uintmax_t size = std::filesystem::file_size(path_, error);
   if (error) throw io_error(path_, "cannot reopen: " + error.message(), 0);
   if (size < keep) {
-    throw io_error(path_, "holds " + std::to_string(size) + " bytes, fewer than the " + std::to_string(keep) + " of " +
-                              std::to_string(frames) + " frames", 0);
+    throw io_error(path_,
+                   "holds " + std::to_string(size) + " bytes, fewer than the " + std::to_string(keep) + " of " +
+                       std::to_string(frames) + " frames",
+                   0);
   }
   std::filesystem::resize_file(path_, keep, error);
   if (error) throw io_error(path_, "cannot cut off the later frames: " + error.message(), 0);
@@ -328,7 +329,8 @@ NpyWriter& NpyWriter::operator=(NpyWriter&& other) noexcept {
 
 void NpyWriter::append(std::span<const Vec3> frame) {
   if (components_ != 3) {
-    throw io_error(path_, "append(Vec3 frame) needs 3 components per item, the file has " + std::to_string(components_), 0);
+    throw io_error(path_, "append(Vec3 frame) needs 3 components per item, the file has " + std::to_string(components_),
+                   0);
   }
   check_frame(frame.size(), "points", items_);
   write_values(frame.data(), 3 * frame.size());
@@ -343,8 +345,9 @@ void NpyWriter::check_frame(std::size_t size, const char* unit, std::size_t expe
   if (file_ == nullptr) throw io_error(path_, "append after close", 0);
   if (failed_) throw io_error(path_, "append after an earlier write failure", 0);
   if (size != expected) {
-    throw io_error(path_, "frame has " + std::to_string(size) + " " + unit + ", expected " + std::to_string(expected) +
-                              " (items " + std::to_string(items_) + ", components " + std::to_string(components_) + ")",
+    throw io_error(path_,
+                   "frame has " + std::to_string(size) + " " + unit + ", expected " + std::to_string(expected) +
+                       " (items " + std::to_string(items_) + ", components " + std::to_string(components_) + ")",
                    0);
   }
 }
@@ -390,7 +393,8 @@ void NpyWriter::close() {
 void write_npy(const std::string& path, std::span<const double> data, std::span<const std::size_t> shape) {
   std::size_t count = 0;
   if (!element_count(shape, count) || count != data.size()) {
-    throw io_error(path, "write_npy: " + std::to_string(data.size()) + " values do not fill shape " + shape_text(shape), 0);
+    throw io_error(path, "write_npy: " + std::to_string(data.size()) + " values do not fill shape " + shape_text(shape),
+                   0);
   }
   const std::string header = make_header(shape);
   if (header.empty()) throw io_error(path, "write_npy: header too long for shape " + shape_text(shape), 0);
@@ -431,7 +435,7 @@ namespace {
 // A file's preamble and header dict, read and checked; the file is left at the data.
 struct ParsedHeader {
   std::vector<std::size_t> shape;
-  std::string descr;         // "<f8" or "<i4"
+  std::string descr;  // "<f8" or "<i4"
   std::size_t value_bytes = 0;
   std::size_t data_offset = 0;  // bytes
 };
@@ -453,8 +457,10 @@ ParsedHeader read_header(std::FILE* file, const std::string& path) {
   const unsigned major = preamble[kMagicBytes];
   const unsigned minor = preamble[kMagicBytes + 1];
   if ((major != 1 && major != 2) || minor != 0) {
-    throw io_error(path, ".npy format version " + std::to_string(major) + "." + std::to_string(minor) +
-                             " is not supported (1.0 and 2.0 are)", 0);
+    throw io_error(path,
+                   ".npy format version " + std::to_string(major) + "." + std::to_string(minor) +
+                       " is not supported (1.0 and 2.0 are)",
+                   0);
   }
   // Header length: little-endian uint16 in 1.0, uint32 in 2.0.
   std::array<unsigned char, 4> length_bytes{};
@@ -472,10 +478,10 @@ ParsedHeader read_header(std::FILE* file, const std::string& path) {
   bool fortran_order = false;
   HeaderParser(header, path).parse(parsed.descr, fortran_order, parsed.shape);
   if (parsed.descr != "<f8" && parsed.descr != "<i4") {
-    throw io_error(
-        path,
-        "dtype '" + parsed.descr + "' is not supported: read_npy reads little-endian float64 ('<f8') and int32 ('<i4') only",
-        0);
+    throw io_error(path,
+                   "dtype '" + parsed.descr +
+                       "' is not supported: read_npy reads little-endian float64 ('<f8') and int32 ('<i4') only",
+                   0);
   }
   parsed.value_bytes = parsed.descr == "<f8" ? sizeof(double) : sizeof(std::int32_t);
   if (fortran_order) throw io_error(path, "Fortran-order arrays are not supported (C order only)", 0);
@@ -532,8 +538,10 @@ void read_npy_frame(const std::string& path, std::size_t frame, std::span<Vec3> 
   if (file == nullptr) throw io_error(path, "cannot open file", errno);
   const ParsedHeader header = read_header(file.get(), path);
   if (header.descr != "<f8" || header.shape.size() != 3 || header.shape[1] != out.size() || header.shape[2] != 3) {
-    throw io_error(path, "expected float64 frames of shape (" + std::to_string(out.size()) + ", 3), found " +
-                             header.descr + " " + shape_text(header.shape), 0);
+    throw io_error(path,
+                   "expected float64 frames of shape (" + std::to_string(out.size()) + ", 3), found " + header.descr +
+                       " " + shape_text(header.shape),
+                   0);
   }
   const std::uintmax_t offset = header.data_offset + static_cast<std::uintmax_t>(frame) * out.size_bytes();
   std::error_code error;

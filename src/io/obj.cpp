@@ -47,8 +47,10 @@ void write_obj(const std::string& path, const ClothModel& model, std::span<const
                std::string_view comment) {
   const std::size_t n = model.particle_count();
   if (position.size() != n) {
-    throw io_error(path, "write_obj: " + std::to_string(position.size()) + " positions for a model of " +
-                             std::to_string(n) + " particles", 0);
+    throw io_error(path,
+                   "write_obj: " + std::to_string(position.size()) + " positions for a model of " + std::to_string(n) +
+                       " particles",
+                   0);
   }
   SheetMesh mesh;
   build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);
@@ -62,8 +64,8 @@ void write_obj_mesh(const std::string& path, const ClothModel& model, const Shee
   std::FILE* out = file.get();
   errno = 0;
 
-  std::fprintf(out, "# clothsim sheet: %d x %d particles (rows x cols), spacing %.9g m, positions in m\n",
-               model.rows, model.cols, model.spacing);
+  std::fprintf(out, "# clothsim sheet: %d x %d particles (rows x cols), spacing %.9g m, positions in m\n", model.rows,
+               model.cols, model.spacing);
   if (mesh.vertex_count() > n) {
     std::fprintf(out, "# torn along %zu broken connectors: %zu vertices, the first %zu are the particles\n",
                  model.broken_connector_count, mesh.vertex_count(), n);

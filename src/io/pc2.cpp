@@ -9,9 +9,9 @@
 #include <cerrno>
 #include <cstring>
 #include <filesystem>
-#include <system_error>
 #include <limits>
 #include <stdexcept>
+#include <system_error>
 
 namespace clothsim {
 namespace {
@@ -79,8 +79,9 @@ Pc2Writer::~Pc2Writer() {
 
 void Pc2Writer::append(std::span<const Vec3> position) {
   if (position.size() != point_count_) {
-    throw pc2_error(path_, "a sample of " + std::to_string(position.size()) + " points for a cache of " +
-                               std::to_string(point_count_), 0);
+    throw pc2_error(
+        path_,
+        "a sample of " + std::to_string(position.size()) + " points for a cache of " + std::to_string(point_count_), 0);
   }
   for (std::size_t p = 0; p < point_count_; ++p) {
     buffer_[3 * p] = static_cast<float>(position[p].x);

@@ -147,15 +147,14 @@ std::vector<std::pair<std::string, nlohmann::ordered_json>> RunExports::summary_
   using ordered_json = nlohmann::ordered_json;
   std::vector<std::pair<std::string, ordered_json>> files;
   if (cache_) {
-    files.emplace_back(std::string(kPointCacheFile),
-                       ordered_json{{"format", "pc2"},
-                                    {"points", points_},
-                                    {"samples", cache_->samples()},
-                                    {"start_frame", 0},
-                                    {"sample_rate", 1},
-                                    {"dtype", "float32"},
-                                    {"unit", "m"},
-                                    {"mesh", std::string(kRestMeshFile)}});
+    files.emplace_back(std::string(kPointCacheFile), ordered_json{{"format", "pc2"},
+                                                                  {"points", points_},
+                                                                  {"samples", cache_->samples()},
+                                                                  {"start_frame", 0},
+                                                                  {"sample_rate", 1},
+                                                                  {"dtype", "float32"},
+                                                                  {"unit", "m"},
+                                                                  {"mesh", std::string(kRestMeshFile)}});
     files.emplace_back(std::string(kRestMeshFile),
                        ordered_json{{"frame", 0}, {"triangles", rest_triangles_}, {"left_out", dropped_triangles_}});
   }

@@ -91,22 +91,16 @@ ordered_json energy_json(const EnergyBalance& balance, double time) {
 }
 
 // A finite number, or null (JSON has no infinity; nlohmann would write null anyway, this says so).
-ordered_json number_or_null(double value) {
-  return std::isfinite(value) ? ordered_json(value) : ordered_json(nullptr);
-}
+ordered_json number_or_null(double value) { return std::isfinite(value) ? ordered_json(value) : ordered_json(nullptr); }
 
 }  // namespace
 
 std::string_view to_string(RunStatus status) {
   switch (status) {
-    case RunStatus::completed:
-      return "completed";
-    case RunStatus::at_rest:
-      return "at_rest";
-    case RunStatus::failed:
-      return "failed";
-    case RunStatus::interrupted:
-      return "interrupted";
+    case RunStatus::completed: return "completed";
+    case RunStatus::at_rest: return "at_rest";
+    case RunStatus::failed: return "failed";
+    case RunStatus::interrupted: return "interrupted";
   }
   return "unknown";
 }
@@ -378,17 +372,17 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
   if (status == RunStatus::failed && simulation.failure()) {
     const Diagnosis& diagnosis = *simulation.failure();
     summary["diagnosis"] = ordered_json{{"time", diagnosis.time},
-                                {"step", diagnosis.step},
-                                {"element", diagnosis.element},
-                                {"message", diagnosis.message}};
+                                        {"step", diagnosis.step},
+                                        {"element", diagnosis.element},
+                                        {"message", diagnosis.message}};
   }
   summary["scene"] = ordered_json(scene_to_json(scene_));
   summary["lattice"] = ordered_json{{"rows", model.rows},
-                            {"cols", model.cols},
-                            {"particles", model.particle_count()},
-                            {"connectors", model.connector_count()},
-                            {"radial_springs", model.radial_count()},
-                            {"anchors", model.anchor_count()}};
+                                    {"cols", model.cols},
+                                    {"particles", model.particle_count()},
+                                    {"connectors", model.connector_count()},
+                                    {"radial_springs", model.radial_count()},
+                                    {"anchors", model.anchor_count()}};
   summary["frames"] = frames_;
   summary["fps"] = scene_.output.fps;
   summary["simulated_time"] = last_time_;
@@ -405,18 +399,18 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       {"cg_max_iterations", settings.cg_max_iterations},
       {"cg_iterations", stats.linear_iterations},
       {"cg_iterations_per_step",
-       stats.accepted_steps > 0 ? number_or_null(static_cast<double>(stats.linear_iterations) /
-                                                 static_cast<double>(stats.accepted_steps))
-                                : ordered_json(nullptr)},
+       stats.accepted_steps > 0
+           ? number_or_null(static_cast<double>(stats.linear_iterations) / static_cast<double>(stats.accepted_steps))
+           : ordered_json(nullptr)},
       {"cg_max_iterations_in_a_step", stats.max_linear_iterations},
       {"cg_unconverged_solves", stats.unconverged_solves},
       {"smallest_step", stats.accepted_steps > 0 ? number_or_null(stats.smallest_step) : ordered_json(nullptr)},
       {"largest_step", stats.accepted_steps > 0 ? number_or_null(stats.largest_step) : ordered_json(nullptr)},
-      {"steps_per_simulated_second",
-       last_time_ > 0.0 ? number_or_null(static_cast<double>(stats.accepted_steps) / last_time_)
-                        : ordered_json(nullptr)}};
-  summary["energy"] = ordered_json{{"initial", energy_json(initial_energy_, 0.0)},
-                                   {"final", energy_json(last_energy_, last_time_)}};
+      {"steps_per_simulated_second", last_time_ > 0.0
+                                         ? number_or_null(static_cast<double>(stats.accepted_steps) / last_time_)
+                                         : ordered_json(nullptr)}};
+  summary["energy"] =
+      ordered_json{{"initial", energy_json(initial_energy_, 0.0)}, {"final", energy_json(last_energy_, last_time_)}};
   // Tearing, permanent stretching and creasing (DESIGN.md section 3), over the whole run.
   const ModelChanges changes = simulation.model_changes();
   const SpringEventCounts& events = simulation.event_totals();
@@ -434,16 +428,12 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
   // summed over accepted steps and the most after one step, the self pass's impacts, impact zones
   // and pairs it left touching, and the energy the collision stage changed.
   const ContactStatistics& contacts = simulation.contact_statistics();
-  summary["contacts"] = ordered_json{{"colliders", model.colliders.size()},
-                                     {"contact_steps", contacts.total},
-                                     {"max_in_a_step", contacts.max_in_a_step},
-                                     {"self_collision", model.collision.self},
-                                     {"self_contact_steps", contacts.self_total},
-                                     {"self_max_in_a_step", contacts.self_max_in_a_step},
-                                     {"self_impacts", contacts.self_impacts},
-                                     {"self_impact_zones", contacts.self_zones},
-                                     {"self_unresolved", contacts.self_unresolved},
-                                     {"contact_work", last_energy_.contact_work}};
+  summary["contacts"] =
+      ordered_json{{"colliders", model.colliders.size()},         {"contact_steps", contacts.total},
+                   {"max_in_a_step", contacts.max_in_a_step},     {"self_collision", model.collision.self},
+                   {"self_contact_steps", contacts.self_total},   {"self_max_in_a_step", contacts.self_max_in_a_step},
+                   {"self_impacts", contacts.self_impacts},       {"self_impact_zones", contacts.self_zones},
+                   {"self_unresolved", contacts.self_unresolved}, {"contact_work", last_energy_.contact_work}};
   summary["timings"] = ordered_json{
       {"wall_seconds", wall_seconds},
       {"forces", profile.forces},

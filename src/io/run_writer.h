@@ -170,7 +170,7 @@ class RunWriter {
   std::filesystem::path out_;
   std::filesystem::path partial_;  // `<out>.partial-<pid>`
   RunInfo info_;
-  std::string resumed_by_;  // resume(): the resuming command line
+  std::string resumed_by_;   // resume(): the resuming command line
   double resumed_at_ = 0.0;  // resume(): the time resumed from, s
   bool replace_existing_ = false;
   bool begun_ = false;
@@ -181,7 +181,7 @@ class RunWriter {
   std::FILE* energy_file_ = nullptr;
   std::optional<RunExports> exports_;  // when the scene asks for any
 
-  SceneSpec scene_;                  // the scene as run, for summary.json
+  SceneSpec scene_;  // the scene as run, for summary.json
   EnergyBalance initial_energy_;
   EnergyBalance last_energy_;        // of the last frame written
   double last_time_ = 0.0;           // s, of the last frame written

@@ -20,10 +20,8 @@ std::size_t segment_of(const std::vector<AnchorKey>& keys, double t) {
 
 Vec3 AnchorPath::position(double t) const {
   switch (kind) {
-    case AnchorPathKind::fixed:
-      return origin;
-    case AnchorPathKind::linear:
-      return origin + t * velocity;
+    case AnchorPathKind::fixed: return origin;
+    case AnchorPathKind::linear: return origin + t * velocity;
     case AnchorPathKind::sinusoid: {
       const double omega = 2.0 * std::numbers::pi * frequency;
       return origin + (std::sin(omega * t + phase) - std::sin(phase)) * amplitude;
@@ -49,10 +47,8 @@ Vec3 AnchorPath::position(double t) const {
 
 Vec3 AnchorPath::velocity_at(double t) const {
   switch (kind) {
-    case AnchorPathKind::fixed:
-      return {};
-    case AnchorPathKind::linear:
-      return velocity;
+    case AnchorPathKind::fixed: return {};
+    case AnchorPathKind::linear: return velocity;
     case AnchorPathKind::sinusoid: {
       const double omega = 2.0 * std::numbers::pi * frequency;
       return (omega * std::cos(omega * t + phase)) * amplitude;
@@ -62,8 +58,7 @@ Vec3 AnchorPath::velocity_at(double t) const {
       const std::size_t k = segment_of(keys, t);
       return (keys[k + 1].offset - keys[k].offset) / (keys[k + 1].time - keys[k].time);
     }
-    case AnchorPathKind::driven:
-      return t <= end_time ? velocity : Vec3{};
+    case AnchorPathKind::driven: return t <= end_time ? velocity : Vec3{};
   }
   return {};
 }

@@ -44,12 +44,12 @@ struct AnchorKey {
 
 struct AnchorPath {
   AnchorPathKind kind = AnchorPathKind::fixed;
-  Vec3 origin;          // position at t = 0, m
-  Vec3 velocity;        // linear: constant velocity, m/s
-  Vec3 amplitude;       // sinusoid: displacement amplitude, m
-  double frequency = 0.0;  // sinusoid: Hz
-  double phase = 0.0;      // sinusoid: rad
-  double start_time = 0.0;  // driven: s, when the particle is at `origin`
+  Vec3 origin;                                                // position at t = 0, m
+  Vec3 velocity;                                              // linear: constant velocity, m/s
+  Vec3 amplitude;                                             // sinusoid: displacement amplitude, m
+  double frequency = 0.0;                                     // sinusoid: Hz
+  double phase = 0.0;                                         // sinusoid: rad
+  double start_time = 0.0;                                    // driven: s, when the particle is at `origin`
   double end_time = std::numeric_limits<double>::infinity();  // driven: s, arrival at the target
   std::vector<AnchorKey> keys{};                              // keyframes: at least one, strictly increasing in time
 

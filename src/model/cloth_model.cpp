@@ -73,9 +73,9 @@ constexpr std::size_t array_bytes(std::size_t count) {
 
 std::size_t ClothModel::bytes() const {
   return vector_bytes(particle_mass) + vector_bytes(particle_inverse_mass) + vector_bytes(particle_anchor) +
-         vector_bytes(particle_rest_position) + vector_bytes(connector_particles) + vector_bytes(connector_rest_length) +
-         vector_bytes(connector_stiffness) + vector_bytes(connector_damping) + vector_bytes(connector_live) +
-         vector_bytes(connector_break_time) + vector_bytes(connector_original_length) +
+         vector_bytes(particle_rest_position) + vector_bytes(connector_particles) +
+         vector_bytes(connector_rest_length) + vector_bytes(connector_stiffness) + vector_bytes(connector_damping) +
+         vector_bytes(connector_live) + vector_bytes(connector_break_time) + vector_bytes(connector_original_length) +
          vector_bytes(connector_break_strain) + vector_bytes(connector_yield_strain) + vector_bytes(radial_particles) +
          vector_bytes(radial_connectors) + vector_bytes(radial_kind) + vector_bytes(radial_rest_angle) +
          vector_bytes(radial_stiffness) + vector_bytes(radial_damping) + vector_bytes(radial_live) +
@@ -141,8 +141,8 @@ std::string ClothModel::describe_particle(std::size_t particle) const {
   return text;
 }
 
-ClothModel build_lattice(const LatticeDef& lattice, const Environment& environment,
-                         std::span<const Anchor> anchors, const std::string& source) {
+ClothModel build_lattice(const LatticeDef& lattice, const Environment& environment, std::span<const Anchor> anchors,
+                         const std::string& source) {
   if (lattice.rows < 1 || lattice.cols < 1 || lattice.rows * static_cast<long long>(lattice.cols) < 2) {
     throw InputError(source, "lattice", "needs at least 2 particles (rows >= 1, cols >= 1)");
   }
@@ -166,8 +166,8 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
   model.particle_rest_position.resize(n);
   for (int i = 0; i < rows; ++i) {
     for (int j = 0; j < cols; ++j) {
-      model.particle_rest_position[lattice_index(cols, i, j)] = {
-          (j - (cols - 1) / 2.0) * lattice.spacing, 0.0, (i - (rows - 1) / 2.0) * lattice.spacing};
+      model.particle_rest_position[lattice_index(cols, i, j)] = {(j - (cols - 1) / 2.0) * lattice.spacing, 0.0,
+                                                                 (i - (rows - 1) / 2.0) * lattice.spacing};
     }
   }
 
@@ -187,7 +187,8 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
 
   // Connectors, particle by particle: east then south neighbour. neighbour_connector[p][d] is the
   // connector from p in direction d, or kNoConnector at the border.
-  std::vector<std::array<std::uint32_t, 4>> neighbour_connector(n, {kNoConnector, kNoConnector, kNoConnector, kNoConnector});
+  std::vector<std::array<std::uint32_t, 4>> neighbour_connector(
+      n, {kNoConnector, kNoConnector, kNoConnector, kNoConnector});
   const auto add_connector = [&](std::uint32_t a, std::uint32_t b, int direction_from_a) {
     const auto index = static_cast<std::uint32_t>(model.connector_particles.size());
     model.connector_particles.push_back({a, b});
@@ -236,8 +237,9 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
   model.anchors.reserve(anchors.size());
   for (const Anchor& anchor : anchors) {
     if (anchor.particle >= n) {
-      throw InputError(source, "anchors", "particle index " + std::to_string(anchor.particle) +
-                                              " is outside the lattice [0, " + std::to_string(n - 1) + "]");
+      throw InputError(source, "anchors",
+                       "particle index " + std::to_string(anchor.particle) + " is outside the lattice [0, " +
+                           std::to_string(n - 1) + "]");
     }
     if (model.particle_anchor[anchor.particle] >= 0) {
       throw InputError(source, "anchors", model.describe_particle(anchor.particle) + " is anchored twice");

@@ -45,10 +45,10 @@ struct SpringParameters {
 // Everything that defines a uniform rectangular sheet. The paper's 10-number argument vector maps
 // onto it field by field (scene/paper_args.h).
 struct LatticeDef {
-  int rows = 21;                // particles along z (the paper's "vertical points")
-  int cols = 21;                // particles along x (the paper's "horizontal points")
-  double spacing = 1.0;         // connector rest length L, m
-  double particle_mass = 1.0;   // kg, the same for every particle
+  int rows = 21;               // particles along z (the paper's "vertical points")
+  int cols = 21;               // particles along x (the paper's "horizontal points")
+  double spacing = 1.0;        // connector rest length L, m
+  double particle_mass = 1.0;  // kg, the same for every particle
   SpringParameters connector{80.0, 5.0};
   SpringParameters adjacent{4.0, 1.0};
   double adjacent_rest_angle = std::numbers::pi / 2.0;  // rad
@@ -92,9 +92,9 @@ struct ClothModel {
 
   // Connector springs [connector_count()]: f_a = (k (l - L) + c (v_b - v_a).u) u, f_b = -f_a.
   std::vector<std::array<std::uint32_t, 2>> connector_particles;  // (a, b)
-  std::vector<double> connector_rest_length;  // L, m
-  std::vector<double> connector_stiffness;    // k, N/m
-  std::vector<double> connector_damping;      // c, N s/m
+  std::vector<double> connector_rest_length;                      // L, m
+  std::vector<double> connector_stiffness;                        // k, N/m
+  std::vector<double> connector_damping;                          // c, N s/m
   // Changing parts of a connector (DESIGN.md section 3, events/): whether it is intact, the
   // strain at which it breaks, and the yield strain of its plastic law. A broken connector and
   // every radial spring using it exert no force and store no energy; they keep their index.
@@ -109,10 +109,10 @@ struct ClothModel {
   std::vector<std::array<std::uint32_t, 3>> radial_particles;   // (centre, b, c)
   std::vector<std::array<std::uint32_t, 2>> radial_connectors;  // (centre-b, centre-c) connector indices
   std::vector<RadialKind> radial_kind;
-  std::vector<double> radial_rest_angle;  // theta0, rad, in [0, pi]
-  std::vector<double> radial_stiffness;   // k, N m / rad
-  std::vector<double> radial_damping;     // c, N m s / rad
-  std::vector<std::uint8_t> radial_live;  // 0 once one of its connectors broke
+  std::vector<double> radial_rest_angle;      // theta0, rad, in [0, pi]
+  std::vector<double> radial_stiffness;       // k, N m / rad
+  std::vector<double> radial_damping;         // c, N m s / rad
+  std::vector<std::uint8_t> radial_live;      // 0 once one of its connectors broke
   std::vector<double> radial_original_angle;  // theta0 as built, rad
   std::vector<double> radial_yield_angle;     // creasing: largest |theta - theta0| kept elastic, rad; +inf: elastic
 
@@ -156,9 +156,9 @@ struct ClothModel {
 };
 
 struct ClothState {
-  double time = 0.0;            // s
-  std::vector<Vec3> position;   // [particle_count()], m
-  std::vector<Vec3> velocity;   // [particle_count()], m/s
+  double time = 0.0;           // s
+  std::vector<Vec3> position;  // [particle_count()], m
+  std::vector<Vec3> velocity;  // [particle_count()], m/s
   // Work done on the sheet since t = 0, integrated alongside the motion so that the energy
   // balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_plastic + W_fracture + W_contact can be
   // checked.
@@ -194,8 +194,8 @@ std::size_t lattice_model_bytes(const LatticeCounts& counts, std::size_t anchors
 // ((j - (cols-1)/2) L, 0, (i - (rows-1)/2) L). Anchors name particles by index; a particle may be
 // anchored once. Throws InputError naming `source` for inconsistent definitions. Every spring is
 // intact, unbreakable and elastic (limits +inf); scene/ sets the limits of a material.
-ClothModel build_lattice(const LatticeDef& lattice, const Environment& environment,
-                         std::span<const Anchor> anchors, const std::string& source = "lattice");
+ClothModel build_lattice(const LatticeDef& lattice, const Environment& environment, std::span<const Anchor> anchors,
+                         const std::string& source = "lattice");
 
 // The flat lattice at rest, anchors at their path positions at time 0.
 ClothState make_rest_state(const ClothModel& model);
@@ -211,8 +211,6 @@ void finish_model(ClothModel& model);
 std::size_t count_pieces(const ClothModel& model);
 
 // Index of particle (row, col).
-inline std::uint32_t lattice_index(int cols, int row, int col) {
-  return static_cast<std::uint32_t>(row * cols + col);
-}
+inline std::uint32_t lattice_index(int cols, int row, int col) { return static_cast<std::uint32_t>(row * cols + col); }
 
 }  // namespace clothsim

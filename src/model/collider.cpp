@@ -13,9 +13,7 @@
 namespace clothsim {
 namespace {
 
-SurfaceDistance plane_distance(const Collider& c, const Vec3& x) {
-  return {dot(x - c.point, c.normal), c.normal, {}};
-}
+SurfaceDistance plane_distance(const Collider& c, const Vec3& x) { return {dot(x - c.point, c.normal), c.normal, {}}; }
 
 // Towards the centre's opposite side when x is at the centre (any direction is nearest; up is
 // the one a falling sheet expects).
@@ -80,15 +78,9 @@ void visit_triangle(const TriangleMesh& mesh, std::size_t t, const Vec3& x, Near
   nearest.point = candidate.point;
   nearest.feature = candidate.feature;
   switch (candidate.feature) {
-    case TriangleFeature::vertex:
-      nearest.pseudonormal = mesh.vertex_pseudonormal[corner[candidate.index]];
-      break;
-    case TriangleFeature::edge:
-      nearest.pseudonormal = mesh.edge_pseudonormal[3 * t + candidate.index];
-      break;
-    case TriangleFeature::face:
-      nearest.pseudonormal = mesh.triangle_normal[t];
-      break;
+    case TriangleFeature::vertex: nearest.pseudonormal = mesh.vertex_pseudonormal[corner[candidate.index]]; break;
+    case TriangleFeature::edge: nearest.pseudonormal = mesh.edge_pseudonormal[3 * t + candidate.index]; break;
+    case TriangleFeature::face: nearest.pseudonormal = mesh.triangle_normal[t]; break;
   }
 }
 
@@ -154,8 +146,8 @@ SurfaceDistance signed_from_nearest(const NearestTriangle& found, const Vec3& x)
   // on or very near the face. At an edge or a corner the offset's direction is the normal, except
   // on the surface itself, where it is undefined and the pseudonormal serves.
   const bool on_surface = distance <= 1e-12 * (1.0 + norm(x));
-  const Vec3 normal = feature == TriangleFeature::face || on_surface ? pseudonormal
-                                                                      : (inside ? -offset : offset) / distance;
+  const Vec3 normal =
+      feature == TriangleFeature::face || on_surface ? pseudonormal : (inside ? -offset : offset) / distance;
   return {inside ? -distance : distance, normal, {}};
 }
 
@@ -185,9 +177,8 @@ void build_node(TriangleMesh& mesh, const std::vector<Vec3>& centroid, std::uint
   const int axis = spread.x >= spread.y && spread.x >= spread.z ? 0 : (spread.y >= spread.z ? 1 : 2);
   const auto begin = mesh.node_triangle.begin() + first;
   const auto middle = begin + count / 2;
-  std::nth_element(begin, middle, begin + count, [&](std::uint32_t i, std::uint32_t j) {
-    return centroid[i][axis] < centroid[j][axis];
-  });
+  std::nth_element(begin, middle, begin + count,
+                   [&](std::uint32_t i, std::uint32_t j) { return centroid[i][axis] < centroid[j][axis]; });
   const auto left = static_cast<std::uint32_t>(mesh.node_low.size());
   for (int k = 0; k < 2; ++k) {
     mesh.node_low.emplace_back();
@@ -224,8 +215,8 @@ void prepare_triangle_mesh(TriangleMesh& mesh) {
     for (std::uint32_t index : corner) {
       CLOTHSIM_ASSERT(index < mesh.vertex.size(), "mesh triangle corner out of range");
     }
-    const Vec3 normal = unit_or_zero(cross(mesh.vertex[corner[1]] - mesh.vertex[corner[0]],
-                                           mesh.vertex[corner[2]] - mesh.vertex[corner[0]]));
+    const Vec3 normal = unit_or_zero(
+        cross(mesh.vertex[corner[1]] - mesh.vertex[corner[0]], mesh.vertex[corner[2]] - mesh.vertex[corner[0]]));
     mesh.triangle_normal[t] = normal;
     for (int k = 0; k < 3; ++k) {
       const Vec3& here = mesh.vertex[corner[k]];
@@ -265,18 +256,10 @@ SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double 
   const Vec3 local = x - shift;
   SurfaceDistance out;
   switch (collider.shape) {
-    case ColliderShape::plane:
-      out = plane_distance(collider, local);
-      break;
-    case ColliderShape::sphere:
-      out = sphere_distance(collider.center, collider.radius, local);
-      break;
-    case ColliderShape::box:
-      out = box_distance(collider, local);
-      break;
-    case ColliderShape::capsule:
-      out = capsule_distance(collider, local);
-      break;
+    case ColliderShape::plane: out = plane_distance(collider, local); break;
+    case ColliderShape::sphere: out = sphere_distance(collider.center, collider.radius, local); break;
+    case ColliderShape::box: out = box_distance(collider, local); break;
+    case ColliderShape::capsule: out = capsule_distance(collider, local); break;
     case ColliderShape::mesh:
       CLOTHSIM_ASSERT(collider.mesh != nullptr, "mesh collider without a mesh");
       assert_prepared(*collider.mesh);

@@ -52,10 +52,10 @@ enum class ColliderShape : std::uint8_t { plane, sphere, box, capsule, mesh };
 // prepare_triangle_mesh() fills the normals and the hierarchy from `vertex` and `triangle`; the
 // mesh reader calls it once, and signed_distance() asserts it has been called.
 struct TriangleMesh {
-  std::vector<Vec3> vertex;                               // m
-  std::vector<std::array<std::uint32_t, 3>> triangle;     // counter-clockwise seen from outside
-  std::vector<Vec3> triangle_normal;                      // [triangle count], unit (zero if degenerate)
-  std::vector<Vec3> vertex_pseudonormal;                  // [vertex count], unit
+  std::vector<Vec3> vertex;                            // m
+  std::vector<std::array<std::uint32_t, 3>> triangle;  // counter-clockwise seen from outside
+  std::vector<Vec3> triangle_normal;                   // [triangle count], unit (zero if degenerate)
+  std::vector<Vec3> vertex_pseudonormal;               // [vertex count], unit
   // [3 per triangle]: edge k of triangle t runs from corner k to corner (k + 1) % 3; unit. A
   // boundary edge (one face) takes that face's normal.
   std::vector<Vec3> edge_pseudonormal;
@@ -72,26 +72,25 @@ inline constexpr std::uint32_t kMeshLeafSize = 4;
 // Fills triangle_normal, the pseudonormals and the hierarchy from vertex and triangle.
 void prepare_triangle_mesh(TriangleMesh& mesh);
 
-
 struct Collider {
   ColliderShape shape = ColliderShape::plane;
-  Vec3 point{0.0, 0.0, 0.0};          // plane: a point on it, m
-  Vec3 normal{0.0, 1.0, 0.0};         // plane: outward unit normal
-  Vec3 center;                        // sphere, box: centre, m
-  double radius = 0.0;                // sphere, capsule: m
-  Vec3 half_extents;                  // box: half sizes along x, y, z, m (axis-aligned)
-  Vec3 a, b;                          // capsule: the segment's ends, m
+  Vec3 point{0.0, 0.0, 0.0};                 // plane: a point on it, m
+  Vec3 normal{0.0, 1.0, 0.0};                // plane: outward unit normal
+  Vec3 center;                               // sphere, box: centre, m
+  double radius = 0.0;                       // sphere, capsule: m
+  Vec3 half_extents;                         // box: half sizes along x, y, z, m (axis-aligned)
+  Vec3 a, b;                                 // capsule: the segment's ends, m
   std::shared_ptr<const TriangleMesh> mesh;  // mesh: shared, never changed after loading
-  std::string mesh_file;              // mesh: the file it was read from (for messages and output)
-  double friction = -1.0;             // Coulomb coefficient; < 0: the scene's collision.friction default
-  AnchorPath path;                    // motion (fixed by default)
+  std::string mesh_file;                     // mesh: the file it was read from (for messages and output)
+  double friction = -1.0;                    // Coulomb coefficient; < 0: the scene's collision.friction default
+  AnchorPath path;                           // motion (fixed by default)
 };
 
 // Collision settings of a scene (scene keys collision.*).
 struct CollisionSettings {
-  double thickness = 0.005;   // m: particles stay this far outside every obstacle, and the sheet from itself
-  bool self = false;          // self-collision on
-  double friction = 0.3;      // Coulomb coefficient of cloth on cloth, and of obstacles without their own
+  double thickness = 0.005;  // m: particles stay this far outside every obstacle, and the sheet from itself
+  bool self = false;         // self-collision on
+  double friction = 0.3;     // Coulomb coefficient of cloth on cloth, and of obstacles without their own
 };
 
 // The Coulomb coefficient between the sheet and `collider`: its own, or the scene's default.

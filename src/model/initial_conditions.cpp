@@ -36,8 +36,8 @@ void apply_initial_conditions(const ClothModel& model, const InitialConditions& 
     const Vec3 dv{random.symmetric(), random.symmetric(), random.symmetric()};
     if (model.is_anchored(p)) continue;
     state.position[p] += initial.position_noise * dx;
-    state.velocity[p] = initial.velocity + cross(initial.angular_velocity, state.position[p] - centre) +
-                        initial.velocity_noise * dv;
+    state.velocity[p] =
+        initial.velocity + cross(initial.angular_velocity, state.position[p] - centre) + initial.velocity_noise * dv;
   }
 }
 

@@ -9,8 +9,8 @@
 namespace clothsim {
 
 struct InitialConditions {
-  Vec3 velocity;              // uniform velocity of every free particle, m/s
-  Vec3 angular_velocity;      // rigid spin about the lattice centre, rad/s (axis * rate)
+  Vec3 velocity;                // uniform velocity of every free particle, m/s
+  Vec3 angular_velocity;        // rigid spin about the lattice centre, rad/s (axis * rate)
   double position_noise = 0.0;  // each free coordinate moved by a uniform value in [-a, a], m
   double velocity_noise = 0.0;  // each free velocity component changed likewise, m/s
   std::uint64_t seed = 1;       // seed of the perturbation; the same seed gives the same sheet

@@ -72,8 +72,7 @@ std::size_t add_collider(ClothModel& model, const Collider& collider);
 // surface velocity from the path, so a collider moved this way pushes the sheet ahead of it, and
 // one that jumped would pass through particles without touching them. A scene path the collider
 // had is replaced. Not for meshes (their vertices are shared and never change).
-void drive_collider(ClothModel& model, std::size_t collider, const Vec3& displacement, double now,
-                    double arrival_time);
+void drive_collider(ClothModel& model, std::size_t collider, const Vec3& displacement, double now, double arrival_time);
 // Moves collider `collider` by `displacement` at once, and holds it there (a drag while paused,
 // when no time passes): particles it now overlaps are pushed out through its nearest surface at
 // the next step. Not for meshes.

@@ -134,7 +134,8 @@ void transfer_model_changes(StateArchive& archive, ClothModel& model) {
       const std::int32_t a = model.particle_anchor[p];
       if (a < 0) continue;
       ++anchored;
-      if (static_cast<std::size_t>(a) >= model.anchors.size() || model.anchors[static_cast<std::size_t>(a)].particle != p) {
+      if (static_cast<std::size_t>(a) >= model.anchors.size() ||
+          model.anchors[static_cast<std::size_t>(a)].particle != p) {
         throw std::runtime_error("field 'particle_anchor' names anchor " + std::to_string(a) + " for particle " +
                                  std::to_string(p) + ", which that anchor does not hold");
       }

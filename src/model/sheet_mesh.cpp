@@ -28,9 +28,10 @@ std::vector<std::array<std::uint32_t, 3>> grid_triangles(int grid_rows, int grid
 }
 
 std::vector<std::array<std::uint32_t, 3>> lattice_triangles(const ClothModel& model) {
-  CLOTHSIM_ASSERT(model.rows >= 1 && model.cols >= 1 &&
-                      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == model.particle_count(),
-                  "the model is a rows x cols lattice");
+  CLOTHSIM_ASSERT(
+      model.rows >= 1 && model.cols >= 1 &&
+          static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == model.particle_count(),
+      "the model is a rows x cols lattice");
   return grid_triangles(model.rows, model.cols);
 }
 
@@ -61,7 +62,8 @@ void compute_vertex_normals(std::span<const Vec3> position, std::span<const std:
 
 }  // namespace
 
-std::vector<Vec3> vertex_normals(std::span<const Vec3> position, std::span<const std::array<std::uint32_t, 3>> triangles) {
+std::vector<Vec3> vertex_normals(std::span<const Vec3> position,
+                                 std::span<const std::array<std::uint32_t, 3>> triangles) {
   std::vector<Vec3> normal;
   compute_vertex_normals(position, triangles, normal);
   return normal;
@@ -110,8 +112,7 @@ std::array<double, 2> sheet_vertex_lattice_coordinate(const ClothModel& model, c
                                  static_cast<double>(particle % static_cast<std::uint32_t>(cols))};
   };
   switch (source.kind) {
-    case SheetVertexKind::particle:
-      return of_particle(source.index);
+    case SheetVertexKind::particle: return of_particle(source.index);
     case SheetVertexKind::connector_midpoint:
     case SheetVertexKind::connector_end: {
       const auto [a, b] = model.connector_particles[source.index];
@@ -406,9 +407,7 @@ void build_sheet_mesh(const ClothModel& model, std::span<const Vec3> position, S
       const SheetVertexSource& source = mesh.vertex_source[v];
       Vec3& at = mesh.vertex_position[v];
       switch (source.kind) {
-        case SheetVertexKind::particle:
-          at = position[source.index];
-          break;
+        case SheetVertexKind::particle: at = position[source.index]; break;
         case SheetVertexKind::connector_midpoint: {
           const auto [a, b] = model.connector_particles[source.index];
           at = 0.5 * (position[a] + position[b]);

@@ -101,7 +101,8 @@ std::vector<std::array<std::uint32_t, 3>> lattice_triangles(const ClothModel& mo
 // area-weighted mean of the incident face normals. A vertex with no incident area (no faces, or
 // all degenerate, or a non-finite sum) gets (0, 1, 0), the rest lattice's normal, so renderers
 // never see a NaN.
-std::vector<Vec3> vertex_normals(std::span<const Vec3> position, std::span<const std::array<std::uint32_t, 3>> triangles);
+std::vector<Vec3> vertex_normals(std::span<const Vec3> position,
+                                 std::span<const std::array<std::uint32_t, 3>> triangles);
 // The same, for particle positions of `model` [particle_count()].
 std::vector<Vec3> vertex_normals(const ClothModel& model, std::span<const Vec3> position,
                                  std::span<const std::array<std::uint32_t, 3>> triangles);
@@ -159,7 +160,8 @@ struct SheetMesh {
   // sim/memory_estimate.h; a torn sheet has a few more vertices and triangles).
   static constexpr std::size_t bytes_for(std::size_t rows, std::size_t cols) {
     const std::size_t cells = rows > 0 && cols > 0 ? (rows - 1) * (cols - 1) : 0;
-    return rows * cols * (2 * sizeof(Vec3) + sizeof(SheetVertexSource)) + 2 * cells * sizeof(std::array<std::uint32_t, 3>);
+    return rows * cols * (2 * sizeof(Vec3) + sizeof(SheetVertexSource)) +
+           2 * cells * sizeof(std::array<std::uint32_t, 3>);
   }
 };
 

@@ -63,15 +63,15 @@ struct Camera {
 
   static constexpr double kMaxElevation = 1.55;  // rad, just under pi/2
 
-  Vec3 eye() const;       // eye position, m
-  Vec3 forward() const;   // unit vector from the eye to the target
-  Vec3 right() const;     // unit, horizontal, to the right of the view
-  Vec3 up() const;        // unit, the image's up direction (right x forward ... orthonormal)
+  Vec3 eye() const;      // eye position, m
+  Vec3 forward() const;  // unit vector from the eye to the target
+  Vec3 right() const;    // unit, horizontal, to the right of the view
+  Vec3 up() const;       // unit, the image's up direction (right x forward ... orthonormal)
   double near_plane() const;
   double far_plane() const;
 
-  Mat4 view() const;                       // world -> eye
-  Mat4 projection(double aspect) const;    // eye -> clip; aspect = width / height
+  Mat4 view() const;                     // world -> eye
+  Mat4 projection(double aspect) const;  // eye -> clip; aspect = width / height
   Mat4 view_projection(double aspect) const { return projection(aspect) * view(); }
 
   // Interaction (the viewer maps mouse motion onto these).

@@ -42,11 +42,8 @@ void include_colliders(Box& box, const ClothModel& model, double time) {
     const Vec3 shift = collider.path.position(time) - collider.path.position(0.0);
     const Vec3 r{collider.radius, collider.radius, collider.radius};
     switch (collider.shape) {
-      case ColliderShape::plane:
-        break;
-      case ColliderShape::sphere:
-        include(box, collider.center + shift - r, collider.center + shift + r);
-        break;
+      case ColliderShape::plane: break;
+      case ColliderShape::sphere: include(box, collider.center + shift - r, collider.center + shift + r); break;
       case ColliderShape::box:
         include(box, collider.center + shift - collider.half_extents, collider.center + shift + collider.half_extents);
         break;
@@ -62,8 +59,8 @@ void include_colliders(Box& box, const ClothModel& model, double time) {
 }
 
 std::array<Vec3, 8> corners(const Vec3& low, const Vec3& high) {
-  return {Vec3{low.x, low.y, low.z}, Vec3{high.x, low.y, low.z}, Vec3{low.x, high.y, low.z},
-          Vec3{high.x, high.y, low.z}, Vec3{low.x, low.y, high.z}, Vec3{high.x, low.y, high.z},
+  return {Vec3{low.x, low.y, low.z},   Vec3{high.x, low.y, low.z},  Vec3{low.x, high.y, low.z},
+          Vec3{high.x, high.y, low.z}, Vec3{low.x, low.y, high.z},  Vec3{high.x, low.y, high.z},
           Vec3{low.x, high.y, high.z}, Vec3{high.x, high.y, high.z}};
 }
 

@@ -39,7 +39,7 @@ struct CameraChoice {
   double azimuth = 0.6109;    // rad (35 degrees): from the front right
   double elevation = 0.4363;  // rad (25 degrees) above the horizon
   double distance = 0.0;      // m, for CameraMode::fixed
-  double follow_time = 0.25;   // s of simulated time, for CameraMode::follow
+  double follow_time = 0.25;  // s of simulated time, for CameraMode::follow
 };
 
 class CameraDirector {
@@ -59,7 +59,7 @@ class CameraDirector {
   Camera camera_;
   bool started_ = false;
   double last_time_ = 0.0;
-  Vec3 low_;   // bounding box of everything seen so far
+  Vec3 low_;  // bounding box of everything seen so far
   Vec3 high_;
   double ground_height_ = 0.0;
 };

@@ -88,8 +88,9 @@ bool initialise(EGLDisplay display) {
 Display open_display() {
   const char* client = eglQueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
   const bool platform_base = has_extension(client, "EGL_EXT_platform_base");
-  const std::vector<EGLDeviceEXT> devices =
-      platform_base && has_extension(client, "EGL_EXT_platform_device") ? egl_devices(client) : std::vector<EGLDeviceEXT>{};
+  const std::vector<EGLDeviceEXT> devices = platform_base && has_extension(client, "EGL_EXT_platform_device")
+                                                ? egl_devices(client)
+                                                : std::vector<EGLDeviceEXT>{};
   auto is_software = [](EGLDeviceEXT device) {
     return has_extension(eglQueryDeviceStringEXT(device, EGL_EXTENSIONS), "EGL_MESA_device_software");
   };
@@ -158,7 +159,8 @@ struct HeadlessContext::Impl {
       glBindFramebuffer(GL_FRAMEBUFFER, framebuffer);
       const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
       if (status != GL_FRAMEBUFFER_COMPLETE) {
-        fail("the " + std::to_string(width) + "x" + std::to_string(height) + " offscreen framebuffer is incomplete (status 0x" +
+        fail("the " + std::to_string(width) + "x" + std::to_string(height) +
+             " offscreen framebuffer is incomplete (status 0x" +
              [status] {
                char hex[16];
                std::snprintf(hex, sizeof hex, "%x", status);
@@ -173,7 +175,8 @@ struct HeadlessContext::Impl {
 
 HeadlessContext::HeadlessContext(int width, int height, int samples) : impl_(std::make_unique<Impl>()) {
   Impl& impl = *impl_;
-  if (width <= 0 || height <= 0) fail("image size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive");
+  if (width <= 0 || height <= 0)
+    fail("image size " + std::to_string(width) + "x" + std::to_string(height) + " is not positive");
   impl.width = width;
   impl.height = height;
   impl.display = open_display();
@@ -191,8 +194,9 @@ HeadlessContext::HeadlessContext(int width, int height, int samples) : impl_(std
     }
     config = EGL_NO_CONFIG_KHR;
   }
-  const EGLint context_attributes[] = {EGL_CONTEXT_MAJOR_VERSION, 3, EGL_CONTEXT_MINOR_VERSION, 3,
-                                       EGL_CONTEXT_OPENGL_PROFILE_MASK, EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
+  const EGLint context_attributes[] = {
+      EGL_CONTEXT_MAJOR_VERSION,           3,       EGL_CONTEXT_MINOR_VERSION, 3, EGL_CONTEXT_OPENGL_PROFILE_MASK,
+      EGL_CONTEXT_OPENGL_CORE_PROFILE_BIT, EGL_NONE};
   impl.context = eglCreateContext(display, config, EGL_NO_CONTEXT, context_attributes);
   if (impl.context == EGL_NO_CONTEXT) {
     fail("no OpenGL 3.3 core context (" + egl_error_name(eglGetError()) + ") on " + impl.display.platform);
@@ -257,7 +261,8 @@ void HeadlessContext::read(Image& image) {
   }
   glBindFramebuffer(GL_FRAMEBUFFER, impl.draw_framebuffer);
   const GLenum error = glGetError();
-  if (error != GL_NO_ERROR) throw RenderError("reading the offscreen image failed: OpenGL error " + std::to_string(error));
+  if (error != GL_NO_ERROR)
+    throw RenderError("reading the offscreen image failed: OpenGL error " + std::to_string(error));
 }
 
 std::string HeadlessContext::description() const {

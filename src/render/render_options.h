@@ -42,9 +42,9 @@ struct RenderOptions {
   // A particle to mark (e.g. under the mouse, or being dragged), or -1 for none.
   std::int64_t highlighted_particle = -1;
 
-  Colour front_colour{0.85f, 0.33f, 0.18f};    // the side whose rest normal is +y: terracotta
-  Colour back_colour{0.20f, 0.45f, 0.80f};     // the other side: blue
-  Colour anchor_colour{1.00f, 0.85f, 0.10f};   // anchors: yellow, contrasting with both sides
+  Colour front_colour{0.85f, 0.33f, 0.18f};      // the side whose rest normal is +y: terracotta
+  Colour back_colour{0.20f, 0.45f, 0.80f};       // the other side: blue
+  Colour anchor_colour{1.00f, 0.85f, 0.10f};     // anchors: yellow, contrasting with both sides
   Colour highlight_colour{0.10f, 0.95f, 0.35f};  // highlighted particle: green
   Colour connector_colour{0.10f, 0.10f, 0.10f};
   Colour radial_colour{0.75f, 0.10f, 0.75f};

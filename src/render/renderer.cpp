@@ -386,9 +386,7 @@ void append_collider(const Collider& collider, const Vec3& shift, const Vec3& fo
 }
 
 // An upward horizontal plane: the floor, drawn instead of the ground grid.
-bool is_floor(const Collider& collider) {
-  return collider.shape == ColliderShape::plane && collider.normal.y > 0.999;
-}
+bool is_floor(const Collider& collider) { return collider.shape == ColliderShape::plane && collider.normal.y > 0.999; }
 
 }  // namespace
 
@@ -697,7 +695,8 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
     glUniform1f(glGetUniformLocation(impl.lit_sphere, "radius"), static_cast<float>(sphere_radius));
     glBindVertexArray(impl.sphere.array);
     glBindBuffer(GL_ARRAY_BUFFER, impl.sphere_instances);
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(centres.size() * sizeof(float)), centres.data(), GL_STREAM_DRAW);
+    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(centres.size() * sizeof(float)), centres.data(),
+                 GL_STREAM_DRAW);
     const auto instances = static_cast<GLsizei>(centres.size() / 3);
     // Visible parts, opaque.
     glUniform1f(glGetUniformLocation(impl.lit_sphere, "opacity"), 1.0f);

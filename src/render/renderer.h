@@ -40,8 +40,8 @@ class Renderer {
   // framebuffer's rectangle (0, 0, width, height), with the model's colliders where their paths
   // put them at `time` (s; the state's time). Non-finite positions are drawn as they are (the GPU
   // discards such triangles); they never raise.
-  void draw(const ClothModel& model, std::span<const Vec3> position, const RenderOptions& options,
-            const Camera& camera, int width, int height, double time = 0.0);
+  void draw(const ClothModel& model, std::span<const Vec3> position, const RenderOptions& options, const Camera& camera,
+            int width, int height, double time = 0.0);
 
   // The ground height draw() uses when options.ground_height is unset: the lowest y of
   // `position` minus a small gap (5% of the sheet's extent, at least one spacing).

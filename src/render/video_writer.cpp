@@ -57,8 +57,9 @@ pid_t spawn(const std::vector<std::string>& arguments, int stdin_fd, int output_
   posix_spawnattr_destroy(&attributes);
   posix_spawn_file_actions_destroy(&actions);
   if (error != 0) {
-    throw RenderError("cannot run '" + arguments[0] + "': " + std::strerror(error) +
-                      (error == ENOENT ? " (is ffmpeg installed? install it, or use --render none or --render image)" : ""));
+    throw RenderError(
+        "cannot run '" + arguments[0] + "': " + std::strerror(error) +
+        (error == ENOENT ? " (is ffmpeg installed? install it, or use --render none or --render image)" : ""));
   }
   return pid;
 }
@@ -134,7 +135,8 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, int fps
   if (width <= 0 || height <= 0 || fps <= 0) throw RenderError(path + ": video size and fps must be positive");
 
   impl.log = std::tmpfile();
-  if (impl.log == nullptr) throw RenderError(path + ": cannot create a temporary file for ffmpeg's messages: " + std::strerror(errno));
+  if (impl.log == nullptr)
+    throw RenderError(path + ": cannot create a temporary file for ffmpeg's messages: " + std::strerror(errno));
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) {
     std::fclose(impl.log);
@@ -148,8 +150,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, int fps
       // yuv420p needs even sides: pad an odd width or height by one pixel.
       "-vf", "pad=ceil(iw/2)*2:ceil(ih/2)*2", "-an",
       // H.264, visually lossless for flat-shaded pictures, playable everywhere.
-      "-c:v", "libx264", "-preset", "fast", "-crf", "18", "-pix_fmt", "yuv420p", "-movflags", "+faststart",
-      path};
+      "-c:v", "libx264", "-preset", "fast", "-crf", "18", "-pix_fmt", "yuv420p", "-movflags", "+faststart", path};
   try {
     impl.pid = spawn(arguments, fds[0], ::fileno(impl.log));
   } catch (...) {

@@ -29,16 +29,11 @@ std::string_view path_kind_name(AnchorPathKind kind) {
 // Keys of a path object; the first is "type", the others belong to the path kind.
 std::vector<std::string> path_keys(AnchorPathKind kind) {
   switch (kind) {
-    case AnchorPathKind::fixed:
-      return {"type"};
-    case AnchorPathKind::linear:
-      return {"type", "velocity"};
-    case AnchorPathKind::sinusoid:
-      return {"type", "amplitude", "frequency", "phase"};
-    case AnchorPathKind::keyframes:
-      return {"type", "keys"};
-    case AnchorPathKind::driven:
-      break;  // not a scene-file path (path_kind_name)
+    case AnchorPathKind::fixed: return {"type"};
+    case AnchorPathKind::linear: return {"type", "velocity"};
+    case AnchorPathKind::sinusoid: return {"type", "amplitude", "frequency", "phase"};
+    case AnchorPathKind::keyframes: return {"type", "keys"};
+    case AnchorPathKind::driven: break;  // not a scene-file path (path_kind_name)
   }
   return {"type"};
 }
@@ -218,11 +213,8 @@ json anchor_path_to_json(const AnchorPath& anchor_path) {
   const auto vector_json = [](const Vec3& v) { return json::array({v.x, v.y, v.z}); };
   json path = {{"type", path_kind_name(anchor_path.kind)}};
   switch (anchor_path.kind) {
-    case AnchorPathKind::fixed:
-      break;
-    case AnchorPathKind::linear:
-      path["velocity"] = vector_json(anchor_path.velocity);
-      break;
+    case AnchorPathKind::fixed: break;
+    case AnchorPathKind::linear: path["velocity"] = vector_json(anchor_path.velocity); break;
     case AnchorPathKind::sinusoid:
       path["amplitude"] = vector_json(anchor_path.amplitude);
       path["frequency"] = anchor_path.frequency;
@@ -234,8 +226,7 @@ json anchor_path_to_json(const AnchorPath& anchor_path) {
         path["keys"].push_back(json::array({key.time, key.offset.x, key.offset.y, key.offset.z}));
       }
       break;
-    case AnchorPathKind::driven:
-      break;  // unreachable: path_kind_name() rejects it above
+    case AnchorPathKind::driven: break;  // unreachable: path_kind_name() rejects it above
   }
   return path;
 }

@@ -53,8 +53,7 @@ SceneSpec paper_fig6() {
 SceneSpec drape_corners() {
   SceneSpec spec;
   spec.name = "drape-corners";
-  spec.description =
-      "A 25 x 25 sheet of the paper's material hung by the two corners of row 0, draping under gravity.";
+  spec.description = "A 25 x 25 sheet of the paper's material hung by the two corners of row 0, draping under gravity.";
   spec.lattice.rows = 25;
   spec.lattice.cols = 25;
   parse_anchor_preset("edge-corners", spec.lattice, spec.anchors);
@@ -381,8 +380,8 @@ SceneSpec load_scene(const std::string& file_or_name) {
     // "paper-fig7" is more likely a mistyped built-in than a missing file: say both.
     const bool unreadable = error.field().empty() && error.reason().starts_with("cannot read file");
     if (!unreadable || !looks_like_scene_name(file_or_name)) throw;
-    throw InputError(file_or_name, "", error.reason() + "; it is not a built-in scene either (built-ins: " +
-                                           builtin_names() + ")");
+    throw InputError(file_or_name, "",
+                     error.reason() + "; it is not a built-in scene either (built-ins: " + builtin_names() + ")");
   }
 }
 

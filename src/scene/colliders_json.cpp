@@ -33,21 +33,11 @@ std::string_view shape_name(ColliderShape shape) { return kShapeNames[static_cas
 std::vector<std::string> shape_keys(ColliderShape shape) {
   std::vector<std::string> keys = {"type", "friction", "path"};
   switch (shape) {
-    case ColliderShape::plane:
-      keys.insert(keys.end(), {"point", "normal"});
-      break;
-    case ColliderShape::sphere:
-      keys.insert(keys.end(), {"center", "radius"});
-      break;
-    case ColliderShape::box:
-      keys.insert(keys.end(), {"center", "half_extents"});
-      break;
-    case ColliderShape::capsule:
-      keys.insert(keys.end(), {"a", "b", "radius"});
-      break;
-    case ColliderShape::mesh:
-      keys.insert(keys.end(), {"file", "scale", "translate"});
-      break;
+    case ColliderShape::plane: keys.insert(keys.end(), {"point", "normal"}); break;
+    case ColliderShape::sphere: keys.insert(keys.end(), {"center", "radius"}); break;
+    case ColliderShape::box: keys.insert(keys.end(), {"center", "half_extents"}); break;
+    case ColliderShape::capsule: keys.insert(keys.end(), {"a", "b", "radius"}); break;
+    case ColliderShape::mesh: keys.insert(keys.end(), {"file", "scale", "translate"}); break;
   }
   return keys;
 }
@@ -55,16 +45,11 @@ std::vector<std::string> shape_keys(ColliderShape shape) {
 // The keys a shape needs; the others of shape_keys() are optional.
 std::vector<std::string> required_keys(ColliderShape shape) {
   switch (shape) {
-    case ColliderShape::plane:
-      return {"normal"};  // point defaults to the origin
-    case ColliderShape::sphere:
-      return {"center", "radius"};
-    case ColliderShape::box:
-      return {"center", "half_extents"};
-    case ColliderShape::capsule:
-      return {"a", "b", "radius"};
-    case ColliderShape::mesh:
-      return {"file"};
+    case ColliderShape::plane: return {"normal"};  // point defaults to the origin
+    case ColliderShape::sphere: return {"center", "radius"};
+    case ColliderShape::box: return {"center", "half_extents"};
+    case ColliderShape::capsule: return {"a", "b", "radius"};
+    case ColliderShape::mesh: return {"file"};
   }
   return {};
 }

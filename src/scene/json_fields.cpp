@@ -47,22 +47,14 @@ bool contains_name(const std::vector<std::string>& names, std::string_view name)
 std::string describe_json(const json& value) {
   switch (value.type()) {
     case json::value_t::number_integer:
-    case json::value_t::number_unsigned:
-      return value.dump();
-    case json::value_t::number_float:
-      return format_number(value.get<double>());
-    case json::value_t::string:
-      return "string " + shorten(value.dump());
-    case json::value_t::boolean:
-      return std::string("boolean ") + (value.get<bool>() ? "true" : "false");
-    case json::value_t::null:
-      return "null";
-    case json::value_t::array:
-      return "array " + shorten(value.dump());
-    case json::value_t::object:
-      return "object " + shorten(value.dump());
-    default:
-      return shorten(value.dump());
+    case json::value_t::number_unsigned: return value.dump();
+    case json::value_t::number_float: return format_number(value.get<double>());
+    case json::value_t::string: return "string " + shorten(value.dump());
+    case json::value_t::boolean: return std::string("boolean ") + (value.get<bool>() ? "true" : "false");
+    case json::value_t::null: return "null";
+    case json::value_t::array: return "array " + shorten(value.dump());
+    case json::value_t::object: return "object " + shorten(value.dump());
+    default: return shorten(value.dump());
   }
 }
 
@@ -212,7 +204,7 @@ bool is_utf8(std::string_view text, std::size_t* bad_at) {
     const auto byte = [&](std::size_t k) { return static_cast<unsigned char>(text[k]); };
     const unsigned char lead = byte(i);
     std::size_t length = 0;
-    unsigned char low = 0x80;  // the allowed range of the second byte, which rules out overlong
+    unsigned char low = 0x80;   // the allowed range of the second byte, which rules out overlong
     unsigned char high = 0xBF;  // forms, surrogates and code points past U+10FFFF
     if (lead < 0x80) {
       length = 1;
@@ -339,9 +331,7 @@ class DuplicateKeyCheck {
         break;
       }
       case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        containers_.pop_back();
-        break;
+      case json::parse_event_t::array_end: containers_.pop_back(); break;
       case json::parse_event_t::key: {
         Container& object = containers_.back();
         object.last_key = parsed.get<std::string>();
@@ -350,9 +340,7 @@ class DuplicateKeyCheck {
         }
         break;
       }
-      case json::parse_event_t::value:
-        start_element();
-        break;
+      case json::parse_event_t::value: start_element(); break;
     }
     return true;
   }

@@ -10,9 +10,9 @@
 namespace clothsim {
 namespace {
 
-constexpr ValueRange kCountRange = closed_range(1.0, 4096.0);       // lattice rows and columns
-constexpr ValueRange kSpringRange = closed_range(0.0, 1e9);         // stiffness and damping
-constexpr ValueRange kRestAngleRange = closed_range(0.0, 180.0);    // degrees
+constexpr ValueRange kCountRange = closed_range(1.0, 4096.0);        // lattice rows and columns
+constexpr ValueRange kSpringRange = closed_range(0.0, 1e9);          // stiffness and damping
+constexpr ValueRange kRestAngleRange = closed_range(0.0, 180.0);     // degrees
 constexpr ValueRange kStrainLimitRange = left_open_range(0.0, 1e6);  // break and yield strains
 constexpr ValueRange kVariationRange = {0.0, 1.0, true, false};      // [0, 1)
 constexpr ValueRange kHardeningRange = closed_range(0.0, 1e6);
@@ -212,8 +212,7 @@ constexpr std::array kScalarParameters = {
 
 constexpr std::array kVectorParameters = {
     VectorParameter{"environment.gravity", "m/s^2", closed_range(-1000.0, 1000.0),
-                    "gravitational acceleration (y is up)",
-                    [](const SceneSpec& s) { return s.environment.gravity; },
+                    "gravitational acceleration (y is up)", [](const SceneSpec& s) { return s.environment.gravity; },
                     [](SceneSpec& s, const Vec3& v) { s.environment.gravity = v; }},
     VectorParameter{"initial.velocity", "m/s", closed_range(-1e4, 1e4),
                     "uniform initial velocity of every free particle",
@@ -269,8 +268,8 @@ constexpr std::array kMaterialParameters = {
                       [](MaterialDef& m, double v) { m.opposite_yield_angle = degrees_to_radians(v); }},
 };
 
-constexpr std::array<std::string_view, 9> kSpecialKeys = {"name",      "description", "paper_args",
-                                                          "material",  "anchors",     "cuts",
+constexpr std::array<std::string_view, 9> kSpecialKeys = {"name",      "description",       "paper_args",
+                                                          "material",  "anchors",           "cuts",
                                                           "colliders", "integrator.method", "output.export"};
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".
@@ -341,20 +340,16 @@ std::string format_number(double value) {
 }
 
 std::string describe_range(const ValueRange& range) {
-  return std::string(range.min_inclusive ? "[" : "(") + format_number(range.min) + ", " +
-         format_number(range.max) + (range.max_inclusive ? "]" : ")");
+  return std::string(range.min_inclusive ? "[" : "(") + format_number(range.min) + ", " + format_number(range.max) +
+         (range.max_inclusive ? "]" : ")");
 }
 
 std::string describe_allowed(ParameterType type, const ValueRange& range) {
   switch (type) {
-    case ParameterType::boolean:
-      return "a boolean (true or false)";
-    case ParameterType::integer:
-      return "an integer in " + describe_range(range);
-    case ParameterType::limit:
-      return "a number in " + describe_range(range) + " or none (never)";
-    case ParameterType::real:
-      break;
+    case ParameterType::boolean: return "a boolean (true or false)";
+    case ParameterType::integer: return "an integer in " + describe_range(range);
+    case ParameterType::limit: return "a number in " + describe_range(range) + " or none (never)";
+    case ParameterType::real: break;
   }
   return "a number in " + describe_range(range);
 }

@@ -53,7 +53,7 @@ constexpr ValueRange closed_range(double min, double max) { return {min, max, tr
 constexpr ValueRange left_open_range(double min, double max) { return {min, max, false, true}; }
 
 struct ScalarParameter {
-  std::string_view key;          // dotted scene-file key
+  std::string_view key;  // dotted scene-file key
   ParameterType type;
   std::string_view unit;         // SI unit as written in the docs; "" for counts and ratios
   ValueRange range;              // in the file's unit (degrees for rest angles)

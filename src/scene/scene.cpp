@@ -102,9 +102,9 @@ struct SceneReader {
   const std::string& source;
   const std::string& base_folder;  // where mesh files are found
   SceneSpec spec;
-  const json* anchors = nullptr;  // read last: presets and index ranges need the final lattice
+  const json* anchors = nullptr;    // read last: presets and index ranges need the final lattice
   const json* colliders = nullptr;  // read once after both passes: meshes are files
-  const json* material = nullptr;  // applied after the first pass: it needs the final spacing
+  const json* material = nullptr;   // applied after the first pass: it needs the final spacing
 
   void read_object(const json& object, const std::string& prefix);
   void read_member(const std::string& key, const json& value);
@@ -162,10 +162,8 @@ void SceneReader::read_member(const std::string& key, const json& value) {
 
 std::string_view to_string(ExportFormat format) {
   switch (format) {
-    case ExportFormat::pc2:
-      return "pc2";
-    case ExportFormat::obj_sequence:
-      return "obj-sequence";
+    case ExportFormat::pc2: return "pc2";
+    case ExportFormat::obj_sequence: return "obj-sequence";
   }
   return "unknown";
 }
@@ -261,7 +259,8 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
   } else if (key == "material") {
     const std::string_view text = trim(value);
     // A preset name goes into a JSON string, which must be UTF-8 (its error message quotes it).
-    const json material = text.starts_with('{') ? parse_json(text, source) : json(read_text_string(text, source, field));
+    const json material =
+        text.starts_with('{') ? parse_json(text, source) : json(read_text_string(text, source, field));
     set_scene_material(spec, read_material(material, source, field), source);
   } else if (key == "cuts") {
     spec.cuts = read_cuts(parse_json(trim(value), source), source);
@@ -303,18 +302,10 @@ json scene_to_json(const SceneSpec& spec) {
   for (const ScalarParameter& parameter : scalar_parameters()) {
     const double value = parameter.get(spec);
     switch (parameter.type) {
-      case ParameterType::integer:
-        at(parameter.key) = static_cast<std::int64_t>(value);
-        break;
-      case ParameterType::boolean:
-        at(parameter.key) = value != 0.0;
-        break;
-      case ParameterType::real:
-        at(parameter.key) = value;
-        break;
-      case ParameterType::limit:
-        at(parameter.key) = value == kInfinity ? json(nullptr) : json(value);
-        break;
+      case ParameterType::integer: at(parameter.key) = static_cast<std::int64_t>(value); break;
+      case ParameterType::boolean: at(parameter.key) = value != 0.0; break;
+      case ParameterType::real: at(parameter.key) = value; break;
+      case ParameterType::limit: at(parameter.key) = value == kInfinity ? json(nullptr) : json(value); break;
     }
   }
   // Written with the keys it set: on reading, those keys override it with the same values.

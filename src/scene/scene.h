@@ -52,7 +52,7 @@ struct CutSpec {
 // written rather than the mesh's world coordinates.
 struct ColliderSpec {
   Collider collider;
-  std::string mesh_file;  // mesh: "file" as written, relative to the scene file's folder
+  std::string mesh_file;    // mesh: "file" as written, relative to the scene file's folder
   double mesh_scale = 1.0;  // mesh: uniform scale applied to the file's coordinates
   Vec3 mesh_translate;      // mesh: m, added after scaling
 };
@@ -69,9 +69,9 @@ std::string_view to_string(ExportFormat format);
 bool parse_export_format(std::string_view text, ExportFormat& format);
 
 struct OutputSettings {
-  double duration = 20.0;        // simulated time to run, s; with until_rest, the upper limit
-  int fps = 60;                  // frames written per simulated second
-  bool until_rest = false;       // stop once the sheet is at rest (below)
+  double duration = 20.0;             // simulated time to run, s; with until_rest, the upper limit
+  int fps = 60;                       // frames written per simulated second
+  bool until_rest = false;            // stop once the sheet is at rest (below)
   double rest_kinetic_energy = 1e-6;  // J
   // At rest: the kinetic energy below rest_kinetic_energy at every frame for this long, s. A
   // single frame is not enough: a sheet bouncing as a whole passes through zero kinetic energy at
@@ -95,7 +95,7 @@ struct SceneSpec {
   std::optional<MaterialDef> material{};
   Environment environment;
   std::vector<AnchorSpec> anchors;
-  std::vector<CutSpec> cuts;  // notches cut before the run
+  std::vector<CutSpec> cuts;            // notches cut before the run
   std::vector<ColliderSpec> colliders;  // obstacles (issue 8)
   CollisionSettings collision;
   InitialConditions initial;

@@ -25,9 +25,8 @@ void check_self_collision_thickness(const SceneSpec& spec, const std::string& so
   const double thickness = spec.collision.thickness;
   if (thickness < limit) return;
   fail(source, "collision.thickness",
-       "must be below half the lattice spacing (" + format_number(limit) +
-           " m) when collision.self is on, got " + format_number(thickness) +
-           " (lower it with --thickness, or use fewer, larger lattice cells)");
+       "must be below half the lattice spacing (" + format_number(limit) + " m) when collision.self is on, got " +
+           format_number(thickness) + " (lower it with --thickness, or use fewer, larger lattice cells)");
 }
 
 }  // namespace
@@ -47,16 +46,17 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     const Vec3 value = parameter.get(spec);
     for (int axis = 0; axis < 3; ++axis) {
       if (!parameter.component_range.contains(value[axis])) {
-        fail(source, std::string(parameter.key) + "[" + std::to_string(axis) + "]",
-             "must be a number in " + describe_range(parameter.component_range) + ", got " +
-                 format_number(value[axis]));
+        fail(
+            source, std::string(parameter.key) + "[" + std::to_string(axis) + "]",
+            "must be a number in " + describe_range(parameter.component_range) + ", got " + format_number(value[axis]));
       }
     }
   }
   const LatticeDef& lattice = spec.lattice;
   if (static_cast<long long>(lattice.rows) * lattice.cols < 2) {
-    fail(source, "lattice.rows", "lattice.rows x lattice.cols must be at least 2 particles, got " +
-                                     std::to_string(lattice.rows) + " x " + std::to_string(lattice.cols));
+    fail(source, "lattice.rows",
+         "lattice.rows x lattice.cols must be at least 2 particles, got " + std::to_string(lattice.rows) + " x " +
+             std::to_string(lattice.cols));
   }
   if (yields_after_breaking(lattice.limits.yield_strain, lattice.limits.break_strain)) {
     fail(source, "springs.connector.yield_strain",
@@ -75,12 +75,14 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
   }
   const IntegratorSettings& integrator = spec.integrator;
   if (integrator.min_step > integrator.max_step) {
-    fail(source, "integrator.min_step", "must be <= integrator.max_step (" + format_number(integrator.max_step) +
-                                            "), got " + format_number(integrator.min_step));
+    fail(source, "integrator.min_step",
+         "must be <= integrator.max_step (" + format_number(integrator.max_step) + "), got " +
+             format_number(integrator.min_step));
   }
   if (integrator.min_step > integrator.time_step) {
-    fail(source, "integrator.min_step", "must be <= integrator.time_step (" + format_number(integrator.time_step) +
-                                            "), got " + format_number(integrator.min_step));
+    fail(source, "integrator.min_step",
+         "must be <= integrator.time_step (" + format_number(integrator.time_step) + "), got " +
+             format_number(integrator.min_step));
   }
   // Anchors: inside the lattice, each particle at most once. A map over the anchors, not an array
   // over the particles: a 4096 x 4096 lattice would need 64 MiB to check two anchors.
@@ -92,8 +94,9 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     const std::uint32_t particle = lattice_index(lattice.cols, anchor.row, anchor.col);
     const auto [previous, inserted] = anchor_of_particle.emplace(particle, i);
     if (!inserted) {
-      fail(source, field, "particle (row " + std::to_string(anchor.row) + ", col " + std::to_string(anchor.col) +
-                              ") is anchored twice (also by anchors[" + std::to_string(previous->second) + "])");
+      fail(source, field,
+           "particle (row " + std::to_string(anchor.row) + ", col " + std::to_string(anchor.col) +
+               ") is anchored twice (also by anchors[" + std::to_string(previous->second) + "])");
     }
   }
   for (std::size_t i = 0; i < spec.colliders.size(); ++i) {

@@ -55,9 +55,7 @@ MemoryEstimate estimate_simulation_memory(const SimulationShape& shape) {
     case IntegratorKind::rk4:
       workspace = ExplicitRungeKutta::workspace_bytes_for(kClassicRk4.stages, counts.particles);
       break;
-    case IntegratorKind::symplectic_euler:
-      workspace = SymplecticEuler::workspace_bytes_for(counts.particles);
-      break;
+    case IntegratorKind::symplectic_euler: workspace = SymplecticEuler::workspace_bytes_for(counts.particles); break;
     case IntegratorKind::implicit_euler:
       workspace = ImplicitEuler::workspace_bytes_for(counts, shape.integrator);
       break;

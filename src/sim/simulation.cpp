@@ -82,14 +82,15 @@ bool Simulation::check_energy_balance() {
   // (docs/cli.md, "The blow-up check").
   const EnergyBalance balance = energy_balance();
   const EnergyReport& e = balance.energy;
-  const std::array<double, 5> works{balance.anchor_work, balance.contact_work, balance.edit_work,
-                                    balance.plastic_work, balance.fracture_work};
+  const std::array<double, 5> works{balance.anchor_work, balance.contact_work, balance.edit_work, balance.plastic_work,
+                                    balance.fracture_work};
   for (std::size_t k = 0; k < works.size(); ++k) {
     moved_work_ += std::abs(works[k] - last_works_[k]);  // anchors shaking back and forth move energy both ways
     last_works_[k] = works[k];
   }
   released_ = std::max(released_, std::abs(e.gravitational - initial_report_.gravitational));
-  energy_scale_ = std::max(energy_scale_, initial_report_.total() - initial_report_.gravitational + released_ + moved_work_);
+  energy_scale_ =
+      std::max(energy_scale_, initial_report_.total() - initial_report_.gravitational + released_ + moved_work_);
   const double limit = settings_.integrator.energy_error_limit;
   const double error = balance.error();
   if (!(error > limit * energy_scale_)) return true;
@@ -171,8 +172,8 @@ void Simulation::check_state() {
   for (std::size_t p = 0; p < model.particle_count(); ++p) {
     if (!is_finite(state_.position[p]) || !is_finite(state_.velocity[p])) {
       const std::string where = model.describe_particle(p);
-      fail(where, "non-finite state at " + where + ": position " + format_vector(state_.position[p]) +
-                      ", velocity " + format_vector(state_.velocity[p]));
+      fail(where, "non-finite state at " + where + ": position " + format_vector(state_.position[p]) + ", velocity " +
+                      format_vector(state_.velocity[p]));
       return;
     }
   }
@@ -182,8 +183,8 @@ void Simulation::check_state() {
     const auto [a, b] = model.connector_particles[e];
     const double stretch = norm(state_.position[b] - state_.position[a]) / model.connector_rest_length[e];
     if (stretch > settings_.explosion_stretch) {
-      const std::string where = "connector " + std::to_string(e) + " between " + model.describe_particle(a) +
-                                " and " + model.describe_particle(b);
+      const std::string where = "connector " + std::to_string(e) + " between " + model.describe_particle(a) + " and " +
+                                model.describe_particle(b);
       fail(where, "the simulation exploded: " + where + " is " + format_number(stretch) +
                       " times its rest length (limit " + format_number(settings_.explosion_stretch) + ")");
       return;
@@ -196,15 +197,14 @@ void Simulation::fail(std::string element, std::string message) {
   diagnosis.time = state_.time;
   diagnosis.step = integrator_ ? integrator_->stats().accepted_steps : 0;
   diagnosis.element = std::move(element);
-  diagnosis.message = "at t = " + format_number(diagnosis.time) + " s (step " + std::to_string(diagnosis.step) +
-                      "): " + message;
+  diagnosis.message =
+      "at t = " + format_number(diagnosis.time) + " s (step " + std::to_string(diagnosis.step) + "): " + message;
   failure_ = std::move(diagnosis);
 }
 
 std::size_t Simulation::memory_bytes() const {
   return model_->bytes() + (state_.position.capacity() + state_.velocity.capacity()) * sizeof(Vec3) +
-         integrator_->workspace_bytes() + spring_events_.bytes() +
-         collision_stage_.bytes();
+         integrator_->workspace_bytes() + spring_events_.bytes() + collision_stage_.bytes();
 }
 
 EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms); }
@@ -290,7 +290,8 @@ void Simulation::set_integrator(const IntegratorSettings& settings) {
 
 void Simulation::restart_integrator() {
   retired_stats_ = integrator_stats();
-  integrator_ = make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
+  integrator_ =
+      make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
   integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
 }
 

@@ -71,10 +71,10 @@ struct StepProfile {
 };
 
 struct Diagnosis {
-  double time = 0.0;           // s, of the last good state
-  std::uint64_t step = 0;      // accepted steps before the failure
-  std::string element;         // "particle 37 (row 1, col 16)", "connector 12 between ..."
-  std::string message;         // the whole explanation, naming time, step and element
+  double time = 0.0;       // s, of the last good state
+  std::uint64_t step = 0;  // accepted steps before the failure
+  std::string element;     // "particle 37 (row 1, col 16)", "connector 12 between ..."
+  std::string message;     // the whole explanation, naming time, step and element
 };
 
 // Energies and the work done on the sheet; `error()` is how far the run is from the energy
@@ -99,16 +99,16 @@ struct EnergyBalance {
 // Particles in contact with obstacles and pairs in self-contact (collision/): after the last
 // step, and summed over steps.
 struct ContactStatistics {
-  std::size_t last_step = 0;     // particles in contact after the last accepted step
-  std::uint64_t total = 0;       // sum over accepted steps of the particles in contact (contact-steps)
-  std::size_t max_in_a_step = 0; // the most particles in contact after one step
+  std::size_t last_step = 0;      // particles in contact after the last accepted step
+  std::uint64_t total = 0;        // sum over accepted steps of the particles in contact (contact-steps)
+  std::size_t max_in_a_step = 0;  // the most particles in contact after one step
   // Self-collision (collision/self_contacts.h), in pairs of elements.
-  std::size_t self_last_step = 0;       // pairs pushed apart after the last accepted step
-  std::uint64_t self_total = 0;         // summed over accepted steps
-  std::size_t self_max_in_a_step = 0;   // the most after one step
-  std::uint64_t self_impacts = 0;       // pairs whose motion touched, stopped (summed over steps)
-  std::uint64_t self_zones = 0;         // impact zones moved as one (summed over steps)
-  std::uint64_t self_unresolved = 0;    // pairs left touching after the zones (summed; 0 expected)
+  std::size_t self_last_step = 0;      // pairs pushed apart after the last accepted step
+  std::uint64_t self_total = 0;        // summed over accepted steps
+  std::size_t self_max_in_a_step = 0;  // the most after one step
+  std::uint64_t self_impacts = 0;      // pairs whose motion touched, stopped (summed over steps)
+  std::uint64_t self_zones = 0;        // impact zones moved as one (summed over steps)
+  std::uint64_t self_unresolved = 0;   // pairs left touching after the zones (summed; 0 expected)
 };
 
 // How far the sheet has changed from its built model: the statistics of events/ that
@@ -249,10 +249,10 @@ class Simulation {
   // The blow-up check: the energies at the start, and the largest energy scale seen (J).
   EnergyReport initial_report_;
   double energy_scale_ = 0.0;
-  double released_ = 0.0;                // J, the largest change of gravitational energy so far
-  double moved_work_ = 0.0;              // J, the work integrals' changes summed in magnitude over checks
-  std::array<double, 5> last_works_{};   // anchor, contact, edit, plastic, fracture work at the last check
-  double edit_work_ = 0.0;  // J, see EnergyBalance::edit_work
+  double released_ = 0.0;               // J, the largest change of gravitational energy so far
+  double moved_work_ = 0.0;             // J, the work integrals' changes summed in magnitude over checks
+  std::array<double, 5> last_works_{};  // anchor, contact, edit, plastic, fracture work at the last check
+  double edit_work_ = 0.0;              // J, see EnergyBalance::edit_work
   StepProfile profile_;
   SpringEvents spring_events_;
   SpringEventCounts event_totals_;  // over the run

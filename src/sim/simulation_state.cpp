@@ -59,7 +59,8 @@ void Simulation::transfer_state(StateArchive& archive) {
   // the saved one's controller state.
   transfer_model_changes(archive, *model_);
   if (archive.loading()) {
-    integrator_ = make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
+    integrator_ =
+        make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
     integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
   }
   integrator_->transfer_state(archive);

@@ -38,9 +38,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_harness.h"
 #include "io/npy.h"
 #include "scene/scene.h"
-#include "cli_harness.h"
 #include "test_checks.h"
 
 namespace clothsim {
@@ -57,13 +57,13 @@ constexpr std::size_t kSmallParticles = 25;
 constexpr std::size_t kSmallCentre = 12;
 
 using Result = checks::ProcessResult;
+using checks::read_text;
+using checks::write_text;
 using cli_harness::contains;
 using cli_harness::describe;
 using cli_harness::entries;
 using cli_harness::spawn_clothsim;
 using cli_harness::wait_clothsim;
-using checks::read_text;
-using checks::write_text;
 
 // energy.csv as numbers: rows[frame][column]; the header line is checked separately.
 struct Csv {
@@ -146,40 +146,62 @@ const std::vector<BadInputCase> kBadInputCases = {
     {"FpsZero", small({"--fps", "0"}), {"--fps", "output.fps", "[1, 10000]", "got \"0\""}, ""},
     {"FpsNotANumber", small({"--fps", "abc"}), {"--fps", "output.fps", "number", "abc"}, ""},
     {"DurationNegative", small({"--duration", "-1"}), {"--duration", "output.duration", "(0, 1e7]"}, ""},
-    {"IntegratorUnknown", small({"--integrator", "euler"}),
-     {"--integrator", "integrator.method", "rkf45", "symplectic-euler", "euler"}, ""},
+    {"IntegratorUnknown",
+     small({"--integrator", "euler"}),
+     {"--integrator", "integrator.method", "rkf45", "symplectic-euler", "euler"},
+     ""},
     {"RtolZero", small({"--rtol", "0"}), {"--rtol", "integrator.relative_tolerance", "[1e-14, 1]"}, ""},
     {"AtolZero", small({"--atol", "0"}), {"--atol", "integrator.absolute_tolerance", "(0, 1000]"}, ""},
     {"TimeStepTooLarge", small({"--time-step", "100"}), {"--time-step", "integrator.time_step", "(0, 10]"}, ""},
     {"GravityTwoComponents", small({"--gravity", "1,2"}), {"--gravity", "environment.gravity", "3 numbers"}, ""},
     {"ThreadsNegative", small({"--threads", "-3"}), {"--threads", "threads", "[0, 1024]"}, ""},
     {"AnchorUnknown", small({"--anchor", "top"}), {"--anchor", "center", "edge-corners", "top"}, ""},
-    {"RestEnergyZero", small({"--until-rest", "--rest-energy", "0"}),
-     {"--rest-energy", "output.rest_kinetic_energy", "(0, 1e12]"}, ""},
+    {"RestEnergyZero",
+     small({"--until-rest", "--rest-energy", "0"}),
+     {"--rest-energy", "output.rest_kinetic_energy", "(0, 1e12]"},
+     ""},
     {"SelfCollisionMaybe", small({"--self-collision", "maybe"}), {"--self-collision", "on or off", "maybe"}, ""},
     {"ThicknessZero", small({"--thickness", "0"}), {"--thickness", "collision.thickness", "(0, 1]"}, ""},
     {"ExportUnknown", small({"--export", "pc2,gltf"}), {"--export", "output.export", "pc2, obj-sequence", "gltf"}, ""},
-    {"SceneFileExportUnknown", {"run", "scene.json"}, {"scene.json", "output.export", "pc2, obj-sequence", "fbx"},
+    {"SceneFileExportUnknown",
+     {"run", "scene.json"},
+     {"scene.json", "output.export", "pc2, obj-sequence", "fbx"},
      R"({"output": {"export": ["pc2", "fbx"]}})"},
-    {"SceneFileExportNotAList", {"run", "scene.json"}, {"scene.json", "output.export", "a list"},
+    {"SceneFileExportNotAList",
+     {"run", "scene.json"},
+     {"scene.json", "output.export", "a list"},
      R"({"output": {"export": "pc2"}})"},
     {"SetRowsZero", small({"--set", "lattice.rows=0"}), {"--set", "lattice.rows", "[1, 4096]"}, ""},
     {"SetUnknownKey", small({"--set", "nosuch.key=1"}), {"--set", "nosuch.key", "unknown field"}, ""},
     {"SetWithoutEquals", small({"--set", "lattice.rows"}), {"--set", "KEY=VALUE"}, ""},
-    {"SetCrossFieldRule", small({"--set", "integrator.min_step=0.5"}),
-     {"integrator.min_step", "must be <= integrator.", "got 0.5"}, ""},
-    {"PaperArgsNineNumbers", {"run", "--paper-args", "5,5,1,4,1,1400,200,80,5"},
-     {"--paper-args", "paper_args", "exactly 10 numbers", "got 9"}, ""},
-    {"PaperArgsNegativeMass", {"run", "--paper-args", "5,5,-1,4,1,1400,200,80,5,1"},
-     {"--paper-args", "mass", "(0, 1e6]"}, ""},
-    {"SceneAndPaperArgs", {"run", "paper-fig5", "--paper-args", kSmallPaperArgs}, {"SCENE", "--paper-args", "not both"},
+    {"SetCrossFieldRule",
+     small({"--set", "integrator.min_step=0.5"}),
+     {"integrator.min_step", "must be <= integrator.", "got 0.5"},
+     ""},
+    {"PaperArgsNineNumbers",
+     {"run", "--paper-args", "5,5,1,4,1,1400,200,80,5"},
+     {"--paper-args", "paper_args", "exactly 10 numbers", "got 9"},
+     ""},
+    {"PaperArgsNegativeMass",
+     {"run", "--paper-args", "5,5,-1,4,1,1400,200,80,5,1"},
+     {"--paper-args", "mass", "(0, 1e6]"},
+     ""},
+    {"SceneAndPaperArgs",
+     {"run", "paper-fig5", "--paper-args", kSmallPaperArgs},
+     {"SCENE", "--paper-args", "not both"},
      ""},
     {"NoScene", {"run"}, {"SCENE", "--paper-args"}, ""},
-    {"SceneFileTypo", {"run", "scene.json"}, {"scene.json", "lattice.rowz", "lattice.rows"},
+    {"SceneFileTypo",
+     {"run", "scene.json"},
+     {"scene.json", "lattice.rowz", "lattice.rows"},
      R"({"lattice": {"rowz": 5, "cols": 5}})"},
-    {"SceneFileSyntaxError", {"run", "scene.json"}, {"scene.json", "line 1", "syntax error"},
+    {"SceneFileSyntaxError",
+     {"run", "scene.json"},
+     {"scene.json", "line 1", "syntax error"},
      R"({"lattice": {"rows": 5,}})"},
-    {"SceneFileValueOutOfRange", {"run", "scene.json"}, {"scene.json", "output.fps", "[1, 10000]"},
+    {"SceneFileValueOutOfRange",
+     {"run", "scene.json"},
+     {"scene.json", "output.fps", "[1, 10000]"},
      R"({"output": {"fps": 0}})"},
     {"SceneFileMissing", {"run", "nosuch.json"}, {"nosuch.json", "cannot read"}, ""},
     {"BuiltinNameMistyped", {"run", "paper-fig7"}, {"paper-fig7", "paper-fig4"}, ""},
@@ -338,11 +360,10 @@ TEST_F(CliTest, NumpyOpensPositions) {
       << "no Python interpreter with numpy found (tried $CLOTHSIM_PYTHON, python3, /usr/bin/python3): run "
          "scripts/install-deps.sh, which installs python3-numpy, or set CLOTHSIM_PYTHON to a python with numpy";
   ::setenv("NPY_PATH", (work_ / "run" / "positions.npy").c_str(), 1);
-  const std::string command =
-      python +
-      " -c \"import os, numpy; a = numpy.load(os.environ['NPY_PATH']); "
-      "assert a.shape == (11, 25, 3), a.shape; assert a.dtype == numpy.float64, a.dtype; "
-      "assert numpy.all(a[:, 12, :] == 0.0); print('numpy ok')\" 2>&1";
+  const std::string command = python +
+                              " -c \"import os, numpy; a = numpy.load(os.environ['NPY_PATH']); "
+                              "assert a.shape == (11, 25, 3), a.shape; assert a.dtype == numpy.float64, a.dtype; "
+                              "assert numpy.all(a[:, 12, :] == 0.0); print('numpy ok')\" 2>&1";
   std::FILE* pipe = ::popen(command.c_str(), "r");
   ASSERT_NE(pipe, nullptr);
   std::string output;
@@ -394,7 +415,8 @@ TEST_F(CliTest, CollisionFlagsSetTheSceneKeys) {
   ASSERT_EQ(on.exit_code, 0) << describe(on);
   EXPECT_EQ(json::parse(read_text(work_ / "collide-on" / "scene.json"))["collision"]["self"], true);
   // A thickness the lattice cannot hold apart is refused with a message, exit 2, nothing written.
-  const Result thick = small_run("collide-thick", {"--self-collision", "on", "--thickness", "0.9", "--duration", "0.1"});
+  const Result thick =
+      small_run("collide-thick", {"--self-collision", "on", "--thickness", "0.9", "--duration", "0.1"});
   EXPECT_EQ(thick.exit_code, 2) << describe(thick);
   EXPECT_TRUE(contains(thick.err, "collision.thickness")) << describe(thick);
   EXPECT_TRUE(contains(thick.err, "half the lattice spacing")) << describe(thick);
@@ -429,8 +451,8 @@ TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
 // A zero rest duration stops at the first frame below the threshold.
 TEST_F(CliTest, UntilRestWithZeroRestDurationStopsAtTheFirstQuietFrame) {
   constexpr double kThreshold = 1e-3;  // J
-  const Result result = small_run("rest0", {"--until-rest", "--rest-energy", "0.001", "--fps", "10", "--set",
-                                            "output.rest_duration=0"});
+  const Result result =
+      small_run("rest0", {"--until-rest", "--rest-energy", "0.001", "--fps", "10", "--set", "output.rest_duration=0"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   EXPECT_EQ(summary("rest0")["status"], "at_rest");
   const Csv energy = read_csv(work_ / "rest0" / "energy.csv");
@@ -442,8 +464,8 @@ TEST_F(CliTest, UntilRestWithZeroRestDurationStopsAtTheFirstQuietFrame) {
 }
 
 TEST_F(CliTest, BlowUpExitsOneWithDiagnosisAndKeepsFiniteFrames) {
-  const Result result = small_run(
-      "blow", {"--integrator", "symplectic-euler", "--time-step", "0.5", "--duration", "5", "--fps", "2"});
+  const Result result =
+      small_run("blow", {"--integrator", "symplectic-euler", "--time-step", "0.5", "--duration", "5", "--fps", "2"});
   ASSERT_EQ(result.exit_code, 1) << describe(result);
   EXPECT_TRUE(contains(result.err, "clothsim: error: simulation failed"));
   EXPECT_TRUE(contains(result.err, "t = "));
@@ -491,9 +513,8 @@ TEST_F(CliTest, RerunReplacesThePreviousRun) {
 }
 
 TEST_F(CliTest, DefaultOutputFolderIsNamedAfterTheScene) {
-  const Result result =
-      clothsim({"run", "--paper-args", kSmallPaperArgs, "--duration", "0.1", "--fps", "10", "--no-progress",
-                "--render", "none"});
+  const Result result = clothsim({"run", "--paper-args", kSmallPaperArgs, "--duration", "0.1", "--fps", "10",
+                                  "--no-progress", "--render", "none"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   EXPECT_TRUE(fs::exists(work_ / "out" / "paper-args" / "summary.json"));
 }
@@ -517,9 +538,10 @@ TEST_F(CliTest, UnwritableOutputExitsThree) {
 }
 
 TEST_F(CliTest, InterruptFinishesTheFolderAndExits130) {
-  const pid_t pid = spawn_clothsim(
-      work_, {"run", "--paper-args", kSmallPaperArgs, "--duration", "100000", "--out", "long", "--no-progress", "--render", "none"},
-      root_);
+  const pid_t pid = spawn_clothsim(work_,
+                                   {"run", "--paper-args", kSmallPaperArgs, "--duration", "100000", "--out", "long",
+                                    "--no-progress", "--render", "none"},
+                                   root_);
   ASSERT_GT(pid, 0);
   // Wait until the run is under way (its partial folder holds frames), then interrupt it.
   const fs::path partial = work_ / ("long.partial-" + std::to_string(pid));
@@ -665,12 +687,12 @@ TEST_F(CliTest, BenchWritesOneCsvRowPerCase) {
 }
 
 TEST_F(CliTest, BenchRejectsBadFlagsAndRunsNothing) {
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"bench", "--sizes", "1", "--csv", "b.csv"},
-           {"bench", "--sizes", "25,x", "--csv", "b.csv"},
-           {"bench", "--integrators", "euler", "--csv", "b.csv"},
-           {"bench", "--seconds", "0", "--csv", "b.csv"},
-           {"bench", "--sizes", "4", "--csv", "nosuch/b.csv"}}) {
+  for (const std::vector<std::string>& args :
+       std::vector<std::vector<std::string>>{{"bench", "--sizes", "1", "--csv", "b.csv"},
+                                             {"bench", "--sizes", "25,x", "--csv", "b.csv"},
+                                             {"bench", "--integrators", "euler", "--csv", "b.csv"},
+                                             {"bench", "--seconds", "0", "--csv", "b.csv"},
+                                             {"bench", "--sizes", "4", "--csv", "nosuch/b.csv"}}) {
     const Result result = clothsim(args);
     EXPECT_EQ(result.exit_code, 2) << args[1] << "\n" << describe(result);
     const std::string flag = args.back() == "nosuch/b.csv" ? "--csv" : args[1];

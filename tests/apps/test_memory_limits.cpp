@@ -35,8 +35,8 @@ using checks::contains;
 using checks::read_text;
 
 // The paper's 4096 x 4096 scene of the issue: about 18 GiB with RKF45.
-const std::vector<std::string> kLargestPaperScene = {"run", "--paper-args", "4096,4096,1,4,1,1400,200,80,5,1",
-                                                     "--duration", "0.001", "--render", "none"};
+const std::vector<std::string> kLargestPaperScene = {
+    "run", "--paper-args", "4096,4096,1,4,1,1400,200,80,5,1", "--duration", "0.001", "--render", "none"};
 
 struct Child {
   int exit_code = -1;
@@ -104,7 +104,11 @@ double estimate_in(const std::string& message) {
   std::smatch match;
   if (!std::regex_search(message, match, pattern)) return -1.0;
   const std::string unit = match[2];
-  const double scale = unit == "KiB" ? 0x1p10 : unit == "MiB" ? 0x1p20 : unit == "GiB" ? 0x1p30 : unit == "TiB" ? 0x1p40 : 1;
+  const double scale = unit == "KiB"   ? 0x1p10
+                       : unit == "MiB" ? 0x1p20
+                       : unit == "GiB" ? 0x1p30
+                       : unit == "TiB" ? 0x1p40
+                                       : 1;
   return std::stod(match[1]) * scale;
 }
 
@@ -143,8 +147,8 @@ TEST(MemoryLimits, AnAddressSpaceLimitRefusesTheSceneWithoutTheFlag) {
 TEST(MemoryLimits, BadMaxMemoryValuesNameTheFlagAndTheAllowedForms) {
   for (const char* value : {"abc", "0", "-5G", "12X", "", "1e9"}) {
     const fs::path folder = fresh_folder("bad_value");
-    const Child child = run_clothsim(folder, {"run", "--paper-args", "5,5,1,4,1,1400,200,80,5,1", "--render", "none",
-                                              "--max-memory", value});
+    const Child child = run_clothsim(
+        folder, {"run", "--paper-args", "5,5,1,4,1,1400,200,80,5,1", "--render", "none", "--max-memory", value});
     EXPECT_EQ(child.exit_code, 2) << describe(child);
     EXPECT_TRUE(contains(child.err, "clothsim: error: --max-memory: must be a size such as 512M, 8G, 2GiB"));
     EXPECT_TRUE(contains(child.err, "got \"" + std::string(value) + "\""));
@@ -162,14 +166,15 @@ TEST(MemoryLimits, MaxMemoryLetsASceneRunWithinIt) {
 
 TEST(MemoryLimits, BenchAndViewRefuseCasesTooLargeTheSameWay) {
   const fs::path folder = fresh_folder("bench");
-  const Child bench =
-      run_clothsim(folder, {"bench", "--sizes", "25,2000", "--integrators", "rkf45,implicit-euler", "--max-memory", "8G"});
+  const Child bench = run_clothsim(
+      folder, {"bench", "--sizes", "25,2000", "--integrators", "rkf45,implicit-euler", "--max-memory", "8G"});
   EXPECT_EQ(bench.exit_code, 2) << describe(bench);
   EXPECT_TRUE(contains(bench.err, "clothsim: error: the case 2000 x 2000 with implicit-euler needs an estimated "));
   EXPECT_TRUE(contains(bench.err, "implicit-euler workspace "));
   EXPECT_TRUE(bench.out.empty()) << "a case ran before the check: " << bench.out;
 #if CLOTHSIM_HAVE_RENDER
-  const Child view = run_clothsim(folder, {"view", "--paper-args", "4096,4096,1,4,1,1400,200,80,5,1", "--max-memory", "1G"});
+  const Child view =
+      run_clothsim(folder, {"view", "--paper-args", "4096,4096,1,4,1,1400,200,80,5,1", "--max-memory", "1G"});
   EXPECT_EQ(view.exit_code, 2) << describe(view);
   EXPECT_TRUE(contains(view.err, "clothsim: error: the scene needs an estimated "));
   EXPECT_TRUE(contains(view.err, "window "));
@@ -197,9 +202,11 @@ class EstimateAgainstPeak : public ::testing::TestWithParam<Case> {};
 TEST_P(EstimateAgainstPeak, IsWithinAQuarterOfTheMeasuredPeak) {
   const Case& c = GetParam();
   const std::string side = std::to_string(c.side);
-  std::vector<std::string> args = {"run", "--paper-args", side + "," + side + ",1,4,1,1400,200,80,5,1",
-                                   "--duration", "0.001", "--fps", "1000", "--render", "none", "--integrator",
-                                   c.integrator, "--out", "run", "--quiet"};
+  std::vector<std::string> args = {"run",          "--paper-args", side + "," + side + ",1,4,1,1400,200,80,5,1",
+                                   "--duration",   "0.001",        "--fps",
+                                   "1000",         "--render",     "none",
+                                   "--integrator", c.integrator,   "--out",
+                                   "run",          "--quiet"};
   const std::vector<std::string> steps = step_flags(c.integrator);
   args.insert(args.end(), steps.begin(), steps.end());
   const fs::path folder = fresh_folder(side + "_" + c.integrator);

@@ -51,7 +51,8 @@ void PrintTo(const ResumeCase& c, std::ostream* out) { *out << c.name; }
 const std::vector<ResumeCase> kResumeCases = {
     {"Rkf45SelfCollision", {"paper-fig4", "--duration", "6"}, "0.5"},
     {"Rk4", {"paper-fig5", "--integrator", "rk4", "--time-step", "2e-4", "--duration", "4"}, "0.1"},
-    {"SymplecticEuler", {"paper-fig5", "--integrator", "symplectic-euler", "--time-step", "1e-4", "--duration", "4"},
+    {"SymplecticEuler",
+     {"paper-fig5", "--integrator", "symplectic-euler", "--time-step", "1e-4", "--duration", "4"},
      "0.1"},
     {"ImplicitEulerTearing", {"tear-pull"}, "0.1"},
     {"ImplicitEulerCreasing", {"paper-crease", "--duration", "1.2"}, "0.1"},
@@ -112,8 +113,7 @@ class ResumeTest : public ::testing::Test {
   // Waits for a checkpoint newer than `after`, then kills `pid` with SIGKILL. With `in_write`,
   // first waits on (up to 2 s more) for a checkpoint's temporary file to appear, and kills while
   // it is there, during the write. Returns the newest checkpoint's name at the kill.
-  static std::string kill_after_checkpoint(pid_t pid, const fs::path& folder, const std::string& after,
-                                           bool in_write) {
+  static std::string kill_after_checkpoint(pid_t pid, const fs::path& folder, const std::string& after, bool in_write) {
     const auto writing = [&] {
       std::error_code error;
       for (const auto& entry : fs::directory_iterator(folder / "checkpoints", error)) {
@@ -227,17 +227,17 @@ TEST_F(ResumeTest, InterruptedRunResumesFromItsFolder) {
   EXPECT_EQ(summary("part")["status"], "interrupted");
   const auto frames = summary("part")["frames"].get<std::uint64_t>();
   // The interrupted run's last frame has its checkpoint, so nothing is computed twice.
-  EXPECT_TRUE(fs::exists(work_ / "part" / "checkpoints" /
-                         ("frame_" + std::string(6 - std::to_string(frames - 1).size(), '0') +
-                          std::to_string(frames - 1) + ".ckpt")));
+  EXPECT_TRUE(fs::exists(
+      work_ / "part" / "checkpoints" /
+      ("frame_" + std::string(6 - std::to_string(frames - 1).size(), '0') + std::to_string(frames - 1) + ".ckpt")));
 
   const Result resumed = clothsim({"run", "--resume", "part", "--no-progress"});
   ASSERT_EQ(resumed.exit_code, 0) << describe(resumed);
   expect_same_output("full", "part");
   EXPECT_EQ(summary("part")["status"], "completed");
-  EXPECT_EQ(summary("part")["command_line"], summary("full")["command_line"].get<std::string>().replace(
-                                                 summary("full")["command_line"].get<std::string>().find("full"), 4,
-                                                 "part"));
+  EXPECT_EQ(summary("part")["command_line"],
+            summary("full")["command_line"].get<std::string>().replace(
+                summary("full")["command_line"].get<std::string>().find("full"), 4, "part"));
 }
 
 TEST_F(ResumeTest, UnfinishedCheckpointWriteIsIgnoredAndRemoved) {
@@ -264,9 +264,9 @@ TEST_F(ResumeTest, UnfinishedCheckpointWriteIsIgnoredAndRemoved) {
 TEST_F(ResumeTest, WhatCannotBeResumedIsRefused) {
   ASSERT_EQ(clothsim(run_args(kQuick, "done")).exit_code, 0);
   // A run without checkpoints, stopped early (as far as its summary says).
-  ASSERT_EQ(clothsim({"run", "paper-fig6", "--duration", "0.1", "--out", "plain", "--render", "none", "--quiet"})
-                .exit_code,
-            0);
+  ASSERT_EQ(
+      clothsim({"run", "paper-fig6", "--duration", "0.1", "--out", "plain", "--render", "none", "--quiet"}).exit_code,
+      0);
   checks::write_text(work_ / "plain" / "summary.json", R"({"clothsim_version": "x", "status": "interrupted"})");
   struct Refusal {
     std::vector<std::string> args;
@@ -302,8 +302,8 @@ TEST_F(ResumeTest, NewRunReportsALeftoverAndReplacesIt) {
   ASSERT_EQ(wait_clothsim(pid, root_).exit_code, 128 + SIGKILL);
   ASSERT_TRUE(fs::exists(leftover));
 
-  const Result again = clothsim({"run", "paper-fig5", "--duration", "0.2", "--out", "out", "--render", "none",
-                                 "--no-progress"});
+  const Result again =
+      clothsim({"run", "paper-fig5", "--duration", "0.2", "--out", "out", "--render", "none", "--no-progress"});
   ASSERT_EQ(again.exit_code, 0) << describe(again);
   EXPECT_TRUE(contains(again.err, leftover.filename().string())) << describe(again);
   EXPECT_TRUE(contains(again.err, "clothsim run --resume")) << describe(again);

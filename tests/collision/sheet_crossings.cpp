@@ -17,8 +17,7 @@ struct LiveConnectors {
   std::vector<std::uint8_t> right;
   std::vector<std::uint8_t> down;
 
-  explicit LiveConnectors(const ClothModel& model)
-      : right(model.particle_count(), 0), down(model.particle_count(), 0) {
+  explicit LiveConnectors(const ClothModel& model) : right(model.particle_count(), 0), down(model.particle_count(), 0) {
     const auto cols = static_cast<std::uint32_t>(model.cols);
     for (std::size_t e = 0; e < model.connector_count(); ++e) {
       const auto [first, second] = model.connector_particles[e];
@@ -121,8 +120,8 @@ std::vector<SheetCrossing> sheet_crossings(const ClothModel& model, std::span<co
     for (std::size_t t = 0; t < surface.triangles.size(); ++t) {
       const auto& triangle = surface.triangles[t];
       if (!edge_box.overlaps(triangle_box[t]) || shares_particle(edge, triangle)) continue;
-      if (segment_crosses_triangle(position[edge[0]], position[edge[1]], position[triangle[0]],
-                                   position[triangle[1]], position[triangle[2]])) {
+      if (segment_crosses_triangle(position[edge[0]], position[edge[1]], position[triangle[0]], position[triangle[1]],
+                                   position[triangle[2]])) {
         crossings.push_back({edge, triangle});
       }
     }

@@ -280,13 +280,13 @@ TEST(SelfContacts, EveryIntegratorKeepsAFoldedSheetUncrossed) {
     const double start_energy = simulation.energy().total();
     for (int frame = 1; frame <= 15; ++frame) {
       ASSERT_TRUE(simulation.advance_to(0.01 * frame)) << simulation.failure()->message;
-      EXPECT_EQ(testing::count_sheet_crossings(simulation.model(), simulation.state().position), 0u) << "frame " << frame;
+      EXPECT_EQ(testing::count_sheet_crossings(simulation.model(), simulation.state().position), 0u)
+          << "frame " << frame;
       EXPECT_LE(simulation.energy().total(), start_energy + 1e-9) << "frame " << frame;
     }
     EXPECT_GT(simulation.contact_statistics().self_total, 0u);
   }
 }
-
 
 // Stage 3 alone stops a particle that passes through the sheet within one step: a 3 x 6 strip
 // folded in half over itself, one particle of the top layer moved 10 cm down through the bottom

@@ -106,8 +106,9 @@ TEST(SheetCrossings, TwoSheetsCrossOnlyWhenOnePassesThroughTheOther) {
   EXPECT_EQ(two_sheet_crossings([](int row, int col) { return Vec3{double(col), 0.5, double(row - 4)}; }), 0u);
   // The second upright, at z = 1.6, from y = -1.5 to 1.5: its edges between y = -0.5 and 0.5
   // pass through the first sheet.
-  const std::size_t through =
-      two_sheet_crossings([](int row, int col) { return Vec3{double(col) + 0.1, row - 5.5, 1.6}; });
+  const std::size_t through = two_sheet_crossings([](int row, int col) {
+    return Vec3{double(col) + 0.1, row - 5.5, 1.6};
+  });
   EXPECT_GT(through, 0u);
   // Upright but stopping exactly at the first sheet's plane (its top row at y = 0): it touches,
   // which is not a crossing.
@@ -126,7 +127,8 @@ std::size_t folded_corner_crossings(double angle, double corner_drop) {
       // Rodrigues: the flap turns rigidly about the fold line.
       Vec3& x = position[lattice_index(8, row, col)];
       const Vec3 r = x - on_line;
-      x = on_line + std::cos(angle) * r + std::sin(angle) * cross(axis, r) + (1.0 - std::cos(angle)) * dot(axis, r) * axis;
+      x = on_line + std::cos(angle) * r + std::sin(angle) * cross(axis, r) +
+          (1.0 - std::cos(angle)) * dot(axis, r) * axis;
     }
   }
   position[0].y -= corner_drop;
@@ -150,7 +152,8 @@ struct CrossingRun {
   ClothState final_state;
   std::size_t most() const { return *std::max_element(crossings.begin(), crossings.end()); }
   std::size_t frames_crossing() const {
-    return static_cast<std::size_t>(std::count_if(crossings.begin(), crossings.end(), [](std::size_t n) { return n > 0; }));
+    return static_cast<std::size_t>(
+        std::count_if(crossings.begin(), crossings.end(), [](std::size_t n) { return n > 0; }));
   }
 };
 

@@ -1,7 +1,6 @@
 // Thread-count resolution and parallel_for: every index visited exactly once for any thread count.
 #include <gtest/gtest.h>
 
-
 #include <atomic>
 #include <vector>
 

@@ -33,7 +33,8 @@ TEST(ConnectorElement, ForceIsMinusEnergyGradient) {
     const double rest = random.uniform(0.1, 2.0);
     const double k = random.uniform(1, 100);
     const element::ConnectorForce f = element::connector_force(xa, xb, {}, {}, rest, k, 0.0);
-    const Vec3 grad_a = numerical_gradient([&](const Vec3& x) { return element::connector_energy(x, xb, rest, k); }, xa, 1e-6);
+    const Vec3 grad_a =
+        numerical_gradient([&](const Vec3& x) { return element::connector_energy(x, xb, rest, k); }, xa, 1e-6);
     const double scale = 1e-6 * (1 + norm(f.force_on_a));
     expect_vec_near(f.force_on_a, -grad_a, scale, "f_a = -dE/dx_a");
     EXPECT_EQ(f.damping_power, 0.0);
@@ -135,7 +136,8 @@ TEST(RadialElement, ExactlyStraightOppositeSpringAtRestHasNoForce) {
   EXPECT_EQ(f.damping_power, 0.0);
   EXPECT_EQ(element::radial_energy(xa, xb, xc, kPi, 1400), 0.0);
   // Moving along the line (no bending): still nothing.
-  const element::RadialForce sliding = element::radial_force(xa, xb, xc, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, kPi, 1400, 200);
+  const element::RadialForce sliding =
+      element::radial_force(xa, xb, xc, {1, 0, 0}, {2, 0, 0}, {3, 0, 0}, kPi, 1400, 200);
   EXPECT_EQ(sliding.force_on_b, Vec3{});
   EXPECT_EQ(sliding.damping_power, 0.0);
 }
@@ -229,7 +231,8 @@ TEST(RadialElement, DampingIsMinusCTimesAngleRateAlongTheGradient) {
     EXPECT_NEAR(damped.damping_power, -c * rate * rate, 1e-5 * (1 + c * rate * rate));
     // The damping force is -c rate dtheta/dx: compare on b with the energy-gradient direction.
     const element::RadialGeometry g = element::radial_geometry(xa, xb, xc);
-    expect_vec_near(damped.force_on_b, -c * rate * g.gradient_b(), 1e-5 * (1 + norm(damped.force_on_b)), "damping on b");
+    expect_vec_near(damped.force_on_b, -c * rate * g.gradient_b(), 1e-5 * (1 + norm(damped.force_on_b)),
+                    "damping on b");
   }
 }
 

@@ -182,8 +182,7 @@ TEST(RadialJacobian, StiffnessIsPositiveSemiDefinite) {
   for (int trial = 0; trial < 200; ++trial) {
     const std::array<Vec3, 3> x = configuration(random, random.uniform(0.01, kPi - 0.01));
     const double rest = random.uniform(0.0, kPi);
-    const element::RadialJacobian jacobian =
-        element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, 10.0, 0.0);
+    const element::RadialJacobian jacobian = element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, 10.0, 0.0);
     const Matrix9 m = radial_stiffness_matrix(jacobian);
     for (std::size_t i = 0; i < 9; ++i) {
       for (std::size_t j = 0; j < 9; ++j) EXPECT_NEAR(m[i][j], m[j][i], 1e-9) << "symmetric";

@@ -99,7 +99,8 @@ TEST(Forces, TotalForceIsMinusGradientOfPotentialEnergy) {
       (axis == 0 ? plus[p].x : axis == 1 ? plus[p].y : plus[p].z) += h;
       (axis == 0 ? minus[p].x : axis == 1 ? minus[p].y : minus[p].z) -= h;
       const double gradient = (potential_energy(model, plus) - potential_energy(model, minus)) / (2 * h);
-      EXPECT_NEAR(f[p][axis], -gradient, 1e-5 * (1 + std::abs(gradient))) << model.describe_particle(p) << " axis " << axis;
+      EXPECT_NEAR(f[p][axis], -gradient, 1e-5 * (1 + std::abs(gradient)))
+          << model.describe_particle(p) << " axis " << axis;
     }
   }
 }
@@ -157,8 +158,8 @@ TEST(Forces, TermMaskSwitchesTermsOff) {
     EXPECT_NEAR(norm(sum[p] - all[p]), 0.0, 1e-9 * (1 + norm(all[p])));
   }
   // Each bit changes the force of a moving, deformed sheet: none is ignored.
-  for (ForceTerms term : {kGravity, kConnectorSprings, kAdjacentRadialSprings, kOppositeRadialSprings, kAirDrag,
-                          kSpringDamping}) {
+  for (ForceTerms term :
+       {kGravity, kConnectorSprings, kAdjacentRadialSprings, kOppositeRadialSprings, kAirDrag, kSpringDamping}) {
     const std::vector<Vec3> without = evaluate(model, x, v, kAllForceTerms & ~term, 1);
     double change = 0.0;
     for (std::size_t p = 0; p < without.size(); ++p) change = std::max(change, norm(without[p] - all[p]));

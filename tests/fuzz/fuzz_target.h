@@ -51,5 +51,4 @@ void accept_input_error(Body&& body) {
 }  // namespace clothsim::fuzz
 
 // A property every accepted input must have; aborts (a finding) when it does not.
-#define FUZZ_CHECK(condition) \
-  ((condition) ? void(0) : ::clothsim::fuzz::check_failed(#condition, __FILE__, __LINE__))
+#define FUZZ_CHECK(condition) ((condition) ? void(0) : ::clothsim::fuzz::check_failed(#condition, __FILE__, __LINE__))

@@ -25,8 +25,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
       const SurfaceDistance fast = signed_distance(collider, x, 0.0);
       const SurfaceDistance slow = mesh_distance_brute_force(*mesh, x);
       // The sign may differ where two triangles are equally near; the distance may not.
-      const bool agree = std::isnan(fast.distance) ? std::isnan(slow.distance)
-                                                   : std::abs(fast.distance) == std::abs(slow.distance);
+      const bool agree =
+          std::isnan(fast.distance) ? std::isnan(slow.distance) : std::abs(fast.distance) == std::abs(slow.distance);
       if (!agree) {
         std::fprintf(stderr, "at (%.17g, %.17g, %.17g): hierarchy %.17g, every triangle %.17g\n", x.x, x.y, x.z,
                      fast.distance, slow.distance);

@@ -37,7 +37,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     const nlohmann::json written = scene_to_json(spec);
     const SceneSpec again = parse_scene(written.dump(2), "scene.json", "");
     const nlohmann::json written_again = scene_to_json(again);
-    if (written_again != written) std::fprintf(stderr, "changed: %s\n", nlohmann::json::diff(written, written_again).dump().c_str());
+    if (written_again != written)
+      std::fprintf(stderr, "changed: %s\n", nlohmann::json::diff(written, written_again).dump().c_str());
     FUZZ_CHECK(written_again == written);
     if (static_cast<long long>(spec.lattice.rows) * spec.lattice.cols <= kLargestBuiltLattice) {
       const ClothModel model = build_model(spec);

@@ -87,7 +87,8 @@ TEST(AdaptiveRungeKutta, TighterToleranceGivesSmallerError) {
     ClothState state = make_rest_state(model);
     while (state.time < 0.5) ASSERT_EQ(integrator->step(state, 0.5).status, StepStatus::ok);
     double error = 0.0;
-    for (std::size_t p = 0; p < model.particle_count(); ++p) error = std::max(error, norm(state.position[p] - exact.position[p]));
+    for (std::size_t p = 0; p < model.particle_count(); ++p)
+      error = std::max(error, norm(state.position[p] - exact.position[p]));
     EXPECT_LT(error, previous_error) << "tolerance " << tolerance;
     EXPECT_LT(error, 100 * tolerance) << "tolerance " << tolerance;
     previous_error = error;
@@ -96,8 +97,8 @@ TEST(AdaptiveRungeKutta, TighterToleranceGivesSmallerError) {
 
 TEST(Integrators, StepsDoNotAllocate) {
   const ClothModel model = small_sheet();
-  for (IntegratorKind kind : {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler,
-                              IntegratorKind::implicit_euler}) {
+  for (IntegratorKind kind :
+       {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler, IntegratorKind::implicit_euler}) {
     IntegratorSettings settings;
     settings.kind = kind;
     settings.time_step = 1e-4;
@@ -111,8 +112,8 @@ TEST(Integrators, StepsDoNotAllocate) {
 }
 
 TEST(IntegratorKind, NamesRoundTrip) {
-  for (IntegratorKind kind : {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler,
-                              IntegratorKind::implicit_euler}) {
+  for (IntegratorKind kind :
+       {IntegratorKind::rkf45, IntegratorKind::rk4, IntegratorKind::symplectic_euler, IntegratorKind::implicit_euler}) {
     IntegratorKind parsed{};
     ASSERT_TRUE(parse_integrator_kind(to_string(kind), parsed));
     EXPECT_EQ(parsed, kind);

@@ -55,7 +55,8 @@ TEST(SingleSpring, RKF45MatchesTheAnalyticDampedOscillation) {
   const double zeta = damping / (2 * std::sqrt(kStiffness * kMass));
   const double omega_d = omega * std::sqrt(1 - zeta * zeta);
   const auto exact = [&](double t) {
-    return amplitude * std::exp(-zeta * omega * t) * (std::cos(omega_d * t) + zeta * omega / omega_d * std::sin(omega_d * t));
+    return amplitude * std::exp(-zeta * omega * t) *
+           (std::cos(omega_d * t) + zeta * omega / omega_d * std::sin(omega_d * t));
   };
 
   ClothState state = displaced(model, amplitude);
@@ -138,7 +139,9 @@ TEST(Convergence, ClassicRk4IsFourthOrder) {
 
 TEST(Convergence, SymplecticEulerIsFirstOrder) {
   const double order = observed_order(
-      [](const ClothModel& m, const IntegratorSettings& s) { return std::make_unique<SymplecticEuler>(m, s, ForceOptions{}); },
+      [](const ClothModel& m, const IntegratorSettings& s) {
+        return std::make_unique<SymplecticEuler>(m, s, ForceOptions{});
+      },
       400);
   EXPECT_NEAR(order, 1.0, 0.15);
 }

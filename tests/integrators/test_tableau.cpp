@@ -52,7 +52,9 @@ double integrate(const ButcherTableau& t, const std::function<double(double, dou
     std::array<double, kMaxStages> k{};
     for (int i = 0; i < t.stages; ++i) {
       double stage = y;
-      for (int j = 0; j < i; ++j) stage += h * t.coefficients[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] * k[static_cast<std::size_t>(j)];
+      for (int j = 0; j < i; ++j)
+        stage += h * t.coefficients[static_cast<std::size_t>(i)][static_cast<std::size_t>(j)] *
+                 k[static_cast<std::size_t>(j)];
       k[static_cast<std::size_t>(i)] = f(time + t.nodes[static_cast<std::size_t>(i)] * h, stage);
     }
     for (int i = 0; i < t.stages; ++i) y += h * t.weights[static_cast<std::size_t>(i)] * k[static_cast<std::size_t>(i)];

@@ -30,9 +30,9 @@
 namespace clothsim {
 namespace {
 
-using checks::thrown_message;
 using checks::contains;
 using checks::python_with_numpy;
+using checks::thrown_message;
 
 std::string scratch_path(const std::string& name) {
   const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
@@ -105,7 +105,8 @@ struct Header {
 Header parse_v1_header(const std::string& bytes) {
   Header header;
   if (bytes.size() < 10) return header;
-  const std::size_t length = static_cast<unsigned char>(bytes[8]) | (static_cast<std::size_t>(static_cast<unsigned char>(bytes[9])) << 8);
+  const std::size_t length =
+      static_cast<unsigned char>(bytes[8]) | (static_cast<std::size_t>(static_cast<unsigned char>(bytes[9])) << 8);
   header.total_bytes = 10 + length;
   header.dict = bytes.substr(10, length);
   return header;
@@ -143,8 +144,8 @@ struct PythonResult {
 PythonResult run_python(const std::string& script, const std::string& npy_path) {
   PythonResult result;
   ::setenv("NPY_PATH", npy_path.c_str(), 1);
-  const std::string command = python_with_numpy() + " -c \"import os, numpy; path = os.environ['NPY_PATH']; " +
-                              script + "\" 2>&1";
+  const std::string command =
+      python_with_numpy() + " -c \"import os, numpy; path = os.environ['NPY_PATH']; " + script + "\" 2>&1";
   std::FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return result;
   char buffer[4096];
@@ -157,10 +158,10 @@ PythonResult run_python(const std::string& script, const std::string& npy_path) 
 // Loads `path` with numpy.load, checks shape and dtype, and returns every value (C order) as
 // parsed from Python's repr, which round-trips doubles exactly.
 std::vector<double> numpy_load(const std::string& path, const std::string& python_shape) {
-  const PythonResult result = run_python(
-      "a = numpy.load(path); assert a.shape == " + python_shape + ", a.shape; assert a.dtype == numpy.float64, a.dtype; "
-      "print(' '.join(repr(float(x)) for x in a.ravel()))",
-      path);
+  const PythonResult result = run_python("a = numpy.load(path); assert a.shape == " + python_shape +
+                                             ", a.shape; assert a.dtype == numpy.float64, a.dtype; "
+                                             "print(' '.join(repr(float(x)) for x in a.ravel()))",
+                                         path);
   EXPECT_EQ(result.status, 0) << "numpy.load(" << path << ") failed:\n" << result.output;
   std::vector<double> values;
   std::istringstream tokens(result.output);
@@ -241,8 +242,8 @@ TEST_P(NpyWriterFrameCount, HeaderIsAlignedAndRewrittenOnClose) {
   ASSERT_FALSE(header.dict.empty());
   EXPECT_EQ(header.dict.back(), '\n');
   EXPECT_TRUE(contains(provisional.dict, "'shape': (0, 5, 3)"));
-  EXPECT_TRUE(contains(header.dict, "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(frames) +
-                                        ", 5, 3), }"));
+  EXPECT_TRUE(contains(header.dict,
+                       "{'descr': '<f8', 'fortran_order': False, 'shape': (" + std::to_string(frames) + ", 5, 3), }"));
   // Room for a 20-digit frame count: the 1-digit provisional count leaves >= 19 spaces of padding.
   const std::size_t padding = provisional.dict.size() - 1 - provisional.dict.find_last_not_of(" \n");
   EXPECT_GE(padding, 19U) << provisional.dict;
@@ -302,7 +303,8 @@ TEST(NpyWriter, WrongFrameSizeThrowsAndLeavesTheFileValid) {
   EXPECT_TRUE(contains(message, path));
   EXPECT_TRUE(contains(message, "3 points, expected 4"));
   const std::vector<double> too_many(13, 1.0);
-  EXPECT_TRUE(contains(thrown_message([&] { writer.append(std::span<const double>(too_many)); }), "13 values, expected 12"));
+  EXPECT_TRUE(
+      contains(thrown_message([&] { writer.append(std::span<const double>(too_many)); }), "13 values, expected 12"));
   EXPECT_EQ(writer.frames(), 1U);
   writer.append(test_frame(1, 4));
   writer.close();
@@ -432,7 +434,8 @@ TEST(ReadNpy, RejectsWhatItCannotRead) {
   EXPECT_TRUE(contains(message_for("{'descr': '<f8', 'shape': (2,), }\n", 2), "are all required"));
   EXPECT_TRUE(contains(message_for("{'descr': '<f8', 'fortran_order': False, 'shape': (2), }\n", 2), "(n,)"));
   EXPECT_TRUE(contains(message_for("{'descr': '<f8', 'fortran_order': False, 'shape': (2,), 'x': 1}\n", 2), "'x'"));
-  EXPECT_TRUE(contains(message_for("{'descr': '<f8', 'fortran_order': False, 'shape': (2,), }\n", 2, 3), "version 3.0"));
+  EXPECT_TRUE(
+      contains(message_for("{'descr': '<f8', 'fortran_order': False, 'shape': (2,), }\n", 2, 3), "version 3.0"));
   EXPECT_TRUE(contains(message_for("{'descr': '<f8', 'fortran_order': False, 'shape': (-2,), }\n", 2), "malformed"));
 
   write_file_bytes(path, "not a numpy file at all");

@@ -43,9 +43,9 @@ Vec3 flip(const Vec3& p) { return {p.x, -p.y, -p.z}; }
 
 // An OBJ file read back: one entry per line of each kind; indices as written (1-based).
 struct ObjFile {
-  std::vector<std::string> comments;  // text after "# "
-  std::vector<std::string> objects;   // o names
-  std::vector<std::string> smoothing; // s arguments
+  std::vector<std::string> comments;   // text after "# "
+  std::vector<std::string> objects;    // o names
+  std::vector<std::string> smoothing;  // s arguments
   std::vector<Vec3> vertices;
   std::vector<std::array<double, 2>> texture_coordinates;
   std::vector<Vec3> normals;

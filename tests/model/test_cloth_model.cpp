@@ -86,10 +86,10 @@ TEST(Lattice, GatherTableListsEachSlotOnceInAscendingOrder) {
       }
       // Slot k of the table belongs to an element that joins particle p.
       const std::size_t slot = gather.slot[k];
-      const std::uint32_t owner = slot < model.radial_slot_base()
-                                      ? model.connector_particles[slot / 2][slot % 2]
-                                      : model.radial_particles[(slot - model.radial_slot_base()) / 3]
-                                                              [(slot - model.radial_slot_base()) % 3];
+      const std::uint32_t owner =
+          slot < model.radial_slot_base()
+              ? model.connector_particles[slot / 2][slot % 2]
+              : model.radial_particles[(slot - model.radial_slot_base()) / 3][(slot - model.radial_slot_base()) % 3];
       EXPECT_EQ(owner, p);
     }
   }

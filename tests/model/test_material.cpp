@@ -97,10 +97,10 @@ TEST(Material, MassPerAreaIsTheArealDensity) {
 
 TEST(Material, CottonHasKesValuesInSiUnits) {
   const MaterialDef cotton = cotton_material();
-  EXPECT_EQ(cotton.areal_density, 0.13);                      // 13 mg/cm^2
-  EXPECT_NEAR(cotton.stretch_stiffness, 12258.3, 0.1);        // 500 gf/cm at 4 % strain
-  EXPECT_NEAR(cotton.shear_stiffness, 44.95, 0.01);           // 0.8 gf/(cm deg)
-  EXPECT_NEAR(cotton.bending_rigidity, 7.845e-6, 1e-9);       // 0.08 gf cm^2/cm
+  EXPECT_EQ(cotton.areal_density, 0.13);                 // 13 mg/cm^2
+  EXPECT_NEAR(cotton.stretch_stiffness, 12258.3, 0.1);   // 500 gf/cm at 4 % strain
+  EXPECT_NEAR(cotton.shear_stiffness, 44.95, 0.01);      // 0.8 gf/(cm deg)
+  EXPECT_NEAR(cotton.bending_rigidity, 7.845e-6, 1e-9);  // 0.08 gf cm^2/cm
 }
 
 TEST(Material, BadInputIsAnInputErrorNamingTheField) {

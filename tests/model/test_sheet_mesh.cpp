@@ -118,7 +118,8 @@ TEST(VertexNormals, FlippedSheetPointsDown) {
   const auto triangles = lattice_triangles(model);
   std::vector<Vec3> flipped_rest;
   for (const Vec3& p : model.particle_rest_position) flipped_rest.push_back(flip(p));
-  for (const Vec3& normal : vertex_normals(model, flipped_rest, triangles)) expect_near(normal, {0.0, -1.0, 0.0}, 1e-15);
+  for (const Vec3& normal : vertex_normals(model, flipped_rest, triangles))
+    expect_near(normal, {0.0, -1.0, 0.0}, 1e-15);
 
   // Normals turn with the sheet: the flipped bump's normals are the flipped normals.
   const std::vector<Vec3> bumped = bumped_positions(model);
@@ -161,10 +162,11 @@ TEST(CellCentreMesh, OneVertexPerCellAtTheMeanOfItsFourParticles) {
   EXPECT_EQ(mesh.triangle_vertices.size(), 2u * 2u * 4u);
   for (int i = 0; i < 3; ++i) {
     for (int j = 0; j < 5; ++j) {
-      const Vec3 expected = (position[static_cast<std::size_t>(i * 6 + j)] + position[static_cast<std::size_t>(i * 6 + j + 1)] +
-                             position[static_cast<std::size_t>((i + 1) * 6 + j)] +
-                             position[static_cast<std::size_t>((i + 1) * 6 + j + 1)]) /
-                            4.0;
+      const Vec3 expected =
+          (position[static_cast<std::size_t>(i * 6 + j)] + position[static_cast<std::size_t>(i * 6 + j + 1)] +
+           position[static_cast<std::size_t>((i + 1) * 6 + j)] +
+           position[static_cast<std::size_t>((i + 1) * 6 + j + 1)]) /
+          4.0;
       expect_near(mesh.vertex_position[static_cast<std::size_t>(i * 5 + j)], expected, 1e-15);
     }
   }
@@ -238,12 +240,10 @@ void tear_at_random(ClothModel& model, std::uint64_t seed) {
 // own end of a broken connector's half, the corners of a cell centre's component.
 std::vector<std::uint32_t> vertex_particles(const ClothModel& model, const SheetVertexSource& source) {
   switch (source.kind) {
-    case SheetVertexKind::particle:
-      return {source.index};
+    case SheetVertexKind::particle: return {source.index};
     case SheetVertexKind::connector_midpoint:
       return {model.connector_particles[source.index][0], model.connector_particles[source.index][1]};
-    case SheetVertexKind::connector_end:
-      return {model.connector_particles[source.index][source.side]};
+    case SheetVertexKind::connector_end: return {model.connector_particles[source.index][source.side]};
     case SheetVertexKind::cell_centre: {
       std::vector<std::uint32_t> particles;
       const int cell_row = static_cast<int>(source.index) / (model.cols - 1);

@@ -163,8 +163,10 @@ int marker_pixels_near(const Rendering& rendering, const Vec3& point, const Colo
   EXPECT_TRUE(at.visible);
   int count = 0;
   const Image& image = rendering.image;
-  for (int y = std::max(0, static_cast<int>(at.y) - radius); y < std::min(kHeight, static_cast<int>(at.y) + radius); ++y) {
-    for (int x = std::max(0, static_cast<int>(at.x) - radius); x < std::min(kWidth, static_cast<int>(at.x) + radius); ++x) {
+  for (int y = std::max(0, static_cast<int>(at.y) - radius); y < std::min(kHeight, static_cast<int>(at.y) + radius);
+       ++y) {
+    for (int x = std::max(0, static_cast<int>(at.x) - radius); x < std::min(kWidth, static_cast<int>(at.x) + radius);
+         ++x) {
       if (matches_hue(pixel_hsv(image, x, y), colour)) ++count;
     }
   }

@@ -106,8 +106,8 @@ class RunPictures : public ::testing::Test {
   }
 
   Result small_run(const std::vector<std::string>& extra, const std::vector<std::string>& environment = {}) const {
-    std::vector<std::string> args = {"run", "--paper-args", kSmallPaperArgs, "--duration", "0.5", "--fps", "20",
-                                     "--out", "run", "--quiet"};
+    std::vector<std::string> args = {"run",   "--paper-args", kSmallPaperArgs, "--duration", "0.5",
+                                     "--fps", "20",           "--out",         "run",        "--quiet"};
     args.insert(args.end(), extra.begin(), extra.end());
     return run(args, environment);
   }
@@ -122,9 +122,10 @@ std::string describe(const Result& result) {
 
 // ffprobe's view of the first video stream, frames counted by decoding.
 nlohmann::json probe(const fs::path& video) {
-  const std::string command = "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
-                              "stream=codec_name,pix_fmt,width,height,nb_read_frames,r_frame_rate -of json '" +
-                              video.string() + "' 2>&1";
+  const std::string command =
+      "ffprobe -v error -select_streams v:0 -count_frames -show_entries "
+      "stream=codec_name,pix_fmt,width,height,nb_read_frames,r_frame_rate -of json '" +
+      video.string() + "' 2>&1";
   std::FILE* pipe = ::popen(command.c_str(), "r");
   if (pipe == nullptr) return {};
   std::string text;
@@ -269,10 +270,10 @@ TEST_F(RunPictures, CameraMeshAndOverlayFlagsChangeThePicture) {
 
 TEST_F(RunPictures, BadFlagsExitTwoNamingTheFlagAndWriteNothing) {
   const std::vector<std::vector<std::string>> cases = {
-      {"--size", "0x100"},       {"--size", "1280"},          {"--size", "100x99999"}, {"--size", "axb"},
-      {"--size", "1280x720x3"},  {"--size", "-5x10"},         {"--render", "movie"},   {"--camera", "90"},
-      {"--camera", "0,95"},      {"--camera", "0,10,-1"},     {"--camera", "zoom"},    {"--mesh", "quads"},
-      {"--show", "springs"},     {"--samples", "0"},          {"--samples", "17"},     {"--samples", "2.5"},
+      {"--size", "0x100"},      {"--size", "1280"},      {"--size", "100x99999"}, {"--size", "axb"},
+      {"--size", "1280x720x3"}, {"--size", "-5x10"},     {"--render", "movie"},   {"--camera", "90"},
+      {"--camera", "0,95"},     {"--camera", "0,10,-1"}, {"--camera", "zoom"},    {"--mesh", "quads"},
+      {"--show", "springs"},    {"--samples", "0"},      {"--samples", "17"},     {"--samples", "2.5"},
   };
   for (const std::vector<std::string>& flags : cases) {
     const Result result = small_run(flags);
@@ -288,8 +289,9 @@ TEST_F(RunPictures, BadFlagsExitTwoNamingTheFlagAndWriteNothing) {
 // an interrupted run (exit 130) with a complete video of the frames kept: ffmpeg must not get
 // the signal too.
 TEST_F(RunPictures, CtrlCKeepsACompleteVideoOfTheFramesKept) {
-  std::vector<std::string> words = {CLOTHSIM_EXE, "run", "--paper-args", kSmallPaperArgs, "--duration", "100000",
-                                    "--fps", "20", "--size", "64x48", "--out", "run", "--quiet"};
+  std::vector<std::string> words = {CLOTHSIM_EXE, "run",   "--paper-args", kSmallPaperArgs, "--duration",
+                                    "100000",     "--fps", "20",           "--size",        "64x48",
+                                    "--out",      "run",   "--quiet"};
   std::vector<char*> argv;
   for (std::string& word : words) argv.push_back(word.data());
   argv.push_back(nullptr);
@@ -329,9 +331,8 @@ TEST_F(RunPictures, CtrlCKeepsACompleteVideoOfTheFramesKept) {
 
 // A simulation that blows up keeps its good frames (exit 1), and its pictures show them.
 TEST_F(RunPictures, FailedSimulationKeepsPicturesOfTheFramesKept) {
-  const Result result =
-      small_run({"--integrator", "symplectic-euler", "--time-step", "0.5", "--duration", "5", "--fps", "2", "--size",
-                 "64x48"});
+  const Result result = small_run(
+      {"--integrator", "symplectic-euler", "--time-step", "0.5", "--duration", "5", "--fps", "2", "--size", "64x48"});
   ASSERT_EQ(result.exit_code, 1) << describe(result);
   const nlohmann::json summary = nlohmann::json::parse(read_text(work_ / "run" / "summary.json"));
   EXPECT_EQ(summary["status"], "failed");

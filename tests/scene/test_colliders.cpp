@@ -121,10 +121,10 @@ TEST(Colliders, MeshIsReadRelativeToTheSceneFileAndRoundTrips) {
 // Corners as a/b/c and negative (relative) indices; a pentagon fanned into 3 triangles; CRLF line
 // ends and trailing comments.
 TEST(Colliders, ObjFaceFormsAndFans) {
-  const std::string directory = write_files(
-      "colliders-obj-forms", {{"forms.obj",
-                               "v 0 0 0\r\nv 1 0 0\r\nv 1 0 1 # w omitted\r\nv 0.5 0 1.5\r\nv 0 0 1\r\n"
-                               "vt 0 0\r\nf 1/1/1 2/1/1 3/1/1 -2/1/1 -1/1/1\r\n"}});
+  const std::string directory =
+      write_files("colliders-obj-forms", {{"forms.obj",
+                                           "v 0 0 0\r\nv 1 0 0\r\nv 1 0 1 # w omitted\r\nv 0.5 0 1.5\r\nv 0 0 1\r\n"
+                                           "vt 0 0\r\nf 1/1/1 2/1/1 3/1/1 -2/1/1 -1/1/1\r\n"}});
   const auto mesh = scene_json::read_obj_mesh(directory + "/forms.obj", 1.0, {}, "test", "file");
   ASSERT_EQ(mesh->triangle.size(), 3u);
   EXPECT_EQ(mesh->triangle[0], (std::array<std::uint32_t, 3>{0, 1, 2}));
@@ -208,7 +208,8 @@ TEST(Colliders, SetFromTheCommandLineAndValidatedInCode) {
   validate_scene(spec, "code");
   // With self-collision the thickness must leave the lattice's own neighbours apart at rest.
   spec.lattice.spacing = 0.003;
-  expect_input_error([&] { validate_scene(spec, "code"); }, {"code", "collision.thickness", "half the lattice spacing", "0.0015"});
+  expect_input_error([&] { validate_scene(spec, "code"); },
+                     {"code", "collision.thickness", "half the lattice spacing", "0.0015"});
   set_scene_field(spec, "collision.self", "false", "--set");
   validate_scene(spec, "code");
   spec.lattice.spacing = 1.0;

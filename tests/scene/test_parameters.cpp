@@ -113,12 +113,14 @@ TEST(Parameters, DocumentationListsEveryKeyWithRangeAndDefault) {
     if (row.empty()) continue;
     if (parameter.type != ParameterType::boolean) {
       EXPECT_NE(row.find(describe_range(parameter.range)), std::string::npos)
-          << parameter.key << ": the row should state the range " << describe_range(parameter.range) << "\n" << row;
+          << parameter.key << ": the row should state the range " << describe_range(parameter.range) << "\n"
+          << row;
     }
     const double value = parameter.get(defaults);
     const std::string default_text = format_parameter_value(parameter.type, value);
     EXPECT_NE(row.find("| " + default_text + " |"), std::string::npos)
-        << parameter.key << ": the row should state the default " << default_text << "\n" << row;
+        << parameter.key << ": the row should state the default " << default_text << "\n"
+        << row;
   }
   for (const VectorParameter& parameter : vector_parameters()) {
     const std::string row = row_of(parameter.key);

@@ -46,11 +46,10 @@ class BuiltinRun : public ::testing::TestWithParam<std::string> {};
 TEST_P(BuiltinRun, CompletesWithoutTrippingTheChecks) {
   const SceneSpec spec = builtin_scene(GetParam());
   Simulation simulation = testing::one_thread_simulation(spec);
-  const auto frames = std::max(
-      1, static_cast<int>(std::llround(spec.output.duration * spec.output.fps * run_fraction())));
+  const auto frames =
+      std::max(1, static_cast<int>(std::llround(spec.output.duration * spec.output.fps * run_fraction())));
   for (int frame = 1; frame <= frames; ++frame) {
-    ASSERT_TRUE(simulation.advance_to(static_cast<double>(frame) / spec.output.fps))
-        << simulation.failure()->message;
+    ASSERT_TRUE(simulation.advance_to(static_cast<double>(frame) / spec.output.fps)) << simulation.failure()->message;
   }
 }
 

@@ -84,7 +84,6 @@ TEST(Diagnostics, NonFiniteInitialStateIsReported) {
   EXPECT_NE(simulation.failure()->message.find("particle 7 (row 1, col 2)"), std::string::npos);
 }
 
-
 // The paper's 11 x 11 sheet with classical RK4 at `step` s for `duration` s; the simulation after.
 Simulation paper_sheet_with_rk4(double step, double duration) {
   SceneSpec spec = scene_from_paper_args("11,11,1,4,1,1400,200,80,5,1", "--paper-args");
@@ -120,8 +119,7 @@ TEST(Diagnostics, StableStepEstimateSeparatesRunningFromBlowingUp) {
   const double stable = estimate_stable_step(model, IntegratorKind::rk4).step;
   ASSERT_TRUE(stable > 0.0 && stable < 1.0) << stable;
   EXPECT_EQ(estimate_stable_step(model, IntegratorKind::rkf45).step, std::numeric_limits<double>::infinity());
-  EXPECT_EQ(estimate_stable_step(model, IntegratorKind::implicit_euler).step,
-            std::numeric_limits<double>::infinity());
+  EXPECT_EQ(estimate_stable_step(model, IntegratorKind::implicit_euler).step, std::numeric_limits<double>::infinity());
   // Symplectic Euler's region is smaller than RK4's.
   EXPECT_LT(estimate_stable_step(model, IntegratorKind::symplectic_euler).step, stable);
 

@@ -34,9 +34,8 @@ LatticeDef five_by_five() {
 
 // |balance error| relative to the energy that moved through the sheet's books.
 double relative_balance_error(const EnergyBalance& balance) {
-  const double scale = std::abs(balance.damping_work) + std::abs(balance.drag_work) +
-                       std::abs(balance.anchor_work) + std::abs(balance.edit_work) +
-                       std::abs(balance.energy.kinetic);
+  const double scale = std::abs(balance.damping_work) + std::abs(balance.drag_work) + std::abs(balance.anchor_work) +
+                       std::abs(balance.edit_work) + std::abs(balance.energy.kinetic);
   return std::abs(balance.error()) / scale;
 }
 
@@ -91,8 +90,7 @@ TEST(LiveEditing, EveryParameterEditMatchesARestartWithTheEditedModel) {
 }
 
 TEST(LiveEditing, SwitchingIntegratorKeepsTheStateAndGoesOnWithTheNewMethod) {
-  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
-                        rkf45(1e-6));
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rkf45(1e-6));
   ASSERT_TRUE(simulation.advance_to(0.3));
   const ClothState at_switch = simulation.state();
   const std::uint64_t rkf45_steps = simulation.integrator_stats().accepted_steps;
@@ -125,8 +123,8 @@ double adjacent_stiffness_jump(const ClothModel& model, const ClothState& state,
   for (std::size_t r = 0; r < model.radial_count(); ++r) {
     if (model.radial_kind[r] != RadialKind::adjacent) continue;
     const auto [a, b, c] = model.radial_particles[r];
-    const double bend = element::radial_angle(state.position[a], state.position[b], state.position[c]) -
-                        model.radial_rest_angle[r];
+    const double bend =
+        element::radial_angle(state.position[a], state.position[b], state.position[c]) - model.radial_rest_angle[r];
     jump += 0.5 * (k_new - model.radial_stiffness[r]) * bend * bend;
   }
   return jump;
@@ -154,8 +152,8 @@ double mass_jump(const ClothModel& model, const ClothState& state, double m_new)
 double hand_energy(const ClothModel& model, const ClothState& state) {
   double energy = 0.0;
   for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    energy += model.particle_mass[p] * (0.5 * squared_norm(state.velocity[p]) -
-                                        dot(model.environment.gravity, state.position[p]));
+    energy += model.particle_mass[p] *
+              (0.5 * squared_norm(state.velocity[p]) - dot(model.environment.gravity, state.position[p]));
   }
   for (std::size_t e = 0; e < model.connector_count(); ++e) {
     const auto [a, b] = model.connector_particles[e];
@@ -164,8 +162,8 @@ double hand_energy(const ClothModel& model, const ClothState& state) {
   }
   for (std::size_t r = 0; r < model.radial_count(); ++r) {
     const auto [a, b, c] = model.radial_particles[r];
-    const double bend = element::radial_angle(state.position[a], state.position[b], state.position[c]) -
-                        model.radial_rest_angle[r];
+    const double bend =
+        element::radial_angle(state.position[a], state.position[b], state.position[c]) - model.radial_rest_angle[r];
     energy += 0.5 * model.radial_stiffness[r] * bend * bend;
   }
   return energy;
@@ -195,8 +193,7 @@ TEST(LiveEditing, EnergyBalanceStaysExactAcrossParameterEdits) {
 }
 
 TEST(RuntimeAnchors, PinningAMovingParticleHoldsItAndBooksItsKineticEnergyAsAnchorWork) {
-  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
-                        rkf45(1e-9));
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rkf45(1e-9));
   ASSERT_TRUE(simulation.advance_to(0.4));
   const Vec3 where = simulation.state().position[kCorner];
   const Vec3 velocity = simulation.state().velocity[kCorner];
@@ -257,8 +254,7 @@ TEST(RuntimeAnchors, ReAimingEveryFrameFollowsAMovingTarget) {
 }
 
 TEST(RuntimeAnchors, ReleasingADrivenParticleKeepsItsVelocityAndRestoresItsMass) {
-  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
-                        rkf45(1e-9));
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rkf45(1e-9));
   simulation.drive_particle(kCorner, {-2.0, 2.0, -2.0}, 1.0);
   ASSERT_TRUE(simulation.advance_to(0.5));
   const Vec3 velocity = simulation.state().velocity[kCorner];
@@ -275,8 +271,7 @@ TEST(RuntimeAnchors, ReleasingADrivenParticleKeepsItsVelocityAndRestoresItsMass)
 }
 
 TEST(RuntimeAnchors, PlacingAnAnchoredParticleBooksTheJumpAsEditWork) {
-  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())),
-                        rkf45(1e-9));
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rkf45(1e-9));
   ASSERT_TRUE(simulation.advance_to(0.3));
   simulation.pin_particle(kCorner);
   const double before = hand_energy(simulation.model(), simulation.state());

@@ -22,8 +22,8 @@ namespace {
 using checks::contains;
 
 SceneSpec paper_sheet(int rows, int cols, IntegratorKind kind) {
-  SceneSpec spec = scene_from_paper_args(std::to_string(rows) + "," + std::to_string(cols) + ",1,4,1,1400,200,80,5,1",
-                                         "test");
+  SceneSpec spec =
+      scene_from_paper_args(std::to_string(rows) + "," + std::to_string(cols) + ",1,4,1,1400,200,80,5,1", "test");
   spec.integrator.kind = kind;
   spec.integrator.time_step = 1e-4;
   return spec;
@@ -31,7 +31,8 @@ SceneSpec paper_sheet(int rows, int cols, IntegratorKind kind) {
 
 SimulationShape shape_of(const SceneSpec& spec) {
   SimulationShape shape;
-  shape.counts = lattice_counts(static_cast<std::size_t>(spec.lattice.rows), static_cast<std::size_t>(spec.lattice.cols));
+  shape.counts =
+      lattice_counts(static_cast<std::size_t>(spec.lattice.rows), static_cast<std::size_t>(spec.lattice.cols));
   shape.anchors = spec.anchors.size();
   shape.integrator = spec.integrator;
   shape.uniform = spec.cuts.empty();
@@ -70,7 +71,8 @@ TEST(MemoryEstimate, EqualsTheBytesOfBuiltSimulationsForEveryIntegrator) {
       const SceneSpec spec = paper_sheet(rows, cols, kind);
       const MemoryEstimate estimate = estimate_simulation_memory(shape_of(spec));
       Simulation simulation = testing::one_thread_simulation(spec);
-      const std::string where = std::to_string(rows) + " x " + std::to_string(cols) + " " + std::string(to_string(kind));
+      const std::string where =
+          std::to_string(rows) + " x " + std::to_string(cols) + " " + std::string(to_string(kind));
       EXPECT_EQ(item(estimate, "model"), simulation.model().bytes()) << where;
       EXPECT_EQ(estimate.total(), simulation.memory_bytes()) << where << ": " << estimate.describe();
       ASSERT_TRUE(simulation.advance_to(1e-3)) << where;
@@ -97,7 +99,8 @@ TEST(MemoryEstimate, CountsTheArraysOfSheetsThatChange) {
   SimulationShape cut = uniform;
   cut.uniform = false;
   // The 26 parameter arrays of the lattice kernel, a double per particle each (and padding).
-  EXPECT_GE(item(estimate_simulation_memory(cut), "force scratch") - item(estimate_simulation_memory(uniform), "force scratch"),
+  EXPECT_GE(item(estimate_simulation_memory(cut), "force scratch") -
+                item(estimate_simulation_memory(uniform), "force scratch"),
             26 * sizeof(double) * shape.counts.particles);
 }
 

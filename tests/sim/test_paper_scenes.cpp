@@ -16,8 +16,8 @@ namespace clothsim {
 namespace {
 
 struct Trajectory {
-  std::vector<double> kinetic;  // J, per sample
-  std::vector<double> total;    // J, per sample (kinetic + gravitational + elastic)
+  std::vector<double> kinetic;     // J, per sample
+  std::vector<double> total;       // J, per sample (kinetic + gravitational + elastic)
   double highest_free_y = -1e300;  // m, over every sample after t = 0 and every free particle
 };
 

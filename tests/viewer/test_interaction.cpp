@@ -79,7 +79,7 @@ TEST(Picking, TheSphereTheRayEntersFirstIsPickedWhereItIsNow) {
   const std::optional<SphereHit> hit = pick_sphere(camera, model, 0.0, kWidth / 2.0, kHeight / 2.0, kWidth, kHeight);
   ASSERT_TRUE(hit.has_value());
   EXPECT_EQ(hit->collider, 1u);
-  EXPECT_NEAR(hit->distance, 3.5, 1e-9);  // where the ray enters it
+  EXPECT_NEAR(hit->distance, 3.5, 1e-9);                                                 // where the ray enters it
   EXPECT_FALSE(pick_sphere(camera, model, 0.0, 2.0, 2.0, kWidth, kHeight).has_value());  // an empty corner
 
   // Moved by the hand (2 m along the camera's right by t = 1 s), it is picked where it is then.

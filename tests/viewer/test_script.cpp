@@ -195,8 +195,10 @@ TEST(Script, FormatErrorsNameTheFileTheEventAndTheField) {
        "field 'events[0].drag.row': is required"},
       {R"({"events": [{"at": 1, "drag": {"row": 0, "col": 0, "to": [1, 2, 3], "duration": 1, "speed": 2}}]})",
        "field 'events[0].drag.speed': unknown field (allowed here: row, col, to, duration)"},
-      {R"({"events": [{"at": 1, "pin": {"row": -1, "col": 0}}]})", "field 'events[0].pin.row': must be in [0, 1000000]"},
-      {R"({"events": [{"at": 1, "unpin": {"row": 0.5, "col": 0}}]})", "field 'events[0].unpin.row': must be a whole number"},
+      {R"({"events": [{"at": 1, "pin": {"row": -1, "col": 0}}]})",
+       "field 'events[0].pin.row': must be in [0, 1000000]"},
+      {R"({"events": [{"at": 1, "unpin": {"row": 0.5, "col": 0}}]})",
+       "field 'events[0].unpin.row': must be a whole number"},
       {R"({"events": [{"at": 1, "pause": false}]})", "field 'events[0].pause': must be true, got boolean false"},
       {R"({"events": [{"at": 1, "set": {}}]})", "field 'events[0].set': must be an object of scene keys"},
       {R"({"events": [{"at": 1, "set": {"environment.gravity": [1, 2]}}]})",
@@ -213,9 +215,11 @@ TEST(Script, SceneChecksNameTheEventAndTheAllowedValues) {
   const SceneSpec scene = five_by_five();
   EXPECT_EQ(check_error(R"({"events": [{"at": 1, "pin": {"row": 4, "col": 5}}]})", scene),
             "drag.json: field 'events[0].pin.col': must be in [0, 4] (the scene has 5 columns), got 5");
-  EXPECT_EQ(check_error(R"({"events": [{"at": 0, "play": true}, {"at": 1, "drag": {"row": 9, "col": 0, "to": [0, 0, 0], "duration": 1}}]})",
-                        scene),
-            "drag.json: field 'events[1].drag.row': must be in [0, 4] (the scene has 5 rows), got 9");
+  EXPECT_EQ(
+      check_error(
+          R"({"events": [{"at": 0, "play": true}, {"at": 1, "drag": {"row": 9, "col": 0, "to": [0, 0, 0], "duration": 1}}]})",
+          scene),
+      "drag.json: field 'events[1].drag.row': must be in [0, 4] (the scene has 5 rows), got 9");
   // A key that defines the lattice cannot change while the simulation runs.
   const std::string not_live = check_error(R"({"events": [{"at": 1, "set": {"lattice.rows": 7}}]})", scene);
   EXPECT_NE(not_live.find("drag.json: field 'events[0].set.lattice.rows': cannot change while the simulation runs"),
@@ -225,10 +229,10 @@ TEST(Script, SceneChecksNameTheEventAndTheAllowedValues) {
   // A value out of range gets the registry's message, with the event in front.
   const std::string out_of_range =
       check_error(R"({"events": [{"at": 1, "set": {"springs.adjacent.damping": -2}}]})", scene);
-  EXPECT_NE(out_of_range.find("drag.json: events[0].set: field 'springs.adjacent.damping': must be"),
-            std::string::npos)
+  EXPECT_NE(out_of_range.find("drag.json: events[0].set: field 'springs.adjacent.damping': must be"), std::string::npos)
       << out_of_range;
-  const std::string bad_method = check_error(R"({"events": [{"at": 1, "set": {"integrator.method": "euler"}}]})", scene);
+  const std::string bad_method =
+      check_error(R"({"events": [{"at": 1, "set": {"integrator.method": "euler"}}]})", scene);
   EXPECT_NE(bad_method.find("field 'integrator.method': must be one of"), std::string::npos) << bad_method;
 }
 

@@ -78,8 +78,10 @@ TEST(Session, ScriptedRunsAreReproducible) {
 TEST(Session, SetChangesTheRunningSimulationAndSurvivesAReset) {
   Session session(small_scene());
   session.advance(0.2);
-  session.set_parameters({{"springs.connector.stiffness", "160"}, {"environment.gravity", "0,-4,0"},
-                          {"lattice.particle_mass", "2"}, {"integrator.method", "rk4"}},
+  session.set_parameters({{"springs.connector.stiffness", "160"},
+                          {"environment.gravity", "0,-4,0"},
+                          {"lattice.particle_mass", "2"},
+                          {"integrator.method", "rk4"}},
                          "test");
   const Simulation& simulation = session.simulation();
   EXPECT_EQ(simulation.model().connector_stiffness.front(), 160.0);
@@ -101,9 +103,9 @@ TEST(Session, RefusedSetChangesNothing) {
   Session session(small_scene());
   // A key that is not live, and a bad value after a good one: neither is applied.
   EXPECT_THROW(session.set_parameters({{"lattice.rows", "7"}}, "test"), InputError);
-  EXPECT_THROW(session.set_parameters({{"springs.connector.stiffness", "10"}, {"springs.connector.damping", "-1"}},
-                                      "test"),
-               InputError);
+  EXPECT_THROW(
+      session.set_parameters({{"springs.connector.stiffness", "10"}, {"springs.connector.damping", "-1"}}, "test"),
+      InputError);
   // min_step above max_step breaks a cross-field rule only together.
   EXPECT_THROW(session.set_parameters({{"integrator.min_step", "0.5"}, {"integrator.max_step", "0.01"}}, "test"),
                InputError);

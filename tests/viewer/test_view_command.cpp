@@ -164,7 +164,8 @@ std::pair<double, std::size_t> image_content(const render::Image& image) {
   for (int y = 0; y < image.height; ++y) {
     for (int x = 0; x < image.width; ++x) {
       const std::uint8_t* p = image.pixel(x, y);
-      const int distance = std::abs(p[0] - background[0]) + std::abs(p[1] - background[1]) + std::abs(p[2] - background[2]);
+      const int distance =
+          std::abs(p[0] - background[0]) + std::abs(p[1] - background[1]) + std::abs(p[2] - background[2]);
       if (distance > 30) ++different;
       colours.insert(static_cast<std::uint32_t>(p[0]) << 16 | static_cast<std::uint32_t>(p[1]) << 8 | p[2]);
     }
@@ -185,8 +186,8 @@ constexpr const char* kDragScript = R"({
 })";
 
 std::vector<std::string> drag_arguments() {
-  return {"view", "--paper-args", kPaperArgs, "--script", "drag.json", "--frames", "45", "--screenshot-at",
-          "45:final.png", "--dump-state", "state.npy", "--size", "320x240"};
+  return {"view",         "--paper-args", kPaperArgs,  "--script", "drag.json", "--frames", "45", "--screenshot-at",
+          "45:final.png", "--dump-state", "state.npy", "--size",   "320x240"};
 }
 
 TEST_F(ViewCommand, ScriptedDragEndsAtItsTargetWithScreenshotsOfTheSheet) {
@@ -202,7 +203,7 @@ TEST_F(ViewCommand, ScriptedDragEndsAtItsTargetWithScreenshotsOfTheSheet) {
   const NpyArray state = read_npy((work() / "state.npy").string());
   ASSERT_EQ(state.shape, (std::vector<std::size_t>{kParticles, 3}));
   EXPECT_LT(norm(particle_position(state, 0) - Vec3{-2.0, 2.0, -2.5}), 1e-9);
-  EXPECT_EQ(particle_position(state, kCentre), Vec3{});  // the scene's anchor stayed put
+  EXPECT_EQ(particle_position(state, kCentre), Vec3{});         // the scene's anchor stayed put
   EXPECT_LT(particle_position(state, kParticles - 1).y, -0.1);  // the far corner hangs down
 
   const render::Image final_image = render::read_png((work() / "final.png").string());
@@ -234,10 +235,10 @@ double sheet_share(const render::Image& image) {
 TEST_F(ViewCommand, TheViewKeepsAFallingSheetInThePicture) {
   const VirtualDisplay display;
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
-  const Result result = run({"view", "--paper-args", kPaperArgs, "--anchor", "none", "--frames", "120",
-                             "--screenshot-at", "1:start.png", "--screenshot-at", "120:fallen.png", "--dump-state",
-                             "state.npy", "--size", "320x240"},
-                            display.name());
+  const Result result =
+      run({"view", "--paper-args", kPaperArgs, "--anchor", "none", "--frames", "120", "--screenshot-at", "1:start.png",
+           "--screenshot-at", "120:fallen.png", "--dump-state", "state.npy", "--size", "320x240"},
+          display.name());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const NpyArray state = read_npy((work() / "state.npy").string());
   EXPECT_LT(particle_position(state, kCentre).y, -15.0) << "the sheet did fall";
@@ -289,7 +290,8 @@ TEST_F(ViewCommand, PausedRunStandsStillAndQuitEndsIt) {
   ASSERT_EQ(state.shape, (std::vector<std::size_t>{kParticles, 3}));
   // Paused from frame 0: the flat rest lattice, spacing 1, centred on the origin.
   for (std::size_t p = 0; p < kParticles; ++p) {
-    EXPECT_EQ(particle_position(state, p), (Vec3{static_cast<double>(p % 7) - 3.0, 0.0, static_cast<double>(p / 7) - 3.0}));
+    EXPECT_EQ(particle_position(state, p),
+              (Vec3{static_cast<double>(p % 7) - 3.0, 0.0, static_cast<double>(p / 7) - 3.0}));
   }
 }
 
@@ -326,8 +328,8 @@ TEST_F(ViewCommand, AnAddedSphereIsDrawnWhereItIsMoved) {
       {"frame": 4, "move_sphere": {"sphere": 0, "to": [2, 1.5, 0], "duration": 0.5}},
       {"frame": 4, "self_collision": false},
       {"frame": 5, "screenshot": "moved.png"}]})");
-  const Result result = run({"view", "--paper-args", kPaperArgs, "--script", "sphere.json", "--frames", "5",
-                             "--size", "320x240", "--hide-panel"},
+  const Result result = run({"view", "--paper-args", kPaperArgs, "--script", "sphere.json", "--frames", "5", "--size",
+                             "320x240", "--hide-panel"},
                             display.name());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   const render::Image none = render::read_png((work() / "none.png").string());
@@ -345,7 +347,8 @@ TEST_F(ViewCommand, BadInputExitsTwoBeforeAnyWindowOpens) {
   // No DISPLAY: had a window been tried, the exit code would be 3.
   Result result = run({"view", "--paper-args", kPaperArgs, "--script", "bad.json", "--dump-state", "state.npy"}, "");
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.err.find("clothsim: error: bad.json: field 'events[1].drag.duration': must be a number in (0, 86400], got -2"),
+  EXPECT_NE(result.err.find(
+                "clothsim: error: bad.json: field 'events[1].drag.duration': must be a number in (0, 86400], got -2"),
             std::string::npos)
       << result.err;
   EXPECT_FALSE(fs::exists(work() / "state.npy"));
@@ -353,7 +356,8 @@ TEST_F(ViewCommand, BadInputExitsTwoBeforeAnyWindowOpens) {
   write_text(work() / "rows.json", R"({"events": [{"at": 0, "pin": {"row": 7, "col": 0}}]})");
   result = run({"view", "--paper-args", kPaperArgs, "--script", "rows.json"}, "");
   EXPECT_EQ(result.exit_code, 2);
-  EXPECT_NE(result.err.find("rows.json: field 'events[0].pin.row': must be in [0, 6]"), std::string::npos) << result.err;
+  EXPECT_NE(result.err.find("rows.json: field 'events[0].pin.row': must be in [0, 6]"), std::string::npos)
+      << result.err;
 
   result = run({"view", "paper-fig4", "--screenshot-at", "ten:shot.png"}, "");
   EXPECT_EQ(result.exit_code, 2);

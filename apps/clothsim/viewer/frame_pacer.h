@@ -68,9 +68,9 @@ class FrameBenchmark {
 
  private:
   Stopwatch clock_;
-  double simulated_ = 0.0;            // s, simulated over the measured frames
-  double simulation_seconds_ = 0.0;   // s of wall time spent in Session::advance
-  std::vector<double> intervals_;     // s, wall time of each measured frame
+  double simulated_ = 0.0;           // s, simulated over the measured frames
+  double simulation_seconds_ = 0.0;  // s of wall time spent in Session::advance
+  std::vector<double> intervals_;    // s, wall time of each measured frame
 };
 
 }  // namespace clothsim::viewer

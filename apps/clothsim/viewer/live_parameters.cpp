@@ -7,24 +7,12 @@ namespace clothsim::viewer {
 namespace {
 
 constexpr std::array<std::string_view, 18> kLiveKeys = {
-    "springs.connector.stiffness",
-    "springs.connector.damping",
-    "springs.adjacent.stiffness",
-    "springs.adjacent.damping",
-    "springs.opposite.stiffness",
-    "springs.opposite.damping",
-    "environment.gravity",
-    "environment.air_drag",
-    "lattice.particle_mass",
-    "integrator.method",
-    "integrator.relative_tolerance",
-    "integrator.absolute_tolerance",
-    "integrator.time_step",
-    "integrator.min_step",
-    "integrator.max_step",
-    "integrator.safety",
-    "integrator.max_growth",
-    "integrator.max_shrink",
+    "springs.connector.stiffness", "springs.connector.damping",     "springs.adjacent.stiffness",
+    "springs.adjacent.damping",    "springs.opposite.stiffness",    "springs.opposite.damping",
+    "environment.gravity",         "environment.air_drag",          "lattice.particle_mass",
+    "integrator.method",           "integrator.relative_tolerance", "integrator.absolute_tolerance",
+    "integrator.time_step",        "integrator.min_step",           "integrator.max_step",
+    "integrator.safety",           "integrator.max_growth",         "integrator.max_shrink",
 };
 
 bool same(const SpringParameters& a, const SpringParameters& b) {

@@ -59,8 +59,8 @@ bool gravity_editor(SceneSpec& edited) {
                                  edited.environment.gravity.z};
   const double low = gravity->component_range.min;
   const double high = gravity->component_range.max;
-  const bool changed = ImGui::DragScalarN("gravity", ImGuiDataType_Double, value.data(), 3, 0.05f, &low, &high,
-                                          "%.3g", ImGuiSliderFlags_AlwaysClamp);
+  const bool changed = ImGui::DragScalarN("gravity", ImGuiDataType_Double, value.data(), 3, 0.05f, &low, &high, "%.3g",
+                                          ImGuiSliderFlags_AlwaysClamp);
   tooltip(gravity->description, gravity->unit);
   if (changed) gravity->set(edited, {value[0], value[1], value[2]});
   return changed;
@@ -142,8 +142,7 @@ void energy_plot(const std::deque<EnergySample>& history) {
   std::snprintf(label, sizeof label, "%.4g J", high);
   draw->AddText(ImVec2(origin.x + margin, origin.y + 1), IM_COL32(90, 90, 90, 255), label);
   std::snprintf(label, sizeof label, "%.4g J", low);
-  draw->AddText(ImVec2(origin.x + margin, corner.y - ImGui::GetTextLineHeight() - 1), IM_COL32(90, 90, 90, 255),
-                label);
+  draw->AddText(ImVec2(origin.x + margin, corner.y - ImGui::GetTextLineHeight() - 1), IM_COL32(90, 90, 90, 255), label);
   std::snprintf(label, sizeof label, "last %.3g s", span);
   const float label_width = ImGui::CalcTextSize(label).x;
   draw->AddText(ImVec2(corner.x - margin - label_width, origin.y + 1), IM_COL32(90, 90, 90, 255), label);

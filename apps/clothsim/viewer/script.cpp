@@ -21,12 +21,12 @@ namespace {
 using json = nlohmann::json;
 
 // Events must happen within a day of frame-clock time, a bound that keeps frame numbers exact.
-constexpr double kLatestEvent = 86400.0;           // s
-constexpr double kLongestDrag = 86400.0;           // s
-constexpr double kFarthestTarget = 1e6;            // m, the scene's anchor coordinate bound
-constexpr double kLatestFrame = 1e9;               // frames
-constexpr double kFarthestLatticePoint = 1e6;      // spacings, a cut's ends
-constexpr double kLargestSphere = 1e6;             // m, a sphere's radius
+constexpr double kLatestEvent = 86400.0;       // s
+constexpr double kLongestDrag = 86400.0;       // s
+constexpr double kFarthestTarget = 1e6;        // m, the scene's anchor coordinate bound
+constexpr double kLatestFrame = 1e9;           // frames
+constexpr double kFarthestLatticePoint = 1e6;  // spacings, a cut's ends
+constexpr double kLargestSphere = 1e6;         // m, a sphere's radius
 
 [[noreturn]] void fail(const std::string& source, const std::string& field, const std::string& reason) {
   throw InputError(source, field, reason);
@@ -36,22 +36,17 @@ std::string describe_json(const json& value) {
   std::string text = value.dump();
   if (text.size() > 60) text = text.substr(0, 57) + "...";
   switch (value.type()) {
-    case json::value_t::string:
-      return "string " + text;
-    case json::value_t::boolean:
-      return "boolean " + text;
-    case json::value_t::array:
-      return "array " + text;
-    case json::value_t::object:
-      return "object " + text;
-    default:
-      return text;
+    case json::value_t::string: return "string " + text;
+    case json::value_t::boolean: return "boolean " + text;
+    case json::value_t::array: return "array " + text;
+    case json::value_t::object: return "object " + text;
+    default: return text;
   }
 }
 
 constexpr std::array<std::string_view, 13> kActionNames = {
-    "drag", "release", "pin", "unpin", "pause", "play", "set", "screenshot", "quit", "cut",
-    "self_collision", "add_sphere", "move_sphere"};
+    "drag",       "release", "pin", "unpin",          "pause",      "play",       "set",
+    "screenshot", "quit",    "cut", "self_collision", "add_sphere", "move_sphere"};
 
 std::string action_list() {
   std::string text;
@@ -85,7 +80,8 @@ void check_keys(const json& object, std::initializer_list<std::string_view> allo
     if (std::find(allowed.begin(), allowed.end(), member.key()) != allowed.end()) continue;
     std::string names;
     for (std::string_view name : allowed) names += (names.empty() ? "" : ", ") + std::string(name);
-    fail(source, field.empty() ? member.key() : field + "." + member.key(), "unknown field (allowed here: " + names + ")");
+    fail(source, field.empty() ? member.key() : field + "." + member.key(),
+         "unknown field (allowed here: " + names + ")");
   }
 }
 
@@ -139,15 +135,17 @@ std::string assignment_text(const json& value, const std::string& source, const 
 
 ScriptEvent read_event(const json& value, std::size_t index, const std::string& source) {
   const std::string field = "events[" + std::to_string(index) + "]";
-  if (!value.is_object()) fail(source, field, "must be an object {\"at\": SECONDS, ACTION: ...}, got " + describe_json(value));
+  if (!value.is_object())
+    fail(source, field, "must be an object {\"at\": SECONDS, ACTION: ...}, got " + describe_json(value));
   ScriptEvent event;
   event.index = index;
 
   const bool has_at = value.contains("at");
   const bool has_frame = value.contains("frame");
   if (has_at == has_frame) {
-    fail(source, field, has_at ? "give either \"at\" (seconds) or \"frame\", not both"
-                               : "needs a time: \"at\" (seconds on the frame clock) or \"frame\" (a frame number)");
+    fail(source, field,
+         has_at ? "give either \"at\" (seconds) or \"frame\", not both"
+                : "needs a time: \"at\" (seconds on the frame clock) or \"frame\" (a frame number)");
   }
   if (has_at) {
     event.at = read_number(value.at("at"), 0.0, kLatestEvent, true, source, field + ".at");
@@ -167,15 +165,15 @@ ScriptEvent read_event(const json& value, std::size_t index, const std::string& 
     if (key == "at" || key == "frame") continue;
     const auto found = std::find(kActionNames.begin(), kActionNames.end(), key);
     if (found == kActionNames.end()) {
-      fail(source, field + "." + key, "unknown field (an event has \"at\" or \"frame\" and one action: " +
-                                          action_list() + ")");
+      fail(source, field + "." + key,
+           "unknown field (an event has \"at\" or \"frame\" and one action: " + action_list() + ")");
     }
     ++actions;
     event.action = static_cast<ScriptAction>(found - kActionNames.begin());
   }
   if (actions != 1) {
-    fail(source, field, (actions == 0 ? "needs an action: one of " : "has more than one action; give one of ") +
-                            action_list());
+    fail(source, field,
+         (actions == 0 ? "needs an action: one of " : "has more than one action; give one of ") + action_list());
   }
 
   const std::string name(to_string(event.action));
@@ -206,8 +204,8 @@ ScriptEvent read_event(const json& value, std::size_t index, const std::string& 
       event.radius = read_number(body.at("radius"), 0.0, kLargestSphere, false, source, action_field + ".radius");
       break;
     case ScriptAction::move_sphere:
-      check_object(body, {"sphere", "to", "duration"},
-                   "{\"sphere\": N, \"to\": [x, y, z], \"duration\": SECONDS}", source, action_field);
+      check_object(body, {"sphere", "to", "duration"}, "{\"sphere\": N, \"to\": [x, y, z], \"duration\": SECONDS}",
+                   source, action_field);
       event.sphere = static_cast<std::size_t>(
           read_index(body.at("sphere"), source, action_field + ".sphere", "a sphere's number from 0"));
       event.to = read_point(body.at("to"), source, action_field + ".to");
@@ -225,7 +223,8 @@ ScriptEvent read_event(const json& value, std::size_t index, const std::string& 
     case ScriptAction::pause:
     case ScriptAction::play:
     case ScriptAction::quit:
-      if (!(body.is_boolean() && body.get<bool>())) fail(source, action_field, "must be true, got " + describe_json(body));
+      if (!(body.is_boolean() && body.get<bool>()))
+        fail(source, action_field, "must be true, got " + describe_json(body));
       break;
     case ScriptAction::set:
       if (!body.is_object() || body.empty()) {
@@ -300,8 +299,9 @@ Script parse_script(std::string_view json_text, const std::string& source) {
   } catch (const json::parse_error& error) {
     std::string what = error.what();
     const std::size_t colon = what.find(": ", what.find("parse error"));
-    fail(source, "", line_and_column(json_text, error.byte) + ": JSON syntax error: " +
-                         (colon == std::string::npos ? what : what.substr(colon + 2)));
+    fail(source, "",
+         line_and_column(json_text, error.byte) +
+             ": JSON syntax error: " + (colon == std::string::npos ? what : what.substr(colon + 2)));
   }
   if (!document.is_object()) {
     fail(source, "", "a script is a JSON object {\"events\": [...]}, got " + describe_json(document));
@@ -319,9 +319,7 @@ Script parse_script(std::string_view json_text, const std::string& source) {
   return script;
 }
 
-Script load_script_file(const std::string& path) {
-  return parse_script(read_input_file(path), path);
-}
+Script load_script_file(const std::string& path) { return parse_script(read_input_file(path), path); }
 
 void check_script(const Script& script, const SceneSpec& scene) {
   // "set" events apply on top of each other in firing order, as they will in the run.
@@ -366,9 +364,7 @@ void check_script(const Script& script, const SceneSpec& scene) {
         validate_scene(edited, script.source + ": " + field);
         break;
       }
-      case ScriptAction::add_sphere:
-        ++spheres;
-        break;
+      case ScriptAction::add_sphere: ++spheres; break;
       case ScriptAction::move_sphere:
         if (event.sphere >= spheres) {
           fail(script.source, field + ".sphere",

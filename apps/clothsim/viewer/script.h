@@ -54,29 +54,41 @@
 namespace clothsim::viewer {
 
 enum class ScriptAction : std::uint8_t {
-  drag, release, pin, unpin, pause, play, set, screenshot, quit, cut, self_collision, add_sphere, move_sphere
+  drag,
+  release,
+  pin,
+  unpin,
+  pause,
+  play,
+  set,
+  screenshot,
+  quit,
+  cut,
+  self_collision,
+  add_sphere,
+  move_sphere
 };
 
 std::string_view to_string(ScriptAction action);
 
 struct ScriptEvent {
-  std::size_t index = 0;     // position in the file's "events" list, for messages
-  bool by_frame = false;     // timed by "frame" rather than "at"
-  double at = 0.0;           // s on the frame clock ("at")
-  std::uint64_t frame = 0;   // frame number ("frame")
+  std::size_t index = 0;    // position in the file's "events" list, for messages
+  bool by_frame = false;    // timed by "frame" rather than "at"
+  double at = 0.0;          // s on the frame clock ("at")
+  std::uint64_t frame = 0;  // frame number ("frame")
   ScriptAction action = ScriptAction::quit;
-  int row = 0;               // drag, release, pin, unpin: the particle
+  int row = 0;  // drag, release, pin, unpin: the particle
   int col = 0;
-  Vec3 to;                   // drag, move_sphere: target position (of the sphere's centre), m
-  double duration = 0.0;     // drag, move_sphere: s of simulated time to get there (> 0)
+  Vec3 to;                // drag, move_sphere: target position (of the sphere's centre), m
+  double duration = 0.0;  // drag, move_sphere: s of simulated time to get there (> 0)
   std::vector<std::pair<std::string, std::string>> assignments;  // set: key and value as --set text
-  std::string path;          // screenshot: PNG file
-  std::array<double, 2> cut_from{};  // cut: rest-lattice points (row, col), in spacings
+  std::string path;                                              // screenshot: PNG file
+  std::array<double, 2> cut_from{};                              // cut: rest-lattice points (row, col), in spacings
   std::array<double, 2> cut_to{};
-  bool on = false;           // self_collision: switched on (true) or off
-  Vec3 center;               // add_sphere: m
-  double radius = 0.0;       // add_sphere: m (> 0)
-  std::size_t sphere = 0;    // move_sphere: which sphere, from 0 (see the top of this file)
+  bool on = false;         // self_collision: switched on (true) or off
+  Vec3 center;             // add_sphere: m
+  double radius = 0.0;     // add_sphere: m (> 0)
+  std::size_t sphere = 0;  // move_sphere: which sphere, from 0 (see the top of this file)
 
   // The frame at whose start this event fires, for frames of `frame_time` seconds.
   std::uint64_t firing_frame(double frame_time) const;

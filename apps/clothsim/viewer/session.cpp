@@ -224,48 +224,26 @@ ScriptPlayer::FrameRequests ScriptPlayer::fire(std::uint64_t frame, Session& ses
   while (next_ < order_.size() && script_.events[order_[next_]].firing_frame(frame_time_) <= frame) {
     const ScriptEvent& event = script_.events[order_[next_++]];
     switch (event.action) {
-      case ScriptAction::drag:
-        session.drag(session.particle(event.row, event.col), event.to, event.duration);
-        break;
-      case ScriptAction::release:
-        session.release(session.particle(event.row, event.col));
-        break;
-      case ScriptAction::pin:
-        session.pin(session.particle(event.row, event.col));
-        break;
-      case ScriptAction::unpin:
-        session.unpin(session.particle(event.row, event.col));
-        break;
-      case ScriptAction::pause:
-        session.set_playing(false);
-        break;
-      case ScriptAction::play:
-        session.set_playing(true);
-        break;
+      case ScriptAction::drag: session.drag(session.particle(event.row, event.col), event.to, event.duration); break;
+      case ScriptAction::release: session.release(session.particle(event.row, event.col)); break;
+      case ScriptAction::pin: session.pin(session.particle(event.row, event.col)); break;
+      case ScriptAction::unpin: session.unpin(session.particle(event.row, event.col)); break;
+      case ScriptAction::pause: session.set_playing(false); break;
+      case ScriptAction::play: session.set_playing(true); break;
       case ScriptAction::set:
         session.set_parameters(event.assignments, script_.source + ": events[" + std::to_string(event.index) + "].set");
         break;
-      case ScriptAction::cut:
-        session.cut_in_lattice(event.cut_from, event.cut_to);
-        break;
-      case ScriptAction::self_collision:
-        session.set_self_collision(event.on);
-        break;
-      case ScriptAction::add_sphere:
-        session.add_sphere(event.center, event.radius);
-        break;
+      case ScriptAction::cut: session.cut_in_lattice(event.cut_from, event.cut_to); break;
+      case ScriptAction::self_collision: session.set_self_collision(event.on); break;
+      case ScriptAction::add_sphere: session.add_sphere(event.center, event.radius); break;
       case ScriptAction::move_sphere: {
         const std::vector<std::size_t> spheres = session.spheres();
         CLOTHSIM_ASSERT(event.sphere < spheres.size(), "check_script() checked the sphere's number");
         session.move_sphere(spheres[event.sphere], event.to, event.duration);
         break;
       }
-      case ScriptAction::screenshot:
-        requests.screenshots.push_back(event.path);
-        break;
-      case ScriptAction::quit:
-        requests.quit = true;
-        break;
+      case ScriptAction::screenshot: requests.screenshots.push_back(event.path); break;
+      case ScriptAction::quit: requests.quit = true; break;
     }
   }
   return requests;

@@ -134,7 +134,7 @@ class Session {
   SceneSpec scene_;
   std::unique_ptr<Simulation> simulation_;
   bool playing_ = true;
-  std::map<std::uint32_t, bool> held_;  // held particle -> whether it was pinned before the drag
+  std::map<std::uint32_t, bool> held_;         // held particle -> whether it was pinned before the drag
   std::optional<SpringLimits> edited_limits_;  // set_spring_limits(), applied again after a reset
   std::optional<bool> edited_self_collision_;  // set_self_collision(), applied again after a reset
   std::vector<Collider> added_spheres_;        // add_sphere(), as added, added again after a reset

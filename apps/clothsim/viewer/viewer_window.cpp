@@ -7,9 +7,9 @@
 #define GLFW_INCLUDE_NONE
 #include <GLFW/glfw3.h>
 
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
 
 #include <algorithm>
 #include <array>
@@ -31,11 +31,11 @@
 namespace clothsim::viewer {
 namespace {
 
-constexpr double kPickRadius = 12.0;       // pixels around the cursor that pick a particle
-constexpr double kOrbitPerPixel = 0.008;   // rad of orbit per pixel of mouse motion
-constexpr double kOrbitPerKey = 0.06;      // rad per key press (or repeat)
-constexpr double kPanPerKey = 0.05;        // fraction of the view height per key press
-constexpr double kZoomPerNotch = 0.9;      // distance factor per scroll notch or key press
+constexpr double kPickRadius = 12.0;      // pixels around the cursor that pick a particle
+constexpr double kOrbitPerPixel = 0.008;  // rad of orbit per pixel of mouse motion
+constexpr double kOrbitPerKey = 0.06;     // rad per key press (or repeat)
+constexpr double kPanPerKey = 0.05;       // fraction of the view height per key press
+constexpr double kZoomPerNotch = 0.9;     // distance factor per scroll notch or key press
 
 class Viewer {
  public:
@@ -267,9 +267,7 @@ void Viewer::cursor(double /*window_x*/, double /*window_y*/) {
   last_x_ = x;
   last_y_ = y;
   switch (mouse_mode_) {
-    case MouseMode::orbit:
-      camera_.orbit(-dx * kOrbitPerPixel, dy * kOrbitPerPixel);
-      break;
+    case MouseMode::orbit: camera_.orbit(-dx * kOrbitPerPixel, dy * kOrbitPerPixel); break;
     case MouseMode::pan:
       camera_.pan(dx / height_, -dy / height_);  // the picture follows the cursor
       keep_in_view_ = false;
@@ -285,10 +283,9 @@ void Viewer::cursor(double /*window_x*/, double /*window_y*/) {
       }
       break;
     }
-    case MouseMode::drag:  // the target follows the cursor in drag_grabbed(), once per frame
+    case MouseMode::drag:         // the target follows the cursor in drag_grabbed(), once per frame
     case MouseMode::drag_sphere:  // and in drag_sphere()
-    case MouseMode::none:
-      break;
+    case MouseMode::none: break;
   }
 }
 
@@ -312,9 +309,7 @@ void Viewer::key(int key, int action, int mods) {
     case GLFW_KEY_F12:
       if (!repeat) panel_.screenshot_requested = true;
       break;
-    case GLFW_KEY_F:
-      frame_camera();
-      break;
+    case GLFW_KEY_F: frame_camera(); break;
     case GLFW_KEY_C:
       if (!repeat) toggle_self_collision();
       break;
@@ -351,11 +346,8 @@ void Viewer::key(int key, int action, int mods) {
       keep_in_view_ = false;
       break;
     case GLFW_KEY_ESCAPE:
-    case GLFW_KEY_Q:
-      quit_ = true;
-      break;
-    default:
-      break;
+    case GLFW_KEY_Q: quit_ = true; break;
+    default: break;
   }
 }
 
@@ -416,7 +408,8 @@ void Viewer::release_grabbed() {
 std::string Viewer::next_screenshot_path() {
   std::string name;
   for (char c : session_.scene().name) {
-    const bool safe = (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
+    const bool safe =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_';
     name += safe ? c : '_';
   }
   char number[32];
@@ -516,7 +509,8 @@ int Viewer::run() {
     if (session_.failed()) {
       session_.set_playing(false);
       if (!reported_failure) {
-        std::fprintf(stderr, "clothsim: error: simulation failed %s\n", session_.simulation().failure()->message.c_str());
+        std::fprintf(stderr, "clothsim: error: simulation failed %s\n",
+                     session_.simulation().failure()->message.c_str());
         reported_failure = true;
       }
     }

@@ -20,14 +20,14 @@
 namespace clothsim::viewer {
 
 struct ViewerOptions {
-  int width = 1280;   // window size, pixels
+  int width = 1280;  // window size, pixels
   int height = 800;
   std::optional<Script> script;
   std::uint64_t frames = 0;  // stop after this frame (0: run until closed or a "quit" event)
   std::vector<std::pair<std::uint64_t, std::string>> screenshots;  // frame, PNG path (--screenshot-at)
-  std::string screenshot_folder = ".";  // where the screenshot key saves
-  std::string dump_state;               // positions .npy written at exit ("" for none)
-  std::uint64_t benchmark_frames = 0;   // measure this many real-time frames, print, exit
+  std::string screenshot_folder = ".";                             // where the screenshot key saves
+  std::string dump_state;                                          // positions .npy written at exit ("" for none)
+  std::uint64_t benchmark_frames = 0;                              // measure this many real-time frames, print, exit
   // Multisample anti-aliasing samples per pixel; 0 turns it off; -1 chooses: 4 on a GPU, 0 on a
   // software renderer (Mesa's llvmpipe draws 4x MSAA about 5 times slower than no MSAA).
   int samples = -1;
