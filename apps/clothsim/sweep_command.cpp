@@ -374,21 +374,6 @@ std::string sweep_footer() {
 Subcommand add_sweep_command(CLI::App& parent) {
   auto options = std::make_shared<SweepOptions>();
   CLI::App* app = parent.add_subcommand("sweep", "Run a scene over a grid of parameter values, one folder per run");
-  add_scene_options(*app, options->scene,
-                    {{"--duration"},
-                     {"--fps"},
-                     {"--integrator"},
-                     {"--rtol"},
-                     {"--atol"},
-                     {"--time-step"},
-                     {"--gravity"},
-                     {"--anchor"},
-                     {"--threads"},
-                     {"--rest-energy"},
-                     {"--self-collision"},
-                     {"--thickness"},
-                     {"--checkpoint-every"},
-                     {"--export"}});
   app->add_option("--param", options->parameters,
                   "a scene field (any key of --set) and its values, comma-separated; a vector or list in "
                   "brackets: environment.gravity=[0,-9.81,0],[0,-1.62,0] (repeatable: the runs are every combination)")
@@ -405,6 +390,7 @@ Subcommand add_sweep_command(CLI::App& parent) {
       ->type_name("K/N");
   app->add_flag("--retry-failed", options->retry_failed, "run again the runs whose simulation failed before");
   app->add_flag("--quiet", options->quiet, "print only runs that did not complete, and errors");
+  add_scene_options(*app, options->scene);
   app->add_flag("--until-rest", options->until_rest, "passed to each run (see 'clothsim run --help')");
   add_render_flags(*app, options->render);
   add_memory_flag(*app, options->memory);
