@@ -89,4 +89,17 @@ inline void expect_same_bits(const ClothState& actual, const ClothState& expecte
   EXPECT_EQ(actual.contact_work, expected.contact_work);
 }
 
+// The address space this process has mapped (VmSize of /proc/self/status), bytes; 0 if unread.
+// Tests that set RLIMIT_AS set it this much above what is mapped: under AddressSanitizer a
+// process maps terabytes of shadow memory before main, and an absolute limit of a few GiB
+// would stop it at its start.
+inline std::uint64_t mapped_address_space() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;  // "VmSize:  123 kB"
+  }
+  return 0;
+}
+
 }  // namespace clothsim::checks
