@@ -27,6 +27,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "io/file_writing.h"
 #include "model/sheet_mesh.h"
 
 #define TINYGLTF_IMPLEMENTATION
@@ -41,12 +42,6 @@ namespace clothsim {
 namespace {
 
 namespace gltf = ::clothsim_tinygltf;
-
-std::runtime_error io_error(const std::string& path, const std::string& what, int error_number) {
-  std::string text = path + ": " + what;
-  if (error_number != 0) text += std::string(": ") + std::strerror(error_number);
-  return std::runtime_error(text);
-}
 
 // The base colour of the renderer's front side (render/render_options.h, sRGB 0.85, 0.33, 0.18)
 // in linear RGB, as glTF's baseColorFactor is.
@@ -88,15 +83,7 @@ std::size_t glb_bytes_for(std::size_t rows, std::size_t cols) {
 
 GlbCounts write_glb(const std::string& path, const ClothModel& model, std::span<const Vec3> position,
                     const GlbFrame& frame) {
-  const std::size_t n = model.particle_count();
-  if (position.size() != n) {
-    throw io_error(path,
-                   "write_glb: " + std::to_string(position.size()) + " positions for a model of " + std::to_string(n) +
-                       " particles",
-                   0);
-  }
-  SheetMesh mesh;
-  build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);
+  SheetMesh mesh = sheet_mesh_to_write(path, "write_glb", model, position);
   const std::size_t vertices = mesh.vertex_count();
   const bool one_wide = model.rows == 1 || model.cols == 1;
   const GlbCounts counts{vertices, one_wide ? 0 : mesh.triangle_vertices.size()};
@@ -147,7 +134,7 @@ GlbCounts write_glb(const std::string& path, const ClothModel& model, std::span<
     }
     if (index.empty()) {
       mode = TINYGLTF_MODE_POINTS;
-      for (std::uint32_t p = 0; p < n; ++p) index.push_back(p);
+      for (std::uint32_t p = 0; p < model.particle_count(); ++p) index.push_back(p);
     }
   }
   mesh = SheetMesh{};  // its arrays are copied: free it before the file's own copies

@@ -1,8 +1,8 @@
 // Checkpoints and resume, end to end (docs/cli.md "Checkpoints and resume"): runs of the real tool
 // killed with SIGKILL at several points, during checkpoint writes among them, and resumed, must
-// leave the output an uninterrupted run leaves, bit for bit; a damaged newest checkpoint falls
-// back to the one before it; what cannot be resumed is refused with a message and exit 2; a run
-// into a folder whose earlier run died reports the leftover and replaces it.
+// leave the output an uninterrupted run leaves, bit for bit (the exports too); a damaged newest
+// checkpoint falls back to the one before it; what cannot be resumed is refused with a message
+// and exit 2; a run into a folder whose earlier run died reports the leftover and replaces it.
 #include <signal.h>
 
 #include <gtest/gtest.h>

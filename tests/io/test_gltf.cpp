@@ -17,22 +17,13 @@
 namespace clothsim {
 namespace {
 
-using checks::contains;
-using checks::thrown_message;
-
-std::string scratch_path(const std::string& name) {
-  const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
-  std::filesystem::create_directories(directory);
-  return (directory / name).string();
-}
-
 ClothModel make_sheet(int rows, int cols) {
   return build_lattice(LatticeDef{.rows = rows, .cols = cols, .spacing = 0.5}, Environment{}, {});
 }
 
 TEST(WriteGlb, SheetIsTrianglesWithNormalsAndBounds) {
   const ClothModel model = make_sheet(3, 4);
-  const std::string path = scratch_path("sheet.glb");
+  const std::string path = checks::scratch_path("io", "sheet.glb");
   const GlbCounts counts = write_glb(path, model, model.particle_rest_position, GlbFrame{"flat", 7, 0.25});
   EXPECT_EQ(counts.vertices, 12u);
   EXPECT_EQ(counts.triangles, 12u);
@@ -54,7 +45,8 @@ TEST(WriteGlb, SheetIsTrianglesWithNormalsAndBounds) {
 TEST(WriteGlb, OneWideLatticeIsLinesAlongItsConnectors) {
   for (const auto& [rows, cols] : {std::pair{1, 4}, std::pair{4, 1}}) {
     ClothModel model = make_sheet(rows, cols);
-    const std::string path = scratch_path("strip_" + std::to_string(rows) + "x" + std::to_string(cols) + ".glb");
+    const std::string path =
+        checks::scratch_path("io", "strip_" + std::to_string(rows) + "x" + std::to_string(cols) + ".glb");
     EXPECT_EQ(write_glb(path, model, model.particle_rest_position).triangles, 0u);
     testing::GlbMesh glb = testing::read_glb(path);
     ASSERT_TRUE(glb.loaded) << glb.error;
@@ -73,7 +65,7 @@ TEST(WriteGlb, OneWideLatticeIsLinesAlongItsConnectors) {
 TEST(WriteGlb, StripWithEveryConnectorBrokenIsPoints) {
   ClothModel model = make_sheet(1, 2);
   ASSERT_TRUE(break_connector(model, 0));
-  const std::string path = scratch_path("apart.glb");
+  const std::string path = checks::scratch_path("io", "apart.glb");
   write_glb(path, model, model.particle_rest_position);
   const testing::GlbMesh glb = testing::read_glb(path);
   ASSERT_TRUE(glb.loaded) << glb.error;
@@ -82,22 +74,9 @@ TEST(WriteGlb, StripWithEveryConnectorBrokenIsPoints) {
 }
 
 TEST(WriteGlb, ErrorsNameThePath) {
-  const ClothModel model = make_sheet(2, 2);
-  const std::string missing = scratch_path("no_such_directory/sheet.glb");
-  const std::string message = thrown_message([&] { write_glb(missing, model, model.particle_rest_position); });
-  EXPECT_TRUE(contains(message, missing));
-  EXPECT_TRUE(contains(message, "No such file or directory"));
-
-  if (std::filesystem::exists("/dev/full")) {  // fails every write with ENOSPC: a full disk
-    EXPECT_TRUE(contains(thrown_message([&] { write_glb("/dev/full", model, model.particle_rest_position); }),
-                         "/dev/full: write failed"));
-  }
-
-  const std::string path = scratch_path("short.glb");
-  const std::vector<Vec3> too_few(3);
-  const std::string short_message = thrown_message([&] { write_glb(path, model, too_few); });
-  EXPECT_TRUE(contains(short_message, path));
-  EXPECT_TRUE(contains(short_message, "3 positions"));
+  checks::expect_write_errors_name_the_path([](const std::string& path, const ClothModel& model,
+                                               std::span<const Vec3> position) { write_glb(path, model, position); },
+                                            ".glb", "/dev/full: write failed");
 }
 
 }  // namespace

@@ -301,11 +301,15 @@ TEST(RunExports, TornSheetGlbHasTheSplitMeshOfFinalObj) {
   expect_glb_is_the_last_frame(run);
 }
 
-TEST(RunExports, GlbThatCannotBeWrittenLeavesNoFolder) {
-  const SceneSpec spec =
-      parse_scene(R"({"paper_args": [5, 5, 1, 4, 1, 1400, 200, 80, 5, 1], "output": {"export": ["gltf"]}})", "test");
+// Starts a run of the 5 x 5 sheet with `exports` (a JSON list) into io/<name>, writes frame 0,
+// hands the writer and the simulation to `then`, and drops the writer: no output folder and no
+// partial folder may be left.
+template <typename Then>
+void expect_nothing_left(const std::string& name, const std::string& exports, Then then) {
+  const SceneSpec spec = parse_scene(
+      R"({"paper_args": [5, 5, 1, 4, 1, 1400, 200, 80, 5, 1], "output": {"export": )" + exports + "}}", "test");
   Simulation simulation = testing::one_thread_simulation(spec);
-  const fs::path out = fs::path(CLOTHSIM_TEST_TMPDIR) / "io" / "exports_glb_unwritable";
+  const fs::path out = fs::path(CLOTHSIM_TEST_TMPDIR) / "io" / name;
   fs::remove_all(out);
   fs::path partial;
   {
@@ -313,39 +317,30 @@ TEST(RunExports, GlbThatCannotBeWrittenLeavesNoFolder) {
     writer.begin(spec, simulation);
     writer.write_frame(simulation);
     partial = writer.partial();
-    fs::create_directory(partial / RunExports::kGlbFile);  // in the way of the file
-    try {
-      writer.finish(simulation, RunStatus::completed, 1.0);
-      ADD_FAILURE() << "finish() wrote final.glb over a folder";
-    } catch (const OutputError& error) {
-      EXPECT_NE(std::string(error.what()).find("final.glb"), std::string::npos) << error.what();
-    }
+    then(writer, simulation);
     EXPECT_FALSE(fs::exists(out));
   }  // the writer gives up: the partial folder goes
   EXPECT_FALSE(fs::exists(out));
   EXPECT_FALSE(fs::exists(partial));
 }
 
+TEST(RunExports, GlbThatCannotBeWrittenLeavesNoFolder) {
+  expect_nothing_left("exports_glb_unwritable", R"(["gltf"])", [](RunWriter& writer, const Simulation& simulation) {
+    fs::create_directory(writer.partial() / RunExports::kGlbFile);  // in the way of the file
+    try {
+      writer.finish(simulation, RunStatus::completed, 1.0);
+      ADD_FAILURE() << "finish() wrote final.glb over a folder";
+    } catch (const OutputError& error) {
+      EXPECT_NE(std::string(error.what()).find("final.glb"), std::string::npos) << error.what();
+    }
+  });
+}
+
 TEST(RunExports, AbandonedRunLeavesNothing) {
-  const SceneSpec spec = parse_scene(
-      R"({"paper_args": [5, 5, 1, 4, 1, 1400, 200, 80, 5, 1], "output": {"export": ["pc2", "obj-sequence"]}})", "test");
-  const ClothModel model = build_model(spec);
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  Simulation simulation(model, build_initial_state(model, spec), settings);
-  const fs::path out = fs::path(CLOTHSIM_TEST_TMPDIR) / "io" / "exports_abandoned";
-  fs::remove_all(out);
-  fs::path partial;
-  {
-    RunWriter writer(out, RunInfo{"test", "test"});
-    writer.begin(spec, simulation);
-    writer.write_frame(simulation);
-    partial = writer.partial();
-    EXPECT_TRUE(fs::exists(partial / RunExports::kPointCacheFile));
-    EXPECT_TRUE(fs::exists(partial / RunExports::frame_file_name(0)));
-  }  // no finish(): the run died
-  EXPECT_FALSE(fs::exists(out));
-  EXPECT_FALSE(fs::exists(partial));
+  expect_nothing_left("exports_abandoned", R"(["pc2", "obj-sequence"])", [](RunWriter& writer, const Simulation&) {
+    EXPECT_TRUE(fs::exists(writer.partial() / RunExports::kPointCacheFile));
+    EXPECT_TRUE(fs::exists(writer.partial() / RunExports::frame_file_name(0)));
+  });  // no finish(): the run died
 }
 
 }  // namespace
