@@ -1,4 +1,5 @@
-# What `cmake --install <build> --prefix P` puts under P (docs/library.md), all of it here:
+# What `cmake --install <build> --prefix P` puts under P (docs/library.md); the rules are here but
+# for the tool's, which apps/clothsim/CMakeLists.txt adds (see the end of this file):
 #
 #   lib/libclothsim_<module>.a          the static libraries of src/ (src/CMakeLists.txt)
 #   include/clothsim/<module>/*.h       their headers, as in src/, so that the include lines of the
