@@ -6,6 +6,7 @@ set -euo pipefail
 packages=(
   build-essential cmake ninja-build pkg-config
   nlohmann-json3-dev   # scene files and summary.json
+  libtinygltf-dev      # --export gltf (final.glb): its header, compiled into src/io/gltf.cpp
   libcli11-dev         # command-line parsing
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev     # micro-benchmarks

@@ -1,6 +1,7 @@
 // Checks shared by the tests that exercise errors, files and the clothsim tool: the message an
-// action throws, a substring assertion that prints both strings, text files, a child process's
-// result, and the Python interpreter that has numpy (for the tests that open clothsim's .npy
+// action throws, a substring assertion that prints both strings, text files and scratch paths, a
+// child process's result, the errors of the mesh file writers, and the Python interpreter that
+// has numpy (for the tests that open clothsim's .npy
 // output with numpy itself).
 #pragma once
 
@@ -74,6 +75,14 @@ inline void write_text(const std::filesystem::path& path, const std::string& tex
   std::ofstream(path, std::ios::binary | std::ios::trunc) << text;
 }
 
+// A path for a test's scratch file `name` in the folder `module` of the test scratch area, which
+// is created.
+inline std::string scratch_path(const std::string& module, const std::string& name) {
+  const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / module;
+  std::filesystem::create_directories(directory);
+  return (directory / name).string();
+}
+
 // Component-wise |actual - expected| <= tolerance, each component reported on failure.
 inline void expect_near(const Vec3& actual, const Vec3& expected, double tolerance) {
   EXPECT_NEAR(actual.x, expected.x, tolerance);
@@ -100,6 +109,28 @@ inline std::uint64_t mapped_address_space() {
     if (line.rfind("VmSize:", 0) == 0) return std::stoull(line.substr(7)) * 1024;  // "VmSize:  123 kB"
   }
   return 0;
+}
+
+// A mesh file writer's errors (io/obj.h, io/gltf.h) name the path: a folder that does not exist, a
+// full disk (/dev/full, where there is one: the message has `full_disk`) and too few positions.
+// `write(path, model, positions)` writes the file.
+template <class Write>
+void expect_write_errors_name_the_path(Write write, const std::string& extension, const std::string& full_disk) {
+  const ClothModel model = build_lattice(LatticeDef{.rows = 2, .cols = 2}, Environment{}, {});
+  const std::string missing = scratch_path("io", "no_such_directory/sheet" + extension);
+  const std::string message = thrown_message([&] { write(missing, model, model.particle_rest_position); });
+  EXPECT_TRUE(contains(message, missing));
+  EXPECT_TRUE(contains(message, "No such file or directory"));
+
+  if (std::filesystem::exists("/dev/full")) {  // fails every write with ENOSPC: a full disk
+    EXPECT_TRUE(contains(thrown_message([&] { write("/dev/full", model, model.particle_rest_position); }), full_disk));
+  }
+
+  const std::string path = scratch_path("io", "short" + extension);
+  const std::vector<Vec3> too_few(3);
+  const std::string short_message = thrown_message([&] { write(path, model, too_few); });
+  EXPECT_TRUE(contains(short_message, path));
+  EXPECT_TRUE(contains(short_message, "3 positions"));
 }
 
 }  // namespace clothsim::checks

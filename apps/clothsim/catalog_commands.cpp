@@ -63,8 +63,9 @@ ParameterRow special_row(std::string_view key, const SceneSpec& defaults) {
            "sets mass, springs and limits from physical units at lattice.spacing (--material; "
            "docs/materials.md)"};
   } else if (key == "output.export") {
-    row = {row.key, "", "list of pc2, obj-sequence", "none",
-           "files for other tools: a PC2 point cache with rest.obj, one OBJ per frame (--export; docs/exports.md)"};
+    row = {row.key, "", "list of pc2, obj-sequence, gltf", "none",
+           "files for other tools: a PC2 point cache with rest.obj, one OBJ per frame, the last frame as glTF "
+           "(--export; docs/exports.md)"};
   } else if (key == "paper_args") {
     row = {row.key, "", "10 numbers", "-",
            "the paper's argument vector: sets the lattice and springs, anchors the centre (--paper-args)"};

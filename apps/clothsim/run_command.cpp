@@ -175,6 +175,9 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
       std::printf("export       obj-sequence: %zu files, %s to %s\n", writer.frames(),
                   RunExports::frame_file_name(0).c_str(),
                   RunExports::frame_file_name(writer.frames() > 0 ? writer.frames() - 1 : 0).c_str());
+    } else if (format == ExportFormat::gltf && writer.frames() > 0) {
+      std::printf("export       gltf: %.*s (frame %zu)\n", static_cast<int>(RunExports::kGlbFile.size()),
+                  RunExports::kGlbFile.data(), writer.frames() - 1);
     }
   }
   std::fflush(stdout);
@@ -509,7 +512,8 @@ std::string run_footer() {
       "final.png (the last frame) and "
       "animation.mp4 (H.264, one video frame per output frame, at --fps); with --export pc2, animation.pc2 and "
       "rest.obj (a point cache of every frame, for Blender's Mesh Cache modifier), with --export obj-sequence, "
-      "frames/frame_000000.obj and on (docs/exports.md); with --checkpoint-every, checkpoints/ (the "
+      "frames/frame_000000.obj and on, with --export gltf, final.glb (the last frame as binary glTF) "
+      "(docs/exports.md); with --checkpoint-every, checkpoints/ (the "
       "newest two checkpoints). It is written as <out>.partial-<pid> and renamed into place at the end; an "
       "existing <out> is replaced only if a clothsim run wrote it. A run killed or interrupted after a "
       "checkpoint continues with --resume, bit for bit as if it had not stopped (docs/cli.md).",

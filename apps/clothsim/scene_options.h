@@ -48,7 +48,8 @@ inline constexpr std::array<FieldFlag, 14> kFieldFlags = {{
     {"--checkpoint-every", "output.checkpoint_every", "SECONDS",
      "write a checkpoint every this much simulated time, for --resume (0: none)"},
     {"--export", "output.export", "LIST",
-     "files for other tools, comma-separated: pc2 (animation.pc2 and rest.obj), obj-sequence (frames/*.obj); none"},
+     "files for other tools, comma-separated: pc2 (animation.pc2 and rest.obj), obj-sequence (frames/*.obj), gltf "
+     "(final.glb); none"},
 }};
 
 // Which of kFieldFlags a subcommand offers, by flag name, with optional help text replacing the

@@ -22,6 +22,7 @@
 #include <utility>
 
 #include "core/assert.h"
+#include "io/file_writing.h"
 
 namespace clothsim {
 namespace {
@@ -50,13 +51,6 @@ struct FileCloser {
   void operator()(std::FILE* file) const { std::fclose(file); }
 };
 using FilePointer = std::unique_ptr<std::FILE, FileCloser>;
-
-// "path: what: reason" with the system's reason for errno, or "path: what" without one.
-std::runtime_error io_error(const std::string& path, const std::string& what, int error_number) {
-  std::string text = path + ": " + what;
-  if (error_number != 0) text += std::string(": ") + std::strerror(error_number);
-  return std::runtime_error(text);
-}
 
 std::string shape_text(std::span<const std::size_t> shape) {
   std::string text = "(";

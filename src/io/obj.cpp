@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "core/assert.h"
+#include "io/file_writing.h"
 
 namespace clothsim {
 namespace {
@@ -23,12 +24,6 @@ namespace {
 struct FileCloser {
   void operator()(std::FILE* file) const { std::fclose(file); }
 };
-
-std::runtime_error io_error(const std::string& path, const std::string& what, int error_number) {
-  std::string text = path + ": " + what;
-  if (error_number != 0) text += std::string(": ") + std::strerror(error_number);
-  return std::runtime_error(text);
-}
 
 // Writes `text` as OBJ comment lines, one per line of text.
 void write_comment(std::FILE* file, std::string_view text) {
@@ -45,16 +40,7 @@ void write_comment(std::FILE* file, std::string_view text) {
 
 void write_obj(const std::string& path, const ClothModel& model, std::span<const Vec3> position,
                std::string_view comment) {
-  const std::size_t n = model.particle_count();
-  if (position.size() != n) {
-    throw io_error(path,
-                   "write_obj: " + std::to_string(position.size()) + " positions for a model of " + std::to_string(n) +
-                       " particles",
-                   0);
-  }
-  SheetMesh mesh;
-  build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);
-  write_obj_mesh(path, model, mesh, comment);
+  write_obj_mesh(path, model, sheet_mesh_to_write(path, "write_obj", model, position), comment);
 }
 
 void write_obj_mesh(const std::string& path, const ClothModel& model, const SheetMesh& mesh, std::string_view comment) {

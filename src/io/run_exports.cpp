@@ -66,6 +66,8 @@ RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, c
     } else if (format == ExportFormat::obj_sequence) {
       obj_sequence_ = true;
       fs::create_directory(folder_ / kFramesFolder);
+    } else if (format == ExportFormat::gltf) {
+      gltf_ = true;  // written by finish()
     }
   }
 }
@@ -85,6 +87,8 @@ RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, c
         std::error_code error;
         if (!fs::remove(folder_ / frame_file_name(frame), error)) break;
       }
+    } else if (format == ExportFormat::gltf) {
+      gltf_ = true;  // RunWriter::resume removed a finished run's final.glb; finish() writes it
     }
   }
 }
@@ -101,6 +105,8 @@ RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::span<
       memory.peak = std::max(memory.peak, mesh + 2 * cells * sizeof(std::array<std::uint32_t, 3>));
     } else if (format == ExportFormat::obj_sequence) {
       memory.peak = std::max(memory.peak, mesh);  // each frame's mesh
+    } else if (format == ExportFormat::gltf) {
+      memory.peak = std::max(memory.peak, glb_bytes_for(counts.rows, counts.cols));  // at the end
     }
   }
   return memory;
@@ -118,7 +124,11 @@ void RunExports::write_frame(const ClothModel& model, std::span<const Vec3> posi
   ++frames_;
 }
 
-void RunExports::finish(const ClothModel& model) {
+void RunExports::finish(const ClothModel& model, std::span<const Vec3> last_position, double last_time) {
+  if (gltf_ && frames_ > 0) {
+    glb_ =
+        write_glb((folder_ / kGlbFile).string(), model, last_position, GlbFrame{scene_name_, frames_ - 1, last_time});
+  }
   if (!cache_) return;
   cache_->close();
   if (first_position_.empty()) return;  // no frame: no mesh to deform
@@ -161,6 +171,14 @@ std::vector<std::pair<std::string, nlohmann::ordered_json>> RunExports::summary_
   if (obj_sequence_) {
     files.emplace_back(std::string(kFramesFolder) + "/",
                        ordered_json{{"format", "obj-sequence"}, {"files", frames_}, {"first", frame_file_name(0)}});
+  }
+  if (glb_) {
+    files.emplace_back(std::string(kGlbFile), ordered_json{{"format", "gltf"},
+                                                           {"frame", frames_ - 1},
+                                                           {"vertices", glb_->vertices},
+                                                           {"triangles", glb_->triangles},
+                                                           {"unit", "m"},
+                                                           {"up", "+y"}});
   }
   return files;
 }

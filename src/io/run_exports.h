@@ -2,6 +2,8 @@
 //   pc2           animation.pc2, a PC2 point cache (io/pc2.h) of the particles at every frame the
 //                 run saves (the frames of positions.npy), and rest.obj, the mesh it deforms
 //   obj-sequence  frames/frame_000000.obj and on, the sheet at every saved frame (io/obj.h)
+//   gltf          final.glb, the last frame as binary glTF (io/gltf.h): the mesh of final.obj,
+//                 written by finish() like final.obj, so a resumed run writes it at its end too
 //
 // The cache starts at frame 0 with one sample per frame, so in Blender cache frame k is the
 // run's frame k, at t = k / output.fps; set the Blender scene's frame rate to output.fps.
@@ -32,6 +34,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/vec3.h"
+#include "io/gltf.h"
 #include "io/pc2.h"
 #include "model/cloth_model.h"
 #include "model/sheet_mesh.h"
@@ -44,6 +47,7 @@ class RunExports {
   static constexpr std::string_view kPointCacheFile = "animation.pc2";
   static constexpr std::string_view kRestMeshFile = "rest.obj";
   static constexpr std::string_view kFramesFolder = "frames";
+  static constexpr std::string_view kGlbFile = "final.glb";
 
   // Creates the files of `formats` in `folder` (a run's partial folder) for a sheet of `model`.
   // Throws std::runtime_error naming the path on an I/O failure.
@@ -63,8 +67,9 @@ class RunExports {
   void flush() {
     if (cache_) cache_->flush();
   }
-  // Closes the cache and writes rest.obj from the model's final broken connectors.
-  void finish(const ClothModel& model);
+  // Closes the cache and writes rest.obj from the model's final broken connectors, and final.glb
+  // of `last_position` [particle_count()], m, the last frame written, at `last_time`, s.
+  void finish(const ClothModel& model, std::span<const Vec3> last_position, double last_time);
 
   // summary.json "files" entries for what finish() left: name and details.
   std::vector<std::pair<std::string, nlohmann::ordered_json>> summary_files() const;
@@ -86,11 +91,13 @@ class RunExports {
   std::string scene_name_;
   std::size_t points_ = 0;  // of the cache: the particles
   bool obj_sequence_ = false;
+  bool gltf_ = false;
   std::optional<Pc2Writer> cache_;
   std::vector<Vec3> first_position_;  // [particles], m: frame 0, rest.obj's vertices
   std::size_t frames_ = 0;
   std::size_t rest_triangles_ = 0;     // written to rest.obj
   std::size_t dropped_triangles_ = 0;  // left out of rest.obj: they span a broken connector
+  std::optional<GlbCounts> glb_;       // what final.glb holds, once written
 };
 
 // Lattice triangles (model/sheet_mesh.h) none of whose edges is a broken connector of `model`:

@@ -13,7 +13,8 @@
 // The last two let a reader rebuild any frame's live connectors (and so its torn mesh) without
 // storing the mask per frame: connector e is intact at frame k iff break_time[e] > time[k].
 // With the scene's output.export, also the files for other tools of io/run_exports.h
-// (animation.pc2 and rest.obj, frames/frame_NNNNNN.obj), streamed frame by frame like the arrays.
+// (animation.pc2 and rest.obj, frames/frame_NNNNNN.obj, streamed frame by frame like the arrays;
+// final.glb, written at the end like final.obj).
 //
 // Everything is written into a sibling folder `<out>.partial-<pid>` and renamed to `<out>` by
 // finish(), so that a reader sees either the previous folder or the complete new one. On Linux the
@@ -23,8 +24,8 @@
 // still calls finish() with status "failed", and the frames up to the last good one are kept.
 //
 // Frames are streamed to disk as they come (NpyWriter), never held in memory: a trajectory of a
-// large sheet does not fit. Only the last frame's positions are kept, for final.obj, and one
-// break time per connector.
+// large sheet does not fit. Only the last frame's positions are kept, for final.obj (and
+// final.glb), and one break time per connector.
 //
 // Rejected alternatives: writing straight into `<out>` (an interrupted or failed run leaves a mix
 // of old and new files), and deleting an existing `<out>` up front (a typo in --out could delete

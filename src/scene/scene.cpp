@@ -56,7 +56,8 @@ std::string method_choices() {
 // ---------------------------------------------------------------------------------------------
 // output.export: a list of format names, each at most once.
 
-constexpr std::array<ExportFormat, 2> kExportFormats = {ExportFormat::pc2, ExportFormat::obj_sequence};
+constexpr std::array<ExportFormat, 3> kExportFormats = {ExportFormat::pc2, ExportFormat::obj_sequence,
+                                                        ExportFormat::gltf};
 
 std::string export_choices() {
   std::vector<std::string_view> names;
@@ -164,6 +165,7 @@ std::string_view to_string(ExportFormat format) {
   switch (format) {
     case ExportFormat::pc2: return "pc2";
     case ExportFormat::obj_sequence: return "obj-sequence";
+    case ExportFormat::gltf: return "gltf";
   }
   return "unknown";
 }

@@ -39,6 +39,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.h"
+#include "glb_reader.h"
 #include "io/npy.h"
 #include "scene/scene.h"
 #include "test_checks.h"
@@ -162,10 +163,13 @@ const std::vector<BadInputCase> kBadInputCases = {
      ""},
     {"SelfCollisionMaybe", small({"--self-collision", "maybe"}), {"--self-collision", "on or off", "maybe"}, ""},
     {"ThicknessZero", small({"--thickness", "0"}), {"--thickness", "collision.thickness", "(0, 1]"}, ""},
-    {"ExportUnknown", small({"--export", "pc2,gltf"}), {"--export", "output.export", "pc2, obj-sequence", "gltf"}, ""},
+    {"ExportUnknown",
+     small({"--export", "pc2,usd"}),
+     {"--export", "output.export", "pc2, obj-sequence, gltf", "usd"},
+     ""},
     {"SceneFileExportUnknown",
      {"run", "scene.json"},
-     {"scene.json", "output.export", "pc2, obj-sequence", "fbx"},
+     {"scene.json", "output.export", "pc2, obj-sequence, gltf", "fbx"},
      R"({"output": {"export": ["pc2", "fbx"]}})"},
     {"SceneFileExportNotAList",
      {"run", "scene.json"},
@@ -426,9 +430,11 @@ TEST_F(CliTest, CollisionFlagsSetTheSceneKeys) {
 // --export writes the exports of every frame, also for a failed run (docs/exports.md; their
 // contents are tested in tests/io/test_run_exports.cpp).
 TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
-  const Result result = small_run("exported", {"--export", "pc2,obj-sequence", "--duration", "0.5", "--fps", "20"});
+  const Result result =
+      small_run("exported", {"--export", "pc2,obj-sequence,gltf", "--duration", "0.5", "--fps", "20"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   EXPECT_TRUE(contains(result.out, "export       pc2: animation.pc2 (11 samples of 25 points)")) << result.out;
+  EXPECT_TRUE(contains(result.out, "export       gltf: final.glb (frame 10)")) << result.out;
   EXPECT_TRUE(fs::exists(work_ / "exported" / "rest.obj"));
   // The PC2 header's sample count (bytes 28 to 31) is fixed up to the frame count at the end.
   const std::string cache = read_text(work_ / "exported" / "animation.pc2");
@@ -439,13 +445,49 @@ TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
   EXPECT_TRUE(fs::exists(work_ / "exported" / "frames" / "frame_000010.obj"));
   EXPECT_FALSE(fs::exists(work_ / "exported" / "frames" / "frame_000011.obj"));
   EXPECT_EQ(json::parse(read_text(work_ / "exported" / "scene.json"))["output"]["export"],
-            json::array({"pc2", "obj-sequence"}));
+            json::array({"pc2", "obj-sequence", "gltf"}));
 
-  const Result failed = small_run("blow", {"--export", "pc2", "--integrator", "symplectic-euler", "--time-step", "0.5",
-                                           "--duration", "5", "--fps", "2"});
+  const Result failed = small_run("blow", {"--export", "pc2,gltf", "--integrator", "symplectic-euler", "--time-step",
+                                           "0.5", "--duration", "5", "--fps", "2"});
   ASSERT_EQ(failed.exit_code, 1) << describe(failed);
   const json run = summary("blow");
   EXPECT_EQ(run["files"]["animation.pc2"]["samples"], run["frames"]);
+  EXPECT_EQ(run["files"]["final.glb"]["frame"], run["frames"].get<int>() - 1);  // the last good frame
+}
+
+// --export gltf of a built-in scene that tears: final.glb is final.obj's split mesh, its first
+// vertices the particles at the last frame of positions.npy (tests/io/test_run_exports.cpp tests
+// the file in detail).
+TEST_F(CliTest, GltfExportOfATearingSceneIsItsSplitLastFrame) {
+  const Result result =
+      clothsim({"run", "tear-pull", "--out", "torn", "--export", "gltf", "--render", "none", "--no-progress"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  const json run = summary("torn");
+  const auto frames = run["frames"].get<std::size_t>();
+  EXPECT_TRUE(contains(result.out, "export       gltf: final.glb (frame " + std::to_string(frames - 1) + ")"))
+      << result.out;
+  EXPECT_GT(run["sheet_changes"]["broken_connectors"].get<int>(), 0) << "tear-pull tears";
+
+  const testing::GlbMesh glb = testing::read_glb(work_ / "torn" / "final.glb");
+  ASSERT_TRUE(glb.loaded) << glb.error;
+  std::size_t obj_vertices = 0, obj_faces = 0;
+  std::istringstream obj(read_text(work_ / "torn" / "final.obj"));
+  for (std::string line; std::getline(obj, line);) {
+    obj_vertices += line.starts_with("v ");
+    obj_faces += line.starts_with("f ");
+  }
+  const auto particles = run["lattice"]["particles"].get<std::size_t>();
+  EXPECT_GT(glb.vertices(), particles) << "split along the tear";
+  EXPECT_EQ(glb.vertices(), obj_vertices);
+  EXPECT_EQ(glb.index.size(), 3 * obj_faces);
+  EXPECT_EQ(run["files"]["final.glb"]["vertices"], obj_vertices);
+
+  const NpyArray positions = read_npy((work_ / "torn" / "positions.npy").string());
+  ASSERT_EQ(positions.shape, (std::vector<std::size_t>{frames, particles, 3}));
+  const std::size_t last = (frames - 1) * particles * 3;
+  for (std::size_t k = 0; k < particles * 3; ++k) {
+    ASSERT_EQ(glb.position[k], static_cast<float>(positions.data[last + k])) << "coordinate " << k;
+  }
 }
 
 // A zero rest duration stops at the first frame below the threshold.

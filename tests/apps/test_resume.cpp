@@ -1,8 +1,8 @@
 // Checkpoints and resume, end to end (docs/cli.md "Checkpoints and resume"): runs of the real tool
 // killed with SIGKILL at several points, during checkpoint writes among them, and resumed, must
-// leave the output an uninterrupted run leaves, bit for bit; a damaged newest checkpoint falls
-// back to the one before it; what cannot be resumed is refused with a message and exit 2; a run
-// into a folder whose earlier run died reports the leftover and replaces it.
+// leave the output an uninterrupted run leaves, bit for bit (the exports too); a damaged newest
+// checkpoint falls back to the one before it; what cannot be resumed is refused with a message
+// and exit 2; a run into a folder whose earlier run died reports the leftover and replaces it.
 #include <signal.h>
 
 #include <gtest/gtest.h>
@@ -19,6 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.h"
+#include "io/run_exports.h"
 #include "test_checks.h"
 
 namespace clothsim {
@@ -238,6 +239,29 @@ TEST_F(ResumeTest, InterruptedRunResumesFromItsFolder) {
   EXPECT_EQ(summary("part")["command_line"],
             summary("full")["command_line"].get<std::string>().replace(
                 summary("full")["command_line"].get<std::string>().find("full"), 4, "part"));
+}
+
+// The exports come out of a killed and resumed run as out of an uninterrupted one: the point
+// cache and the OBJ sequence cut back to the checkpoint and streamed on, rest.obj and final.glb
+// written at the end (docs/exports.md).
+TEST_F(ResumeTest, ExportsOfAResumedRunAreTheUninterruptedRunsBitForBit) {
+  const ResumeCase exported = {
+      "Exported", {"paper-fig5", "--duration", "6", "--export", "pc2,obj-sequence,gltf"}, "0.5"};
+  ASSERT_EQ(clothsim(run_args(exported, "full")).exit_code, 0);
+  const pid_t pid = start(run_args(exported, "part"));
+  kill_after_checkpoint(pid, partial("part", pid), "", false);
+  ASSERT_EQ(wait_clothsim(pid, root_).exit_code, 128 + SIGKILL) << "the run ended before it was killed";
+  const Result resumed = clothsim({"run", "--resume", partial("part", pid).filename().string(), "--no-progress"});
+  ASSERT_EQ(resumed.exit_code, 0) << describe(resumed);
+  expect_same_output("full", "part");
+  const auto frames = summary("full")["frames"].get<std::size_t>();
+  for (const std::string& file : {std::string("animation.pc2"), std::string("rest.obj"), std::string("final.glb"),
+                                  RunExports::frame_file_name(0), RunExports::frame_file_name(frames - 1)}) {
+    const std::string left = read_text(work_ / "full" / file);
+    ASSERT_FALSE(left.empty()) << "full/" << file;
+    EXPECT_TRUE(left == read_text(work_ / "part" / file)) << file << " differs between full and part";
+  }
+  EXPECT_FALSE(fs::exists(work_ / "part" / RunExports::frame_file_name(frames)));
 }
 
 TEST_F(ResumeTest, UnfinishedCheckpointWriteIsIgnoredAndRemoved) {

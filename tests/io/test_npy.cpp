@@ -34,12 +34,6 @@ using checks::contains;
 using checks::python_with_numpy;
 using checks::thrown_message;
 
-std::string scratch_path(const std::string& name) {
-  const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
-  std::filesystem::create_directories(directory);
-  return (directory / name).string();
-}
-
 std::string read_file_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -173,7 +167,7 @@ std::vector<double> numpy_load(const std::string& path, const std::string& pytho
 // --- Streaming writer ---
 
 TEST(WriteNpy, Int32ArrayRoundTripsAndSaysItsDtype) {
-  const std::string path = scratch_path("int32.npy");
+  const std::string path = checks::scratch_path("io", "int32.npy");
   const std::vector<std::int32_t> values = {0, 1, -7, 2147483647, -2147483647 - 1, 42};
   const std::array<std::size_t, 2> shape = {3, 2};
   write_npy(path, values, shape);
@@ -188,7 +182,7 @@ TEST(WriteNpy, Int32ArrayRoundTripsAndSaysItsDtype) {
 }
 
 TEST(NpyWriter, StreamedVec3FramesRoundTripBitExact) {
-  const std::string path = scratch_path("streamed_vec3.npy");
+  const std::string path = checks::scratch_path("io", "streamed_vec3.npy");
   constexpr std::size_t frames = 4;
   constexpr std::size_t items = 5;
   {
@@ -203,7 +197,7 @@ TEST(NpyWriter, StreamedVec3FramesRoundTripBitExact) {
 }
 
 TEST(NpyWriter, StreamedDoubleFramesWithOtherComponentCounts) {
-  const std::string path = scratch_path("streamed_double.npy");
+  const std::string path = checks::scratch_path("io", "streamed_double.npy");
   constexpr std::size_t frames = 3;
   constexpr std::size_t items = 7;
   constexpr std::size_t components = 2;
@@ -224,7 +218,7 @@ class NpyWriterFrameCount : public testing::TestWithParam<std::size_t> {};
 TEST_P(NpyWriterFrameCount, HeaderIsAlignedAndRewrittenOnClose) {
   const std::size_t frames = GetParam();
   constexpr std::size_t items = 5;
-  const std::string path = scratch_path("frames_" + std::to_string(frames) + ".npy");
+  const std::string path = checks::scratch_path("io", "frames_" + std::to_string(frames) + ".npy");
   NpyWriter writer(path, items);
   writer.flush();  // puts the provisional header on disk
   const Header provisional = parse_v1_header(read_file_bytes(path));
@@ -257,7 +251,7 @@ TEST_P(NpyWriterFrameCount, HeaderIsAlignedAndRewrittenOnClose) {
 INSTANTIATE_TEST_SUITE_P(Frames, NpyWriterFrameCount, testing::Values(0U, 1U, 1000U));
 
 TEST(NpyWriter, FlushMakesTheFramesSoFarReadable) {
-  const std::string path = scratch_path("flushed.npy");
+  const std::string path = checks::scratch_path("io", "flushed.npy");
   NpyWriter writer(path, 2);
   writer.append(test_frame(0, 2));
   writer.append(test_frame(1, 2));
@@ -271,7 +265,7 @@ TEST(NpyWriter, FlushMakesTheFramesSoFarReadable) {
 }
 
 TEST(NpyWriter, DestructorClosesAnUnclosedWriter) {
-  const std::string path = scratch_path("destructor.npy");
+  const std::string path = checks::scratch_path("io", "destructor.npy");
   {
     NpyWriter writer(path, 3);
     writer.append(test_frame(0, 3));
@@ -283,7 +277,7 @@ TEST(NpyWriter, DestructorClosesAnUnclosedWriter) {
 }
 
 TEST(NpyWriter, CloseIsIdempotentAndAppendAfterCloseThrows) {
-  const std::string path = scratch_path("closed.npy");
+  const std::string path = checks::scratch_path("io", "closed.npy");
   NpyWriter writer(path, 2);
   writer.append(test_frame(0, 2));
   writer.close();
@@ -296,7 +290,7 @@ TEST(NpyWriter, CloseIsIdempotentAndAppendAfterCloseThrows) {
 }
 
 TEST(NpyWriter, WrongFrameSizeThrowsAndLeavesTheFileValid) {
-  const std::string path = scratch_path("wrong_size.npy");
+  const std::string path = checks::scratch_path("io", "wrong_size.npy");
   NpyWriter writer(path, 4);
   writer.append(test_frame(0, 4));
   const std::string message = thrown_message([&] { writer.append(test_frame(1, 3)); });
@@ -314,14 +308,14 @@ TEST(NpyWriter, WrongFrameSizeThrowsAndLeavesTheFileValid) {
 }
 
 TEST(NpyWriter, Vec3FramesNeedThreeComponents) {
-  const std::string path = scratch_path("two_components.npy");
+  const std::string path = checks::scratch_path("io", "two_components.npy");
   NpyWriter writer(path, 2, 2);
   EXPECT_TRUE(contains(thrown_message([&] { writer.append(test_frame(0, 2)); }), "3 components"));
   EXPECT_EQ(writer.frames(), 0U);
 }
 
 TEST(NpyWriter, MoveTransfersTheOpenFile) {
-  const std::string path = scratch_path("moved.npy");
+  const std::string path = checks::scratch_path("io", "moved.npy");
   NpyWriter first(path, 2);
   first.append(test_frame(0, 2));
   NpyWriter second(std::move(first));
@@ -329,7 +323,7 @@ TEST(NpyWriter, MoveTransfersTheOpenFile) {
   EXPECT_EQ(second.frames(), 2U);
   EXPECT_NO_THROW(first.close());  // NOLINT(bugprone-use-after-move): a moved-from writer is closed
 
-  const std::string other_path = scratch_path("moved_over.npy");
+  const std::string other_path = checks::scratch_path("io", "moved_over.npy");
   NpyWriter third(other_path, 2);
   third = std::move(second);  // closes other_path (0 frames), takes over path
   third.append(test_frame(2, 2));
@@ -341,7 +335,7 @@ TEST(NpyWriter, MoveTransfersTheOpenFile) {
 }
 
 TEST(NpyWriter, UncreatableFileThrowsWithPathAndReason) {
-  const std::string path = scratch_path("no_such_directory/frames.npy");
+  const std::string path = checks::scratch_path("io", "no_such_directory/frames.npy");
   const std::string message = thrown_message([&] { NpyWriter writer(path, 3); });
   EXPECT_TRUE(contains(message, path));
   EXPECT_TRUE(contains(message, "No such file or directory"));
@@ -381,7 +375,7 @@ TEST(WriteNpy, RoundTripsAnyShape) {
     for (const std::size_t extent : shape) count *= extent;
     std::vector<double> data(count);
     for (std::size_t k = 0; k < count; ++k) data[k] = test_value(k);
-    const std::string path = scratch_path("whole_" + std::to_string(shape.size()) + "d.npy");
+    const std::string path = checks::scratch_path("io", "whole_" + std::to_string(shape.size()) + "d.npy");
     write_npy(path, data, shape);
     const Header header = parse_v1_header(read_file_bytes(path));
     EXPECT_EQ(header.total_bytes % 64, 0U);
@@ -394,11 +388,11 @@ TEST(WriteNpy, RoundTripsAnyShape) {
 TEST(WriteNpy, SizeMismatchAndUncreatableFileThrow) {
   const std::vector<double> data(5, 1.0);
   const std::vector<std::size_t> shape = {2, 3};
-  const std::string path = scratch_path("mismatch.npy");
+  const std::string path = checks::scratch_path("io", "mismatch.npy");
   const std::string message = thrown_message([&] { write_npy(path, data, shape); });
   EXPECT_TRUE(contains(message, path));
   EXPECT_TRUE(contains(message, "(2, 3)"));
-  const std::string missing = scratch_path("no_such_directory/whole.npy");
+  const std::string missing = checks::scratch_path("io", "no_such_directory/whole.npy");
   const std::vector<std::size_t> flat = {5};
   EXPECT_TRUE(contains(thrown_message([&] { write_npy(missing, data, flat); }), missing));
 }
@@ -406,7 +400,7 @@ TEST(WriteNpy, SizeMismatchAndUncreatableFileThrow) {
 // --- Reader ---
 
 TEST(ReadNpy, ReadsVersion2Headers) {
-  const std::string path = scratch_path("version2.npy");
+  const std::string path = checks::scratch_path("io", "version2.npy");
   write_raw_npy(path, "{'descr': '<f8', 'fortran_order': False, 'shape': (2, 3), }\n", 6, 2);
   const NpyArray array = read_npy(path);
   EXPECT_EQ(array.shape, (std::vector<std::size_t>{2, 3}));
@@ -414,7 +408,7 @@ TEST(ReadNpy, ReadsVersion2Headers) {
 }
 
 TEST(ReadNpy, AcceptsReorderedKeysAndDoubleQuotes) {
-  const std::string path = scratch_path("reordered.npy");
+  const std::string path = checks::scratch_path("io", "reordered.npy");
   write_raw_npy(path, "{\"shape\": (4,), \"fortran_order\": False, \"descr\": \"<f8\"}   \n", 4);
   const NpyArray array = read_npy(path);
   EXPECT_EQ(array.shape, (std::vector<std::size_t>{4}));
@@ -422,7 +416,7 @@ TEST(ReadNpy, AcceptsReorderedKeysAndDoubleQuotes) {
 }
 
 TEST(ReadNpy, RejectsWhatItCannotRead) {
-  const std::string path = scratch_path("bad.npy");
+  const std::string path = checks::scratch_path("io", "bad.npy");
   const auto message_for = [&](const std::string& dict, std::size_t values, unsigned major = 1) {
     write_raw_npy(path, dict, values, major);
     return thrown_message([&] { read_npy(path); });
@@ -444,14 +438,15 @@ TEST(ReadNpy, RejectsWhatItCannotRead) {
   EXPECT_TRUE(contains(message, "not a .npy file"));
   write_file_bytes(path, "\x93NUM");
   EXPECT_TRUE(contains(thrown_message([&] { read_npy(path); }), "truncated"));
-  EXPECT_TRUE(contains(thrown_message([&] { read_npy(scratch_path("does_not_exist.npy")); }), "does_not_exist.npy"));
+  EXPECT_TRUE(contains(thrown_message([&] { read_npy(checks::scratch_path("io", "does_not_exist.npy")); }),
+                       "does_not_exist.npy"));
 }
 
 // --- numpy itself ---
 
 TEST(NpyNumpy, NumpyLoadsStreamedFramesBitExact) {
   ASSERT_FALSE(python_with_numpy().empty()) << kNoNumpy;
-  const std::string path = scratch_path("numpy_streamed.npy");
+  const std::string path = checks::scratch_path("io", "numpy_streamed.npy");
   constexpr std::size_t frames = 3;
   constexpr std::size_t items = 4;
   NpyWriter writer(path, items);
@@ -468,7 +463,7 @@ TEST(NpyNumpy, NumpyLoadsStreamedFramesBitExact) {
 TEST(NpyNumpy, NumpyLoadsEveryFrameCount) {
   ASSERT_FALSE(python_with_numpy().empty()) << kNoNumpy;
   for (const std::size_t frames : {0U, 1U, 1000U}) {
-    const std::string path = scratch_path("numpy_frames_" + std::to_string(frames) + ".npy");
+    const std::string path = checks::scratch_path("io", "numpy_frames_" + std::to_string(frames) + ".npy");
     NpyWriter writer(path, 2);
     for (std::size_t frame = 0; frame < frames; ++frame) writer.append(test_frame(frame, 2));
     writer.close();
@@ -485,7 +480,7 @@ TEST(NpyNumpy, NumpyLoadsWholeArrays) {
     for (const std::size_t extent : shape) count *= extent;
     std::vector<double> data(count);
     for (std::size_t k = 0; k < count; ++k) data[k] = test_value(k);
-    const std::string path = scratch_path("numpy_whole_" + std::to_string(shape.size()) + "d.npy");
+    const std::string path = checks::scratch_path("io", "numpy_whole_" + std::to_string(shape.size()) + "d.npy");
     write_npy(path, data, shape);
     expect_bit_exact(numpy_load(path, python_shape), count);
   }
@@ -493,7 +488,7 @@ TEST(NpyNumpy, NumpyLoadsWholeArrays) {
 
 TEST(NpyNumpy, ReadNpyReadsWhatNumpySaves) {
   ASSERT_FALSE(python_with_numpy().empty()) << kNoNumpy;
-  const std::string path = scratch_path("numpy_saved.npy");
+  const std::string path = checks::scratch_path("io", "numpy_saved.npy");
   PythonResult saved = run_python("numpy.save(path, (numpy.arange(24, dtype='<f8') * 0.1).reshape(2, 3, 4))", path);
   ASSERT_EQ(saved.status, 0) << saved.output;
   const NpyArray array = read_npy(path);

@@ -25,14 +25,7 @@ namespace {
 
 using checks::contains;
 using checks::expect_near;
-using checks::thrown_message;
 using testing::face_normal;
-
-std::string scratch_path(const std::string& name) {
-  const std::filesystem::path directory = std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / "io";
-  std::filesystem::create_directories(directory);
-  return (directory / name).string();
-}
 
 ClothModel make_sheet(int rows, int cols, double spacing = 0.5) {
   return build_lattice(LatticeDef{.rows = rows, .cols = cols, .spacing = spacing}, Environment{}, {});
@@ -107,7 +100,7 @@ TEST(WriteObj, RestSheetReadsBack) {
   constexpr int rows = 3;
   constexpr int cols = 4;
   const ClothModel model = make_sheet(rows, cols, 0.5);
-  const std::string path = scratch_path("rest_sheet.obj");
+  const std::string path = checks::scratch_path("io", "rest_sheet.obj");
   write_obj(path, model, model.particle_rest_position, "scene: test\nframe 0, t = 0 s");
   const ObjFile obj = read_obj(path);
 
@@ -153,7 +146,7 @@ TEST(WriteObj, FlippedSheetHasDownwardNormalsAndFaces) {
   const ClothModel model = make_sheet(3, 4, 0.5);
   std::vector<Vec3> flipped;
   for (const Vec3& p : model.particle_rest_position) flipped.push_back(flip(p));
-  const std::string path = scratch_path("flipped_sheet.obj");
+  const std::string path = checks::scratch_path("io", "flipped_sheet.obj");
   write_obj(path, model, flipped);
   const ObjFile obj = read_obj(path);
   ASSERT_EQ(obj.normals.size(), model.particle_count());
@@ -170,7 +163,8 @@ TEST(WriteObj, FlippedSheetHasDownwardNormalsAndFaces) {
 TEST(WriteObj, OneWideLatticeIsAPolyline) {
   for (const auto& [rows, cols] : {std::pair{1, 4}, std::pair{4, 1}}) {
     const ClothModel model = make_sheet(rows, cols);
-    const std::string path = scratch_path("strip_" + std::to_string(rows) + "x" + std::to_string(cols) + ".obj");
+    const std::string path =
+        checks::scratch_path("io", "strip_" + std::to_string(rows) + "x" + std::to_string(cols) + ".obj");
     write_obj(path, model, model.particle_rest_position);
     const ObjFile obj = read_obj(path);
     EXPECT_TRUE(obj.unknown.empty()) << obj.unknown.front();
@@ -203,7 +197,7 @@ TEST(WriteObj, TornSheetHasSplitVerticesAndReadsBack) {
   }
   std::vector<Vec3> position = model.particle_rest_position;
   for (std::size_t p = 2 * cols; p < position.size(); ++p) position[p].z += 0.4;  // the lower part moves away
-  const std::string path = scratch_path("torn_sheet.obj");
+  const std::string path = checks::scratch_path("io", "torn_sheet.obj");
   write_obj(path, model, position, "torn");
   const ObjFile obj = read_obj(path);
   EXPECT_TRUE(obj.unknown.empty()) << obj.unknown.front();
@@ -251,7 +245,7 @@ TEST(WriteObj, TornSheetHasSplitVerticesAndReadsBack) {
 TEST(WriteObj, TornStripIsOnePolylinePerPiece) {
   ClothModel model = make_sheet(1, 6);
   ASSERT_TRUE(break_connector(model, 2));  // between particles 2 and 3
-  const std::string path = scratch_path("torn_strip.obj");
+  const std::string path = checks::scratch_path("io", "torn_strip.obj");
   write_obj(path, model, model.particle_rest_position);
   const ObjFile obj = read_obj(path);
   EXPECT_TRUE(obj.unknown.empty()) << obj.unknown.front();
@@ -262,22 +256,9 @@ TEST(WriteObj, TornStripIsOnePolylinePerPiece) {
 }
 
 TEST(WriteObj, ErrorsNameThePath) {
-  const ClothModel model = make_sheet(2, 2);
-  const std::string missing = scratch_path("no_such_directory/sheet.obj");
-  const std::string message = thrown_message([&] { write_obj(missing, model, model.particle_rest_position); });
-  EXPECT_TRUE(contains(message, missing));
-  EXPECT_TRUE(contains(message, "No such file or directory"));
-
-  if (std::filesystem::exists("/dev/full")) {  // fails every write with ENOSPC: a full disk
-    EXPECT_TRUE(contains(thrown_message([&] { write_obj("/dev/full", model, model.particle_rest_position); }),
-                         "/dev/full: close failed: No space left on device"));
-  }
-
-  const std::string path = scratch_path("short.obj");
-  const std::vector<Vec3> too_few(3);
-  const std::string short_message = thrown_message([&] { write_obj(path, model, too_few); });
-  EXPECT_TRUE(contains(short_message, path));
-  EXPECT_TRUE(contains(short_message, "3 positions"));
+  checks::expect_write_errors_name_the_path([](const std::string& path, const ClothModel& model,
+                                               std::span<const Vec3> position) { write_obj(path, model, position); },
+                                            ".obj", "/dev/full: close failed: No space left on device");
 }
 
 }  // namespace

@@ -38,8 +38,8 @@ TEST(ExportsKey, ReadsAListInOrderDroppingRepeats) {
 
 TEST(ExportsKey, SetFromCommaSeparatedText) {
   SceneSpec spec;
-  set_scene_field(spec, "output.export", "pc2,obj-sequence", "--export");
-  EXPECT_EQ(spec.output.exports, (Exports{ExportFormat::pc2, ExportFormat::obj_sequence}));
+  set_scene_field(spec, "output.export", "pc2,obj-sequence,gltf", "--export");
+  EXPECT_EQ(spec.output.exports, (Exports{ExportFormat::pc2, ExportFormat::obj_sequence, ExportFormat::gltf}));
   set_scene_field(spec, "output.export", "none", "--export");
   EXPECT_TRUE(spec.output.exports.empty());
   set_scene_field(spec, "output.export", "pc2", "--export");
@@ -49,9 +49,9 @@ TEST(ExportsKey, SetFromCommaSeparatedText) {
 TEST(ExportsKey, UnknownNamesNameTheFieldAndTheFormats) {
   const std::string text = error_of([] {
     SceneSpec spec;
-    set_scene_field(spec, "output.export", "pc2,gltf", "--export");
+    set_scene_field(spec, "output.export", "pc2,fbx", "--export");
   });
-  for (const char* piece : {"--export", "output.export", "pc2, obj-sequence", "\"gltf\""}) {
+  for (const char* piece : {"--export", "output.export", "pc2, obj-sequence, gltf", "\"fbx\""}) {
     EXPECT_NE(text.find(piece), std::string::npos) << piece << " in: " << text;
   }
   const std::string file = error_of([] { parse_scene(R"({"output": {"export": ["pc2", 3]}})", "s.json"); });
