@@ -203,7 +203,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
 
   // 2. The run.
   const Stopwatch wall;
-  auto simulation = std::make_unique<Simulation>(make_simulation(spec, std::move(model)));
+  std::unique_ptr<Simulation> simulation = make_unique_simulation(spec, std::move(model));
   writer.begin(spec, *simulation);
   writer.write_frame(*simulation);
   // Pictures go into the partial folder too, so they appear (or not) with everything else.
@@ -231,7 +231,7 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
   observer.check_memory(spec, *parse_render_flags(options.render));
   const Stopwatch wall;
-  auto simulation = std::make_unique<Simulation>(make_simulation(spec));
+  std::unique_ptr<Simulation> simulation = make_unique_simulation(spec);
   RunCheckpoint run;
   std::filesystem::path used;
   try {

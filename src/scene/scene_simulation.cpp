@@ -6,7 +6,7 @@
 
 namespace clothsim {
 
-static_assert(std::is_move_constructible_v<Simulation>, "make_simulation() returns a Simulation by value");
+static_assert(std::is_nothrow_move_constructible_v<Simulation>, "make_simulation() returns a Simulation by value");
 
 SimulationSettings simulation_settings(const SceneSpec& spec) {
   SimulationSettings settings;
@@ -20,6 +20,14 @@ Simulation make_simulation(const SceneSpec& spec) { return make_simulation(spec,
 Simulation make_simulation(const SceneSpec& spec, ClothModel model) {
   ClothState initial = build_initial_state(model, spec);
   return Simulation(std::move(model), std::move(initial), simulation_settings(spec));
+}
+
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec) {
+  return std::make_unique<Simulation>(make_simulation(spec));
+}
+
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, ClothModel model) {
+  return std::make_unique<Simulation>(make_simulation(spec, std::move(model)));
 }
 
 namespace {

@@ -2,17 +2,20 @@
 // suite, the tests and the Python module all start a scene's simulation through make_simulation(),
 // so they step the same model from the same state with the same settings, bit for bit.
 //
-// make_simulation() returns the Simulation by value. Simulation is movable (its model is on the
-// heap, and the integrator, the only holder of a reference to it, moves with it), and a returned
-// value is never copied, so `Simulation simulation = make_simulation(spec);` costs nothing extra;
-// a caller that needs it on the heap (the viewer's reset, the Python module's handle) moves it
-// into a std::unique_ptr.
+// make_simulation() returns the Simulation by value: it is movable (its model and collision stage,
+// which the integrator refers to, are on the heap and move with it), and a caller that keeps it
+// behind a pointer (the viewer's reset, a run's result, the Python module's handle) moves it into
+// a std::unique_ptr (make_unique_simulation()). Rejected: returning std::unique_ptr<Simulation>,
+// which would have turned every caller that keeps its simulation on the stack (most tests, the
+// bench) into pointer code for nothing.
 //
 // The live edits of a running simulation (the viewer's panel and scripts, the Python module's
 // Simulation.set) change the scene fields marked live in the parameter registry
 // (scene/parameters.h, live_parameter_keys()); apply_live_parameters() turns such an edited scene
 // into the Simulation's set_* calls between steps.
 #pragma once
+
+#include <memory>
 
 #include "scene/scene.h"
 #include "sim/simulation.h"
@@ -29,6 +32,9 @@ Simulation make_simulation(const SceneSpec& spec);
 // The same with `model` instead of build_model(spec): a model built from `spec` and then edited
 // (a test adding a collider).
 Simulation make_simulation(const SceneSpec& spec, ClothModel model);
+// The same, on the heap.
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec);
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, ClothModel model);
 
 // Applies the live fields in which `edited` differs from `current` to `simulation`, whose model
 // was built from `current` (with earlier live edits applied). Fields that are not live must be
