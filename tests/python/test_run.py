@@ -65,7 +65,7 @@ def test_bad_input_writes_nothing_and_a_failed_run_keeps_its_folder(tmp_path):
     assert numpy.load(tmp_path / "failed" / "positions.npy").shape[0] == result.frames
 
 
-def test_resume_goes_on_from_a_checkpoint_as_the_command_does(run_command, tmp_path):
+def test_resume_goes_on_from_a_checkpoint_as_the_command_does(tmp_path):
     scene = short_scene("paper-fig5", 1.0, **{"output.checkpoint_every": 0.25})
     whole = clothsim.run(scene, out=tmp_path / "whole", render="none", quiet=True)
     # A run killed after its checkpoints leaves its partial folder; here one is made by hand from
