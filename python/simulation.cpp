@@ -177,6 +177,15 @@ py::array_t<std::uint8_t> render(SimulationHandle& handle, int width, int height
 #endif
 }
 
+// A method that reads the simulation: `read(handle)` under the handle's lock.
+template <typename Read>
+auto locked(Read read) {
+  return [read](SimulationHandle& handle) {
+    const std::unique_lock<std::mutex> lock = handle.lock();
+    return read(handle);
+  };
+}
+
 }  // namespace
 
 void bind_simulation(py::module_& module) {
@@ -213,60 +222,31 @@ void bind_simulation(py::module_& module) {
           py::arg("frames") = 1,
           "Advances to the next output frame of the scene's fps (or `frames` frames on): from t = 0, n calls "
           "give frame n of `clothsim run`'s positions.npy, bit for bit.")
-      .def_property_readonly(
-          "time",
-          [](SimulationHandle& handle) {
-            const std::unique_lock<std::mutex> lock = handle.lock();
-            return handle.simulation->state().time;
-          },
-          "The simulated time, s.")
-      .def_property_readonly(
-          "positions",
-          [](SimulationHandle& handle) {
-            const std::unique_lock<std::mutex> lock = handle.lock();
-            return copy_vectors(handle.simulation->state().position);
-          },
-          "A copy of the particles' positions, m: (particles, 3) float64.")
-      .def_property_readonly(
-          "velocities",
-          [](SimulationHandle& handle) {
-            const std::unique_lock<std::mutex> lock = handle.lock();
-            return copy_vectors(handle.simulation->state().velocity);
-          },
-          "A copy of the particles' velocities, m/s: (particles, 3) float64.")
-      .def(
-          "energy",
-          [](SimulationHandle& handle) {
-            const std::unique_lock<std::mutex> lock = handle.lock();
-            return energy_terms(*handle.simulation);
-          },
-          "The energies and works now, J, named as energy.csv's columns (time, kinetic, gravitational, "
-          "connector, radial_adjacent, radial_opposite, total, damping_work, drag_work, anchor_work, "
-          "balance_error, plastic_work, fracture_work, contact_work), with edit_work and initial_total: "
-          "balance_error = total - (initial_total + the works).")
-      .def(
-          "statistics",
-          [](SimulationHandle& handle) {
-            const std::unique_lock<std::mutex> lock = handle.lock();
-            return statistics(*handle.simulation);
-          },
-          "Steps, force evaluations, broken springs, plastic strain and contacts so far.")
-      .def_property_readonly(
-          "failure",
-          [](SimulationHandle& handle) -> py::object {
-            const std::unique_lock<std::mutex> lock = handle.lock();
-            const auto& failure = handle.simulation->failure();
-            if (!failure) return py::none();
-            return py::str(failure->message);
-          },
-          "None, or the diagnosis of the failure that stopped the simulation.")
-      .def_property_readonly(
-          "scene",
-          [](SimulationHandle& handle) {
-            const std::unique_lock<std::mutex> lock = handle.lock();
-            return handle.scene;
-          },
-          "The scene, with the live edits made by set().")
+      .def_property_readonly("time", locked([](SimulationHandle& handle) { return handle.simulation->state().time; }),
+                             "The simulated time, s.")
+      .def_property_readonly("positions", locked([](SimulationHandle& handle) {
+                               return copy_vectors(handle.simulation->state().position);
+                             }),
+                             "A copy of the particles' positions, m: (particles, 3) float64.")
+      .def_property_readonly("velocities", locked([](SimulationHandle& handle) {
+                               return copy_vectors(handle.simulation->state().velocity);
+                             }),
+                             "A copy of the particles' velocities, m/s: (particles, 3) float64.")
+      .def("energy", locked([](SimulationHandle& handle) { return energy_terms(*handle.simulation); }),
+           "The energies and works now, J, named as energy.csv's columns (time, kinetic, gravitational, "
+           "connector, radial_adjacent, radial_opposite, total, damping_work, drag_work, anchor_work, "
+           "balance_error, plastic_work, fracture_work, contact_work), with edit_work and initial_total: "
+           "balance_error = total - (initial_total + the works).")
+      .def("statistics", locked([](SimulationHandle& handle) { return statistics(*handle.simulation); }),
+           "Steps, force evaluations, broken springs, plastic strain and contacts so far.")
+      .def_property_readonly("failure", locked([](SimulationHandle& handle) -> py::object {
+                               const auto& failure = handle.simulation->failure();
+                               if (!failure) return py::none();
+                               return py::str(failure->message);
+                             }),
+                             "None, or the diagnosis of the failure that stopped the simulation.")
+      .def_property_readonly("scene", locked([](SimulationHandle& handle) { return handle.scene; }),
+                             "The scene, with the live edits made by set().")
       .def_property_readonly("particles",
                              [](SimulationHandle& handle) { return handle.simulation->model().particle_count(); })
       .def_property_readonly("rows", [](SimulationHandle& handle) { return handle.simulation->model().rows; })

@@ -14,20 +14,14 @@
 #include "run/run_scene.h"
 #include "scene/scene.h"
 #include "scene/scene_simulation.h"
+#include "test_checks.h"
 
 namespace clothsim {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_folder() {
-  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path folder =
-      fs::path(CLOTHSIM_TEST_TMPDIR) / "run" / (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
+fs::path test_folder() { return checks::fresh_test_folder("run"); }
 
 SceneSpec short_scene(double duration) {
   SceneSpec spec = builtin_scene("paper-fig5");
