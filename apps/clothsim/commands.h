@@ -12,6 +12,7 @@ Subcommand add_validate_command(CLI::App& parent);                           // 
 Subcommand add_scenes_command(CLI::App& parent);                             // catalog_commands.cpp
 Subcommand add_params_command(CLI::App& parent);                             // catalog_commands.cpp
 Subcommand add_bench_command(CLI::App& parent);                              // bench_command.cpp
+Subcommand add_sweep_command(CLI::App& parent);                              // sweep_command.cpp
 // Built with CLOTHSIM_BUILD_RENDER (it needs OpenGL, GLFW and Dear ImGui); CLOTHSIM_HAS_VIEWER.
 Subcommand add_view_command(CLI::App& parent);  // view_command.cpp
 

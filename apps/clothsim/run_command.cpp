@@ -332,21 +332,7 @@ std::string run_footer() {
 Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   auto options = std::make_shared<RunFlags>();
   CLI::App* app = parent.add_subcommand("run", "Simulate a scene and write its output folder");
-  add_scene_options(*app, options->scene,
-                    {{"--duration"},
-                     {"--fps"},
-                     {"--integrator"},
-                     {"--rtol"},
-                     {"--atol"},
-                     {"--time-step"},
-                     {"--gravity"},
-                     {"--anchor"},
-                     {"--threads"},
-                     {"--rest-energy"},
-                     {"--self-collision"},
-                     {"--thickness"},
-                     {"--checkpoint-every"},
-                     {"--export"}});
+  add_scene_options(*app, options->scene);
   app->add_flag("--until-rest", options->until_rest,
                 "stop once the kinetic energy has stayed below --rest-energy at every frame for "
                 "output.rest_duration (default 1 s); without --duration, run at most max(scene duration, 3600 s)");

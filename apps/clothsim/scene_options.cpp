@@ -31,6 +31,13 @@ std::string field_flag_value(const FieldFlag& flag, const std::string& value) {
   throw InputError(std::string(flag.flag), std::string(flag.key), "must be on or off, got \"" + value + "\"");
 }
 
+void add_field_flag(CLI::App& app, SceneOptions& options, std::size_t i, std::string_view what) {
+  const FieldFlag& flag = kFieldFlags[i];
+  app.add_option(std::string(flag.flag), options.field_values[i], field_flag_help(flag, what))
+      ->type_name(std::string(flag.value_name))
+      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+}
+
 }  // namespace
 
 void add_scene_options(CLI::App& app, SceneOptions& options, std::initializer_list<FieldFlagChoice> field_flags) {
@@ -50,16 +57,18 @@ void add_scene_options(CLI::App& app, SceneOptions& options, std::initializer_li
     std::size_t i = 0;
     while (i < kFieldFlags.size() && kFieldFlags[i].flag != choice.flag) ++i;
     if (i == kFieldFlags.size()) throw std::logic_error("add_scene_options: unknown field flag");
-    const FieldFlag& flag = kFieldFlags[i];
-    app.add_option(std::string(flag.flag), options.field_values[i], field_flag_help(flag, choice.what))
-        ->type_name(std::string(flag.value_name))
-        ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
+    add_field_flag(app, options, i, choice.what);
   }
   app.add_option("--set", options.assignments, "set any scene parameter by its key (repeatable)")
       ->type_name("KEY=VALUE")
       ->expected(1)
       ->allow_extra_args(false)
       ->multi_option_policy(CLI::MultiOptionPolicy::TakeAll);
+}
+
+void add_scene_options(CLI::App& app, SceneOptions& options) {
+  add_scene_options(app, options, {});
+  for (std::size_t i = 0; i < kFieldFlags.size(); ++i) add_field_flag(app, options, i, {});
 }
 
 SceneSpec make_scene(const SceneOptions& options, const std::function<bool(SceneSpec&)>& extra) {

@@ -73,6 +73,8 @@ struct SceneOptions {
 
 // Registers SCENE, --paper-args, --set and the chosen field flags on `app`.
 void add_scene_options(CLI::App& app, SceneOptions& options, std::initializer_list<FieldFlagChoice> field_flags);
+// The same with every field flag (run, sweep).
+void add_scene_options(CLI::App& app, SceneOptions& options);
 
 // The scene with every flag applied and checked (validate_scene); throws InputError. `extra`, if
 // given, applies a subcommand's own overrides after the field flags and returns whether it

@@ -10,7 +10,6 @@
 #include "render/video_writer.h"
 
 #include <fcntl.h>
-#include <spawn.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -19,64 +18,26 @@
 #include <cstdio>
 #include <cstring>
 #include <string>
+#include <system_error>
 #include <vector>
 
-extern char** environ;
+#include "core/child_process.h"
 
 namespace clothsim::render {
 namespace {
 
-// Starts argv with stdin from `stdin_fd` and stdout and stderr to `output_fd` (/dev/null for -1),
-// in a new process group. Returns the pid or throws with the reason.
-pid_t spawn(const std::vector<std::string>& arguments, int stdin_fd, int output_fd) {
-  std::vector<char*> argv;
-  for (const std::string& argument : arguments) argv.push_back(const_cast<char*>(argument.c_str()));
-  argv.push_back(nullptr);
-  posix_spawn_file_actions_t actions;
-  posix_spawn_file_actions_init(&actions);
-  if (stdin_fd >= 0) {
-    posix_spawn_file_actions_adddup2(&actions, stdin_fd, STDIN_FILENO);
-  } else {
-    posix_spawn_file_actions_addopen(&actions, STDIN_FILENO, "/dev/null", O_RDONLY, 0);
+// Starts ffmpeg with stdin from `stdin_fd` and stdout and stderr to `output_fd`, in a process
+// group of its own: Ctrl-C in the terminal goes to the terminal's foreground group, and ffmpeg
+// would stop (and fail the video) while clothsim finishes the interrupted run.
+pid_t spawn_ffmpeg(const std::vector<std::string>& arguments, int stdin_fd, int output_fd) {
+  try {
+    return spawn_process(arguments, {.stdin_fd = stdin_fd, .output_fd = output_fd, .own_process_group = true});
+  } catch (const std::system_error& error) {
+    throw RenderError(std::string(error.what()) +
+                      (error.code().value() == ENOENT
+                           ? " (is ffmpeg installed? install it, or use --render none or --render image)"
+                           : ""));
   }
-  if (output_fd >= 0) {
-    posix_spawn_file_actions_adddup2(&actions, output_fd, STDOUT_FILENO);
-    posix_spawn_file_actions_adddup2(&actions, output_fd, STDERR_FILENO);
-  } else {
-    posix_spawn_file_actions_addopen(&actions, STDOUT_FILENO, "/dev/null", O_WRONLY, 0);
-    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-  }
-  // A process group of its own: Ctrl-C in the terminal goes to the terminal's foreground group,
-  // and ffmpeg would stop (and fail the video) while clothsim finishes the interrupted run.
-  posix_spawnattr_t attributes;
-  posix_spawnattr_init(&attributes);
-  posix_spawnattr_setflags(&attributes, POSIX_SPAWN_SETPGROUP);
-  posix_spawnattr_setpgroup(&attributes, 0);
-  pid_t pid = -1;
-  const int error = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
-  posix_spawnattr_destroy(&attributes);
-  posix_spawn_file_actions_destroy(&actions);
-  if (error != 0) {
-    throw RenderError(
-        "cannot run '" + arguments[0] + "': " + std::strerror(error) +
-        (error == ENOENT ? " (is ffmpeg installed? install it, or use --render none or --render image)" : ""));
-  }
-  return pid;
-}
-
-int wait_for(pid_t pid) {
-  int status = 0;
-  while (waitpid(pid, &status, 0) < 0) {
-    if (errno != EINTR) return -1;
-  }
-  return status;
-}
-
-std::string describe_status(int status) {
-  if (status < 0) return "could not be waited for";
-  if (WIFEXITED(status)) return "exited with status " + std::to_string(WEXITSTATUS(status));
-  if (WIFSIGNALED(status)) return std::string("was killed by signal ") + strsignal(WTERMSIG(status));
-  return "ended abnormally";
 }
 
 }  // namespace
@@ -113,12 +74,12 @@ struct VideoWriter::Impl {
       ::close(pipe_fd);
       pipe_fd = -1;
     }
-    const int status = wait_for(pid);
+    const int status = wait_process(pid);
     pid = -1;
     if (status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0 && context.empty()) return;
     std::string message = path + ": video encoding failed";
     if (!context.empty()) message += " (" + context + ")";
-    message += ": " + program + " " + describe_status(status);
+    message += ": " + program + " " + describe_exit_status(status);
     const std::string text = log_text();
     if (!text.empty()) message += "; its output:\n" + text;
     throw RenderError(message);
@@ -152,7 +113,7 @@ VideoWriter::VideoWriter(const std::string& path, int width, int height, int fps
       // H.264, visually lossless for flat-shaded pictures, playable everywhere.
       "-c:v", "libx264", "-preset", "fast", "-crf", "18", "-pix_fmt", "yuv420p", "-movflags", "+faststart", path};
   try {
-    impl.pid = spawn(arguments, fds[0], ::fileno(impl.log));
+    impl.pid = spawn_ffmpeg(arguments, fds[0], ::fileno(impl.log));
   } catch (...) {
     ::close(fds[0]);
     ::close(fds[1]);
@@ -170,7 +131,7 @@ VideoWriter::~VideoWriter() {
     // Not finished: a failed run. Stop ffmpeg; its partial file goes with the partial folder.
     ::kill(impl.pid, SIGKILL);
     if (impl.pipe_fd >= 0) ::close(impl.pipe_fd);
-    wait_for(impl.pid);
+    wait_process(impl.pid);
   }
   if (impl.log != nullptr) std::fclose(impl.log);
   std::signal(SIGPIPE, impl.previous_sigpipe == SIG_ERR ? SIG_DFL : impl.previous_sigpipe);
@@ -209,8 +170,8 @@ long VideoWriter::frames() const { return impl_->frames; }
 
 bool VideoWriter::available(const std::string& ffmpeg) {
   try {
-    const pid_t pid = spawn({ffmpeg, "-hide_banner", "-version"}, -1, -1);
-    const int status = wait_for(pid);
+    const pid_t pid = spawn_ffmpeg({ffmpeg, "-hide_banner", "-version"}, -1, -1);
+    const int status = wait_process(pid);
     return status >= 0 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
   } catch (const RenderError&) {
     return false;

@@ -1,0 +1,299 @@
+#include "sweep_plan.h"
+
+#include <signal.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <charconv>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include "core/error.h"
+#include "io/run_checkpoints.h"
+#include "io/run_writer.h"
+
+namespace clothsim::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+constexpr std::string_view kRecordFile = "sweep.json";
+constexpr std::string_view kIndexFile = "index.csv";
+constexpr std::string_view kPartialMarker = ".partial-";
+
+[[noreturn]] void bad_param(const std::string& field, const std::string& reason) {
+  throw InputError("--param", field, reason);
+}
+
+std::string_view trim(std::string_view text) {
+  const auto space = [](char c) { return c == ' ' || c == '\t'; };
+  while (!text.empty() && space(text.front())) text.remove_prefix(1);
+  while (!text.empty() && space(text.back())) text.remove_suffix(1);
+  return text;
+}
+
+// Splits at commas outside [] and {}.
+std::vector<std::string> split_values(std::string_view text, const std::string& key) {
+  std::vector<std::string> values;
+  int depth = 0;
+  std::size_t start = 0;
+  for (std::size_t i = 0; i <= text.size(); ++i) {
+    const char c = i < text.size() ? text[i] : ',';
+    if (c == '[' || c == '{') ++depth;
+    if (c == ']' || c == '}') {
+      if (--depth < 0) bad_param(key, "has a '" + std::string(1, c) + "' without its opening bracket");
+    }
+    if (c != ',' || depth > 0) continue;
+    const std::string_view value = trim(text.substr(start, i - start));
+    if (value.empty()) bad_param(key, "has an empty value; expected KEY=V1,V2,... (got \"" + std::string(text) + "\")");
+    values.emplace_back(value);
+    start = i + 1;
+  }
+  if (depth != 0) bad_param(key, "has a bracket that is not closed");
+  return values;
+}
+
+std::size_t read_count(std::string_view text, std::string_view what, const std::string& whole) {
+  std::size_t value = 0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error != std::errc{} || end != text.data() + text.size() || text.empty()) {
+    throw InputError("--shard", "",
+                     "expects K/N with whole numbers 1 <= K <= N, got \"" + whole + "\" (" + std::string(what) +
+                         " is not a whole number)");
+  }
+  return value;
+}
+
+// True while process `pid` exists (EPERM: it exists but is another user's).
+bool process_alive(pid_t pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
+
+void write_text_atomically(const fs::path& path, const std::string& text) {
+  const fs::path temporary = path.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw OutputError(temporary.string() + ": cannot write");
+  }
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) {
+    fs::remove(temporary, error);
+    throw OutputError(path.string() + ": cannot write: " + error.message());
+  }
+}
+
+json read_json(const fs::path& path) {
+  std::ifstream in(path);
+  if (!in) return json();
+  return json::parse(in, nullptr, /*allow_exceptions=*/false);
+}
+
+// A CSV cell: quoted when it holds a comma, quote or line break.
+std::string csv_cell(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string quoted = "\"";
+  for (char c : text) {
+    if (c == '"') quoted += '"';
+    quoted += c;
+  }
+  return quoted + "\"";
+}
+
+// A number as summary.json holds it, in the shortest text that reads back to the same double, or
+// "" when absent.
+std::string number_cell(const json& value) {
+  if (!value.is_number()) return {};
+  if (value.is_number_integer()) return std::to_string(value.get<long long>());
+  char text[32];
+  const auto result = std::to_chars(text, text + sizeof text, value.get<double>());
+  return std::string(text, result.ptr);
+}
+
+const json& at_path(const json& root, std::initializer_list<std::string_view> path) {
+  static const json kMissing;
+  const json* node = &root;
+  for (std::string_view key : path) {
+    if (!node->is_object()) return kMissing;
+    const auto found = node->find(std::string(key));
+    if (found == node->end()) return kMissing;
+    node = &*found;
+  }
+  return *node;
+}
+
+constexpr std::array<std::string_view, 8> kFinalEnergyTerms = {"kinetic",         "gravitational",   "connector",
+                                                               "radial_adjacent", "radial_opposite", "total",
+                                                               "balance_error",   "damping_work"};
+
+}  // namespace
+
+SweepParameter parse_sweep_parameter(std::string_view text) {
+  const std::size_t equals = text.find('=');
+  if (equals == std::string_view::npos || equals == 0) {
+    bad_param("", "expects KEY=V1,V2,... (list the keys with 'clothsim params'), got \"" + std::string(text) + "\"");
+  }
+  SweepParameter parameter{std::string(trim(text.substr(0, equals))), {}};
+  parameter.values = split_values(text.substr(equals + 1), parameter.key);
+  for (std::size_t i = 0; i < parameter.values.size(); ++i) {
+    if (std::find(parameter.values.begin(), parameter.values.begin() + i, parameter.values[i]) !=
+        parameter.values.begin() + i) {
+      bad_param(parameter.key, "lists the value " + parameter.values[i] + " twice");
+    }
+  }
+  return parameter;
+}
+
+Shard parse_shard(std::string_view text) {
+  const std::string whole(text);
+  const std::size_t slash = text.find('/');
+  if (slash == std::string_view::npos) {
+    throw InputError("--shard", "", "expects K/N (run the K-th of N shares, 1 <= K <= N), got \"" + whole + "\"");
+  }
+  Shard shard{read_count(text.substr(0, slash), "K", whole), read_count(text.substr(slash + 1), "N", whole)};
+  if (shard.count < 1 || shard.count > kMaxSweepRuns) {
+    throw InputError("--shard", "",
+                     "N must be in [1, " + std::to_string(kMaxSweepRuns) + "], got " + std::to_string(shard.count));
+  }
+  if (shard.index < 1 || shard.index > shard.count) {
+    throw InputError("--shard", "",
+                     "K must be in [1, " + std::to_string(shard.count) + "] (shares count from 1), got " +
+                         std::to_string(shard.index));
+  }
+  return shard;
+}
+
+std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters) {
+  std::size_t total = 1;
+  for (std::size_t p = 0; p < parameters.size(); ++p) {
+    for (std::size_t q = 0; q < p; ++q) {
+      if (parameters[q].key == parameters[p].key) bad_param(parameters[p].key, "is swept by two --param options");
+    }
+    total *= parameters[p].values.size();
+    if (total > kMaxSweepRuns) {
+      bad_param(parameters[p].key, "the grid has more than " + std::to_string(kMaxSweepRuns) + " runs");
+    }
+  }
+  const std::size_t width = std::max<std::size_t>(4, std::to_string(total - 1).size());
+  std::vector<SweepRun> runs(total);
+  for (std::size_t i = 0; i < total; ++i) {
+    SweepRun& run = runs[i];
+    run.index = i;
+    const std::string number = std::to_string(i);
+    run.folder = "run-" + std::string(width - number.size(), '0') + number;
+    // Mixed radix, the last --param the fastest digit.
+    std::size_t rest = i;
+    run.assignments.resize(parameters.size());
+    for (std::size_t p = parameters.size(); p-- > 0;) {
+      const std::size_t count = parameters[p].values.size();
+      run.assignments[p] = {parameters[p].key, parameters[p].values[rest % count]};
+      rest /= count;
+    }
+  }
+  return runs;
+}
+
+std::string_view to_string(RunState state) {
+  switch (state) {
+    case RunState::pending: return "pending";
+    case RunState::running: return "running";
+    case RunState::interrupted: return "interrupted";
+    case RunState::completed: return "completed";
+    case RunState::failed: return "failed";
+    case RunState::error: return "error";
+  }
+  return "unknown";
+}
+
+fs::path sweep_log_path(const fs::path& out, const SweepRun& run) { return out / "logs" / (run.folder + ".log"); }
+
+RunStatus read_run_status(const fs::path& out, const SweepRun& run) {
+  RunStatus status;
+  const fs::path folder = out / run.folder;
+  status.summary = read_json(folder / RunWriter::kSummaryFile);
+  const json& state = at_path(status.summary, {"status"});
+  if (state.is_string()) {
+    const std::string text = state.get<std::string>();
+    if (text == "completed" || text == "at_rest") {
+      status.state = RunState::completed;
+      return status;
+    }
+    status.state = text == "failed" ? RunState::failed : RunState::interrupted;
+    if (status.state == RunState::interrupted && !list_run_checkpoints(folder).empty()) status.resume_from = folder;
+  }
+  // A partial folder beside it: a run still going, or one that died (resumable from a checkpoint).
+  std::error_code error;
+  const std::string prefix = run.folder + std::string(kPartialMarker);
+  for (const fs::directory_entry& entry : fs::directory_iterator(out, error)) {
+    const std::string name = entry.path().filename().string();
+    if (!name.starts_with(prefix)) continue;
+    const std::string digits = name.substr(prefix.size());
+    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+    if (process_alive(static_cast<pid_t>(std::stol(digits)))) {
+      status.state = RunState::running;
+      return status;
+    }
+    if (status.state == RunState::pending) status.state = RunState::interrupted;
+    if (status.resume_from.empty() && !list_run_checkpoints(entry.path()).empty()) status.resume_from = entry.path();
+  }
+  if (status.state == RunState::pending && fs::exists(sweep_log_path(out, run), error)) status.state = RunState::error;
+  return status;
+}
+
+json sweep_record(const std::vector<std::string>& scene_arguments, const std::vector<SweepParameter>& parameters,
+                  std::size_t runs) {
+  json grid = json::array();
+  for (const SweepParameter& parameter : parameters)
+    grid.push_back({{"key", parameter.key}, {"values", parameter.values}});
+  return {{"run_arguments", scene_arguments}, {"parameters", grid}, {"runs", runs}};
+}
+
+void claim_sweep_folder(const fs::path& out, const json& record) {
+  std::error_code error;
+  const fs::path record_path = out / kRecordFile;
+  if (fs::exists(record_path, error)) {
+    const json existing = read_json(record_path);
+    if (existing == record) return;
+    throw InputError("--out", "",
+                     out.string() + " holds another sweep (its " + std::string(kRecordFile) +
+                         " has other parameters or run arguments): give a new --out, or the same arguments as "
+                         "before to continue that sweep");
+  }
+  if (fs::exists(out, error) && !fs::is_empty(out, error)) {
+    throw InputError("--out", "",
+                     out.string() + " exists and is not a sweep's folder (no " + std::string(kRecordFile) +
+                         "): give a new or empty folder");
+  }
+  fs::create_directories(out / "logs", error);
+  if (error) throw OutputError(out.string() + ": cannot create the sweep's folder: " + error.message());
+  write_text_atomically(record_path, record.dump(2) + "\n");
+}
+
+void write_sweep_index(const fs::path& out, const std::vector<SweepParameter>& parameters,
+                       const std::vector<SweepRun>& runs) {
+  std::ostringstream csv;
+  csv << "run,folder";
+  for (const SweepParameter& parameter : parameters) csv << ',' << csv_cell(parameter.key);
+  csv << ",status,wall_seconds,simulated_time,frames,accepted_steps";
+  for (std::string_view term : kFinalEnergyTerms) csv << ",final_" << term;
+  csv << '\n';
+  for (const SweepRun& run : runs) {
+    const RunStatus status = read_run_status(out, run);
+    csv << run.index << ',' << run.folder;
+    for (const auto& [key, value] : run.assignments) csv << ',' << csv_cell(value);
+    const json& summary = status.summary;
+    csv << ',' << to_string(status.state) << ',' << number_cell(at_path(summary, {"timings", "wall_seconds"})) << ','
+        << number_cell(at_path(summary, {"simulated_time"})) << ',' << number_cell(at_path(summary, {"frames"})) << ','
+        << number_cell(at_path(summary, {"integrator", "accepted_steps"}));
+    for (std::string_view term : kFinalEnergyTerms)
+      csv << ',' << number_cell(at_path(summary, {"energy", "final", term}));
+    csv << '\n';
+  }
+  write_text_atomically(out / kIndexFile, csv.str());
+}
+
+}  // namespace clothsim::cli
