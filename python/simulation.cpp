@@ -10,6 +10,7 @@
 
 #include "bindings.h"
 #include "core/error.h"
+#include "io/run_writer.h"
 #include "run/run_scene.h"
 #include "scene/parameters.h"
 #include "scene/scene_simulation.h"
@@ -139,6 +140,9 @@ void set_live(SimulationHandle& handle, const py::dict& values) {
 
 py::array_t<std::uint8_t> render(SimulationHandle& handle, int width, int height, const std::string& camera,
                                  const std::string& mesh, const std::string& show, int samples) {
+#if !CLOTHSIM_HAVE_RENDER
+  throw OutputError("this clothsim was built without rendering (CLOTHSIM_BUILD_RENDER=OFF): there are no pictures");
+#endif
   RenderFlags flags;
   flags.render = "image";
   flags.size = std::to_string(width) + "x" + std::to_string(height);
@@ -172,7 +176,6 @@ py::array_t<std::uint8_t> render(SimulationHandle& handle, int width, int height
   std::memcpy(pixels.mutable_data(), image.rgb.data(), image.rgb.size());
   return pixels;
 #else
-  FrameRenderer renderer(plan);  // throws OutputError: this build has no renderer
   return {};
 #endif
 }
