@@ -59,6 +59,7 @@ class InterruptGuard {
   void (*previous_)(int) = SIG_DFL;
 };
 
+// The command's flags; run_options() turns them into the library's RunOptions (run/run_scene.h).
 struct RunFlags {
   SceneOptions scene;  // SCENE or --paper-args, --set and the field flags (scene_options.h)
   std::string out;
