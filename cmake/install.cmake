@@ -7,7 +7,8 @@
 #   lib/cmake/clothsim/                 the CMake package: clothsimConfig.cmake,
 #                                       clothsimConfigVersion.cmake, clothsimTargets.cmake
 #                                       (clothsim::clothsim and clothsim::<module>), and with the
-#                                       renderer clothsimRenderTargets.cmake (clothsim::render)
+#                                       renderer clothsimRenderTargets.cmake (clothsim::render
+#                                       and clothsim::run, which draws a run's pictures with it)
 #   bin/clothsim                        the command-line tool, when built (apps/clothsim)
 #
 # Install components: `library` (libraries, headers, package) and `tool` (the executable), e.g.
@@ -15,7 +16,8 @@
 #
 # The renderer is an optional component of the package (find_package(clothsim COMPONENTS render)):
 # it needs epoxy (through pkg-config) and libpng wherever it is linked, and the simulation needs
-# neither, so a plain find_package(clothsim) asks for no graphics packages at all.
+# neither, so a plain find_package(clothsim) asks for no graphics packages at all. The component
+# also brings clothsim::run (run_scene: a run into an output folder, pictures included).
 #
 # Rejected: headers straight under include/ (include/sim/simulation.h would collide with other
 # projects' folders named core/, model/, io/), and one export set for everything (a program that
@@ -36,7 +38,12 @@ set(CLOTHSIM_INSTALL_CMAKEDIR "${CMAKE_INSTALL_LIBDIR}/cmake/clothsim" CACHE STR
 set(clothsim_include_dir "${CMAKE_INSTALL_INCLUDEDIR}/clothsim")
 
 get_property(clothsim_modules GLOBAL PROPERTY CLOTHSIM_MODULES)
-list(REMOVE_ITEM clothsim_modules clothsim_render)
+list(REMOVE_ITEM clothsim_modules clothsim_render clothsim_run)
+# The run module (src/run) links the renderer where that is built, so it goes with it; without the
+# renderer it is plain simulation code and goes with the rest.
+if(NOT TARGET clothsim_render)
+  list(APPEND clothsim_modules clothsim_run)
+endif()
 
 install(TARGETS ${clothsim_modules} clothsim
   EXPORT clothsimTargets
@@ -59,7 +66,7 @@ install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/
   FILES_MATCHING PATTERN "*.h" ${clothsim_header_excludes})
 
 if(TARGET clothsim_render)
-  install(TARGETS clothsim_render
+  install(TARGETS clothsim_render clothsim_run
     EXPORT clothsimRenderTargets
     ARCHIVE DESTINATION ${CMAKE_INSTALL_LIBDIR} COMPONENT library
     INCLUDES DESTINATION ${clothsim_include_dir})

@@ -11,6 +11,9 @@ packages=(
   libgtest-dev libgmock-dev  # tests
   libbenchmark-dev     # micro-benchmarks
   python3 python3-numpy  # end-to-end check that numpy.load opens our .npy output
+  # The Python module clothsim (python/, docs/python.md): pybind11 and the headers of the system
+  # Python it is built for, and pytest for its tests (tests/python).
+  pybind11-dev python3-dev python3-pytest
   # Rendering (src/render, docs/rendering.md): OpenGL 3.3 core through libepoxy, headless EGL
   # on Mesa (llvmpipe where there is no GPU), PNG images, H.264 video through the ffmpeg program.
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri

@@ -33,6 +33,16 @@ std::string thrown_message(Action&& action) {
   return "<no exception thrown>";
 }
 
+// An empty folder for the running test: CLOTHSIM_TEST_TMPDIR/<area>/<suite>.<test>, made afresh.
+inline std::filesystem::path fresh_test_folder(const std::string& area) {
+  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+  const std::filesystem::path folder =
+      std::filesystem::path(CLOTHSIM_TEST_TMPDIR) / area / (std::string(info->test_suite_name()) + "." + info->name());
+  std::filesystem::remove_all(folder);
+  std::filesystem::create_directories(folder);
+  return folder;
+}
+
 inline ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
   return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";

@@ -7,8 +7,6 @@
 #include "core/error.h"
 #include "core/memory_size.h"
 #include "io/run_memory.h"
-#include "model/sheet_mesh.h"
-#include "run_render.h"
 
 namespace clothsim::cli {
 
@@ -60,30 +58,15 @@ void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, std:
   throw InputError("", "", reason);
 }
 
-std::size_t picture_bytes(int width, int height, int samples, const LatticeCounts& counts) {
-  // The graphics stack and its threads: 88 MiB measured on Debian 12's Mesa 22.3 with llvmpipe
-  // (a 21 x 21 run with pictures, less its framebuffers, against one without).
-  constexpr std::size_t kGraphicsStackBytes = std::size_t{88} << 20;
-  // The driver's copies of the vertex and index buffers: the rest of the 1250 bytes per
-  // particle that pictures cost at 256 x 256 and 512 x 512 (llvmpipe).
-  constexpr std::size_t kDriverBytesPerParticle = 420;
-  const std::size_t pixels =
-      static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0));
-  // Multisampled colour and depth, the resolved colour, the image read back (RGB).
-  const std::size_t framebuffers = pixels * (static_cast<std::size_t>(std::max(samples, 1)) * 8 + 4 + 3);
-  return kGraphicsStackBytes + framebuffers + SheetMesh::bytes_for(counts.rows, counts.cols) +
-         counts.particles * (6 * sizeof(float) + kDriverBytesPerParticle);
-}
-
 void cap_run_growth(const MemoryLimit& limit) {
   if (!limit.unknown) cap_data_growth(limit.cap);
 }
 
-void check_run_memory(const SceneSpec& spec, const RenderFlags& render, const MemoryFlags& flags) {
+void check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const MemoryFlags& flags) {
   const MemoryLimit limit = memory_limit(flags);
   MemoryEstimate estimate = estimate_run_memory(spec);
   const SimulationShape shape = simulation_shape(spec);
-  estimate.add("pictures", estimate_render_bytes(*parse_render_flags(render), shape.counts, shape.anchors));
+  estimate.add("pictures", estimate_render_bytes(plan, shape.counts, shape.anchors));
   check_memory(estimate, limit, "the scene");
   cap_run_growth(limit);
 }

@@ -1,7 +1,7 @@
 // --max-memory, and the memory check of the commands that build a simulation (run, view, bench).
 //
 // Before a scene's model is built, its estimated memory (io/run_memory.h, with the pictures of
-// run_render.h or the viewer's window) is compared with what the process may use: by default
+// run/render_plan.h or the viewer's window) is compared with what the process may use: by default
 // kUsableMemoryFraction (90 %) of the memory available (core/available_memory.h: the least of
 // MemAvailable, the cgroup limit, RLIMIT_AS and RLIMIT_DATA), or all of --max-memory SIZE when it
 // is given. A scene that does not fit is refused as bad input (exit 2) before anything is
@@ -15,12 +15,11 @@
 
 #include <CLI/CLI.hpp>
 
+#include "run/render_plan.h"
 #include "scene/scene.h"
 #include "sim/memory_estimate.h"
 
 namespace clothsim::cli {
-
-struct RenderFlags;  // run_render.h
 
 struct MemoryFlags {
   std::string max_memory;
@@ -53,18 +52,12 @@ void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, std:
 // memory" instead of being killed by the kernel.
 void cap_run_growth(const MemoryLimit& limit);
 
-// What drawing the sheet of `counts` at width x height pixels with `samples` MSAA samples takes,
-// headless or in a window: the graphics stack (EGL or GLX, Mesa; measured), the framebuffers, the
-// sheet mesh and its vertex data, and the driver's copies of the vertex and index buffers
-// (measured with llvmpipe; docs/performance.md, "Memory").
-std::size_t picture_bytes(int width, int height, int samples, const LatticeCounts& counts);
-
 // `clothsim view`'s check: the scene's simulation, with the parameter arrays a cut needs, and its
 // window. Then cap_run_growth. Throws InputError.
 void check_view_memory(const SceneSpec& spec, int width, int height, const MemoryFlags& flags);
 
-// `clothsim run`'s check, before its model is built: the scene's run (io/run_memory.h) with the
-// pictures of the render flags, then cap_run_growth. Throws InputError.
-void check_run_memory(const SceneSpec& spec, const RenderFlags& render, const MemoryFlags& flags);
+// `clothsim run`'s check, before its model is built: the scene's run (io/run_memory.h) with its
+// pictures (`plan`), then cap_run_growth. Throws InputError.
+void check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const MemoryFlags& flags);
 
 }  // namespace clothsim::cli

@@ -1,40 +1,30 @@
-// `clothsim run`: load a scene, apply the flags, check the output folder, then simulate frame by
-// frame and stream each frame to the output folder.
+// `clothsim run`: load a scene, apply the flags, and run it into its output folder through the
+// library's run driver (run/run_scene.h), which the Python module's clothsim.run() shares; this
+// file is the command's shell around it: the flags, the memory check, the progress bar, Ctrl-C,
+// the summary printed at the end and the exit code.
 //
 // Everything that can be wrong with the input is checked before anything is created: the scene,
 // every flag (through set_scene_field, so a flag's message matches the scene file's), the
-// cross-field rules (validate_scene), the model build and the output folder (RunWriter's
-// constructor). Only then does the run start; from there on a failure is a simulation failure
-// (exit 1, output kept) or an output error (exit 3), never bad input.
+// cross-field rules (validate_scene), the picture flags, the memory, the model build and the
+// output folder (the driver's first step). Only then does the run start; from there on a failure
+// is a simulation failure (exit 1, output kept) or an output error (exit 3), never bad input.
 //
-// Frame k is the state at time k / fps, k = 0 .. round(duration * fps); Simulation::advance_to
-// lands exactly on it. SIGINT sets a flag that the frame loop reads after each frame, so an
-// interrupted run still ends with a complete, well-formed folder; a second SIGINT kills the
-// process the default way (the partial folder is then left behind, named <out>.partial-<pid>).
+// SIGINT sets a flag that the driver polls before each frame, so an interrupted run still ends
+// with a complete, well-formed folder; a second SIGINT kills the process the default way (the
+// partial folder is then left behind, named <out>.partial-<pid>).
 #include <algorithm>
-#include <cmath>
 #include <csignal>
 #include <cstdio>
-#include <iomanip>
-#include <iostream>
-#include <sstream>
-#include <vector>
-
-#include <nlohmann/json.hpp>
+#include <optional>
+#include <string>
 
 #include "commands.h"
 #include "core/error.h"
-#include "core/timer.h"
-#include "forces/forces.h"
-#include "integrators/stable_step.h"
-#include "io/checkpoint.h"
-#include "io/npy.h"
-#include "io/run_checkpoints.h"
 #include "io/run_writer.h"
 #include "memory_check.h"
 #include "progress_bar.h"
+#include "run/run_scene.h"
 #include "run_render.h"
-#include "run_resume.h"
 #include "scene/parameters.h"
 #include "scene_options.h"
 #include "sim/profile.h"
@@ -69,7 +59,8 @@ class InterruptGuard {
   void (*previous_)(int) = SIG_DFL;
 };
 
-struct RunOptions {
+// The command's flags; run_options() turns them into the library's RunOptions (run/run_scene.h).
+struct RunFlags {
   SceneOptions scene;  // SCENE or --paper-args, --set and the field flags (scene_options.h)
   std::string out;
   std::string resume;  // --resume PATH
@@ -84,7 +75,7 @@ struct RunOptions {
 };
 
 // The scene with every flag applied and checked. Throws InputError.
-SceneSpec make_run_scene(const RunOptions& options) {
+SceneSpec make_run_scene(const RunFlags& options) {
   return make_scene(options.scene, [&options](SceneSpec& spec) {
     if (!options.until_rest) return false;
     spec.output.until_rest = true;
@@ -93,31 +84,20 @@ SceneSpec make_run_scene(const RunOptions& options) {
   });
 }
 
-// out/<scene name>, with characters that do not belong in a folder name replaced.
-std::string default_output_folder(const SceneSpec& spec) {
-  std::string name;
-  for (char c : spec.name) {
-    const bool safe =
-        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.';
-    name += safe ? c : '_';
-  }
-  if (name.empty() || name.find_first_not_of('.') == std::string::npos) name = "run";
-  std::string folder = "out/";
-  folder += name;
-  return folder;
-}
-
 std::string format_energy(double joules) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "%.6g J", joules);
   return buffer;
 }
 
-void print_summary(const SceneSpec& spec, const Simulation& simulation, const RunWriter& writer, RunStatus status,
-                   double wall_seconds) {
+void print_summary(const RunResult& result) {
+  const SceneSpec& spec = result.scene;
+  const Simulation& simulation = *result.simulation;
+  const RunStatus status = result.status;
+  const double wall_seconds = result.wall_seconds;
   const IntegratorStats& stats = simulation.integrator_stats();
   const IntegratorSettings& integrator = spec.integrator;
-  const double simulated = writer.last_time();
+  const double simulated = result.last_time;
 
   std::printf("scene        %s\n", spec.name.c_str());
   std::printf("lattice      %s\n", describe_lattice(simulation.model()).c_str());
@@ -152,15 +132,15 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
                 static_cast<unsigned long long>(stats.unconverged_solves));
   }
   std::printf("\n");
-  const EnergyBalance& initial = writer.initial_energy();
-  const EnergyBalance& final = writer.last_energy();
+  const EnergyBalance& initial = result.initial_energy;
+  const EnergyBalance& final = result.last_energy;
   std::printf("energy       initial %s, final %s (kinetic %s); balance error %s\n",
               format_energy(initial.energy.total()).c_str(), format_energy(final.energy.total()).c_str(),
               format_energy(final.energy.kinetic).c_str(), format_energy(final.error()).c_str());
   std::printf("output       %s/: %zu frames in %.*s and %.*s [%zu, %zu, 3]; %.*s, %.*s, %.*s, %.*s\n",
-              writer.out().c_str(), writer.frames(), static_cast<int>(RunWriter::kPositionsFile.size()),
+              result.out.c_str(), result.frames, static_cast<int>(RunWriter::kPositionsFile.size()),
               RunWriter::kPositionsFile.data(), static_cast<int>(RunWriter::kVelocitiesFile.size()),
-              RunWriter::kVelocitiesFile.data(), writer.frames(), simulation.model().particle_count(),
+              RunWriter::kVelocitiesFile.data(), result.frames, simulation.model().particle_count(),
               static_cast<int>(RunWriter::kEnergyFile.size()), RunWriter::kEnergyFile.data(),
               static_cast<int>(RunWriter::kSummaryFile.size()), RunWriter::kSummaryFile.data(),
               static_cast<int>(RunWriter::kFinalMeshFile.size()), RunWriter::kFinalMeshFile.data(),
@@ -169,261 +149,128 @@ void print_summary(const SceneSpec& spec, const Simulation& simulation, const Ru
     if (format == ExportFormat::pc2) {
       std::printf("export       pc2: %.*s (%zu samples of %zu points) and %.*s\n",
                   static_cast<int>(RunExports::kPointCacheFile.size()), RunExports::kPointCacheFile.data(),
-                  writer.frames(), simulation.model().particle_count(),
+                  result.frames, simulation.model().particle_count(),
                   static_cast<int>(RunExports::kRestMeshFile.size()), RunExports::kRestMeshFile.data());
     } else if (format == ExportFormat::obj_sequence) {
-      std::printf("export       obj-sequence: %zu files, %s to %s\n", writer.frames(),
+      std::printf("export       obj-sequence: %zu files, %s to %s\n", result.frames,
                   RunExports::frame_file_name(0).c_str(),
-                  RunExports::frame_file_name(writer.frames() > 0 ? writer.frames() - 1 : 0).c_str());
-    } else if (format == ExportFormat::gltf && writer.frames() > 0) {
+                  RunExports::frame_file_name(result.frames > 0 ? result.frames - 1 : 0).c_str());
+    } else if (format == ExportFormat::gltf && result.frames > 0) {
       std::printf("export       gltf: %.*s (frame %zu)\n", static_cast<int>(RunExports::kGlbFile.size()),
-                  RunExports::kGlbFile.data(), writer.frames() - 1);
+                  RunExports::kGlbFile.data(), result.frames - 1);
     }
   }
   std::fflush(stdout);
 }
 
-// Warns when a fixed-step explicit method's step exceeds the stable step estimated from the
-// stiffest springs (integrators/stable_step.h).
-void warn_about_stability(const ClothModel& model, const IntegratorSettings& integrator) {
-  const StableStep stable = estimate_stable_step(model, integrator.kind);
-  if (!(integrator.time_step > stable.step)) return;
-  std::ostringstream estimate;
-  estimate << std::setprecision(3) << stable.step;
-  std::cerr << "clothsim: warning: integrator.time_step = " << format_number(integrator.time_step) << " s is above "
-            << to_string(integrator.kind) << "'s estimated stable step, " << estimate.str()
-            << " s (the stiffest springs are at " << model.describe_particle(stable.particle)
-            << "); the run may blow up. A smaller --time-step, or --integrator rkf45 or implicit-euler, avoids it.\n";
-}
-
-// The frame loop's checkpoints (io/run_checkpoints.h): after the first frame at least
-// output.checkpoint_every after the previous one (or the run's start), and after the last frame of
-// an interrupted run, so that it resumes where it stopped.
-class Checkpointer {
+// What the command shows of a run while it goes on: the progress bar (unless --quiet or
+// --no-progress), notices (unless --quiet) and warnings on stderr, the memory check, and Ctrl-C,
+// caught while the frames are simulated.
+class CommandObserver final : public RunObserver {
  public:
-  Checkpointer(const SceneSpec& spec, RunCheckpoint& run, const Stopwatch& wall)
-      : every_(spec.output.checkpoint_every), run_(run), wall_(wall), wall_before_(run.wall_seconds) {
-    // A resumed run's last checkpoint was at its first frame's predecessor.
-    last_time_ = static_cast<double>(run.writer.frames > 0 ? run.writer.frames - 1 : 0) / spec.output.fps;
+  explicit CommandObserver(const RunFlags& options) : options_(options) {}
+
+  void check_memory(const SceneSpec& spec, const RenderPlan& plan) override {
+    check_run_memory(spec, plan, options_.memory);
   }
-  bool enabled() const { return every_ > 0.0; }
-  // After a frame at `time`: a checkpoint when one is due.
-  void after_frame(RunWriter& writer, Simulation& simulation, double time) {
-    // The relative margin keeps a frame that lands on the interval by rounding from waiting a frame.
-    if (enabled() && time - last_time_ >= every_ * (1.0 - 1e-9)) write(writer, simulation);
+  void notice(const std::string& message) override {
+    if (!options_.quiet) warning(message);
   }
-  // Before an early end: a checkpoint of the last frame, unless it has one.
-  void before_end(RunWriter& writer, Simulation& simulation) {
-    if (enabled() && written_frames_ != writer.frames() && !simulation.failure()) write(writer, simulation);
+  void warning(const std::string& message) override { std::fprintf(stderr, "clothsim: %s\n", message.c_str()); }
+  void frames_begin(double end_time) override {
+    interrupt_.emplace();
+    progress_.emplace(!options_.quiet && !options_.no_progress, end_time);
   }
+  void frame_done(double time, std::uint64_t accepted_steps) override {
+    if (progress_) progress_->update(time, accepted_steps);
+  }
+  void frames_end() override {
+    progress_.reset();  // erases the line
+    interrupt_.reset();
+  }
+  bool interrupted() override { return interrupt_ && interrupt_->interrupted(); }
 
  private:
-  void write(RunWriter& writer, Simulation& simulation) {
-    run_.writer = writer.flush();
-    run_.wall_seconds = wall_before_ + wall_.seconds();
-    try {
-      write_run_checkpoint(writer.partial(), run_, simulation);
-    } catch (const std::exception& error) {
-      throw OutputError(std::string("cannot write a checkpoint: ") + error.what());
-    }
-    last_time_ = simulation.state().time;
-    written_frames_ = writer.frames();
-  }
-
-  double every_;
-  RunCheckpoint& run_;
-  const Stopwatch& wall_;
-  double wall_before_;
-  double last_time_ = 0.0;
-  std::size_t written_frames_ = 0;
+  const RunFlags& options_;
+  std::optional<InterruptGuard> interrupt_;
+  std::optional<ProgressBar> progress_;
 };
 
-// The frames from run.writer.frames (1 for a new run: frame 0 is written) to the end, each written
-// as it comes, with checkpoints. Returns how the run ended.
-RunStatus simulate_frames(const SceneSpec& spec, const RunOptions& options, Simulation& simulation, RunWriter& writer,
-                          RunRecorder& recorder, RunCheckpoint& run, const Stopwatch& wall) {
-  const InterruptGuard interrupt;
-  Checkpointer checkpointer(spec, run, wall);
-  const int fps = spec.output.fps;
-  const auto last_frame = static_cast<std::uint64_t>(std::llround(spec.output.duration * fps));
-  ProgressBar progress(!options.quiet && !options.no_progress, static_cast<double>(last_frame) / fps);
-  RunStatus status = RunStatus::completed;
-  // --until-rest: frames in a row whose kinetic energy is below the threshold, and how many make
-  // rest_duration (the first such frame and the one rest_duration later, and all between).
-  const auto rest_frames = static_cast<std::uint64_t>(std::llround(spec.output.rest_duration * fps)) + 1;
-  for (std::uint64_t frame = run.writer.frames; frame <= last_frame; ++frame) {
-    if (interrupt.interrupted()) {
-      status = RunStatus::interrupted;
-      break;
-    }
-    if (!simulation.advance_to(static_cast<double>(frame) / fps)) {
-      status = RunStatus::failed;
-      break;
-    }
-    writer.write_frame(simulation);
-    recorder.frame(simulation.model(), simulation.state().position, simulation.state().time);
-    progress.update(simulation.state().time, simulation.integrator_stats().accepted_steps);
-    if (spec.output.until_rest) {
-      const bool quiet =
-          kinetic_energy(simulation.model(), simulation.state().velocity) < spec.output.rest_kinetic_energy;
-      run.quiet_frames = quiet ? run.quiet_frames + 1 : 0;
-      if (run.quiet_frames >= rest_frames) {
-        status = RunStatus::at_rest;
-        break;
-      }
-    }
-    checkpointer.after_frame(writer, simulation, simulation.state().time);
-  }
-  if (status == RunStatus::interrupted) checkpointer.before_end(writer, simulation);
-  progress.clear();
-  return status;
+// The library's options for a run from the command's.
+RunOptions run_options(const RunFlags& options, const Invocation& invocation, RunObserver& observer) {
+  RunOptions run;
+  if (options.given("--out")) run.out = options.out;
+  run.info = RunInfo{CLOTHSIM_VERSION, invocation.command_line};
+  run.render = options.render;
+  run.observer = &observer;
+  // A resumed run keeps the picture flags it began with, but for those given again.
+  run.resumed_render = [&options](const RenderFlags& stored) {
+    RenderFlags flags = stored;
+    const auto take = [&options](std::string& field, std::string_view flag, const std::string& given) {
+      if (options.given(flag)) field = given;
+    };
+    take(flags.render, "--render", options.render.render);
+    take(flags.size, "--size", options.render.size);
+    take(flags.camera, "--camera", options.render.camera);
+    take(flags.mesh, "--mesh", options.render.mesh);
+    take(flags.show, "--show", options.render.show);
+    take(flags.samples, "--samples", options.render.samples);
+    return flags;
+  };
+  return run;
 }
 
-// The end of a run, new or resumed: the pictures and the folder finished, the summary printed;
-// returns the exit code.
-int finish_run(const SceneSpec& spec, const RunOptions& options, const RenderPlan& render_plan, Simulation& simulation,
-               RunWriter& writer, RunRecorder& recorder, RunStatus status, double wall_seconds) {
-  recorder.finish(writer);
-  writer.finish(simulation, status, wall_seconds);
-
+// The end of a run, new or resumed: the summary printed; returns the exit code.
+int report_run(const RunResult& result, const RunFlags& options) {
+  const Simulation& simulation = *result.simulation;
   if (!options.quiet) {
-    print_summary(spec, simulation, writer, status, wall_seconds);
-    if (recorder.active()) {
-      std::printf("pictures     %s: %ld frames in %s (%.3g ms per frame); %s\n",
-                  describe_render_outputs(render_plan).c_str(), recorder.frames(),
-                  format_duration(recorder.seconds()).c_str(),
-                  recorder.frames() > 0 ? 1e3 * recorder.seconds() / static_cast<double>(recorder.frames()) : 0.0,
-                  recorder.description().c_str());
+    print_summary(result);
+    if (result.pictures) {
+      std::printf(
+          "pictures     %s: %ld frames in %s (%.3g ms per frame); %s\n", result.picture_files.c_str(),
+          result.picture_frames, format_duration(result.picture_seconds).c_str(),
+          result.picture_frames > 0 ? 1e3 * result.picture_seconds / static_cast<double>(result.picture_frames) : 0.0,
+          result.picture_description.c_str());
       std::fflush(stdout);
     }
   }
   if (options.profile) {
     // "output" is everything written during the run: the data files and the pictures.
-    std::printf("\nprofile (wall time per phase)\n%s",
-                format_profile(profile_rows(simulation, writer.output_seconds() + recorder.seconds(), wall_seconds),
-                               simulation.integrator_stats().force_evaluations)
-                    .c_str());
+    std::printf(
+        "\nprofile (wall time per phase)\n%s",
+        format_profile(profile_rows(simulation, result.output_seconds + result.picture_seconds, result.wall_seconds),
+                       simulation.integrator_stats().force_evaluations)
+            .c_str());
     std::fflush(stdout);
   }
-  if (status == RunStatus::failed) {
+  if (result.status == RunStatus::failed) {
     std::string message = "simulation failed ";
     message += simulation.failure() ? simulation.failure()->message : std::string("without a diagnosis");
     print_error(message);
-    std::fprintf(stderr, "clothsim: the %zu frames up to t = %s s are kept in %s (status \"failed\")\n",
-                 writer.frames(), format_number_short(writer.last_time()).c_str(), writer.out().c_str());
+    std::fprintf(stderr, "clothsim: the %zu frames up to t = %s s are kept in %s (status \"failed\")\n", result.frames,
+                 format_number_short(result.last_time).c_str(), result.out.c_str());
     return kExitSimulationFailed;
   }
-  if (status == RunStatus::interrupted) {
+  if (result.status == RunStatus::interrupted) {
     std::fprintf(stderr, "clothsim: interrupted at t = %s s; %zu frames kept in %s (status \"interrupted\")%s\n",
-                 format_number_short(writer.last_time()).c_str(), writer.frames(), writer.out().c_str(),
-                 spec.output.checkpoint_every > 0.0
-                     ? ("; continue it with: clothsim run --resume " + writer.out().string()).c_str()
+                 format_number_short(result.last_time).c_str(), result.frames, result.out.c_str(),
+                 result.scene.output.checkpoint_every > 0.0
+                     ? ("; continue it with: clothsim run --resume " + result.out.string()).c_str()
                      : "");
     return kExitInterrupted;
   }
   return kExitSuccess;
 }
 
-// The picture flags as a checkpoint keeps them (RunCheckpoint::options), and back.
-std::string render_flags_json(const RenderFlags& flags) {
-  return nlohmann::json{{"render", flags.render}, {"size", flags.size}, {"camera", flags.camera},
-                        {"mesh", flags.mesh},     {"show", flags.show}, {"samples", flags.samples}}
-      .dump();
-}
-
-// The stored flags, each replaced by the one given on the resuming command, if any.
-RenderFlags resumed_render_flags(const std::string& stored, const RunOptions& options) {
-  RenderFlags flags;
-  const nlohmann::json json = nlohmann::json::parse(stored, nullptr, /*allow_exceptions=*/false);
-  const auto take = [&](std::string& field, const char* key, std::string_view flag, const std::string& given) {
-    if (options.given(flag)) {
-      field = given;
-    } else if (json.is_object() && json.contains(key) && json[key].is_string()) {
-      field = json[key].get<std::string>();
-    }
-  };
-  take(flags.render, "render", "--render", options.render.render);
-  take(flags.size, "size", "--size", options.render.size);
-  take(flags.camera, "camera", "--camera", options.render.camera);
-  take(flags.mesh, "mesh", "--mesh", options.render.mesh);
-  take(flags.show, "show", "--show", options.render.show);
-  take(flags.samples, "samples", "--samples", options.render.samples);
-  return flags;
-}
-
-// Item 4 of the run's order: the partial folders earlier runs into the same folder left when they
-// died, reported at the start; a run that completes replaces them.
-void report_leftovers(const std::vector<LeftoverRun>& leftovers, const RunOptions& options) {
-  if (options.quiet) return;
-  for (const LeftoverRun& leftover : leftovers) {
-    std::fprintf(stderr, "clothsim: note: an earlier run (process %ld) died and left %s; ",
-                 static_cast<long>(leftover.pid), leftover.folder.c_str());
-    if (leftover.has_checkpoint) {
-      std::fprintf(stderr, "to continue it instead, stop this run and use: clothsim run --resume %s. ",
-                   leftover.folder.c_str());
-    }
-    std::fprintf(stderr, "It is deleted when this run completes.\n");
-  }
-}
-
-void remove_leftovers(const std::vector<LeftoverRun>& leftovers, const RunOptions& options) {
-  for (const LeftoverRun& leftover : leftovers) {
-    std::error_code error;
-    std::filesystem::remove_all(leftover.folder, error);
-    if (!options.quiet) {
-      std::fprintf(stderr, "clothsim: %s %s, left by the run that died\n", error ? "could not delete" : "deleted",
-                   leftover.folder.c_str());
-    }
-  }
-}
-
-int run(const RunOptions& options, const Invocation& invocation) {
-  // 1. Input: scene, flags, model, output folder. Bad input throws InputError here, before
-  //    anything exists on disk.
+int run(const RunFlags& options, const Invocation& invocation) {
   const SceneSpec spec = make_run_scene(options);
-  check_run_memory(spec, options.render, options.memory);  // a scene too large is refused before its model is built
-  ClothModel model = build_model(spec);
-  ClothState initial = build_initial_state(model, spec);
-  const std::string out = options.given("--out") ? options.out : default_output_folder(spec);
-  RunWriter writer(out, RunInfo{CLOTHSIM_VERSION, invocation.command_line});
-  const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
-  // The OpenGL context and ffmpeg are checked now, before the run: a machine that cannot make
-  // pictures fails at once (exit 3, suggesting --render none), not after a long simulation.
-  RunRecorder recorder(render_plan, model);
-
-  // A fixed step past the explicit methods' stability: warned, not refused (the estimate is a bound).
-  if (!options.quiet) warn_about_stability(model, spec.integrator);
-  const std::vector<LeftoverRun> leftovers = find_leftover_runs(writer.out());
-  report_leftovers(leftovers, options);
-
-  // 2. The run.
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = spec.threads;
-  const Stopwatch wall;
-  Simulation simulation(std::move(model), std::move(initial), settings);
-  writer.begin(spec, simulation);
-  writer.write_frame(simulation);
-  // Pictures go into the partial folder too, so they appear (or not) with everything else.
-  recorder.begin(writer.partial(), spec.output.fps);
-  recorder.frame(simulation.model(), simulation.state().position, simulation.state().time);
-  RunCheckpoint run;
-  run.writer.frames = 1;
-  run.command_line = invocation.command_line;
-  run.options = render_flags_json(options.render);
-  run.scene = scene_to_json(spec).dump();
-  const RunStatus status = simulate_frames(spec, options, simulation, writer, recorder, run, wall);
-
-  // 3. Report.
-  const int exit_code = finish_run(spec, options, *render_plan, simulation, writer, recorder, status, wall.seconds());
-  if (status == RunStatus::completed || status == RunStatus::at_rest) remove_leftovers(leftovers, options);
-  return exit_code;
+  CommandObserver observer(options);
+  return report_run(run_scene(spec, run_options(options, invocation, observer)), options);
 }
 
-// --resume PATH: the run PATH names (run_resume.h) goes on from its newest good checkpoint.
-int resume(const RunOptions& options, const Invocation& invocation) {
-  // 1. Input: the run, its scene and checkpoint, the output folder. As for a new run, every
-  //    refusal comes before anything on disk changes.
+// --resume PATH: the run PATH names (run/run_folders.h) goes on from its newest good checkpoint.
+int resume(const RunFlags& options, const Invocation& invocation) {
+  // A resumed run goes on with its scene and output folder: refused before anything changes.
   const auto given = [&options](std::string_view flag) {
     return options.scene.app->get_option_no_throw(std::string(flag)) != nullptr && options.given(flag);
   };
@@ -441,60 +288,8 @@ int resume(const RunOptions& options, const Invocation& invocation) {
                            ": a resumed run goes on with the scene it began with (its scene.json)");
     }
   }
-  const ResumeTarget target = find_resume_target(options.resume);
-  const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
-  check_run_memory(spec, options.render, options.memory);
-  ClothModel model = build_model(spec);
-  ClothState initial = build_initial_state(model, spec);
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = spec.threads;
-  const Stopwatch wall;
-  Simulation simulation(std::move(model), std::move(initial), settings);
-  RunCheckpoint run;
-  std::filesystem::path used;
-  try {
-    used = load_run_checkpoint(target.checkpoints, simulation, run, [](const std::string& reason) {
-      std::fprintf(stderr, "clothsim: warning: skipping a damaged checkpoint: %s\n", reason.c_str());
-    });
-  } catch (const CheckpointError& error) {
-    throw InputError("--resume", "", error.what());
-  }
-  // The simulation's arrays fit; the scene must be the one the checkpoint was written for too.
-  if (run.scene != scene_to_json(spec).dump()) {
-    throw InputError(
-        "--resume", "",
-        used.string() + " was written for another scene than " + (target.folder / RunWriter::kSceneFile).string());
-  }
-  const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(resumed_render_flags(run.options, options));
-  RunWriter writer(target.out, RunInfo{CLOTHSIM_VERSION, run.command_line}, "--resume");
-  RunRecorder recorder(render_plan, simulation.model());
-  const int fps = spec.output.fps;
-  const auto last_frame = static_cast<std::uint64_t>(std::llround(spec.output.duration * fps));
-  if (!options.quiet) {
-    std::fprintf(stderr, "clothsim: resuming %s from %s: t = %s s, frame %llu of %llu\n", target.folder.c_str(),
-                 used.c_str(), format_number_short(simulation.state().time).c_str(),
-                 static_cast<unsigned long long>(run.writer.frames - 1), static_cast<unsigned long long>(last_frame));
-  }
-
-  // 2. The run, from the frame after the checkpoint's. The pictures are made again up to there,
-  //    from the frames on disk (the video is one stream).
-  writer.resume(target.folder, spec, simulation, run.writer, invocation.command_line);
-  discard_unfinished_checkpoints(writer.partial());
-  recorder.begin(writer.partial(), fps);
-  if (recorder.active()) {
-    std::vector<Vec3> position(simulation.model().particle_count());
-    const std::string positions = (writer.partial() / RunWriter::kPositionsFile).string();
-    for (std::uint64_t frame = 0; frame < run.writer.frames; ++frame) {
-      read_npy_frame(positions, frame, position);
-      recorder.frame(simulation.model(), position, static_cast<double>(frame) / fps);
-    }
-  }
-  const double wall_before = run.wall_seconds;
-  const RunStatus status = simulate_frames(spec, options, simulation, writer, recorder, run, wall);
-
-  // 3. Report.
-  return finish_run(spec, options, *render_plan, simulation, writer, recorder, status, wall_before + wall.seconds());
+  CommandObserver observer(options);
+  return report_run(resume_run(options.resume, run_options(options, invocation, observer)), options);
 }
 
 std::string run_footer() {
@@ -540,7 +335,7 @@ std::string run_footer() {
 }  // namespace
 
 Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
-  auto options = std::make_shared<RunOptions>();
+  auto options = std::make_shared<RunFlags>();
   CLI::App* app = parent.add_subcommand("run", "Simulate a scene and write its output folder");
   add_scene_options(*app, options->scene);
   app->add_flag("--until-rest", options->until_rest,

@@ -8,6 +8,7 @@
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "scene/scene.h"
+#include "scene/scene_simulation.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
@@ -42,20 +43,16 @@ SceneSpec bench_case_scene(int size, IntegratorKind integrator, const BenchOptio
 }
 
 BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptions& options) {
-  const SceneSpec spec = bench_case_scene(size, integrator, options);
-  ClothModel model = build_model(spec);
-  ClothState initial = build_initial_state(model, spec);
-  SimulationSettings settings;
-  settings.integrator = spec.integrator;
-  settings.threads = options.threads;
+  SceneSpec spec = bench_case_scene(size, integrator, options);
+  spec.threads = options.threads;
+  Simulation simulation = make_simulation(spec);
 
   BenchResult result;
   result.size = size;
-  result.particles = model.particle_count();
+  result.particles = simulation.model().particle_count();
   result.integrator = integrator;
   result.time_step = integrator == IntegratorKind::rkf45 ? 0.0 : spec.integrator.time_step;
 
-  Simulation simulation(std::move(model), std::move(initial), settings);
   ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
   probe.resize(simulation.model());
   result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";

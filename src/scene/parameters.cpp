@@ -1,5 +1,6 @@
 #include "scene/parameters.h"
 
+#include <algorithm>
 #include <array>
 #include <charconv>
 #include <cmath>
@@ -17,6 +18,8 @@ constexpr ValueRange kStrainLimitRange = left_open_range(0.0, 1e6);  // break an
 constexpr ValueRange kVariationRange = {0.0, 1.0, true, false};      // [0, 1)
 constexpr ValueRange kHardeningRange = closed_range(0.0, 1e6);
 constexpr ValueRange kYieldAngleRange = closed_range(0.0, 180.0);  // degrees
+// Marks an entry live: it may change while the simulation runs (live_parameter_keys()).
+constexpr bool kLive = true;
 
 // The table. Accessors are captureless lambdas (converted to function pointers); setters receive
 // values already checked against the range, so the casts to int cannot overflow.
@@ -36,16 +39,16 @@ constexpr std::array kScalarParameters = {
                     [](SceneSpec& s, double v) { s.lattice.spacing = v; }},
     ScalarParameter{"lattice.particle_mass", ParameterType::real, "kg", left_open_range(0.0, 1e6),
                     "mass of every particle", [](const SceneSpec& s) { return s.lattice.particle_mass; },
-                    [](SceneSpec& s, double v) { s.lattice.particle_mass = v; }},
+                    [](SceneSpec& s, double v) { s.lattice.particle_mass = v; }, kLive},
     // Springs.
     ScalarParameter{"springs.connector.stiffness", ParameterType::real, "N/m", kSpringRange,
                     "stiffness k of the connector springs between 4-neighbours",
                     [](const SceneSpec& s) { return s.lattice.connector.stiffness; },
-                    [](SceneSpec& s, double v) { s.lattice.connector.stiffness = v; }},
+                    [](SceneSpec& s, double v) { s.lattice.connector.stiffness = v; }, kLive},
     ScalarParameter{"springs.connector.damping", ParameterType::real, "N s/m", kSpringRange,
                     "damping c of the connector springs",
                     [](const SceneSpec& s) { return s.lattice.connector.damping; },
-                    [](SceneSpec& s, double v) { s.lattice.connector.damping = v; }},
+                    [](SceneSpec& s, double v) { s.lattice.connector.damping = v; }, kLive},
     ScalarParameter{"springs.connector.break_strain", ParameterType::limit, "", kStrainLimitRange,
                     "tearing: a connector breaks when l / L0 - 1 exceeds this (varied by break_strain_variation); "
                     "none: never",
@@ -68,11 +71,11 @@ constexpr std::array kScalarParameters = {
     ScalarParameter{"springs.adjacent.stiffness", ParameterType::real, "N m/rad", kSpringRange,
                     "stiffness k of the radial springs between adjacent (perpendicular) connectors",
                     [](const SceneSpec& s) { return s.lattice.adjacent.stiffness; },
-                    [](SceneSpec& s, double v) { s.lattice.adjacent.stiffness = v; }},
+                    [](SceneSpec& s, double v) { s.lattice.adjacent.stiffness = v; }, kLive},
     ScalarParameter{"springs.adjacent.damping", ParameterType::real, "N m s/rad", kSpringRange,
                     "damping c of the adjacent radial springs",
                     [](const SceneSpec& s) { return s.lattice.adjacent.damping; },
-                    [](SceneSpec& s, double v) { s.lattice.adjacent.damping = v; }},
+                    [](SceneSpec& s, double v) { s.lattice.adjacent.damping = v; }, kLive},
     ScalarParameter{"springs.adjacent.rest_angle_deg", ParameterType::real, "deg", kRestAngleRange,
                     "rest angle of the adjacent radial springs",
                     [](const SceneSpec& s) { return radians_to_degrees(s.lattice.adjacent_rest_angle); },
@@ -84,11 +87,11 @@ constexpr std::array kScalarParameters = {
     ScalarParameter{"springs.opposite.stiffness", ParameterType::real, "N m/rad", kSpringRange,
                     "stiffness k of the radial springs between opposite (collinear) connectors",
                     [](const SceneSpec& s) { return s.lattice.opposite.stiffness; },
-                    [](SceneSpec& s, double v) { s.lattice.opposite.stiffness = v; }},
+                    [](SceneSpec& s, double v) { s.lattice.opposite.stiffness = v; }, kLive},
     ScalarParameter{"springs.opposite.damping", ParameterType::real, "N m s/rad", kSpringRange,
                     "damping c of the opposite radial springs",
                     [](const SceneSpec& s) { return s.lattice.opposite.damping; },
-                    [](SceneSpec& s, double v) { s.lattice.opposite.damping = v; }},
+                    [](SceneSpec& s, double v) { s.lattice.opposite.damping = v; }, kLive},
     ScalarParameter{"springs.opposite.rest_angle_deg", ParameterType::real, "deg", kRestAngleRange,
                     "rest angle of the opposite radial springs",
                     [](const SceneSpec& s) { return radians_to_degrees(s.lattice.opposite_rest_angle); },
@@ -101,7 +104,7 @@ constexpr std::array kScalarParameters = {
     ScalarParameter{"environment.air_drag", ParameterType::real, "kg/s", closed_range(0.0, 1e6),
                     "linear air drag per particle: f = -air_drag v",
                     [](const SceneSpec& s) { return s.environment.air_drag; },
-                    [](SceneSpec& s, double v) { s.environment.air_drag = v; }},
+                    [](SceneSpec& s, double v) { s.environment.air_drag = v; }, kLive},
     // Initial conditions.
     ScalarParameter{"initial.position_noise", ParameterType::real, "m", closed_range(0.0, 1000.0),
                     "each free coordinate moved by a uniform random value in [-a, a]",
@@ -119,33 +122,33 @@ constexpr std::array kScalarParameters = {
     ScalarParameter{"integrator.relative_tolerance", ParameterType::real, "", closed_range(1e-14, 1.0),
                     "RKF45: relative error allowed per step and coordinate",
                     [](const SceneSpec& s) { return s.integrator.relative_tolerance; },
-                    [](SceneSpec& s, double v) { s.integrator.relative_tolerance = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.relative_tolerance = v; }, kLive},
     ScalarParameter{"integrator.absolute_tolerance", ParameterType::real, "m, m/s", left_open_range(0.0, 1000.0),
                     "RKF45: absolute error allowed per step (m for positions, m/s for velocities)",
                     [](const SceneSpec& s) { return s.integrator.absolute_tolerance; },
-                    [](SceneSpec& s, double v) { s.integrator.absolute_tolerance = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.absolute_tolerance = v; }, kLive},
     ScalarParameter{"integrator.time_step", ParameterType::real, "s", left_open_range(0.0, 10.0),
                     "fixed-step methods: the step; RKF45: the first trial step",
                     [](const SceneSpec& s) { return s.integrator.time_step; },
-                    [](SceneSpec& s, double v) { s.integrator.time_step = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.time_step = v; }, kLive},
     ScalarParameter{"integrator.min_step", ParameterType::real, "s", left_open_range(0.0, 1.0),
                     "RKF45: smallest step; needing a smaller one stops the run with a diagnosis",
                     [](const SceneSpec& s) { return s.integrator.min_step; },
-                    [](SceneSpec& s, double v) { s.integrator.min_step = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.min_step = v; }, kLive},
     ScalarParameter{"integrator.max_step", ParameterType::real, "s", left_open_range(0.0, 1000.0),
                     "RKF45: largest step", [](const SceneSpec& s) { return s.integrator.max_step; },
-                    [](SceneSpec& s, double v) { s.integrator.max_step = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.max_step = v; }, kLive},
     ScalarParameter{"integrator.safety", ParameterType::real, "", left_open_range(0.0, 1.0),
                     "RKF45: safety factor on the optimal step", [](const SceneSpec& s) { return s.integrator.safety; },
-                    [](SceneSpec& s, double v) { s.integrator.safety = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.safety = v; }, kLive},
     ScalarParameter{"integrator.max_growth", ParameterType::real, "", closed_range(1.0, 100.0),
                     "RKF45: largest step increase factor per step",
                     [](const SceneSpec& s) { return s.integrator.max_growth; },
-                    [](SceneSpec& s, double v) { s.integrator.max_growth = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.max_growth = v; }, kLive},
     ScalarParameter{"integrator.max_shrink", ParameterType::real, "", left_open_range(0.0, 1.0),
                     "RKF45: smallest step decrease factor after a rejected step",
                     [](const SceneSpec& s) { return s.integrator.max_shrink; },
-                    [](SceneSpec& s, double v) { s.integrator.max_shrink = v; }},
+                    [](SceneSpec& s, double v) { s.integrator.max_shrink = v; }, kLive},
     ScalarParameter{"integrator.cg_tolerance", ParameterType::real, "", closed_range(1e-14, 1.0),
                     "implicit Euler: conjugate gradients stop when |residual| <= cg_tolerance |right-hand side|",
                     [](const SceneSpec& s) { return s.integrator.cg_tolerance; },
@@ -213,7 +216,7 @@ constexpr std::array kScalarParameters = {
 constexpr std::array kVectorParameters = {
     VectorParameter{"environment.gravity", "m/s^2", closed_range(-1000.0, 1000.0),
                     "gravitational acceleration (y is up)", [](const SceneSpec& s) { return s.environment.gravity; },
-                    [](SceneSpec& s, const Vec3& v) { s.environment.gravity = v; }},
+                    [](SceneSpec& s, const Vec3& v) { s.environment.gravity = v; }, kLive},
     VectorParameter{"initial.velocity", "m/s", closed_range(-1e4, 1e4),
                     "uniform initial velocity of every free particle",
                     [](const SceneSpec& s) { return s.initial.velocity; },
@@ -268,9 +271,18 @@ constexpr std::array kMaterialParameters = {
                       [](MaterialDef& m, double v) { m.opposite_yield_angle = degrees_to_radians(v); }},
 };
 
-constexpr std::array<std::string_view, 9> kSpecialKeys = {"name",      "description",       "paper_args",
-                                                          "material",  "anchors",           "cuts",
-                                                          "colliders", "integrator.method", "output.export"};
+// The keys parsed by hand in scene.cpp, with the same live mark as the tables'.
+struct SpecialKey {
+  std::string_view key;
+  bool live = false;
+};
+constexpr std::array kSpecialKeys = {
+    SpecialKey{"name"},          SpecialKey{"description"},
+    SpecialKey{"paper_args"},    SpecialKey{"material"},
+    SpecialKey{"anchors"},       SpecialKey{"cuts"},
+    SpecialKey{"colliders"},     SpecialKey{"integrator.method", kLive},
+    SpecialKey{"output.export"},
+};
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".
 std::string compact_exponent(std::string text) {
@@ -295,7 +307,14 @@ bool ValueRange::contains(double value) const {
 
 std::span<const ScalarParameter> scalar_parameters() { return kScalarParameters; }
 std::span<const VectorParameter> vector_parameters() { return kVectorParameters; }
-std::span<const std::string_view> special_keys() { return kSpecialKeys; }
+std::span<const std::string_view> special_keys() {
+  static const std::vector<std::string_view> keys = [] {
+    std::vector<std::string_view> list;
+    for (const SpecialKey& special : kSpecialKeys) list.push_back(special.key);
+    return list;
+  }();
+  return keys;
+}
 
 const ScalarParameter* find_scalar_parameter(std::string_view key) {
   for (const ScalarParameter& parameter : kScalarParameters) {
@@ -325,10 +344,41 @@ std::span<const std::string_view> all_scene_keys() {
     std::vector<std::string_view> list;
     for (const ScalarParameter& parameter : kScalarParameters) list.push_back(parameter.key);
     for (const VectorParameter& parameter : kVectorParameters) list.push_back(parameter.key);
-    for (std::string_view key : kSpecialKeys) list.push_back(key);
+    for (const SpecialKey& special : kSpecialKeys) list.push_back(special.key);
     return list;
   }();
   return keys;
+}
+
+std::span<const std::string_view> live_parameter_keys() {
+  static const std::vector<std::string_view> keys = [] {
+    std::vector<std::string_view> list;
+    for (const ScalarParameter& parameter : kScalarParameters) {
+      if (parameter.live) list.push_back(parameter.key);
+    }
+    for (const VectorParameter& parameter : kVectorParameters) {
+      if (parameter.live) list.push_back(parameter.key);
+    }
+    for (const SpecialKey& special : kSpecialKeys) {
+      if (special.live) list.push_back(special.key);
+    }
+    return list;
+  }();
+  return keys;
+}
+
+bool is_live_parameter(std::string_view key) {
+  const std::span<const std::string_view> keys = live_parameter_keys();
+  return std::find(keys.begin(), keys.end(), key) != keys.end();
+}
+
+std::string live_parameter_list() {
+  std::string text;
+  for (std::string_view key : live_parameter_keys()) {
+    if (!text.empty()) text += ", ";
+    text += key;
+  }
+  return text;
 }
 
 std::string format_number(double value) {

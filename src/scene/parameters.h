@@ -4,9 +4,10 @@
 // "springs.opposite.damping", "output.fps", "threads"), gives its type, SI unit, allowed range and
 // a one-line description, and reaches the SceneSpec member through a pair of captureless
 // functions that convert to and from double. The JSON parser, set_scene_field() (the CLI's
-// `--set key=value`), validate_scene(), scene_to_json() and the docs-sync test all read this one
-// table, so a parameter added here is parsed, validated, written and checked against
-// docs/scene-format.md without further code.
+// `--set key=value`), validate_scene(), scene_to_json(), the viewer's panel and scripts, the
+// Python module and the docs-sync test all read this one table, so a parameter added here is
+// parsed, validated, written and checked against docs/scene-format.md without further code. An
+// entry marked live may change while a simulation runs (live_parameter_keys()).
 //
 // Values that are not one scalar have their own small tables or constants here: the 3-vectors
 // (gravity, initial velocity and spin), the ranges of per-anchor fields, and the keys handled by
@@ -60,6 +61,7 @@ struct ScalarParameter {
   std::string_view description;  // one line, for docs and help text
   double (*get)(const SceneSpec& spec);
   void (*set)(SceneSpec& spec, double value);  // value already checked against `range`
+  bool live = false;                           // may change while the simulation runs (live_parameter_keys())
 };
 
 struct VectorParameter {
@@ -69,6 +71,7 @@ struct VectorParameter {
   std::string_view description;
   Vec3 (*get)(const SceneSpec& spec);
   void (*set)(SceneSpec& spec, const Vec3& value);
+  bool live = false;  // may change while the simulation runs (live_parameter_keys())
 };
 
 // A field of a material object (`"material": {...}` in a scene; model/material.h): key as
@@ -97,6 +100,17 @@ std::span<const std::string_view> special_keys();
 
 // Every key a scene file may contain, scalar, vector and special, in table order.
 std::span<const std::string_view> all_scene_keys();
+
+// The keys marked live in the tables: what may change while a simulation runs (the springs'
+// stiffness and damping, gravity, air drag, the particle mass, the integrator with its tolerances
+// and steps), applied between steps by apply_live_parameters() (scene/scene_simulation.h) for the
+// viewer's panel and scripts and the Python module's Simulation.set(). The others define the
+// model's topology or rest state, the initial conditions or the output: change them in the scene
+// and start again. In all_scene_keys() order.
+std::span<const std::string_view> live_parameter_keys();
+bool is_live_parameter(std::string_view key);
+// "lattice.particle_mass, springs.connector.stiffness, ..., integrator.method".
+std::string live_parameter_list();
 
 // Per-anchor fields (one set per anchor, so not in the table above).
 inline constexpr ValueRange kAnchorComponentRange = closed_range(-1e6, 1e6);  // origin m, velocity m/s, amplitude m

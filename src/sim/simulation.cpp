@@ -33,7 +33,7 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   CLOTHSIM_ASSERT(state_.velocity.size() == model_->particle_count(), "state matches the model");
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
   integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_, settings.kernel});
-  integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
+  integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
   initial_report_ = energy();
   initial_energy_ = initial_report_.total() - (state_.damping_work + state_.drag_work + state_.anchor_work +
                                                state_.plastic_work + state_.fracture_work + state_.contact_work);
@@ -61,7 +61,7 @@ bool Simulation::advance_to(double time) {
       // The collision stage's swept tests start from the positions before the step, and an
       // approaching impact limits the step (collision/obstacle_contacts.h).
       ScopedTimer timer(profile_.collisions);
-      step_end = std::min(time, collision_stage_.begin_step(*model_, state_, threads_));
+      step_end = std::min(time, collision_stage_->begin_step(*model_, state_, threads_));
     }
     if (!integrate(step_end)) return false;
     collide();
@@ -137,7 +137,7 @@ bool Simulation::integrate(double time) {
 
 void Simulation::collide() {
   ScopedTimer timer(profile_.collisions);
-  const CollisionCounts counts = collision_stage_.apply(*model_, state_, settings_.terms, threads_);
+  const CollisionCounts counts = collision_stage_->apply(*model_, state_, settings_.terms, threads_);
   ContactStatistics& statistics = contact_statistics_;
   statistics.last_step = counts.obstacles.contacts;
   statistics.total += counts.obstacles.contacts;
@@ -204,7 +204,7 @@ void Simulation::fail(std::string element, std::string message) {
 
 std::size_t Simulation::memory_bytes() const {
   return model_->bytes() + (state_.position.capacity() + state_.velocity.capacity()) * sizeof(Vec3) +
-         integrator_->workspace_bytes() + spring_events_.bytes() + collision_stage_.bytes();
+         integrator_->workspace_bytes() + spring_events_.bytes() + collision_stage_->bytes();
 }
 
 EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms); }
@@ -292,7 +292,7 @@ void Simulation::restart_integrator() {
   retired_stats_ = integrator_stats();
   integrator_ =
       make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
-  integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
+  integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
 }
 
 void Simulation::hold_on_path(std::uint32_t particle, const AnchorPath& path) {

@@ -123,6 +123,9 @@ struct ModelChanges {
 class Simulation {
  public:
   Simulation(ClothModel model, ClothState initial, const SimulationSettings& settings);
+  // Movable, not copyable: what the integrator refers to (the model, the collision stage's surface
+  // contacts) lives on the heap and moves with the simulation (scene/scene_simulation.h returns
+  // one by value).
 
   // Advances to exactly `time` (>= the current time). Returns false if the simulation failed,
   // now or before; failure() then says why, and state() is the last good state.
@@ -256,7 +259,9 @@ class Simulation {
   StepProfile profile_;
   SpringEvents spring_events_;
   SpringEventCounts event_totals_;  // over the run
-  CollisionStage collision_stage_;
+  // On the heap: the integrator keeps a pointer to its surface contacts, which must not move
+  // when the Simulation does.
+  std::unique_ptr<CollisionStage> collision_stage_ = std::make_unique<CollisionStage>();
   ContactStatistics contact_statistics_;
   std::optional<Diagnosis> failure_;
 };

@@ -61,7 +61,7 @@ void Simulation::transfer_state(StateArchive& archive) {
   if (archive.loading()) {
     integrator_ =
         make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
-    integrator_->set_surface_contacts(&collision_stage_.surface_contacts());
+    integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
   }
   integrator_->transfer_state(archive);
   transfer(archive, retired_stats_);
@@ -83,7 +83,7 @@ void Simulation::transfer_state(StateArchive& archive) {
   if (archive.loading()) {
     // The stages' scratch and caches start afresh from the restored model: both rebuild what
     // they keep between steps from the model and the state (their results do not depend on it).
-    collision_stage_ = CollisionStage{};
+    *collision_stage_ = CollisionStage{};  // the same object: the integrator points into it
     spring_events_ = SpringEvents{};
     failure_.reset();
     check_state();

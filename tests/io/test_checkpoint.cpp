@@ -24,14 +24,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-fs::path test_folder() {
-  const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-  const fs::path folder =
-      fs::path(CLOTHSIM_TEST_TMPDIR) / "checkpoint" / (std::string(info->test_suite_name()) + "." + info->name());
-  fs::remove_all(folder);
-  fs::create_directories(folder);
-  return folder;
-}
+fs::path test_folder() { return checks::fresh_test_folder("checkpoint"); }
 
 std::vector<char> read_bytes(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);

@@ -13,7 +13,6 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "scene/parameters.h"
-#include "viewer/live_parameters.h"
 
 namespace clothsim::viewer {
 namespace {

@@ -8,20 +8,15 @@
 #include "core/error.h"
 #include "core/timer.h"
 #include "scene/parameters.h"
+#include "scene/scene_simulation.h"
 #include "viewer/interaction.h"
-#include "viewer/live_parameters.h"
 
 namespace clothsim::viewer {
 
 Session::Session(SceneSpec scene) : scene_(std::move(scene)) { build(); }
 
 void Session::build() {
-  ClothModel model = build_model(scene_);
-  ClothState initial = build_initial_state(model, scene_);
-  SimulationSettings settings;
-  settings.integrator = scene_.integrator;
-  settings.threads = scene_.threads;
-  simulation_ = std::make_unique<Simulation>(std::move(model), std::move(initial), settings);
+  simulation_ = make_unique_simulation(scene_);
   if (edited_limits_) simulation_->set_spring_limits(*edited_limits_);
   if (edited_self_collision_) simulation_->set_self_collision(*edited_self_collision_);
   for (const Collider& sphere : added_spheres_) simulation_->add_collider(sphere);

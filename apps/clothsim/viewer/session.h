@@ -77,8 +77,8 @@ class Session {
   // simulated time actually advanced. Does nothing once the simulation has failed.
   double advance(double duration, double work_budget = 0.0, double piece = 0.0);
 
-  // Sets live parameters (live_parameters.h) from --set style text, all at once: the cross-field
-  // rules are checked after the last one. `source` names where the values came from in errors.
+  // Sets live parameters (scene/parameters.h, live_parameter_keys()) from --set style text, all
+  // at once: the cross-field rules are checked after the last one. `source` names where the values came from in errors.
   // Throws InputError for a key that is not live or a bad value, and then changes nothing.
   void set_parameters(const std::vector<std::pair<std::string, std::string>>& assignments, const std::string& source);
   // Takes the live fields of `edited` (the panel's copy of scene()).

@@ -1,6 +1,7 @@
-// `clothsim run --resume PATH` and the leftovers of runs that died: which run folder PATH names,
-// where its output goes, and which checkpoints it has (io/run_checkpoints.h); and, for a new run,
-// the partial folders earlier runs into the same output folder left behind.
+// Where a run's output goes: the default output folder of a scene; for `clothsim run --resume
+// PATH` (resume_run(), run/run_scene.h), which run folder PATH names, where its output goes, and
+// which checkpoints it has (io/run_checkpoints.h); and, for a new run, the partial folders earlier
+// runs into the same output folder left behind.
 //
 // PATH may name
 //   a partial folder `<out>.partial-<pid>` left by a run that died (killed, out of power): it is
@@ -17,7 +18,13 @@
 #include <string>
 #include <vector>
 
-namespace clothsim::cli {
+#include "scene/scene.h"
+
+namespace clothsim {
+
+// out/<scene name>, with characters that do not belong in a folder name replaced by '_' ("run"
+// for a name with nothing left).
+std::string default_output_folder(const SceneSpec& spec);
 
 struct ResumeTarget {
   std::filesystem::path folder;                    // the run's folder, holding scene.json and the output so far
@@ -40,4 +47,4 @@ struct LeftoverRun {
 // than this process's own).
 std::vector<LeftoverRun> find_leftover_runs(const std::filesystem::path& out);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim

@@ -1,19 +1,36 @@
-#include "viewer/live_parameters.h"
+// A scene's simulation, and the live edits of one (scene_simulation.h).
+#include "scene/scene_simulation.h"
 
-#include <algorithm>
-#include <array>
+#include <type_traits>
+#include <utility>
 
-namespace clothsim::viewer {
+namespace clothsim {
+
+static_assert(std::is_nothrow_move_constructible_v<Simulation>, "make_simulation() returns a Simulation by value");
+
+SimulationSettings simulation_settings(const SceneSpec& spec) {
+  SimulationSettings settings;
+  settings.integrator = spec.integrator;
+  settings.threads = spec.threads;
+  return settings;
+}
+
+Simulation make_simulation(const SceneSpec& spec) { return make_simulation(spec, build_model(spec)); }
+
+Simulation make_simulation(const SceneSpec& spec, ClothModel model) {
+  ClothState initial = build_initial_state(model, spec);
+  return Simulation(std::move(model), std::move(initial), simulation_settings(spec));
+}
+
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec) {
+  return std::make_unique<Simulation>(make_simulation(spec));
+}
+
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, ClothModel model) {
+  return std::make_unique<Simulation>(make_simulation(spec, std::move(model)));
+}
+
 namespace {
-
-constexpr std::array<std::string_view, 18> kLiveKeys = {
-    "springs.connector.stiffness", "springs.connector.damping",     "springs.adjacent.stiffness",
-    "springs.adjacent.damping",    "springs.opposite.stiffness",    "springs.opposite.damping",
-    "environment.gravity",         "environment.air_drag",          "lattice.particle_mass",
-    "integrator.method",           "integrator.relative_tolerance", "integrator.absolute_tolerance",
-    "integrator.time_step",        "integrator.min_step",           "integrator.max_step",
-    "integrator.safety",           "integrator.max_growth",         "integrator.max_shrink",
-};
 
 bool same(const SpringParameters& a, const SpringParameters& b) {
   return a.stiffness == b.stiffness && a.damping == b.damping;
@@ -27,18 +44,6 @@ bool same(const IntegratorSettings& a, const IntegratorSettings& b) {
 }
 
 }  // namespace
-
-std::span<const std::string_view> live_parameter_keys() { return kLiveKeys; }
-
-bool is_live_parameter(std::string_view key) {
-  return std::find(kLiveKeys.begin(), kLiveKeys.end(), key) != kLiveKeys.end();
-}
-
-std::string live_parameter_list() {
-  std::string text;
-  for (std::string_view key : kLiveKeys) text += (text.empty() ? "" : ", ") + std::string(key);
-  return text;
-}
 
 void apply_live_parameters(const SceneSpec& current, const SceneSpec& edited, Simulation& simulation) {
   const LatticeDef& was = current.lattice;
@@ -54,4 +59,4 @@ void apply_live_parameters(const SceneSpec& current, const SceneSpec& edited, Si
   if (!same(current.integrator, edited.integrator)) simulation.set_integrator(edited.integrator);
 }
 
-}  // namespace clothsim::viewer
+}  // namespace clothsim

@@ -1,4 +1,4 @@
-#include "run_resume.h"
+#include "run/run_folders.h"
 
 #include <signal.h>
 #include <unistd.h>
@@ -14,7 +14,7 @@
 #include "io/run_checkpoints.h"
 #include "io/run_writer.h"
 
-namespace clothsim::cli {
+namespace clothsim {
 namespace {
 
 namespace fs = std::filesystem;
@@ -45,6 +45,19 @@ std::string finished_status(const fs::path& folder) {
 }
 
 }  // namespace
+
+std::string default_output_folder(const SceneSpec& spec) {
+  std::string name;
+  for (char c : spec.name) {
+    const bool safe =
+        (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '-' || c == '_' || c == '.';
+    name += safe ? c : '_';
+  }
+  if (name.empty() || name.find_first_not_of('.') == std::string::npos) name = "run";
+  std::string folder = "out/";
+  folder += name;
+  return folder;
+}
 
 ResumeTarget find_resume_target(const std::string& path) {
   std::error_code error;
@@ -123,4 +136,4 @@ std::vector<LeftoverRun> find_leftover_runs(const fs::path& out) {
   return leftovers;
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim
