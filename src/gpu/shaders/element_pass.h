@@ -1,5 +1,5 @@
-// The push constants of the element force passes (accumulate_connector_springs.comp,
-// accumulate_radial_springs.comp), one struct read by C++ (src/gpu/element_forces.cpp) and by
+// The push constants of the force passes (accumulate_connector_springs.comp,
+// accumulate_radial_springs.comp, gather_forces.comp), structs read by C++ (src/gpu) and by
 // GLSL, so that the two cannot disagree on the layout: 32-bit fields only, offsets 0, 4, ...
 #if defined(__cplusplus)
 #pragma once
@@ -11,6 +11,12 @@ using uint = std::uint32_t;
 struct ElementPassConstants {
   uint element_count;  // connectors or radial springs in the pass
   uint damped;         // 1: the springs' damping acts; 0: elastic forces only (kSpringDamping off)
+  uint slot_base;      // the pass's first force slot: 0 for connectors, radial_slot_base() for radials
+  uint power_base;     // the pass's first damping power: 0 for connectors, connector_count() for radials
+};
+
+struct GatherConstants {
+  uint particle_count;
 };
 
 #if defined(__cplusplus)
