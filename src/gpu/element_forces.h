@@ -5,11 +5,10 @@
 // end (connector e: slots 2e, 2e+1; radial spring r: 3r centre, 3r+1 b, 3r+2 c) and one damping
 // power per element, as the CPU's ForceBuffers do.
 //
-// What this is for now: the device's element forces held against element.h (tests/gpu) and the
-// foundation of the backend's force evaluation. Each call uploads its arrays, runs one pass and
-// reads the result back; the backend (docs/gpu.md, "Not done yet") keeps the model and the state
-// on the device instead. Broken springs (connector_live, radial_live) and the force-term mask
-// other than damping are not read yet.
+// This class runs one pass on arrays of elements, all of them acting, uploading its arrays and
+// reading the result back on each call: what tests/gpu needs to hold the device's element forces
+// against element.h on random inputs. The same shaders serve a whole sheet in DeviceForces
+// (device_forces.h), with broken springs and the force-term mask.
 #pragma once
 
 #include <array>
