@@ -3,9 +3,8 @@
 // drag, with broken springs, and with terms switched off. Per particle, the difference is held
 // against the particle's force scale: the sum of the magnitudes of what it gathers (its element
 // slots on the CPU, m |g|, drag |v|). float64: 16 eps (the element passes agree to ~2 eps, and
-// the sum is taken in the same order; measured 1.2 eps). float32, on float-rounded inputs:
-// 2^-14, 512 eps_f (measured 77 eps_f: the slots' own errors are a few eps_f of their element's
-// scale k pi / l, larger than the slots of a sheet bent by a few tenths of a radian).
+// the sum is taken in the same order; measured 1.2 eps). float32, on float-rounded inputs: 32
+// eps_f (measured 3.5 eps_f).
 #include "gpu/device_forces.h"
 
 #include <gtest/gtest.h>
@@ -32,6 +31,15 @@ ClothModel paper_lattice(int rows, int cols, double drag) {
   return build_lattice(lattice, Environment{{0, -9.81, 0}, drag}, {});
 }
 
+// A value rounded to float and back. Through a volatile float: GCC 12 at -O3 dropped the round
+// trip (double)(float) of the x and y components here (only z's conversions were left in the
+// code), and the CPU then evaluated unrounded inputs (a sanitizer build at -O1 rounded them).
+double round_to_float(double value) {
+  const volatile float rounded = static_cast<float>(value);
+  return rounded;
+}
+Vec3 round_to_float(const Vec3& v) { return {round_to_float(v.x), round_to_float(v.y), round_to_float(v.z)}; }
+
 struct SheetState {
   std::vector<Vec3> position, velocity;
 };
@@ -43,9 +51,8 @@ SheetState moving_sheet(const ClothModel& model, std::uint64_t seed, bool float_
     state.position[p] += random.vector(-0.3, 0.3);
     state.velocity[p] = random.vector(-1, 1);
     if (float_values) {
-      for (Vec3* v : {&state.position[p], &state.velocity[p]}) {
-        *v = {static_cast<float>(v->x), static_cast<float>(v->y), static_cast<float>(v->z)};
-      }
+      state.position[p] = round_to_float(state.position[p]);
+      state.velocity[p] = round_to_float(state.velocity[p]);
     }
   }
   return state;
@@ -97,7 +104,7 @@ TEST_F(GpuTest, SheetForcesFloat32MatchEvaluateForces) {
   const double difference = largest_difference(model, state, kAllForceTerms, gpu::Precision::float32, device());
   std::printf("float32 sheet forces, 40 x 37: largest difference %.3g eps_f of the particle's force scale\n",
               difference / kEpsilon32);
-  EXPECT_LE(difference, 0x1.0p-14);
+  EXPECT_LE(difference, 32 * kEpsilon32);
 }
 
 TEST_F(GpuTest, SheetForcesFollowBrokenSpringsAndTheTermMask) {
