@@ -24,8 +24,8 @@ const char* to_string(Precision precision);
 inline std::size_t real_size(Precision precision) { return precision == Precision::float64 ? 8 : 4; }
 
 struct DeviceOptions {
-  std::uint32_t index = 0;  // which device of Instance::devices()
-  bool validation = false;  // validation layers, if installed (InstanceOptions::validation)
+  std::uint32_t index = 0;                 // which device of Instance::devices()
+  bool validation = kValidationByDefault;  // validation layers, if installed (InstanceOptions::validation)
 };
 
 class Device {

@@ -31,8 +31,16 @@ struct DeviceInfo {
   bool float64 = false;                  // shaderFloat64: the float64 shaders can run
 };
 
+// Debug builds (without NDEBUG) enable the validation layers by default; release builds only
+// when asked, as the tests do.
+#if defined(NDEBUG)
+inline constexpr bool kValidationByDefault = false;
+#else
+inline constexpr bool kValidationByDefault = true;
+#endif
+
 struct InstanceOptions {
-  bool validation = false;  // enable the validation layers if they are installed
+  bool validation = kValidationByDefault;  // enable the validation layers if they are installed
 };
 
 class Instance {
