@@ -13,6 +13,10 @@
 namespace clothsim::gpu {
 namespace {
 
+// The blocks of the damping power's sum: forces.cpp's kReductionBlock, so that the device adds
+// the same numbers in the same order.
+constexpr std::uint32_t kReductionBlock = 1024;
+
 // 1 where the element acts: live and its force term on (the CPU's condition in
 // connector_springs.cpp and radial_springs.cpp).
 std::vector<std::uint32_t> connector_active_flags(const ClothModel& model, ForceTerms terms) {
@@ -52,8 +56,10 @@ std::uint64_t DeviceForces::bytes_for(const ClothModel& model, Precision precisi
   const std::uint64_t connectors = model.connector_count();
   const std::uint64_t radials = model.radial_count();
   const std::uint64_t slots = model.force_slot_count();
+  const std::uint64_t elements = connectors + radials;
   return particles * (3 * real * 3 + real + 4) + 4 * real + 4 + slots * (4 + 3 * real) +
-         connectors * (2 * 4 + 3 * real + 4) + radials * (3 * 4 + 3 * real + 4) + (connectors + radials) * real;
+         connectors * (2 * 4 + 3 * real + 4) + radials * (3 * 4 + 3 * real + 4) + elements * real +
+         ((elements + kReductionBlock - 1) / kReductionBlock + 1) * real;
 }
 
 DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms)
@@ -68,7 +74,8 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
                       sizeof(ElementPassConstants)),
       radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), 9,
                    sizeof(ElementPassConstants)),
-      gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)) {
+      gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
+      sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
   GatherTable gather;
   gather.build(model);
   const Vec3 gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
@@ -99,6 +106,8 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
   bytes[position] = bytes[velocity] = bytes[force] = std::uint64_t{particles_} * 3 * real;
   bytes[slot_force] = std::uint64_t{model.force_slot_count()} * 3 * real;
   bytes[element_power] = (std::uint64_t{connectors_} + radials_) * real;
+  bytes[block_power] = (std::uint64_t{connectors_} + radials_ + kReductionBlock - 1) / kReductionBlock * real;
+  bytes[damping_power] = real;
 
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) {
@@ -115,10 +124,11 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
   bind(radial_pass_, {position, velocity, radial_particles, radial_rest_angle, radial_stiffness, radial_damping,
                       radial_active, slot_force, element_power});
   bind(gather_pass_, {velocity, particle_mass, environment, gather_offset, gather_slot, slot_force, force});
+  bind(sum_pass_, {element_power, block_power, damping_power});
 }
 
-void DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> position_in,
-                            std::span<const Vec3> velocity_in, std::span<Vec3> force_out) {
+double DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> position_in,
+                              std::span<const Vec3> velocity_in, std::span<Vec3> force_out) {
   CLOTHSIM_ASSERT(model.revision == model_revision_ && model.particle_count() == particles_,
                   "DeviceForces: the model changed since it was uploaded");
   CLOTHSIM_ASSERT(
@@ -130,15 +140,23 @@ void DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> posit
   const ElementPassConstants connector_constants{connectors_, damped ? 1u : 0u, 0, 0};
   const ElementPassConstants radial_constants{radials_, damped ? 1u : 0u, 2 * connectors_, connectors_};
   const GatherConstants gather_constants{particles_};
+  const std::uint32_t elements = connectors_ + radials_;
+  const SumConstants block_sums{elements, kReductionBlock, 0};
+  const SumConstants total_sum{elements, kReductionBlock, 1};
   device_.submit([&](VkCommandBuffer commands) {
     connector_pass_.dispatch(commands, &connector_constants, connectors_);
     radial_pass_.dispatch(commands, &radial_constants, radials_);
     gather_pass_.dispatch(commands, &gather_constants, particles_);
+    sum_pass_.dispatch(commands, &block_sums, (elements + kReductionBlock - 1) / kReductionBlock);
+    sum_pass_.dispatch(commands, &total_sum, 1);
   });
   std::vector<std::byte> result(std::uint64_t{particles_} * 3 * real_size(precision_));
   download(device_, arrays_[force], result);
   const std::vector<Vec3> forces = vectors_from_bytes(result, precision_);
   std::copy(forces.begin(), forces.end(), force_out.begin());
+  std::vector<std::byte> power(real_size(precision_));
+  download(device_, arrays_[damping_power], power);
+  return reals_from_bytes(power, precision_)[0];
 }
 
 }  // namespace clothsim::gpu

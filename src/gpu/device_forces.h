@@ -1,9 +1,12 @@
 // The general force path on the device: evaluate_forces (src/forces/forces.h) with
-// ForceKernel::general, as three passes in one submission:
+// ForceKernel::general, as passes in one submission:
 //   accumulate_connector_springs, accumulate_radial_springs  -> one slot array (the CPU's slots)
+//                                                               and the elements' damping powers
 //   gather_forces                                            -> each particle sums its slots in
 //                                                               the gather table's order, plus
 //                                                               gravity and air drag
+//   deterministic_sum (two phases)                           -> the damping power, summed over
+//                                                               the CPU's fixed blocks in order
 // The model's arrays are uploaded once, in the CPU's structure-of-arrays layout (unchanged in
 // float64); each evaluate() uploads the state and reads the forces back. That round trip is what
 // the backend's step will not do (docs/gpu.md, "Not done yet"): this class is the force function
@@ -33,14 +36,17 @@ class DeviceForces {
   // ("the scene needs X MiB of device memory, <device> has Y MiB"), before allocating anything.
   DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms);
 
-  // The total force on every particle [particle_count()], as evaluate_forces computes it.
-  void evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
-                std::span<Vec3> force);
+  // The total force on every particle [particle_count()], as evaluate_forces computes it, and
+  // the damping power of the springs (ForcePowers::damping, W). The drag power is not computed
+  // on the device yet.
+  double evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                  std::span<Vec3> force);
 
   // Device memory for a model's arrays, the state and the scratch, bytes.
   static std::uint64_t bytes_for(const ClothModel& model, Precision precision);
 
  private:
+  // The device's arrays, by the CPU's names: the state, the model, the scratch, the results.
   enum Array : std::uint32_t {
     position,
     velocity,
@@ -61,6 +67,8 @@ class DeviceForces {
     slot_force,
     element_power,
     force,
+    block_power,    // the damping power's block sums
+    damping_power,  // [1]
     array_count
   };
 
@@ -70,7 +78,7 @@ class DeviceForces {
   std::uint64_t model_revision_;
   std::uint32_t particles_, connectors_, radials_;
   std::vector<Buffer> arrays_;  // [array_count]
-  ComputePipeline connector_pass_, radial_pass_, gather_pass_;
+  ComputePipeline connector_pass_, radial_pass_, gather_pass_, sum_pass_;
 };
 
 }  // namespace clothsim::gpu

@@ -58,18 +58,26 @@ SheetState moving_sheet(const ClothModel& model, std::uint64_t seed, bool float_
   return state;
 }
 
-// The largest per-particle difference over the particle's force scale.
+// The largest per-particle difference over the particle's force scale; and the damping power's
+// difference over the sum of the elements' powers, into *largest_power_difference if larger.
 double largest_difference(const ClothModel& model, const SheetState& state, ForceTerms terms, gpu::Precision precision,
-                          gpu::Device& device) {
+                          gpu::Device& device, double* largest_power_difference) {
   ForceBuffers buffers;
   buffers.kernel = ForceKernel::general;
   buffers.resize(model);
   std::vector<Vec3> cpu(model.particle_count());
-  evaluate_forces(model, state.position, state.velocity, terms, 1, buffers, cpu);
+  const ForcePowers cpu_powers = evaluate_forces(model, state.position, state.velocity, terms, 1, buffers, cpu);
 
   gpu::DeviceForces device_forces(device, model, precision, terms);
   std::vector<Vec3> gpu(model.particle_count());
-  device_forces.evaluate(model, state.position, state.velocity, gpu);
+  const double gpu_damping_power = device_forces.evaluate(model, state.position, state.velocity, gpu);
+
+  // The damping power: the same fixed blocks summed in the same order; against the sum of the
+  // elements' magnitudes, since the terms cancel nowhere (each is <= 0).
+  double power_scale = std::numeric_limits<double>::min();
+  for (double power : buffers.element_power) power_scale += std::abs(power);
+  const double power_difference = std::abs(gpu_damping_power - cpu_powers.damping) / power_scale;
+  if (power_difference > *largest_power_difference) *largest_power_difference = power_difference;
 
   const Vec3 gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
   const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
@@ -92,19 +100,24 @@ constexpr double kEpsilon32 = std::numeric_limits<float>::epsilon();
 TEST_F(GpuTest, SheetForcesFloat64MatchEvaluateForces) {
   const ClothModel model = paper_lattice(40, 37, 0.3);
   const SheetState state = moving_sheet(model, 7, false);
-  const double difference = largest_difference(model, state, kAllForceTerms, gpu::Precision::float64, device());
-  std::printf("float64 sheet forces, 40 x 37: largest difference %.3g eps of the particle's force scale\n",
-              difference / kEpsilon64);
+  double power = 0.0;
+  const double difference = largest_difference(model, state, kAllForceTerms, gpu::Precision::float64, device(), &power);
+  std::printf("float64 sheet, 40 x 37: forces within %.3g eps of the particle's force scale, damping power %.3g eps\n",
+              difference / kEpsilon64, power / kEpsilon64);
   EXPECT_LE(difference, 16 * kEpsilon64);
+  EXPECT_LE(power, 16 * kEpsilon64);
 }
 
 TEST_F(GpuTest, SheetForcesFloat32MatchEvaluateForces) {
   const ClothModel model = paper_lattice(40, 37, 0.3);
   const SheetState state = moving_sheet(model, 8, true);
-  const double difference = largest_difference(model, state, kAllForceTerms, gpu::Precision::float32, device());
-  std::printf("float32 sheet forces, 40 x 37: largest difference %.3g eps_f of the particle's force scale\n",
-              difference / kEpsilon32);
+  double power = 0.0;
+  const double difference = largest_difference(model, state, kAllForceTerms, gpu::Precision::float32, device(), &power);
+  std::printf(
+      "float32 sheet, 40 x 37: forces within %.3g eps_f of the particle's force scale, damping power %.3g eps_f\n",
+      difference / kEpsilon32, power / kEpsilon32);
   EXPECT_LE(difference, 32 * kEpsilon32);
+  EXPECT_LE(power, 32 * kEpsilon32);
 }
 
 TEST_F(GpuTest, SheetForcesFollowBrokenSpringsAndTheTermMask) {
@@ -116,8 +129,10 @@ TEST_F(GpuTest, SheetForcesFollowBrokenSpringsAndTheTermMask) {
   const SheetState state = moving_sheet(model, 9, false);
   for (ForceTerms terms : {kAllForceTerms, kConnectorSprings | kOppositeRadialSprings,
                            kGravity | kAdjacentRadialSprings | kSpringDamping, ForceTerms{0}}) {
-    const double difference = largest_difference(model, state, terms, gpu::Precision::float64, device());
+    double power = 0.0;
+    const double difference = largest_difference(model, state, terms, gpu::Precision::float64, device(), &power);
     EXPECT_LE(difference, 16 * kEpsilon64) << "terms " << terms;
+    EXPECT_LE(power, 16 * kEpsilon64) << "terms " << terms;
   }
 }
 

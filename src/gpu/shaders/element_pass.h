@@ -1,5 +1,5 @@
 // The push constants of the force passes (accumulate_connector_springs.comp,
-// accumulate_radial_springs.comp, gather_forces.comp), structs read by C++ (src/gpu) and by
+// accumulate_radial_springs.comp, gather_forces.comp, deterministic_sum.comp), structs read by C++ (src/gpu) and by
 // GLSL, so that the two cannot disagree on the layout: 32-bit fields only, offsets 0, 4, ...
 #if defined(__cplusplus)
 #pragma once
@@ -17,6 +17,12 @@ struct ElementPassConstants {
 
 struct GatherConstants {
   uint particle_count;
+};
+
+struct SumConstants {
+  uint count;       // values to add
+  uint block_size;  // values per block, added in index order (forces.cpp's kReductionBlock)
+  uint phase;       // 0: one invocation per block; 1: one invocation adds the block sums in order
 };
 
 #if defined(__cplusplus)
