@@ -108,6 +108,9 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
   bytes[element_power] = (std::uint64_t{connectors_} + radials_) * real;
   bytes[block_power] = (std::uint64_t{connectors_} + radials_ + kReductionBlock - 1) / kReductionBlock * real;
   bytes[damping_power] = real;
+  std::uint64_t total = 0;
+  for (std::uint64_t array_bytes : bytes) total += array_bytes;
+  CLOTHSIM_ASSERT(total == bytes_for(model, precision), "DeviceForces::bytes_for counts every array");
 
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) {
