@@ -39,6 +39,9 @@ set(clothsim_include_dir "${CMAKE_INSTALL_INCLUDEDIR}/clothsim")
 
 get_property(clothsim_modules GLOBAL PROPERTY CLOTHSIM_MODULES)
 list(REMOVE_ITEM clothsim_modules clothsim_render clothsim_run)
+# The Vulkan module is not installed yet: it is the foundation of a backend still being built
+# (docs/gpu.md), and the package would have to find Vulkan for it.
+list(REMOVE_ITEM clothsim_modules clothsim_gpu)
 # The run module (src/run) links the renderer where that is built, so it goes with it; without the
 # renderer it is plain simulation code and goes with the rest.
 if(NOT TARGET clothsim_render)
@@ -54,16 +57,17 @@ install(EXPORT clothsimTargets
   DESTINATION ${CLOTHSIM_INSTALL_CMAKEDIR}
   COMPONENT library)
 
-# Every header of src/ (a module's internal headers too: the public ones include them). The
-# renderer's only with the renderer.
-set(clothsim_header_excludes)
+# Every header of src/ (a module's internal headers too: the public ones include them), and the
+# element formulas forces/element.h includes (element_math.inc). The renderer's only with the
+# renderer; the Vulkan module's not yet.
+set(clothsim_header_excludes PATTERN gpu EXCLUDE)
 if(NOT TARGET clothsim_render)
   list(APPEND clothsim_header_excludes PATTERN render EXCLUDE)
 endif()
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/src/
   DESTINATION ${clothsim_include_dir}
   COMPONENT library
-  FILES_MATCHING PATTERN "*.h" ${clothsim_header_excludes})
+  FILES_MATCHING PATTERN "*.h" PATTERN "*.inc" ${clothsim_header_excludes})
 
 if(TARGET clothsim_render)
   install(TARGETS clothsim_render clothsim_run

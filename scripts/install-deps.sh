@@ -23,6 +23,11 @@ packages=(
   # The interactive viewer (clothsim view, docs/viewer.md): a GLFW window with Dear ImGui; its
   # tests run under a virtual X server.
   libglfw3-dev libimgui-dev xvfb xauth
+  # The Vulkan compute module (src/gpu, docs/gpu.md): the loader and headers, glslc to compile
+  # the shaders at build time, the validation layers the tests enable, and Mesa's Vulkan drivers,
+  # whose lavapipe runs the shaders on the CPU: CI has no GPU, and lavapipe is what the tests
+  # use. vulkan-tools has vulkaninfo, to diagnose a machine's Vulkan.
+  libvulkan-dev glslc vulkan-validationlayers mesa-vulkan-drivers vulkan-tools
   # Fuzzing (the fuzz preset, tests/fuzz, docs/testing.md): clang with libFuzzer and the clang
   # sanitizer runtimes (libclang-rt-14-dev, only recommended by clang-14, so named here), LLVM's
   # OpenMP for clang builds, and llvm-symbolizer (llvm-14) for readable stacks of findings.

@@ -25,6 +25,7 @@ std::string main_footer() {
       "  clothsim params | grep stiffness                  # keys for --set\n"
       "  clothsim bench --quick                            # throughput on this machine\n"
       "  clothsim sweep paper-fig5 --param output.fps=30,60 --out out/sweep   # a grid of runs\n"
+      "  clothsim devices                                  # the Vulkan devices (docs/gpu.md)\n"
       "  clothsim run --help                               # every flag of a subcommand\n"
       "\n";
   text += clothsim::cli::exit_code_help();
@@ -43,9 +44,9 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.get_formatter()->column_width(34);
   app.footer(main_footer());
-  std::vector<Subcommand> commands = {add_run_command(app, invocation), add_validate_command(app),
-                                      add_scenes_command(app),          add_params_command(app),
-                                      add_bench_command(app),           add_sweep_command(app)};
+  std::vector<Subcommand> commands = {
+      add_run_command(app, invocation), add_validate_command(app), add_scenes_command(app), add_params_command(app),
+      add_bench_command(app),           add_sweep_command(app),    add_devices_command(app)};
 #if defined(CLOTHSIM_HAS_VIEWER)
   commands.push_back(add_view_command(app));
 #endif

@@ -141,8 +141,8 @@ inline RadialJacobian radial_jacobian(const Vec3& xa, const Vec3& xb, const Vec3
   resolve_singular_directions(g, va, vb, vc);
   RadialJacobian out;
   if (g.degenerate) return out;
-  out.gradient[1] = g.gradient_b();
-  out.gradient[2] = g.gradient_c();
+  out.gradient[1] = radial_gradient_b(g);
+  out.gradient[2] = radial_gradient_c(g);
   out.gradient[0] = -(out.gradient[1] + out.gradient[2]);
   out.in_plane_stiffness = stiffness;
   out.damping = damping;

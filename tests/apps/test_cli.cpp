@@ -650,8 +650,12 @@ TEST_F(CliTest, ParamsListsTheRegistry) {
 }
 
 TEST_F(CliTest, EveryHelpEndsWithExamples) {
-  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{
-           {"--help"}, {"run", "--help"}, {"validate", "--help"}, {"scenes", "--help"}, {"params", "--help"}}) {
+  for (const std::vector<std::string>& args : std::vector<std::vector<std::string>>{{"--help"},
+                                                                                    {"run", "--help"},
+                                                                                    {"validate", "--help"},
+                                                                                    {"scenes", "--help"},
+                                                                                    {"params", "--help"},
+                                                                                    {"devices", "--help"}}) {
     const Result result = clothsim(args);
     EXPECT_EQ(result.exit_code, 0) << args[0] << "\n" << describe(result);
     EXPECT_TRUE(contains(result.out, "Examples"));
@@ -663,6 +667,32 @@ TEST_F(CliTest, EveryHelpEndsWithExamples) {
   EXPECT_EQ(version.exit_code, 0);
   EXPECT_TRUE(contains(version.out, "clothsim "));
   EXPECT_TRUE(entries(work_).empty());
+}
+
+// `clothsim devices`: lavapipe at least where the Vulkan module is built (CI installs it), and
+// without a Vulkan driver (the loader pointed at none) a clear error and exit 3.
+TEST_F(CliTest, DevicesListsTheVulkanDevices) {
+  const Result result = clothsim({"devices"});
+#if defined(CLOTHSIM_HAVE_VULKAN)
+  EXPECT_EQ(result.exit_code, 0) << describe(result);
+  EXPECT_TRUE(result.out.starts_with("0: ")) << result.out;
+  EXPECT_TRUE(contains(result.out, "device memory, float64 ")) << result.out;
+#else
+  EXPECT_EQ(result.exit_code, 3) << describe(result);
+  EXPECT_TRUE(contains(result.err, "built without Vulkan")) << result.err;
+#endif
+  EXPECT_TRUE(entries(work_).empty());
+}
+
+TEST_F(CliTest, DevicesWithoutAVulkanDriverExitsThree) {
+  ::setenv("VK_ICD_FILENAMES", "/nonexistent/no_driver.json", 1);
+  ::setenv("VK_DRIVER_FILES", "/nonexistent/no_driver.json", 1);
+  const Result result = clothsim({"devices"});
+  ::unsetenv("VK_ICD_FILENAMES");
+  ::unsetenv("VK_DRIVER_FILES");
+  EXPECT_EQ(result.exit_code, 3) << describe(result);
+  EXPECT_TRUE(contains(result.err, "clothsim: error: ")) << result.err;
+  EXPECT_TRUE(result.out.empty()) << result.out;
 }
 
 TEST_F(CliTest, NoSubcommandIsBadInput) {

@@ -1,0 +1,52 @@
+// Storage buffers on the device, and copies to and from them through host-visible staging
+// buffers. A Buffer owns its VkBuffer and its own memory allocation (a handful of buffers per
+// scene: the model's arrays and the state; no suballocator is needed at that count).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <span>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/device.h"
+
+namespace clothsim::gpu {
+
+enum class Memory {
+  device_local,  // where the shaders read and write; reached by the host only through copies
+  host_visible,  // staging: mapped for the host's whole lifetime of the buffer, coherent
+};
+
+class Buffer {
+ public:
+  // A storage buffer of `bytes` (at least 16) usable as a copy source and destination.
+  Buffer(Device& device, std::uint64_t bytes, Memory memory);
+  ~Buffer();
+  Buffer(Buffer&& other) noexcept;
+  Buffer& operator=(Buffer&&) = delete;
+  Buffer(const Buffer&) = delete;
+  Buffer& operator=(const Buffer&) = delete;
+
+  VkBuffer handle() const { return buffer_; }
+  std::uint64_t bytes() const { return bytes_; }
+  std::byte* mapped() const { return mapped_; }  // host_visible only, else null
+
+ private:
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkBuffer buffer_ = VK_NULL_HANDLE;
+  VkDeviceMemory memory_ = VK_NULL_HANDLE;
+  std::uint64_t bytes_ = 0;
+  std::byte* mapped_ = nullptr;
+};
+
+// Host bytes into a device-local buffer (from its start), and back; each one submission that
+// waits. The barriers make the copy visible to later compute shaders and a shader's writes
+// visible to the copy back.
+void upload(Device& device, Buffer& destination, std::span<const std::byte> source);
+void download(Device& device, const Buffer& source, std::span<std::byte> destination);
+
+// The barrier between a compute pass and whatever reads its output next: a later pass or a copy.
+void compute_write_barrier(VkCommandBuffer commands);
+
+}  // namespace clothsim::gpu

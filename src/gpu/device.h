@@ -1,0 +1,73 @@
+// One Vulkan device opened for compute: the logical device, one compute queue, one command
+// buffer with its fence, and the device's memory types. Work is recorded and submitted through
+// submit(), which waits for it: the element passes and the tests need nothing more yet. The
+// backend's step (docs/gpu.md, "Not done yet") will record a whole step into one submission.
+//
+// Devices are numbered as vkEnumeratePhysicalDevices lists them, the numbers `clothsim devices`
+// prints. The float64 shaders need shaderFloat64, which the device enables when it has it.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <functional>
+#include <string>
+
+#include <vulkan/vulkan.h>
+
+#include "gpu/instance.h"
+
+namespace clothsim::gpu {
+
+// The precision of the device's arithmetic: the names of --precision.
+enum class Precision { float32, float64 };
+const char* to_string(Precision precision);
+inline std::size_t real_size(Precision precision) { return precision == Precision::float64 ? 8 : 4; }
+
+struct DeviceOptions {
+  std::uint32_t index = 0;                 // which device of Instance::devices()
+  bool validation = kValidationByDefault;  // validation layers, if installed (InstanceOptions::validation)
+};
+
+class Device {
+ public:
+  // Throws GpuError: "no Vulkan device" (none at all), "no Vulkan device N (there are M)",
+  // "device N (<name>) has no compute queue", or a failed call.
+  explicit Device(DeviceOptions options = {});
+  ~Device();
+  Device(const Device&) = delete;
+  Device& operator=(const Device&) = delete;
+
+  const DeviceInfo& info() const { return info_; }
+  VkDevice handle() const { return device_; }
+  const Instance& instance() const { return instance_; }
+  const VkPhysicalDeviceLimits& limits() const { return limits_; }
+
+  // Throws GpuError "<what> needs X MiB of device memory, <device> has Y MiB" when `bytes` is more
+  // than the device-local memory. A check before anything is allocated or written.
+  void require_memory(std::uint64_t bytes, const std::string& what) const;
+  // Throws GpuError "... does not support float64 (shaderFloat64)" for float64 on such a device.
+  void require_precision(Precision precision) const;
+
+  // The index of a memory type allowed by `type_bits` with all of `properties`, or throws.
+  std::uint32_t memory_type(std::uint32_t type_bits, VkMemoryPropertyFlags properties) const;
+
+  // Records commands with `record` into the device's command buffer, submits it and waits for it.
+  void submit(const std::function<void(VkCommandBuffer)>& record);
+
+ private:
+  Instance instance_;
+  DeviceInfo info_;
+  VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceLimits limits_{};
+  VkPhysicalDeviceMemoryProperties memory_{};
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  VkCommandPool command_pool_ = VK_NULL_HANDLE;
+  VkCommandBuffer command_buffer_ = VK_NULL_HANDLE;
+  VkFence fence_ = VK_NULL_HANDLE;
+};
+
+// "812 MiB": bytes in MiB, rounded up.
+std::string mebibytes(std::uint64_t bytes);
+
+}  // namespace clothsim::gpu

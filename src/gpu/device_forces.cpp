@@ -1,0 +1,165 @@
+#include "gpu/device_forces.h"
+
+#include <array>
+#include <string>
+
+#include "core/assert.h"
+#include "gpu/embedded_shaders.h"
+#include "gpu/gpu_error.h"
+#include "gpu/real_arrays.h"
+#include "gpu/shaders/element_pass.h"
+#include "model/gather_table.h"
+
+namespace clothsim::gpu {
+namespace {
+
+// The blocks of the damping power's sum: forces.cpp's kReductionBlock, so that the device adds
+// the same numbers in the same order.
+constexpr std::uint32_t kReductionBlock = 1024;
+
+// 1 where the element acts: live and its force term on (the CPU's condition in
+// connector_springs.cpp and radial_springs.cpp).
+std::vector<std::uint32_t> connector_active_flags(const ClothModel& model, ForceTerms terms) {
+  std::vector<std::uint32_t> active(model.connector_count(), 0u);
+  if ((terms & kConnectorSprings) == 0) return active;
+  for (std::size_t e = 0; e < active.size(); ++e) active[e] = model.connector_live[e] != 0 ? 1u : 0u;
+  return active;
+}
+
+std::vector<std::uint32_t> radial_active_flags(const ClothModel& model, ForceTerms terms) {
+  std::vector<std::uint32_t> active(model.radial_count(), 0u);
+  for (std::size_t r = 0; r < active.size(); ++r) {
+    const ForceTerms term =
+        model.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
+    active[r] = (terms & term) != 0 && model.radial_live[r] != 0 ? 1u : 0u;
+  }
+  return active;
+}
+
+std::uint32_t count32(std::size_t count, const char* what) {
+  if (count > UINT32_MAX / 9) throw GpuError(std::string("too many ") + what + " for 32-bit indices on the device");
+  return static_cast<std::uint32_t>(count);
+}
+
+// The checks before anything is made on the device.
+Device& checked(Device& device, const ClothModel& model, Precision precision) {
+  device.require_precision(precision);
+  device.require_memory(DeviceForces::bytes_for(model, precision), "the scene");
+  return device;
+}
+
+}  // namespace
+
+std::uint64_t DeviceForces::bytes_for(const ClothModel& model, Precision precision) {
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t particles = model.particle_count();
+  const std::uint64_t connectors = model.connector_count();
+  const std::uint64_t radials = model.radial_count();
+  const std::uint64_t slots = model.force_slot_count();
+  const std::uint64_t elements = connectors + radials;
+  return particles * (3 * real * 3 + real + 4) + 4 * real + 4 + slots * (4 + 3 * real) +
+         connectors * (2 * 4 + 3 * real + 4) + radials * (3 * 4 + 3 * real + 4) + elements * real +
+         ((elements + kReductionBlock - 1) / kReductionBlock + 1) * real;
+}
+
+DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms)
+    : device_(checked(device, model, precision)),
+      precision_(precision),
+      terms_(terms),
+      model_revision_(model.revision),
+      particles_(count32(model.particle_count(), "particles")),
+      connectors_(count32(model.connector_count(), "connectors")),
+      radials_(count32(model.radial_count(), "radial springs")),
+      connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)), 9,
+                      sizeof(ElementPassConstants)),
+      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), 9,
+                   sizeof(ElementPassConstants)),
+      gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
+      sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
+  GatherTable gather;
+  gather.build(model);
+  const Vec3 gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
+  const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
+  const std::array<double, 4> environment_values = {gravity.x, gravity.y, gravity.z, drag};
+  const std::vector<std::uint32_t> connectors_active = connector_active_flags(model, terms);
+  const std::vector<std::uint32_t> radials_active = radial_active_flags(model, terms);
+
+  std::array<std::vector<std::byte>, array_count> contents;
+  contents[particle_mass] = real_bytes(model.particle_mass, precision);
+  contents[environment] = real_bytes(environment_values, precision);
+  contents[gather_offset] = index_bytes(std::span<const std::uint32_t>(gather.offset));
+  contents[gather_slot] = index_bytes(std::span<const std::uint32_t>(gather.slot));
+  contents[connector_particles] = index_bytes(std::span(model.connector_particles));
+  contents[connector_rest_length] = real_bytes(model.connector_rest_length, precision);
+  contents[connector_stiffness] = real_bytes(model.connector_stiffness, precision);
+  contents[connector_damping] = real_bytes(model.connector_damping, precision);
+  contents[connector_active] = index_bytes(std::span(connectors_active));
+  contents[radial_particles] = index_bytes(std::span(model.radial_particles));
+  contents[radial_rest_angle] = real_bytes(model.radial_rest_angle, precision);
+  contents[radial_stiffness] = real_bytes(model.radial_stiffness, precision);
+  contents[radial_damping] = real_bytes(model.radial_damping, precision);
+  contents[radial_active] = index_bytes(std::span(radials_active));
+
+  const std::uint64_t real = real_size(precision);
+  std::array<std::uint64_t, array_count> bytes{};
+  for (std::uint32_t a = 0; a < array_count; ++a) bytes[a] = contents[a].size();
+  bytes[position] = bytes[velocity] = bytes[force] = std::uint64_t{particles_} * 3 * real;
+  bytes[slot_force] = std::uint64_t{model.force_slot_count()} * 3 * real;
+  bytes[element_power] = (std::uint64_t{connectors_} + radials_) * real;
+  bytes[block_power] = (std::uint64_t{connectors_} + radials_ + kReductionBlock - 1) / kReductionBlock * real;
+  bytes[damping_power] = real;
+  std::uint64_t total = 0;
+  for (std::uint64_t array_bytes : bytes) total += array_bytes;
+  CLOTHSIM_ASSERT(total == bytes_for(model, precision), "DeviceForces::bytes_for counts every array");
+
+  arrays_.reserve(array_count);
+  for (std::uint32_t a = 0; a < array_count; ++a) {
+    arrays_.emplace_back(device_, bytes[a], Memory::device_local);
+    upload(device_, arrays_.back(), contents[a]);
+  }
+  const auto bind = [&](ComputePipeline& pipeline, std::initializer_list<Array> list) {
+    std::vector<const Buffer*> buffers;
+    for (Array a : list) buffers.push_back(&arrays_[a]);
+    pipeline.bind(buffers);
+  };
+  bind(connector_pass_, {position, velocity, connector_particles, connector_rest_length, connector_stiffness,
+                         connector_damping, connector_active, slot_force, element_power});
+  bind(radial_pass_, {position, velocity, radial_particles, radial_rest_angle, radial_stiffness, radial_damping,
+                      radial_active, slot_force, element_power});
+  bind(gather_pass_, {velocity, particle_mass, environment, gather_offset, gather_slot, slot_force, force});
+  bind(sum_pass_, {element_power, block_power, damping_power});
+}
+
+double DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> position_in,
+                              std::span<const Vec3> velocity_in, std::span<Vec3> force_out) {
+  CLOTHSIM_ASSERT(model.revision == model_revision_ && model.particle_count() == particles_,
+                  "DeviceForces: the model changed since it was uploaded");
+  CLOTHSIM_ASSERT(
+      position_in.size() == particles_ && velocity_in.size() == particles_ && force_out.size() == particles_,
+      "DeviceForces::evaluate: one position, velocity and force per particle");
+  upload(device_, arrays_[position], vector_bytes(position_in, precision_));
+  upload(device_, arrays_[velocity], vector_bytes(velocity_in, precision_));
+  const bool damped = (terms_ & kSpringDamping) != 0;
+  const ElementPassConstants connector_constants{connectors_, damped ? 1u : 0u, 0, 0};
+  const ElementPassConstants radial_constants{radials_, damped ? 1u : 0u, 2 * connectors_, connectors_};
+  const GatherConstants gather_constants{particles_};
+  const std::uint32_t elements = connectors_ + radials_;
+  const SumConstants block_sums{elements, kReductionBlock, 0};
+  const SumConstants total_sum{elements, kReductionBlock, 1};
+  device_.submit([&](VkCommandBuffer commands) {
+    connector_pass_.dispatch(commands, &connector_constants, connectors_);
+    radial_pass_.dispatch(commands, &radial_constants, radials_);
+    gather_pass_.dispatch(commands, &gather_constants, particles_);
+    sum_pass_.dispatch(commands, &block_sums, (elements + kReductionBlock - 1) / kReductionBlock);
+    sum_pass_.dispatch(commands, &total_sum, 1);
+  });
+  std::vector<std::byte> result(std::uint64_t{particles_} * 3 * real_size(precision_));
+  download(device_, arrays_[force], result);
+  const std::vector<Vec3> forces = vectors_from_bytes(result, precision_);
+  std::copy(forces.begin(), forces.end(), force_out.begin());
+  std::vector<std::byte> power(real_size(precision_));
+  download(device_, arrays_[damping_power], power);
+  return reals_from_bytes(power, precision_)[0];
+}
+
+}  // namespace clothsim::gpu

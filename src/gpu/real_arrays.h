@@ -1,0 +1,65 @@
+// The CPU's arrays in the device's layout: Reals in the chosen precision (doubles as they are,
+// so float64 uploads the CPU's structure-of-arrays unchanged; floats rounded one by one), Vec3
+// arrays as 3 Reals each, index arrays as 32-bit words. And back to doubles.
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <cstring>
+#include <span>
+#include <vector>
+
+#include "core/vec3.h"
+#include "gpu/device.h"
+
+namespace clothsim::gpu {
+
+inline std::vector<std::byte> real_bytes(std::span<const double> values, Precision precision) {
+  std::vector<std::byte> bytes(values.size() * real_size(precision));
+  if (precision == Precision::float64) {
+    if (!values.empty()) std::memcpy(bytes.data(), values.data(), bytes.size());
+  } else {
+    for (std::size_t i = 0; i < values.size(); ++i) {
+      const float value = static_cast<float>(values[i]);
+      std::memcpy(bytes.data() + 4 * i, &value, 4);
+    }
+  }
+  return bytes;
+}
+
+inline std::vector<std::byte> vector_bytes(std::span<const Vec3> vectors, Precision precision) {
+  static_assert(sizeof(Vec3) == 3 * sizeof(double), "Vec3 is three packed doubles");
+  if (vectors.empty()) return {};
+  return real_bytes(std::span<const double>(&vectors.data()->x, 3 * vectors.size()), precision);
+}
+
+template <typename Index>
+std::vector<std::byte> index_bytes(std::span<const Index> indices) {
+  std::vector<std::byte> bytes(indices.size_bytes());
+  if (!indices.empty()) std::memcpy(bytes.data(), indices.data(), bytes.size());
+  return bytes;
+}
+
+inline std::vector<double> reals_from_bytes(std::span<const std::byte> bytes, Precision precision) {
+  std::vector<double> values(bytes.size() / real_size(precision));
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (precision == Precision::float64) {
+      std::memcpy(&values[i], bytes.data() + 8 * i, 8);
+    } else {
+      float value = 0.0f;
+      std::memcpy(&value, bytes.data() + 4 * i, 4);
+      values[i] = value;
+    }
+  }
+  return values;
+}
+
+inline std::vector<Vec3> vectors_from_bytes(std::span<const std::byte> bytes, Precision precision) {
+  const std::vector<double> reals = reals_from_bytes(bytes, precision);
+  std::vector<Vec3> vectors(reals.size() / 3);
+  for (std::size_t i = 0; i < vectors.size(); ++i) vectors[i] = {reals[3 * i], reals[3 * i + 1], reals[3 * i + 2]};
+  return vectors;
+}
+
+}  // namespace clothsim::gpu
