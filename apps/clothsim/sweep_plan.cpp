@@ -1,11 +1,9 @@
 #include "sweep_plan.h"
 
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <array>
-#include <cerrno>
 #include <charconv>
 #include <fstream>
 #include <sstream>
@@ -14,26 +12,21 @@
 #include "core/error.h"
 #include "io/run_checkpoints.h"
 #include "io/run_writer.h"
+#include "run/run_folders.h"
+#include "scene/json_fields.h"
 
 namespace clothsim::cli {
 namespace {
 
 namespace fs = std::filesystem;
 using nlohmann::json;
+using scene_json::trim;
 
 constexpr std::string_view kRecordFile = "sweep.json";
 constexpr std::string_view kIndexFile = "index.csv";
-constexpr std::string_view kPartialMarker = ".partial-";
 
 [[noreturn]] void bad_param(const std::string& field, const std::string& reason) {
   throw InputError("--param", field, reason);
-}
-
-std::string_view trim(std::string_view text) {
-  const auto space = [](char c) { return c == ' ' || c == '\t'; };
-  while (!text.empty() && space(text.front())) text.remove_prefix(1);
-  while (!text.empty() && space(text.back())) text.remove_suffix(1);
-  return text;
 }
 
 // Splits at commas outside [] and {}.
@@ -67,9 +60,6 @@ std::size_t read_count(std::string_view text, std::string_view what, const std::
   }
   return value;
 }
-
-// True while process `pid` exists (EPERM: it exists but is another user's).
-bool process_alive(pid_t pid) { return ::kill(pid, 0) == 0 || errno == EPERM; }
 
 void write_text_atomically(const fs::path& path, const std::string& text) {
   const fs::path temporary = path.string() + ".tmp-" + std::to_string(::getpid());
@@ -226,20 +216,15 @@ RunStatus read_run_status(const fs::path& out, const SweepRun& run) {
     if (status.state == RunState::interrupted && !list_run_checkpoints(folder).empty()) status.resume_from = folder;
   }
   // A partial folder beside it: a run still going, or one that died (resumable from a checkpoint).
-  std::error_code error;
-  const std::string prefix = run.folder + std::string(kPartialMarker);
-  for (const fs::directory_entry& entry : fs::directory_iterator(out, error)) {
-    const std::string name = entry.path().filename().string();
-    if (!name.starts_with(prefix)) continue;
-    const std::string digits = name.substr(prefix.size());
-    if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
-    if (process_alive(static_cast<pid_t>(std::stol(digits)))) {
+  for (const LeftoverRun& partial : find_partial_runs(folder)) {
+    if (partial.alive) {
       status.state = RunState::running;
       return status;
     }
     if (status.state == RunState::pending) status.state = RunState::interrupted;
-    if (status.resume_from.empty() && !list_run_checkpoints(entry.path()).empty()) status.resume_from = entry.path();
+    if (status.resume_from.empty() && partial.has_checkpoint) status.resume_from = partial.folder;
   }
+  std::error_code error;
   if (status.state == RunState::pending && fs::exists(sweep_log_path(out, run), error)) status.state = RunState::error;
   return status;
 }

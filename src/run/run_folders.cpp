@@ -120,8 +120,8 @@ ResumeTarget find_resume_target(const std::string& path) {
   return target;
 }
 
-std::vector<LeftoverRun> find_leftover_runs(const fs::path& out) {
-  std::vector<LeftoverRun> leftovers;
+std::vector<LeftoverRun> find_partial_runs(const fs::path& out) {
+  std::vector<LeftoverRun> partials;
   const fs::path normal = out.lexically_normal();
   fs::path parent = normal.parent_path();
   const std::string prefix = normal.filename().string() + std::string(kPartialMarker);
@@ -130,9 +130,16 @@ std::vector<LeftoverRun> find_leftover_runs(const fs::path& out) {
     const std::string name = entry.path().filename().string();
     if (!name.starts_with(prefix) || !entry.is_directory(error)) continue;
     const pid_t pid = partial_pid(entry.path());
-    if (pid <= 0 || pid == ::getpid() || process_alive(pid)) continue;
-    leftovers.push_back(LeftoverRun{parent / name, pid, !list_run_checkpoints(entry.path()).empty()});
+    if (pid <= 0 || pid == ::getpid()) continue;
+    partials.push_back(
+        LeftoverRun{parent / name, pid, !list_run_checkpoints(entry.path()).empty(), process_alive(pid)});
   }
+  return partials;
+}
+
+std::vector<LeftoverRun> find_leftover_runs(const fs::path& out) {
+  std::vector<LeftoverRun> leftovers = find_partial_runs(out);
+  std::erase_if(leftovers, [](const LeftoverRun& run) { return run.alive; });
   return leftovers;
 }
 

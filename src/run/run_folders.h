@@ -36,15 +36,20 @@ struct ResumeTarget {
 // is not a run folder or checkpoint, has no checkpoint, is still being written, or is complete.
 ResumeTarget find_resume_target(const std::string& path);
 
-// A partial folder a run left behind: its path and the process id in its name.
+// A partial folder `<out>.partial-<pid>`: its path, the process id in its name, and whether that
+// process is still running (writing it) or died and left it behind.
 struct LeftoverRun {
   std::filesystem::path folder;
   pid_t pid = 0;
   bool has_checkpoint = false;
+  bool alive = false;  // its process is still running
 };
 
 // The partial folders `<out>.partial-<pid>` beside `out` whose process is no longer running (other
 // than this process's own).
 std::vector<LeftoverRun> find_leftover_runs(const std::filesystem::path& out);
+
+// Every partial folder beside `out` (other than this process's own), alive or not.
+std::vector<LeftoverRun> find_partial_runs(const std::filesystem::path& out);
 
 }  // namespace clothsim
