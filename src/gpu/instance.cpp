@@ -5,14 +5,8 @@
 #include <cstdio>
 #include <cstring>
 
+#include "core/keep_loaded.h"
 #include "gpu/gpu_error.h"
-
-#if defined(CLOTHSIM_SANITIZE)
-#include <dlfcn.h>
-#include <link.h>
-
-#include <string_view>
-#endif
 
 namespace clothsim::gpu {
 
@@ -79,27 +73,6 @@ const char* type_name(VkPhysicalDeviceType type) {
   }
 }
 
-#if defined(CLOTHSIM_SANITIZE)
-// Sanitizer builds only (docs/testing.md): keeps the Vulkan drivers and layers the loader opened
-// loaded until the process exits, as the viewer does with Mesa's GL driver. The loader unloads
-// them when the last instance goes, before LeakSanitizer looks at the heap at exit; the blocks
-// their static data still pointed to then look leaked (128 bytes, allocated in "<unknown
-// module>", which no suppression can name). Loaded, they are reachable.
-void keep_vulkan_libraries_loaded() {
-  std::vector<std::string> libraries;
-  dl_iterate_phdr(
-      [](dl_phdr_info* info, std::size_t, void* found) {
-        const std::string_view name = info->dlpi_name != nullptr ? info->dlpi_name : "";
-        if (name.find("libvulkan_") != std::string_view::npos || name.find("libVkLayer_") != std::string_view::npos) {
-          static_cast<std::vector<std::string>*>(found)->emplace_back(name);
-        }
-        return 0;
-      },
-      &libraries);
-  for (const std::string& library : libraries) dlopen(library.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
-}
-#endif
-
 }  // namespace
 
 struct Instance::Messages {
@@ -152,7 +125,10 @@ Instance::Instance(InstanceOptions options) : messages_(std::make_unique<Message
     throw GpuError(std::string("no Vulkan device: vkCreateInstance failed: ") + result_name(result));
   }
 #if defined(CLOTHSIM_SANITIZE)
-  keep_vulkan_libraries_loaded();
+  // The loader unloads the drivers and layers when the last instance goes, before LeakSanitizer.
+  keep_libraries_loaded([](std::string_view path) {
+    return path.find("libvulkan_") != std::string_view::npos || path.find("libVkLayer_") != std::string_view::npos;
+  });
 #endif
   if (validation) {
     const auto create_messenger = reinterpret_cast<PFN_vkCreateDebugUtilsMessengerEXT>(

@@ -11,11 +11,7 @@
 #include <string_view>
 #include <vector>
 
-#if defined(CLOTHSIM_SANITIZE)
-#include <dlfcn.h>
-#include <link.h>
-#endif
-
+#include "core/keep_loaded.h"
 #include "render/renderer.h"
 
 namespace clothsim::viewer {
@@ -24,25 +20,6 @@ namespace {
 std::string g_glfw_error;  // the last GLFW error, for messages
 
 void on_glfw_error(int /*code*/, const char* description) { g_glfw_error = description; }
-
-#if defined(CLOTHSIM_SANITIZE)
-// Sanitizer builds only (docs/testing.md, "The sanitizer suite"): keeps Mesa's DRI driver loaded
-// until the process exits. GLX unloads it when the window's display closes, before LeakSanitizer
-// looks at the heap at exit; the blocks the driver's static data still pointed to then look
-// leaked (240 bytes, allocated in "<unknown module>", which no suppression can name). Loaded,
-// they are reachable, as they are in any process that keeps its driver.
-void keep_gl_driver_loaded() {
-  std::vector<std::string> drivers;
-  dl_iterate_phdr(
-      [](dl_phdr_info* info, std::size_t, void* found) {
-        const std::string_view name = info->dlpi_name != nullptr ? info->dlpi_name : "";
-        if (name.ends_with("_dri.so")) static_cast<std::vector<std::string>*>(found)->emplace_back(name);
-        return 0;
-      },
-      &drivers);
-  for (const std::string& driver : drivers) dlopen(driver.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
-}
-#endif
 
 }  // namespace
 
@@ -67,7 +44,8 @@ GLFWwindow* open_window(const ViewerOptions& options, const std::string& title, 
   if (window == nullptr) throw render::RenderError("cannot open an OpenGL 3.3 core window: " + g_glfw_error);
   glfwMakeContextCurrent(window);
 #if defined(CLOTHSIM_SANITIZE)
-  keep_gl_driver_loaded();
+  // GLX unloads Mesa's DRI driver when the display closes, before LeakSanitizer's check at exit.
+  keep_libraries_loaded([](std::string_view path) { return path.ends_with("_dri.so"); });
 #endif
   return window;
 }
