@@ -39,9 +39,6 @@ set(clothsim_include_dir "${CMAKE_INSTALL_INCLUDEDIR}/clothsim")
 
 get_property(clothsim_modules GLOBAL PROPERTY CLOTHSIM_MODULES)
 list(REMOVE_ITEM clothsim_modules clothsim_render clothsim_run)
-# The Vulkan module is not installed yet: it is the foundation of a backend still being built
-# (docs/gpu.md), and the package would have to find Vulkan for it.
-list(REMOVE_ITEM clothsim_modules clothsim_gpu)
 # The run module (src/run) links the renderer where that is built, so it goes with it; without the
 # renderer it is plain simulation code and goes with the rest.
 if(NOT TARGET clothsim_render)
@@ -59,8 +56,11 @@ install(EXPORT clothsimTargets
 
 # Every header of src/ (a module's internal headers too: the public ones include them), and the
 # element formulas forces/element.h includes (element_math.inc). The renderer's only with the
-# renderer; the Vulkan module's not yet.
-set(clothsim_header_excludes PATTERN gpu EXCLUDE)
+# renderer; the Vulkan module's (the backend's integrator, which sim links) only with it.
+set(clothsim_header_excludes "")
+if(NOT TARGET clothsim_gpu)
+  list(APPEND clothsim_header_excludes PATTERN gpu EXCLUDE)
+endif()
 if(NOT TARGET clothsim_render)
   list(APPEND clothsim_header_excludes PATTERN render EXCLUDE)
 endif()
@@ -83,6 +83,11 @@ else()
   set(CLOTHSIM_PACKAGE_HAS_RENDER FALSE)
 endif()
 
+if(TARGET clothsim_gpu)
+  set(CLOTHSIM_PACKAGE_HAS_VULKAN TRUE)
+else()
+  set(CLOTHSIM_PACKAGE_HAS_VULKAN FALSE)
+endif()
 configure_package_config_file(${CMAKE_CURRENT_LIST_DIR}/clothsimConfig.cmake.in
   ${CMAKE_CURRENT_BINARY_DIR}/clothsimConfig.cmake
   INSTALL_DESTINATION ${CLOTHSIM_INSTALL_CMAKEDIR})

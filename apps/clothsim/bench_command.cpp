@@ -17,6 +17,7 @@
 #include "io/run_memory.h"
 #include "io/run_writer.h"
 #include "memory_check.h"
+#include "sim/backend.h"
 
 namespace clothsim::cli {
 namespace {
@@ -30,6 +31,9 @@ struct BenchFlags {
   int threads = 0;
   double seconds = 0.0;
   double simulated_cap = 0.0;
+  std::string backend;
+  int device = 0;
+  std::string precision;
   MemoryFlags memory;  // --max-memory (memory_check.h)
 
   bool given(const char* flag) const { return app->count(flag) > 0; }
@@ -55,13 +59,13 @@ BenchOptions make_options(const BenchFlags& flags) {
       } catch (const std::exception&) {
         used = 0;
       }
-      if (used != item.size() || item.empty() || size < 2 || size > 2000) {
+      if (used != item.size() || item.empty() || size < 2 || size > 4096) {
         throw InputError("--sizes", "",
-                         "'" + item + "' is not a lattice side: expected integers in [2, 2000], e.g. 25,50");
+                         "'" + item + "' is not a lattice side: expected integers in [2, 4096], e.g. 25,50");
       }
       options.sizes.push_back(size);
     }
-    if (options.sizes.empty()) throw InputError("--sizes", "", "expected a list of integers in [2, 2000], e.g. 25,50");
+    if (options.sizes.empty()) throw InputError("--sizes", "", "expected a list of integers in [2, 4096], e.g. 25,50");
   }
   if (flags.given("--integrators")) {
     std::string known;
@@ -75,6 +79,31 @@ BenchOptions make_options(const BenchFlags& flags) {
       options.integrators.push_back(kind);
     }
     if (options.integrators.empty()) throw InputError("--integrators", "", "expected a list of: " + known);
+  }
+  if (flags.given("--backend") && !parse_backend(flags.backend, options.backend.kind)) {
+    throw InputError("--backend", "", "expected cpu or vulkan, got '" + flags.backend + "'");
+  }
+  if (flags.given("--device")) {
+    if (flags.device < 0 || flags.device > 1024) throw InputError("--device", "", "expected an integer in [0, 1024]");
+    options.backend.device = static_cast<std::uint32_t>(flags.device);
+  }
+  if (flags.given("--precision")) {
+    Precision precision{};
+    if (!parse_precision(flags.precision, precision)) {
+      throw InputError("--precision", "", "expected float32 or float64, got '" + flags.precision + "'");
+    }
+    options.backend.precision = precision;
+  }
+  for (IntegratorKind kind : options.integrators) {
+    const std::string unsupported = unsupported_by_backend(features_of(kind), options.backend);
+    if (!unsupported.empty()) {
+      throw InputError(flags.given("--integrators") ? "--integrators" : "--precision", "",
+                       backend_refusal(unsupported, options.backend));
+    }
+  }
+  if (options.integrators.empty()) {
+    const std::string unsupported = unsupported_by_backend(features_of(IntegratorKind::rkf45), options.backend);
+    if (!unsupported.empty()) throw InputError("--precision", "", backend_refusal(unsupported, options.backend));
   }
   if (flags.given("--threads")) {
     if (flags.threads < 0 || flags.threads > 1024)
@@ -182,6 +211,13 @@ Subcommand add_bench_command(CLI::App& parent) {
   app->add_option("--seconds", flags->seconds, "wall-time budget per case, s (default 1.5)")->type_name("S");
   app->add_option("--sim-cap", flags->simulated_cap, "simulated time per case at most, s (default 2)")->type_name("S");
   app->add_option("--csv", flags->csv, "also write the results as CSV to FILE")->type_name("FILE");
+  app->add_option("--backend", flags->backend,
+                  "where the cases run: cpu (default) or vulkan (rkf45, rk4, symplectic-euler; docs/gpu.md)")
+      ->type_name("cpu|vulkan");
+  app->add_option("--device", flags->device, "the Vulkan device, as 'clothsim devices' lists them (default 0)")
+      ->type_name("N");
+  app->add_option("--precision", flags->precision, "float32 (the vulkan default) or float64 (the cpu's)")
+      ->type_name("float32|float64");
   add_memory_flag(*app, flags->memory);
   app->footer(
       "Each case is the paper's material on an N x N lattice held by its centre particle, falling from rest, "

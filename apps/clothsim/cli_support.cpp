@@ -8,6 +8,7 @@
 #include "core/error.h"
 #include "io/run_writer.h"
 #include "scene/parameters.h"
+#include "sim/backend.h"
 
 namespace clothsim::cli {
 
@@ -33,6 +34,11 @@ int run_subcommand(const std::function<int()>& run) {
   } catch (const OutputError& error) {
     print_error(error.what());
     return kExitOutputError;
+  } catch (const BackendError& error) {
+    // The backend cannot run the scene here (no device, too little device memory): refused, like
+    // bad input, before anything is written.
+    print_error(error.what());
+    return kExitBadInput;
   } catch (const std::bad_alloc&) {
     print_error(
         "out of memory: the run needed more than its estimate and the memory it may use (see --max-memory; "

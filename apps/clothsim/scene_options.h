@@ -30,7 +30,7 @@ struct FieldFlag {
   std::string_view what;  // help text; the allowed range is appended from the registry
 };
 
-inline constexpr std::array<FieldFlag, 14> kFieldFlags = {{
+inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
     {"--duration", "output.duration", "SECONDS", "simulated time to run"},
     {"--fps", "output.fps", "N", "frames written per simulated second"},
     {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler or implicit-euler"},
@@ -50,6 +50,12 @@ inline constexpr std::array<FieldFlag, 14> kFieldFlags = {{
     {"--export", "output.export", "LIST",
      "files for other tools, comma-separated: pc2 (animation.pc2 and rest.obj), obj-sequence (frames/*.obj), gltf "
      "(final.glb); none"},
+    {"--backend", "backend", "cpu|vulkan",
+     "where the steps run: cpu (every feature), or vulkan (rkf45, rk4 and symplectic-euler on a Vulkan device; "
+     "implicit-euler, tearing, plasticity, creasing and collisions run on the cpu only: docs/gpu.md)"},
+    {"--device", "device", "N", "the Vulkan device of --backend vulkan, as 'clothsim devices' lists them"},
+    {"--precision", "precision", "float32|float64",
+     "arithmetic of the backend: float32 (the vulkan default) or float64 (the cpu's, and the only one it runs)"},
 }};
 
 // Which of kFieldFlags a subcommand offers, by flag name, with optional help text replacing the

@@ -164,7 +164,10 @@ Subcommand add_view_command(CLI::App& parent) {
                      {"--anchor"},
                      {"--threads"},
                      {"--self-collision"},
-                     {"--thickness"}});
+                     {"--thickness"},
+                     {"--backend"},
+                     {"--device"},
+                     {"--precision"}});
   app->add_option("--script", options->script, "timed events to play (JSON; docs/viewer.md)")->type_name("FILE");
   app->add_option("--frames", options->frames, "stop after frame N (a scripted run: N frames of 1/fps s)")
       ->type_name("N");

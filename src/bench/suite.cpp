@@ -39,6 +39,7 @@ SceneSpec bench_case_scene(int size, IntegratorKind integrator, const BenchOptio
   if (integrator == IntegratorKind::rk4 || integrator == IntegratorKind::symplectic_euler) {
     spec.integrator.time_step = options.explicit_fixed_step;
   }
+  spec.backend = options.backend;
   return spec;
 }
 
@@ -53,9 +54,13 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
   result.integrator = integrator;
   result.time_step = integrator == IntegratorKind::rkf45 ? 0.0 : spec.integrator.time_step;
 
-  ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
-  probe.resize(simulation.model());
-  result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";
+  if (options.backend.kind == Backend::vulkan) {
+    result.kernel = std::string("vulkan-") + to_string(options.backend.resolved_precision());
+  } else {
+    ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
+    probe.resize(simulation.model());
+    result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";
+  }
   result.threads = simulation.threads();
 
   const Stopwatch wall;
@@ -85,7 +90,13 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
 
 std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
                                          const std::function<void(const BenchResult&)>& on_result) {
-  const std::vector<IntegratorKind> kinds = options.integrators.empty() ? all_integrator_kinds() : options.integrators;
+  // By default every integrator the backend runs.
+  std::vector<IntegratorKind> kinds = options.integrators;
+  if (kinds.empty()) {
+    for (IntegratorKind kind : all_integrator_kinds()) {
+      if (unsupported_by_backend(features_of(kind), options.backend).empty()) kinds.push_back(kind);
+    }
+  }
   std::vector<BenchResult> results;
   // The load average counts the suite's own threads from the cases before, which would talk the
   // automatic choice down to 1 thread as the suite goes on: sample the idle cores once, now.
@@ -105,7 +116,7 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
 
 std::string bench_table_header() {
   char line[256];
-  std::snprintf(line, sizeof line, "%-9s %-17s %-7s %3s %10s %10s %10s %9s %8s %7s %9s %9s  %s", "lattice",
+  std::snprintf(line, sizeof line, "%-9s %-17s %-14s %3s %10s %10s %10s %9s %8s %7s %9s %9s  %s", "lattice",
                 "integrator", "kernel", "thr", "evals/s", "us/eval", "p-steps/s", "sim s/s", "sim s", "wall s",
                 "sim MiB", "RSS MiB", "status");
   return line;
@@ -114,7 +125,7 @@ std::string bench_table_header() {
 std::string bench_table_row(const BenchResult& r) {
   char line[512];
   const std::string lattice = std::to_string(r.size) + "x" + std::to_string(r.size);
-  std::snprintf(line, sizeof line, "%-9s %-17s %-7s %3d %10.4g %10.4g %10.4g %9.4g %8.4g %7.3g %9.1f %9.1f  %s",
+  std::snprintf(line, sizeof line, "%-9s %-17s %-14s %3d %10.4g %10.4g %10.4g %9.4g %8.4g %7.3g %9.1f %9.1f  %s",
                 lattice.c_str(), std::string(to_string(r.integrator)).c_str(), r.kernel.c_str(), r.threads,
                 r.evaluations_per_second(), r.microseconds_per_evaluation(), r.particle_steps_per_second(),
                 r.realtime_factor(), r.simulated_seconds, r.wall_seconds,

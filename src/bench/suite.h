@@ -31,6 +31,8 @@ struct BenchOptions {
   // stiff (opposite springs damped with c = 200), and their default 1e-3 s blows up; 2e-4 s is
   // stable for both. rkf45 chooses its own steps; other kinds use their default settings.
   double explicit_fixed_step = 2e-4;
+  // Where the cases run (sim/backend.h); the kernel column then names the device's precision.
+  BackendSettings backend;
   // The short version: sizes 25, 50, 100 and a fifth of the budget and cap.
   static BenchOptions quick();
 };
@@ -39,7 +41,7 @@ struct BenchResult {
   int size = 0;  // N
   std::size_t particles = 0;
   IntegratorKind integrator = IntegratorKind::rkf45;
-  std::string kernel;  // force kernel in use: "lattice" or "general"
+  std::string kernel;  // force kernel in use: "lattice" or "general" on the CPU; "vulkan-float32" or "vulkan-float64"
   int threads = 1;
   double time_step = 0.0;  // s; the fixed step, or 0 for adaptive
   std::string status;      // "ok", or the failure diagnosis

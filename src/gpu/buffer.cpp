@@ -49,6 +49,15 @@ Buffer::Buffer(Buffer&& other) noexcept
       bytes_(other.bytes_),
       mapped_(std::exchange(other.mapped_, nullptr)) {}
 
+Buffer& Buffer::operator=(Buffer&& other) noexcept {
+  std::swap(device_, other.device_);
+  std::swap(buffer_, other.buffer_);
+  std::swap(memory_, other.memory_);
+  std::swap(bytes_, other.bytes_);
+  std::swap(mapped_, other.mapped_);
+  return *this;  // `other` frees what this held
+}
+
 Buffer::~Buffer() {
   if (buffer_ == VK_NULL_HANDLE) return;
   vkDestroyBuffer(device_, buffer_, nullptr);
@@ -87,16 +96,18 @@ void upload(Device& device, Buffer& destination, std::span<const std::byte> sour
   });
 }
 
+void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes) {
+  const VkBufferCopy region{0, 0, bytes};
+  vkCmdCopyBuffer(commands, source.handle(), destination.handle(), 1, &region);
+  memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
+                 VK_ACCESS_HOST_READ_BIT);
+}
+
 void download(Device& device, const Buffer& source, std::span<std::byte> destination) {
   if (destination.size() > source.bytes()) throw GpuError("download: more bytes than the buffer holds");
   if (destination.empty()) return;
   Buffer staging(device, destination.size(), Memory::host_visible);
-  device.submit([&](VkCommandBuffer commands) {
-    const VkBufferCopy region{0, 0, destination.size()};
-    vkCmdCopyBuffer(commands, source.handle(), staging.handle(), 1, &region);
-    memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
-                   VK_ACCESS_HOST_READ_BIT);
-  });
+  device.submit([&](VkCommandBuffer commands) { record_readback(commands, source, staging, destination.size()); });
   std::memcpy(destination.data(), staging.mapped(), destination.size());
 }
 

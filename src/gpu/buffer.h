@@ -24,7 +24,7 @@ class Buffer {
   Buffer(Device& device, std::uint64_t bytes, Memory memory);
   ~Buffer();
   Buffer(Buffer&& other) noexcept;
-  Buffer& operator=(Buffer&&) = delete;
+  Buffer& operator=(Buffer&& other) noexcept;
   Buffer(const Buffer&) = delete;
   Buffer& operator=(const Buffer&) = delete;
 
@@ -45,6 +45,11 @@ class Buffer {
 // visible to the copy back.
 void upload(Device& device, Buffer& destination, std::span<const std::byte> source);
 void download(Device& device, const Buffer& source, std::span<std::byte> destination);
+
+// Records a copy of `bytes` from the start of `source` into `destination` (a host_visible buffer),
+// made visible to the host once the submission's fence signals: a submission's results read
+// back without a submission of their own.
+void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes);
 
 // The barrier between a compute pass and whatever reads its output next: a later pass or a copy.
 void compute_write_barrier(VkCommandBuffer commands);

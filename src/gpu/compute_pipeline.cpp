@@ -1,5 +1,6 @@
 #include "gpu/compute_pipeline.h"
 
+#include <algorithm>
 #include <string>
 #include <vector>
 
@@ -13,7 +14,7 @@ ComputePipeline::ComputePipeline(Device& device, std::span<const std::uint32_t> 
       binding_count_(binding_count),
       push_constant_bytes_(push_constant_bytes),
       workgroup_size_(workgroup_size),
-      max_workgroups_(device.limits().maxComputeWorkGroupCount[0]) {
+      max_workgroups_{device.limits().maxComputeWorkGroupCount[0], device.limits().maxComputeWorkGroupCount[1]} {
   if (workgroup_size > device.limits().maxComputeWorkGroupSize[0]) {
     throw GpuError("workgroup size " + std::to_string(workgroup_size) + " is above the device's limit");
   }
@@ -112,18 +113,27 @@ void ComputePipeline::bind(std::span<const Buffer* const> buffers) {
   vkUpdateDescriptorSets(device_, binding_count_, writes.data(), 0, nullptr);
 }
 
+std::uint32_t ComputePipeline::workgroups(std::uint32_t invocations) const {
+  return (invocations + workgroup_size_ - 1) / workgroup_size_;
+}
+
 void ComputePipeline::dispatch(VkCommandBuffer commands, const void* push_constants, std::uint32_t invocations) const {
-  const std::uint32_t groups = (invocations + workgroup_size_ - 1) / workgroup_size_;
-  if (groups > max_workgroups_) {
+  // More workgroups than the device dispatches in x go into rows of y (shaders/invocation.glsl);
+  // the last row's surplus invocations fall past `invocations`, which every shader checks.
+  const std::uint32_t groups = workgroups(invocations);
+  const std::uint32_t groups_x = std::min(groups, max_workgroups_[0]);
+  const std::uint32_t groups_y = groups_x == 0 ? 0 : (groups + groups_x - 1) / groups_x;
+  if (groups_y > max_workgroups_[1]) {
     throw GpuError(std::to_string(invocations) + " invocations need " + std::to_string(groups) +
-                   " workgroups, more than the device dispatches at once (" + std::to_string(max_workgroups_) + ")");
+                   " workgroups, more than the device dispatches at once (" + std::to_string(max_workgroups_[0]) +
+                   " x " + std::to_string(max_workgroups_[1]) + ")");
   }
   vkCmdBindPipeline(commands, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   vkCmdBindDescriptorSets(commands, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0, 1, &set_, 0, nullptr);
   if (push_constant_bytes_ > 0) {
     vkCmdPushConstants(commands, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, push_constant_bytes_, push_constants);
   }
-  if (groups > 0) vkCmdDispatch(commands, groups, 1, 1);
+  if (groups > 0) vkCmdDispatch(commands, groups_x, groups_y, 1);
   compute_write_barrier(commands);
 }
 

@@ -28,9 +28,12 @@ class ComputePipeline {
   // Buffers for bindings 0, 1, ... in order: as many as the pipeline has bindings.
   void bind(std::span<const Buffer* const> buffers);
   // Pushes `push_constants` (push_constant_bytes of them) and dispatches enough workgroups for
-  // `invocations`, followed by compute_write_barrier(). Throws GpuError if that is more
-  // workgroups than the device dispatches at once.
+  // `invocations` (in rows of y beyond the device's x limit: shaders/invocation.glsl), followed
+  // by compute_write_barrier(). Throws GpuError if that is more workgroups than the device
+  // dispatches at once.
   void dispatch(VkCommandBuffer commands, const void* push_constants, std::uint32_t invocations) const;
+  // The workgroups dispatch() runs for `invocations`: ceil(invocations / workgroup size).
+  std::uint32_t workgroups(std::uint32_t invocations) const;
 
  private:
   void release();
@@ -39,7 +42,7 @@ class ComputePipeline {
   std::uint32_t binding_count_ = 0;
   std::uint32_t push_constant_bytes_ = 0;
   std::uint32_t workgroup_size_ = 0;
-  std::uint32_t max_workgroups_ = 0;
+  std::uint32_t max_workgroups_[2] = {0, 0};  // x and y
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout set_layout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;

@@ -6,8 +6,6 @@
 
 namespace clothsim::gpu {
 
-const char* to_string(Precision precision) { return precision == Precision::float64 ? "float64" : "float32"; }
-
 std::string mebibytes(std::uint64_t bytes) {
   constexpr std::uint64_t kMiB = 1024 * 1024;
   return std::to_string((bytes + kMiB - 1) / kMiB) + " MiB";
@@ -84,7 +82,7 @@ Device::Device(DeviceOptions options) : instance_(InstanceOptions{options.valida
 Device::~Device() {
   vkDeviceWaitIdle(device_);
   vkDestroyFence(device_, fence_, nullptr);
-  vkDestroyCommandPool(device_, command_pool_, nullptr);  // frees its command buffer
+  vkDestroyCommandPool(device_, command_pool_, nullptr);  // frees its command buffers
   vkDestroyDevice(device_, nullptr);
 }
 
@@ -116,10 +114,32 @@ void Device::submit(const std::function<void(VkCommandBuffer)>& record) {
   check(vkBeginCommandBuffer(command_buffer_, &begin), "vkBeginCommandBuffer");
   record(command_buffer_);
   check(vkEndCommandBuffer(command_buffer_), "vkEndCommandBuffer");
+  run(command_buffer_);
+}
+
+VkCommandBuffer Device::record(const std::function<void(VkCommandBuffer)>& record) {
+  VkCommandBufferAllocateInfo allocate{};
+  allocate.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO;
+  allocate.commandPool = command_pool_;
+  allocate.level = VK_COMMAND_BUFFER_LEVEL_PRIMARY;
+  allocate.commandBufferCount = 1;
+  VkCommandBuffer commands = VK_NULL_HANDLE;
+  check(vkAllocateCommandBuffers(device_, &allocate, &commands), "vkAllocateCommandBuffers");
+  VkCommandBufferBeginInfo begin{};
+  begin.sType = VK_STRUCTURE_TYPE_COMMAND_BUFFER_BEGIN_INFO;
+  check(vkBeginCommandBuffer(commands, &begin), "vkBeginCommandBuffer");
+  record(commands);
+  check(vkEndCommandBuffer(commands), "vkEndCommandBuffer");
+  return commands;
+}
+
+void Device::release(VkCommandBuffer commands) { vkFreeCommandBuffers(device_, command_pool_, 1, &commands); }
+
+void Device::run(VkCommandBuffer commands) {
   VkSubmitInfo submit{};
   submit.sType = VK_STRUCTURE_TYPE_SUBMIT_INFO;
   submit.commandBufferCount = 1;
-  submit.pCommandBuffers = &command_buffer_;
+  submit.pCommandBuffers = &commands;
   check(vkQueueSubmit(queue_, 1, &submit, fence_), "vkQueueSubmit");
   check(vkWaitForFences(device_, 1, &fence_, VK_TRUE, UINT64_MAX), "vkWaitForFences");
   check(vkResetFences(device_, 1, &fence_), "vkResetFences");

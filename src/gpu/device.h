@@ -14,14 +14,13 @@
 
 #include <vulkan/vulkan.h>
 
+#include "core/precision.h"
 #include "gpu/instance.h"
 
 namespace clothsim::gpu {
 
-// The precision of the device's arithmetic: the names of --precision.
-enum class Precision { float32, float64 };
-const char* to_string(Precision precision);
-inline std::size_t real_size(Precision precision) { return precision == Precision::float64 ? 8 : 4; }
+// The precision of the device's arithmetic (core/precision.h): the names of --precision.
+using clothsim::Precision;
 
 struct DeviceOptions {
   std::uint32_t index = 0;                 // which device of Instance::devices()
@@ -53,6 +52,13 @@ class Device {
 
   // Records commands with `record` into the device's command buffer, submits it and waits for it.
   void submit(const std::function<void(VkCommandBuffer)>& record);
+  // Records commands into a command buffer of their own, kept for submitting many times with
+  // run() (a device step's fixed sequence of passes); freed with the device.
+  VkCommandBuffer record(const std::function<void(VkCommandBuffer)>& record);
+  // Submits a command buffer from record() and waits for it.
+  void run(VkCommandBuffer commands);
+  // Frees a command buffer from record() before the device goes.
+  void release(VkCommandBuffer commands);
 
  private:
   Instance instance_;

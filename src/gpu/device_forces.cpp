@@ -42,30 +42,81 @@ std::uint32_t count32(std::size_t count, const char* what) {
 }
 
 // The checks before anything is made on the device.
-Device& checked(Device& device, const ClothModel& model, Precision precision) {
+Device& checked(Device& device, const ClothModel& model, Precision precision, std::uint32_t power_slots) {
   device.require_precision(precision);
-  device.require_memory(DeviceForces::bytes_for(model, precision), "the scene");
+  device.require_memory(DeviceForces::bytes_for(model, precision, power_slots), "the scene");
   return device;
 }
 
-}  // namespace
 
-std::uint64_t DeviceForces::bytes_for(const ClothModel& model, Precision precision) {
+// The model's arrays as the device holds them (the other arrays are state and scratch: empty).
+std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(const ClothModel& model,
+                                                                              Precision precision, ForceTerms terms) {
+  using A = DeviceForces;
+  GatherTable gather;
+  gather.build(model);
+  const Vec3 gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
+  const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
+  const std::array<double, 4> environment_values = {gravity.x, gravity.y, gravity.z, drag};
+  std::array<std::vector<std::byte>, A::array_count> contents;
+  contents[A::particle_mass] = real_bytes(model.particle_mass, precision);
+  contents[A::environment] = real_bytes(environment_values, precision);
+  contents[A::gather_offset] = index_bytes(std::span<const std::uint32_t>(gather.offset));
+  contents[A::gather_slot] = index_bytes(std::span<const std::uint32_t>(gather.slot));
+  contents[A::connector_particles] = index_bytes(std::span(model.connector_particles));
+  contents[A::connector_rest_length] = real_bytes(model.connector_rest_length, precision);
+  contents[A::connector_stiffness] = real_bytes(model.connector_stiffness, precision);
+  contents[A::connector_damping] = real_bytes(model.connector_damping, precision);
+  contents[A::connector_active] = index_bytes(std::span<const std::uint32_t>(connector_active_flags(model, terms)));
+  contents[A::radial_particles] = index_bytes(std::span(model.radial_particles));
+  contents[A::radial_rest_angle] = real_bytes(model.radial_rest_angle, precision);
+  contents[A::radial_stiffness] = real_bytes(model.radial_stiffness, precision);
+  contents[A::radial_damping] = real_bytes(model.radial_damping, precision);
+  contents[A::radial_active] = index_bytes(std::span<const std::uint32_t>(radial_active_flags(model, terms)));
+  return contents;
+}
+
+// The size of every array, bytes.
+std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const ClothModel& model, Precision precision,
+                                                                 std::uint32_t power_slots) {
+  using A = DeviceForces;
   const std::uint64_t real = real_size(precision);
   const std::uint64_t particles = model.particle_count();
   const std::uint64_t connectors = model.connector_count();
   const std::uint64_t radials = model.radial_count();
-  const std::uint64_t slots = model.force_slot_count();
-  const std::uint64_t elements = connectors + radials;
-  return particles * (3 * real * 3 + real + 4) + 4 * real + 4 + slots * (4 + 3 * real) +
-         connectors * (2 * 4 + 3 * real + 4) + radials * (3 * 4 + 3 * real + 4) + elements * real +
-         ((elements + kReductionBlock - 1) / kReductionBlock + 1) * real;
+  std::array<std::uint64_t, A::array_count> bytes{};
+  bytes[A::particle_mass] = particles * real;
+  bytes[A::environment] = 4 * real;
+  bytes[A::gather_offset] = (particles + 1) * 4;
+  bytes[A::gather_slot] = std::uint64_t{model.force_slot_count()} * 4;
+  bytes[A::connector_particles] = connectors * 2 * 4;
+  bytes[A::connector_rest_length] = bytes[A::connector_stiffness] = bytes[A::connector_damping] = connectors * real;
+  bytes[A::connector_active] = connectors * 4;
+  bytes[A::radial_particles] = radials * 3 * 4;
+  bytes[A::radial_rest_angle] = bytes[A::radial_stiffness] = bytes[A::radial_damping] = radials * real;
+  bytes[A::radial_active] = radials * 4;
+  bytes[A::position] = bytes[A::velocity] = bytes[A::force] = particles * 3 * real;
+  bytes[A::slot_force] = std::uint64_t{model.force_slot_count()} * 3 * real;
+  bytes[A::element_power] = (connectors + radials) * power_slots * real;
+  bytes[A::block_power] = (connectors + radials + kReductionBlock - 1) / kReductionBlock * real;
+  bytes[A::damping_power] = real;
+  return bytes;
 }
 
-DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms)
-    : device_(checked(device, model, precision)),
+}  // namespace
+
+std::uint64_t DeviceForces::bytes_for(const ClothModel& model, Precision precision, std::uint32_t power_slots) {
+  std::uint64_t total = 0;
+  for (std::uint64_t bytes : array_bytes(model, precision, power_slots)) total += bytes;
+  return total;
+}
+
+DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms,
+                           std::uint32_t power_slots)
+    : device_(checked(device, model, precision, power_slots)),
       precision_(precision),
       terms_(terms),
+      power_slots_(power_slots),
       model_revision_(model.revision),
       particles_(count32(model.particle_count(), "particles")),
       connectors_(count32(model.connector_count(), "connectors")),
@@ -76,47 +127,10 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
                    sizeof(ElementPassConstants)),
       gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
       sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
-  GatherTable gather;
-  gather.build(model);
-  const Vec3 gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
-  const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
-  const std::array<double, 4> environment_values = {gravity.x, gravity.y, gravity.z, drag};
-  const std::vector<std::uint32_t> connectors_active = connector_active_flags(model, terms);
-  const std::vector<std::uint32_t> radials_active = radial_active_flags(model, terms);
-
-  std::array<std::vector<std::byte>, array_count> contents;
-  contents[particle_mass] = real_bytes(model.particle_mass, precision);
-  contents[environment] = real_bytes(environment_values, precision);
-  contents[gather_offset] = index_bytes(std::span<const std::uint32_t>(gather.offset));
-  contents[gather_slot] = index_bytes(std::span<const std::uint32_t>(gather.slot));
-  contents[connector_particles] = index_bytes(std::span(model.connector_particles));
-  contents[connector_rest_length] = real_bytes(model.connector_rest_length, precision);
-  contents[connector_stiffness] = real_bytes(model.connector_stiffness, precision);
-  contents[connector_damping] = real_bytes(model.connector_damping, precision);
-  contents[connector_active] = index_bytes(std::span(connectors_active));
-  contents[radial_particles] = index_bytes(std::span(model.radial_particles));
-  contents[radial_rest_angle] = real_bytes(model.radial_rest_angle, precision);
-  contents[radial_stiffness] = real_bytes(model.radial_stiffness, precision);
-  contents[radial_damping] = real_bytes(model.radial_damping, precision);
-  contents[radial_active] = index_bytes(std::span(radials_active));
-
-  const std::uint64_t real = real_size(precision);
-  std::array<std::uint64_t, array_count> bytes{};
-  for (std::uint32_t a = 0; a < array_count; ++a) bytes[a] = contents[a].size();
-  bytes[position] = bytes[velocity] = bytes[force] = std::uint64_t{particles_} * 3 * real;
-  bytes[slot_force] = std::uint64_t{model.force_slot_count()} * 3 * real;
-  bytes[element_power] = (std::uint64_t{connectors_} + radials_) * real;
-  bytes[block_power] = (std::uint64_t{connectors_} + radials_ + kReductionBlock - 1) / kReductionBlock * real;
-  bytes[damping_power] = real;
-  std::uint64_t total = 0;
-  for (std::uint64_t array_bytes : bytes) total += array_bytes;
-  CLOTHSIM_ASSERT(total == bytes_for(model, precision), "DeviceForces::bytes_for counts every array");
-
+  const std::array<std::uint64_t, array_count> bytes = array_bytes(model, precision, power_slots);
   arrays_.reserve(array_count);
-  for (std::uint32_t a = 0; a < array_count; ++a) {
-    arrays_.emplace_back(device_, bytes[a], Memory::device_local);
-    upload(device_, arrays_.back(), contents[a]);
-  }
+  for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
+  upload_model(model);
   const auto bind = [&](ComputePipeline& pipeline, std::initializer_list<Array> list) {
     std::vector<const Buffer*> buffers;
     for (Array a : list) buffers.push_back(&arrays_[a]);
@@ -130,25 +144,46 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
   bind(sum_pass_, {element_power, block_power, damping_power});
 }
 
+void DeviceForces::upload_model(const ClothModel& model) {
+  const std::array<std::vector<std::byte>, array_count> contents = model_contents(model, precision_, terms_);
+  for (std::uint32_t a = 0; a < array_count; ++a) {
+    if (!contents[a].empty()) upload(device_, arrays_[a], contents[a]);
+  }
+  model_revision_ = model.revision;
+}
+
+void DeviceForces::refresh(const ClothModel& model) {
+  CLOTHSIM_ASSERT(model.particle_count() == particles_ && model.connector_count() == connectors_ &&
+                      model.radial_count() == radials_,
+                  "DeviceForces::refresh: the same particles and elements");
+  upload_model(model);
+}
+
+void DeviceForces::record_element_passes(VkCommandBuffer commands, std::uint32_t power_slot) const {
+  CLOTHSIM_ASSERT(power_slot < power_slots_, "DeviceForces: a power slot it holds");
+  const std::uint32_t damped = (terms_ & kSpringDamping) != 0 ? 1u : 0u;
+  const std::uint32_t power_base = power_slot * (connectors_ + radials_);
+  const ElementPassConstants connector_constants{connectors_, damped, 0, power_base};
+  const ElementPassConstants radial_constants{radials_, damped, 2 * connectors_, power_base + connectors_};
+  connector_pass_.dispatch(commands, &connector_constants, connectors_);
+  radial_pass_.dispatch(commands, &radial_constants, radials_);
+}
+
 double DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> position_in,
                               std::span<const Vec3> velocity_in, std::span<Vec3> force_out) {
   CLOTHSIM_ASSERT(model.revision == model_revision_ && model.particle_count() == particles_,
-                  "DeviceForces: the model changed since it was uploaded");
+                  "DeviceForces: the model changed since it was uploaded (refresh() it)");
   CLOTHSIM_ASSERT(
       position_in.size() == particles_ && velocity_in.size() == particles_ && force_out.size() == particles_,
       "DeviceForces::evaluate: one position, velocity and force per particle");
   upload(device_, arrays_[position], vector_bytes(position_in, precision_));
   upload(device_, arrays_[velocity], vector_bytes(velocity_in, precision_));
-  const bool damped = (terms_ & kSpringDamping) != 0;
-  const ElementPassConstants connector_constants{connectors_, damped ? 1u : 0u, 0, 0};
-  const ElementPassConstants radial_constants{radials_, damped ? 1u : 0u, 2 * connectors_, connectors_};
   const GatherConstants gather_constants{particles_};
   const std::uint32_t elements = connectors_ + radials_;
   const SumConstants block_sums{elements, kReductionBlock, 0};
   const SumConstants total_sum{elements, kReductionBlock, 1};
   device_.submit([&](VkCommandBuffer commands) {
-    connector_pass_.dispatch(commands, &connector_constants, connectors_);
-    radial_pass_.dispatch(commands, &radial_constants, radials_);
+    record_element_passes(commands, 0);
     gather_pass_.dispatch(commands, &gather_constants, particles_);
     sum_pass_.dispatch(commands, &block_sums, (elements + kReductionBlock - 1) / kReductionBlock);
     sum_pass_.dispatch(commands, &total_sum, 1);

@@ -7,14 +7,15 @@
 //                                                               gravity and air drag
 //   deterministic_sum (two phases)                           -> the damping power, summed over
 //                                                               the CPU's fixed blocks in order
-// The model's arrays are uploaded once, in the CPU's structure-of-arrays layout (unchanged in
-// float64); each evaluate() uploads the state and reads the forces back. That round trip is what
-// the backend's step will not do (docs/gpu.md, "Not done yet"): this class is the force function
-// it will call on the device, and what tests/gpu holds against the CPU today.
+// The model's arrays are uploaded in the CPU's structure-of-arrays layout (unchanged in float64).
+// evaluate() uploads a state and reads the forces back: what tests/gpu holds against the CPU.
+// The device step (device_integrator.h) keeps its state on the device instead: it writes each
+// stage's state into this class's `position` and `velocity` arrays, records the element passes
+// into its own command buffers (record_element_passes), and gathers the slots itself.
 //
 // Which elements act is decided when the model is uploaded: live and its term on (the CPU's
 // condition), as one flag per element. The model's revision is recorded; a model changed since
-// (tearing, plasticity, live edits) must be uploaded again (a CLOTHSIM_ASSERT).
+// (tearing, plasticity, live edits) is uploaded again with refresh().
 #pragma once
 
 #include <cstdint>
@@ -34,7 +35,10 @@ class DeviceForces {
  public:
   // Uploads the model. Throws GpuError when the device lacks the precision or the memory
   // ("the scene needs X MiB of device memory, <device> has Y MiB"), before allocating anything.
-  DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms);
+  // `power_slots`: how many sets of element damping powers element_power holds (one per stage
+  // of a device step; evaluate() uses the first).
+  DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms,
+               std::uint32_t power_slots = 1);
 
   // The total force on every particle [particle_count()], as evaluate_forces computes it, and
   // the damping power of the springs (ForcePowers::damping, W). The drag power is not computed
@@ -42,10 +46,18 @@ class DeviceForces {
   double evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                   std::span<Vec3> force);
 
-  // Device memory for a model's arrays, the state and the scratch, bytes.
-  static std::uint64_t bytes_for(const ClothModel& model, Precision precision);
+  // Uploads the model's values again (rest values, constants, masses, broken springs, the
+  // environment) after a change; its particle and element counts must be the same.
+  void refresh(const ClothModel& model);
+  std::uint64_t model_revision() const { return model_revision_; }
 
- private:
+  // Records the connector and radial passes on `position` and `velocity`: every element's force
+  // slots, and its damping power into element_power's set `power_slot`.
+  void record_element_passes(VkCommandBuffer commands, std::uint32_t power_slot) const;
+
+  // Device memory for a model's arrays, the state and the scratch, bytes.
+  static std::uint64_t bytes_for(const ClothModel& model, Precision precision, std::uint32_t power_slots = 1);
+
   // The device's arrays, by the CPU's names: the state, the model, the scratch, the results.
   enum Array : std::uint32_t {
     position,
@@ -71,10 +83,17 @@ class DeviceForces {
     damping_power,  // [1]
     array_count
   };
+  Buffer& buffer(Array array) { return arrays_[array]; }
+  std::uint32_t particle_count() const { return particles_; }
+  std::uint32_t element_count() const { return connectors_ + radials_; }
+
+ private:
+  void upload_model(const ClothModel& model);
 
   Device& device_;
   Precision precision_;
   ForceTerms terms_;
+  std::uint32_t power_slots_;
   std::uint64_t model_revision_;
   std::uint32_t particles_, connectors_, radials_;
   std::vector<Buffer> arrays_;  // [array_count]

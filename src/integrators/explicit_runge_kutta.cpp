@@ -96,9 +96,9 @@ ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const Integrator
                                        const ForceOptions& options, const ButcherTableau& tableau)
     : model_(model), settings_(settings), tableau_(tableau), dynamics_(model, options) {
   for (int i = 0; i < tableau_.stages; ++i) {
-    stage_rows_[static_cast<std::size_t>(i)] = nystrom_row(tableau_.coefficients[static_cast<std::size_t>(i)]);
+    stage_rows_[static_cast<std::size_t>(i)] = nystrom_row(tableau_, tableau_.coefficients[static_cast<std::size_t>(i)]);
   }
-  solution_row_ = nystrom_row(tableau_.weights);
+  solution_row_ = nystrom_row(tableau_, tableau_.weights);
   const std::size_t n = model.particle_count();
   stage_rate_.resize(static_cast<std::size_t>(tableau_.stages));
   for (StateDerivative& rate : stage_rate_) rate.resize(n);
@@ -106,15 +106,15 @@ ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const Integrator
   stage_velocity_.resize(n);
 }
 
-ExplicitRungeKutta::NystromRow ExplicitRungeKutta::nystrom_row(const std::array<double, kMaxStages>& weights) const {
+NystromRow nystrom_row(const ButcherTableau& tableau, const std::array<double, kMaxStages>& weights) {
   NystromRow row;
-  for (int i = 0; i < tableau_.stages; ++i) {
+  for (int i = 0; i < tableau.stages; ++i) {
     const double w = weights[static_cast<std::size_t>(i)];
     row.velocity_sum += w;
     row.velocity[static_cast<std::size_t>(i)] = w;
     for (int l = 0; l < i; ++l) {
       row.position[static_cast<std::size_t>(l)] +=
-          w * tableau_.coefficients[static_cast<std::size_t>(i)][static_cast<std::size_t>(l)];
+          w * tableau.coefficients[static_cast<std::size_t>(i)][static_cast<std::size_t>(l)];
     }
   }
   return row;
@@ -239,7 +239,7 @@ AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const Integrator
   CLOTHSIM_ASSERT(tableau.embedded_order > 0, "an adaptive method needs an embedded error estimate");
   std::array<double, kMaxStages> difference{};
   for (std::size_t i = 0; i < difference.size(); ++i) difference[i] = tableau.weights[i] - tableau.embedded_weights[i];
-  error_row_ = nystrom_row(difference);
+  error_row_ = nystrom_row(tableau, difference);
   const std::size_t blocks = (model.particle_count() + kErrorBlock - 1) / kErrorBlock;
   block_error_.resize(blocks);
 }
@@ -334,30 +334,31 @@ AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& s
   return norm;
 }
 
-// Initial step after Hairer, Norsett and Wanner (Solving ODEs I, sec. II.4, first half): a step
-// whose Euler increment is 1% of the state's own scale. Their refinement with a second-derivative
-// estimate costs another evaluation; the controller corrects a misjudged first step within a few
-// steps anyway.
+double initial_adaptive_step(const ClothModel& model, const IntegratorSettings& settings, const ClothState& state,
+                             std::span<const Vec3> acceleration, double t_limit) {
+  double d0 = 0.0;
+  double d1 = 0.0;
+  for (std::size_t p = 0; p < model.particle_count(); ++p) {
+    if (model.is_anchored(p)) continue;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double sx = settings.absolute_tolerance + settings.relative_tolerance * std::abs(state.position[p][axis]);
+      const double sv = settings.absolute_tolerance + settings.relative_tolerance * std::abs(state.velocity[p][axis]);
+      d0 = std::max({d0, std::abs(state.position[p][axis]) / sx, std::abs(state.velocity[p][axis]) / sv});
+      // The position rate is the velocity.
+      d1 = std::max({d1, std::abs(state.velocity[p][axis]) / sx, std::abs(acceleration[p][axis]) / sv});
+    }
+  }
+  double h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+  h = std::min({h, settings.max_step, t_limit - state.time});
+  return std::max(h, settings.min_step);
+}
+
 double AdaptiveRungeKutta::initial_step(const ClothState& state, double t_limit) {
   if (settings_.time_step > 0.0) return settings_.time_step;
   StateDerivative& rate = stage_rate_[0];
   dynamics_.evaluate(state.time, state.position, state.velocity, rate);
   stats_.force_evaluations = dynamics_.evaluations();
-  double d0 = 0.0;
-  double d1 = 0.0;
-  for (std::size_t p = 0; p < model_.particle_count(); ++p) {
-    if (model_.is_anchored(p)) continue;
-    for (int axis = 0; axis < 3; ++axis) {
-      const double sx = settings_.absolute_tolerance + settings_.relative_tolerance * std::abs(state.position[p][axis]);
-      const double sv = settings_.absolute_tolerance + settings_.relative_tolerance * std::abs(state.velocity[p][axis]);
-      d0 = std::max({d0, std::abs(state.position[p][axis]) / sx, std::abs(state.velocity[p][axis]) / sv});
-      // The position rate is the velocity.
-      d1 = std::max({d1, std::abs(state.velocity[p][axis]) / sx, std::abs(rate.velocity_rate[p][axis]) / sv});
-    }
-  }
-  double h = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
-  h = std::min({h, settings_.max_step, t_limit - state.time});
-  return std::max(h, settings_.min_step);
+  return initial_adaptive_step(model_, settings_, state, rate.velocity_rate, t_limit);
 }
 
 StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {

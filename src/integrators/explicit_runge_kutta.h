@@ -21,6 +21,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "integrators/dynamics.h"
@@ -28,6 +29,15 @@
 #include "integrators/tableau.h"
 
 namespace clothsim {
+
+// A row of weights w (a stage's a_i, b or b - b^) in Nystrom form: the combination
+// h sum_i w_i (V_i, K_i) is (h velocity_sum v + h^2 sum_l position_l K_l, h sum_l w_l K_l).
+struct NystromRow {
+  double velocity_sum = 0.0;                  // sum_i w_i
+  std::array<double, kMaxStages> position{};  // sum_i w_i a_il
+  std::array<double, kMaxStages> velocity{};  // w_l
+};
+NystromRow nystrom_row(const ButcherTableau& tableau, const std::array<double, kMaxStages>& weights);
 
 class ExplicitRungeKutta : public Integrator {
  public:
@@ -41,15 +51,6 @@ class ExplicitRungeKutta : public Integrator {
   static std::size_t workspace_bytes_for(int stages, std::size_t particles);
 
  protected:
-  // A row of weights w (a stage's a_i, b or b - b^) in Nystrom form: the combination
-  // h sum_i w_i (V_i, K_i) is (h velocity_sum v + h^2 sum_l position_l K_l, h sum_l w_l K_l).
-  struct NystromRow {
-    double velocity_sum = 0.0;                  // sum_i w_i
-    std::array<double, kMaxStages> position{};  // sum_i w_i a_il
-    std::array<double, kMaxStages> velocity{};  // w_l
-  };
-  NystromRow nystrom_row(const std::array<double, kMaxStages>& weights) const;
-
   // Evaluates every stage of a step of size h from `state`.
   void compute_stages(const ClothState& state, double h);
   // Writes (x, v) + h sum_i w_i (V_i, K_i) of particles p in [begin, end) into position_out[p -
@@ -122,6 +123,7 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
   // The max norm of the error estimate h sum_i (b_i - b^_i) (V_i, K_i), formed block by block.
   // The trial solution must be in the stage arrays.
   ErrorNorm error_norm(const ClothState& state, double h);
+  // The first trial step: time_step, or initial_adaptive_step() where it is 0.
   double initial_step(const ClothState& state, double t_limit);
 
   NystromRow error_row_;        // the row b - b^
@@ -129,5 +131,13 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
   double previous_error_ = 1e-4;
   std::vector<double> block_error_;  // per-block maxima of the error norm
 };
+
+// RKF45's automatic first step (time_step 0), from the state and its acceleration, after Hairer,
+// Norsett and Wanner (Solving ODEs I, sec. II.4, first half): a step whose Euler increment is 1%
+// of the state's own scale. Their refinement with a second-derivative estimate costs another
+// evaluation; the controller corrects a misjudged first step within a few steps anyway. Shared
+// by the CPU's and the device's RKF45 (gpu/device_integrator.h).
+double initial_adaptive_step(const ClothModel& model, const IntegratorSettings& settings, const ClothState& state,
+                             std::span<const Vec3> acceleration, double t_limit);
 
 }  // namespace clothsim

@@ -104,6 +104,11 @@ class Integrator {
   // Advances `state` by one accepted step ending at or before t_limit (> state.time). The model
   // must be the one the integrator was made for.
   virtual StepOutcome step(ClothState& state, double t_limit) = 0;
+  // Advances `state` toward t_limit (> state.time) by accepted steps: by one (the default,
+  // step()), or, for an integrator whose state lives on a device (gpu/device_integrator.h), by as
+  // many as reach t_limit without the host between steps. The Simulation calls it where nothing
+  // runs between steps that the integrator does not run itself.
+  virtual StepOutcome advance(ClothState& state, double t_limit) { return step(state, t_limit); }
   const IntegratorStats& stats() const { return stats_; }
   // Time spent in force evaluation, s (the rest of step() is integration).
   double force_seconds() const { return force_seconds_; }

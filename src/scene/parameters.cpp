@@ -211,6 +211,10 @@ constexpr std::array kScalarParameters = {
                     "worker threads; 0 chooses from the lattice size and the idle cores",
                     [](const SceneSpec& s) { return double(s.threads); },
                     [](SceneSpec& s, double v) { s.threads = static_cast<int>(v); }},
+    ScalarParameter{"device", ParameterType::integer, "", closed_range(0.0, 1024.0),
+                    "the Vulkan device of backend vulkan, as `clothsim devices` numbers them",
+                    [](const SceneSpec& s) { return double(s.backend.device); },
+                    [](SceneSpec& s, double v) { s.backend.device = static_cast<std::uint32_t>(v); }},
 };
 
 constexpr std::array kVectorParameters = {
@@ -281,7 +285,8 @@ constexpr std::array kSpecialKeys = {
     SpecialKey{"paper_args"},    SpecialKey{"material"},
     SpecialKey{"anchors"},       SpecialKey{"cuts"},
     SpecialKey{"colliders"},     SpecialKey{"integrator.method", kLive},
-    SpecialKey{"output.export"},
+    SpecialKey{"output.export"}, SpecialKey{"backend"},
+    SpecialKey{"precision"},
 };
 
 // "1e+09" -> "1e9", "1e-06" -> "1e-6".

@@ -53,6 +53,26 @@ std::string method_choices() {
                                to_string(IntegratorKind::symplectic_euler), to_string(IntegratorKind::implicit_euler)});
 }
 
+// backend and precision: names.
+std::string backend_choices() { return join_names(std::array{to_string(Backend::cpu), to_string(Backend::vulkan)}); }
+
+std::string precision_choices() {
+  return join_names(std::array{std::string_view(to_string(Precision::float64)),
+                               std::string_view(to_string(Precision::float32))});
+}
+
+void read_backend(std::string_view text, SceneSpec& spec, const std::string& source, const std::string& got) {
+  if (!parse_backend(text, spec.backend.kind)) fail(source, "backend", "must be one of " + backend_choices() + ", got " + got);
+}
+
+void read_precision(std::string_view text, SceneSpec& spec, const std::string& source, const std::string& got) {
+  Precision precision = Precision::float64;
+  if (!parse_precision(text, precision)) {
+    fail(source, "precision", "must be one of " + precision_choices() + " (or absent: the backend's default), got " + got);
+  }
+  spec.backend.precision = precision;
+}
+
 // ---------------------------------------------------------------------------------------------
 // output.export: a list of format names, each at most once.
 
@@ -138,6 +158,14 @@ void SceneReader::read_member(const std::string& key, const json& value) {
   } else if (key == "integrator.method") {
     if (!value.is_string() || !parse_integrator_kind(value.get<std::string>(), spec.integrator.kind)) {
       fail(source, key, "must be one of " + method_choices() + ", got " + describe_choice(value));
+    }
+  } else if (key == "backend") {
+    read_backend(value.is_string() ? value.get<std::string>() : "", spec, source, describe_choice(value));
+  } else if (key == "precision") {
+    if (value.is_null()) {
+      spec.backend.precision.reset();
+    } else {
+      read_precision(value.is_string() ? value.get<std::string>() : "", spec, source, describe_choice(value));
     }
   } else if (key == "output.export") {
     spec.output.exports = read_exports(value, source);
@@ -252,6 +280,10 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
     if (!parse_integrator_kind(trim(value), spec.integrator.kind)) {
       fail(source, field, "must be one of " + method_choices() + ", got " + quoted(value));
     }
+  } else if (key == "backend") {
+    read_backend(trim(value), spec, source, quoted(value));
+  } else if (key == "precision") {
+    read_precision(trim(value), spec, source, quoted(value));
   } else if (key == "output.export") {
     spec.output.exports = read_text_exports(value, source);
   } else if (key == "paper_args") {
@@ -318,6 +350,8 @@ json scene_to_json(const SceneSpec& spec) {
     at(parameter.key) = json::array({value.x, value.y, value.z});
   }
   at("integrator.method") = std::string(to_string(spec.integrator.kind));
+  out["backend"] = std::string(to_string(spec.backend.kind));
+  out["precision"] = spec.backend.precision ? json(to_string(*spec.backend.precision)) : json(nullptr);
   at("output.export") = json::array();
   for (ExportFormat format : spec.output.exports) at("output.export").push_back(std::string(to_string(format)));
   out["anchors"] = json::array();

@@ -22,6 +22,7 @@
 #include "model/collider.h"
 #include "model/initial_conditions.h"
 #include "model/material.h"
+#include "sim/backend.h"
 
 namespace clothsim {
 
@@ -103,6 +104,9 @@ struct SceneSpec {
   IntegratorSettings integrator;
   OutputSettings output;
   int threads = 0;  // 0: choose from the lattice size (core/parallel.h)
+  // Where the steps run: "backend" ("cpu" or "vulkan"), "device" (the Vulkan device) and
+  // "precision" ("float64" or "float32"; absent: the backend's own) (sim/backend.h).
+  BackendSettings backend;
 };
 
 // Reads and validates a scene file. Throws InputError naming `path`. Mesh files of colliders are

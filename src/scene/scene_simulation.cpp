@@ -12,6 +12,7 @@ SimulationSettings simulation_settings(const SceneSpec& spec) {
   SimulationSettings settings;
   settings.integrator = spec.integrator;
   settings.threads = spec.threads;
+  settings.backend = spec.backend;
   return settings;
 }
 

@@ -103,6 +103,10 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     validate_collider(spec.colliders[i], source, "colliders[" + std::to_string(i) + "]");
   }
   check_self_collision_thickness(spec, source);
+  const std::string unsupported = unsupported_by_backend(
+      BackendFeatures{spec.integrator.kind, spec.lattice.limits, !spec.colliders.empty(), spec.collision.self},
+      spec.backend);
+  if (!unsupported.empty()) fail(source, "backend", backend_refusal(unsupported, spec.backend));
 }
 
 }  // namespace clothsim

@@ -32,7 +32,8 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   CLOTHSIM_ASSERT(state_.position.size() == model_->particle_count(), "state matches the model");
   CLOTHSIM_ASSERT(state_.velocity.size() == model_->particle_count(), "state matches the model");
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
-  integrator_ = make_integrator(*model_, settings.integrator, ForceOptions{settings.terms, threads_, settings.kernel});
+  integrator_ = make_backend_integrator(*model_, settings.integrator,
+                                        ForceOptions{settings.terms, threads_, settings.kernel}, settings.backend);
   integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
   initial_report_ = energy();
   initial_energy_ = initial_report_.total() - (state_.damping_work + state_.drag_work + state_.anchor_work +
@@ -112,7 +113,9 @@ bool Simulation::integrate(double time) {
   Stopwatch watch;
   const double force_before = integrator_->force_seconds();
   // Anchor events (a driven anchor arriving, an anchor letting go) are never crossed by a step.
-  const StepOutcome outcome = integrator_->step(state_, std::min(time, next_anchor_event()));
+  // One step on the CPU; on a device, every step up to the limit (nothing the host does between
+  // steps applies there: sim/backend.h keeps such features off it).
+  const StepOutcome outcome = integrator_->advance(state_, std::min(time, next_anchor_event()));
   const double force = integrator_->force_seconds() - force_before;
   profile_.forces += force;
   profile_.integration += watch.seconds() - force;
@@ -269,7 +272,19 @@ void Simulation::set_environment(const Environment& environment) {
   edit_work_ += energy().total() - before;
 }
 
-void Simulation::set_spring_limits(const SpringLimits& limits) { apply_spring_limits(*model_, limits); }
+void Simulation::require_backend_runs(const ClothModel& model, const IntegratorSettings& integrator) const {
+  const std::string unsupported = unsupported_by_backend(features_of(model, integrator), settings_.backend);
+  if (!unsupported.empty()) throw BackendError(backend_refusal(unsupported, settings_.backend));
+}
+
+void Simulation::set_spring_limits(const SpringLimits& limits) {
+  if (settings_.backend.kind != Backend::cpu) {
+    ClothModel changed;
+    changed.limits = limits;
+    require_backend_runs(changed, settings_.integrator);
+  }
+  apply_spring_limits(*model_, limits);
+}
 
 std::size_t Simulation::cut_connectors(std::span<const std::uint32_t> connectors) {
   std::size_t cut = 0;
@@ -284,14 +299,21 @@ void Simulation::set_particle_mass(double mass) {
 }
 
 void Simulation::set_integrator(const IntegratorSettings& settings) {
+  const IntegratorSettings before = settings_.integrator;
   settings_.integrator = settings;
-  restart_integrator();
+  try {
+    restart_integrator();
+  } catch (const BackendError&) {
+    settings_.integrator = before;
+    throw;
+  }
 }
 
 void Simulation::restart_integrator() {
+  std::unique_ptr<Integrator> next = make_backend_integrator(
+      *model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel}, settings_.backend);
   retired_stats_ = integrator_stats();
-  integrator_ =
-      make_integrator(*model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel});
+  integrator_ = std::move(next);
   integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
 }
 
@@ -340,9 +362,23 @@ bool Simulation::release_particle(std::uint32_t particle) {
   return remove_anchor(*model_, particle);
 }
 
-void Simulation::set_self_collision(bool on) { clothsim::set_self_collision(*model_, on); }
+void Simulation::set_self_collision(bool on) {
+  if (on && settings_.backend.kind != Backend::cpu) {
+    ClothModel changed;
+    changed.collision.self = true;
+    require_backend_runs(changed, settings_.integrator);
+  }
+  clothsim::set_self_collision(*model_, on);
+}
 
-std::size_t Simulation::add_collider(const Collider& collider) { return clothsim::add_collider(*model_, collider); }
+std::size_t Simulation::add_collider(const Collider& collider) {
+  if (settings_.backend.kind != Backend::cpu) {
+    ClothModel changed;
+    changed.colliders.push_back(collider);
+    require_backend_runs(changed, settings_.integrator);
+  }
+  return clothsim::add_collider(*model_, collider);
+}
 
 void Simulation::drive_collider(std::size_t collider, const Vec3& displacement, double arrival_time) {
   clothsim::drive_collider(*model_, collider, displacement, state_.time, arrival_time);

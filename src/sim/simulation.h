@@ -48,6 +48,7 @@
 #include "integrators/integrator.h"
 #include "model/cloth_model.h"
 #include "model/spring_limits.h"
+#include "sim/backend.h"
 
 namespace clothsim {
 
@@ -58,6 +59,9 @@ struct SimulationSettings {
   ForceKernel kernel = ForceKernel::automatic;  // which force implementation (forces.h)
   // A connector longer than this many times its rest length means the integration has blown up.
   double explosion_stretch = 1000.0;
+  // Where the steps run (sim/backend.h): the CPU, or a Vulkan device, which takes all the steps
+  // up to the next frame or event without the host (the checks then run once per advance_to()).
+  BackendSettings backend;
 };
 
 // Wall time per phase, s. The integrator's own sub-phases (stage sums, error control, ...) are
@@ -122,6 +126,8 @@ struct ModelChanges {
 
 class Simulation {
  public:
+  // Throws BackendError when settings.backend cannot run the model (sim/backend.h): a feature it
+  // does not cover, no device, not enough device memory.
   Simulation(ClothModel model, ClothState initial, const SimulationSettings& settings);
   // Movable, not copyable: what the integrator refers to (the model, the collision stage's surface
   // contacts) lives on the heap and moves with the simulation (scene/scene_simulation.h returns
@@ -176,10 +182,12 @@ class Simulation {
   // Every particle's mass, kg (> 0); anchored particles stay anchored.
   void set_particle_mass(double mass);
   // A new integrator (kind, tolerances, step) that goes on from the current state. Statistics
-  // and the profile keep counting across the switch.
+  // and the profile keep counting across the switch. Throws BackendError for a method the
+  // backend does not run (the old integrator then stays).
   void set_integrator(const IntegratorSettings& settings);
   // Break, yield and crease limits of every spring (model/spring_limits.h). Hardened yields
   // start again from limits.yield_strain; broken springs stay broken and rest values stay.
+  // Throws BackendError, changing nothing, for limits the backend does not run.
   void set_spring_limits(const SpringLimits& limits);
   // Breaks the given connectors now, with the radial springs that use them (a cut with the
   // mouse); their elastic energy goes into fracture_work. Returns how many were intact.
@@ -205,7 +213,8 @@ class Simulation {
   // model/model_edits.h). None changes the energy at the time of the edit: a moved obstacle acts
   // through the collision stage, which books what it does as contact work.
   //
-  // Self-collision on or off from the next step on.
+  // Self-collision on or off from the next step on. Throws BackendError, changing nothing, where
+  // the backend does not run it; so does add_collider().
   void set_self_collision(bool on);
   // Appends an obstacle; returns its index in model().colliders.
   std::size_t add_collider(const Collider& collider);
@@ -235,6 +244,9 @@ class Simulation {
   // Replaces the integrator with a new one for the current model and settings_.integrator,
   // keeping the statistics of the old one.
   void restart_integrator();
+  // Throws BackendError when the backend cannot run `model` with `integrator` (an edit about to
+  // be made, checked on a copy of what it changes).
+  void require_backend_runs(const ClothModel& model, const IntegratorSettings& integrator) const;
 
   // The stages of advance_to(), in order. Each returns false when the simulation failed.
   bool integrate(double time);

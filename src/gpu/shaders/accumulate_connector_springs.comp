@@ -8,7 +8,9 @@
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/element_pass.h"
 
-layout(local_size_x_id = 0) in;  // the workgroup size, a specialization constant
+layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
+layout(local_size_x_id = 0) in;
+#include "gpu/shaders/invocation.glsl"
 
 layout(std430, binding = 0) readonly buffer Position { Real position[]; };           // [3 particle_count], m
 layout(std430, binding = 1) readonly buffer Velocity { Real velocity[]; };           // [3 particle_count], m/s
@@ -31,7 +33,7 @@ void store_slot(uint slot, Vec3 force) {
 }
 
 void main() {
-  const uint e = gl_GlobalInvocationID.x;
+  const uint e = invocation_index();
   if (e >= constants.element_count) return;
   const uint slot = constants.slot_base + 2 * e;
   if (connector_active[e] == 0u) {

@@ -8,7 +8,9 @@
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/element_pass.h"
 
-layout(local_size_x_id = 0) in;  // the workgroup size, a specialization constant
+layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
+layout(local_size_x_id = 0) in;
+#include "gpu/shaders/invocation.glsl"
 
 layout(std430, binding = 0) readonly buffer Values { Real values[]; };  // [count]
 layout(std430, binding = 1) buffer BlockSums { Real block_sums[]; };    // [ceil(count / block_size)]
@@ -17,7 +19,7 @@ layout(std430, binding = 2) writeonly buffer Sum { Real sum[]; };       // [1]
 layout(push_constant) uniform Constants { SumConstants constants; };
 
 void main() {
-  const uint index = gl_GlobalInvocationID.x;
+  const uint index = invocation_index();
   const uint blocks = (constants.count + constants.block_size - 1) / constants.block_size;
   if (constants.phase == 0u) {
     if (index >= blocks) return;

@@ -7,7 +7,9 @@
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/element_pass.h"
 
-layout(local_size_x_id = 0) in;  // the workgroup size, a specialization constant
+layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
+layout(local_size_x_id = 0) in;
+#include "gpu/shaders/invocation.glsl"
 
 layout(std430, binding = 0) readonly buffer Velocity { Real velocity[]; };        // [3 particle_count], m/s
 layout(std430, binding = 1) readonly buffer Mass { Real particle_mass[]; };       // [particle_count], kg
@@ -19,17 +21,12 @@ layout(std430, binding = 6) writeonly buffer Force { Real force[]; };           
 
 layout(push_constant) uniform Constants { GatherConstants constants; };
 
+#include "gpu/shaders/gather.glsl"
+
 void main() {
-  const uint p = gl_GlobalInvocationID.x;
+  const uint p = invocation_index();
   if (p >= constants.particle_count) return;
-  const Vec3 gravity = Vec3(environment[0], environment[1], environment[2]);
-  const Real drag = environment[3];
-  const Vec3 v = Vec3(velocity[3 * p], velocity[3 * p + 1], velocity[3 * p + 2]);
-  Vec3 sum = particle_mass[p] * gravity - drag * v;
-  for (uint k = gather_offset[p]; k < gather_offset[p + 1]; ++k) {
-    const uint slot = gather_slot[k];
-    sum += Vec3(slot_force[3 * slot], slot_force[3 * slot + 1], slot_force[3 * slot + 2]);
-  }
+  const Vec3 sum = gathered_force(p, Vec3(velocity[3 * p], velocity[3 * p + 1], velocity[3 * p + 2]));
   force[3 * p] = sum.x;
   force[3 * p + 1] = sum.y;
   force[3 * p + 2] = sum.z;

@@ -1,0 +1,372 @@
+#include "gpu/device_integrator.h"
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cmath>
+#include <cstring>
+#include <numbers>
+#include <span>
+
+#include "core/assert.h"
+#include "core/timer.h"
+#include "gpu/embedded_shaders.h"
+#include "gpu/gpu_error.h"
+#include "gpu/real_arrays.h"
+#include "gpu/shaders/device_step.h"
+#include "integrators/dynamics.h"
+#include "integrators/explicit_runge_kutta.h"
+
+namespace clothsim::gpu {
+namespace {
+
+// Symplectic Euler as a one-stage "tableau": K_0 at the state, and b = (1) for the work
+// integrals; rk_solution forms its update itself (v + h K_0, then x + h v_new).
+constexpr ButcherTableau kSymplecticEuler{"symplectic-euler", 1, 1, 0, {0.0}, {{{}}}, {1.0}, {}};
+
+const ButcherTableau& tableau_for(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::rkf45: return kFehlberg45;
+    case IntegratorKind::rk4: return kClassicRk4;
+    case IntegratorKind::symplectic_euler: return kSymplecticEuler;
+    case IntegratorKind::implicit_euler: break;
+  }
+  throw GpuError("implicit-euler does not run on the Vulkan backend");
+}
+
+// Attempts per submission: a batch large enough for a frame's steps in one or two submissions,
+// small enough that the attempts left over after the target cost little (each returns at once).
+constexpr std::uint32_t kMaxAttemptsPerSubmission = 256;
+
+std::uint32_t workgroups_of(std::uint64_t items) {
+  return static_cast<std::uint32_t>((items + kReduceWorkgroup - 1) / kReduceWorkgroup);
+}
+
+// Sizes of the integrator's own arrays, bytes.
+std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const ClothModel& model, int stages,
+                                                                     Precision precision,
+                                                                     std::uint32_t anchor_capacity) {
+  using A = DeviceIntegrator;
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t n = model.particle_count();
+  const std::uint64_t elements = model.connector_count() + model.radial_count();
+  const std::uint64_t s = static_cast<std::uint64_t>(stages);
+  std::array<std::uint64_t, A::array_count> bytes{};
+  bytes[A::state_position] = bytes[A::state_velocity] = bytes[A::trial_position] = bytes[A::trial_velocity] =
+      3 * n * real;
+  bytes[A::acceleration] = s * 3 * n * real;
+  bytes[A::rows] = (s + 2) * kRowReals * real;
+  bytes[A::control_real] = kControlReals * real;
+  bytes[A::control_uint] = kControlUints * 4;
+  bytes[A::particle_anchor] = n * 4;
+  bytes[A::inverse_mass] = n * real;
+  bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kAnchorReals * real;
+  bytes[A::block_error] = workgroups_of(n) * real;
+  bytes[A::block_particle] = workgroups_of(n) * 4;
+  bytes[A::particle_power] = s * 2 * n * real;
+  bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
+  return bytes;
+}
+
+std::uint32_t anchor_capacity_for(const ClothModel& model) {
+  return static_cast<std::uint32_t>(std::max<std::size_t>(model.anchors.size(), 16));
+}
+
+// The checks before anything is allocated: the device, its precision and its memory.
+Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision) {
+  device.require_precision(precision);
+  device.require_memory(DeviceIntegrator::device_bytes_for(model, kind, precision), "the scene");
+  return device;
+}
+
+std::vector<double> nystrom_rows(const ButcherTableau& tableau) {
+  std::vector<std::array<double, kMaxStages>> weights;
+  for (int i = 0; i < tableau.stages; ++i) weights.push_back(tableau.coefficients[static_cast<std::size_t>(i)]);
+  weights.push_back(tableau.weights);
+  std::array<double, kMaxStages> difference{};
+  for (std::size_t i = 0; i < difference.size(); ++i) difference[i] = tableau.weights[i] - tableau.embedded_weights[i];
+  weights.push_back(difference);
+  std::vector<double> rows;
+  for (const std::array<double, kMaxStages>& w : weights) {
+    const NystromRow row = nystrom_row(tableau, w);
+    rows.push_back(row.velocity_sum);
+    rows.insert(rows.end(), row.position.begin(), row.position.end());
+    rows.insert(rows.end(), row.velocity.begin(), row.velocity.end());
+  }
+  static_assert(kMaxStages == kMaxDeviceStages, "the device's rows have the CPU's width");
+  return rows;
+}
+
+template <typename T>
+std::span<const std::byte> bytes_of(const std::vector<T>& values) {
+  return std::as_bytes(std::span(values));
+}
+
+ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
+                          std::uint32_t push_bytes, std::uint32_t workgroup = 64) {
+  return ComputePipeline(device, embedded_shader(shader_variant(name, precision)), bindings, push_bytes, workgroup);
+}
+
+}  // namespace
+
+std::uint64_t DeviceIntegrator::device_bytes_for(const ClothModel& model, IntegratorKind kind, Precision precision) {
+  const int stages = tableau_for(kind).stages;
+  std::uint64_t total = DeviceForces::bytes_for(model, precision, static_cast<std::uint32_t>(stages));
+  for (std::uint64_t bytes : array_bytes(model, stages, precision, anchor_capacity_for(model))) total += bytes;
+  return total;
+}
+
+DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSettings& settings,
+                                   const ForceOptions& options, const DeviceSelection& selection)
+    : model_(model),
+      settings_(settings),
+      options_(options),
+      tableau_(tableau_for(settings.kind)),
+      adaptive_(settings.kind == IntegratorKind::rkf45),
+      symplectic_(settings.kind == IntegratorKind::symplectic_euler),
+      precision_(selection.precision),
+      device_(DeviceOptions{selection.index, selection.validation}),
+      forces_(checked(device_, model, settings.kind, selection.precision), model, selection.precision, options.terms,
+              static_cast<std::uint32_t>(tableau_.stages)),
+      particles_(forces_.particle_count()),
+      elements_(forces_.element_count()),
+      anchor_capacity_(anchor_capacity_for(model)),
+      control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
+      control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
+      stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 10, sizeof(StagePassConstants))),
+      acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 14, sizeof(StagePassConstants))),
+      solution_pass_(make_pass(device_, "rk_solution", precision_, 12, sizeof(StagePassConstants), kReduceWorkgroup)),
+      control_pass_(make_pass(device_, "rk_control", precision_, 5, sizeof(ReducePassConstants), kReduceWorkgroup)),
+      accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)) {
+  const auto bytes = array_bytes(model, tableau_.stages, precision_, anchor_capacity_);
+  arrays_.reserve(array_count);
+  for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
+  upload(device_, arrays_[rows], real_bytes(nystrom_rows(tableau_), precision_));
+  bind_passes();
+}
+
+void DeviceIntegrator::bind_passes() {
+  using F = DeviceForces;
+  const auto bind = [&](ComputePipeline& pass, std::initializer_list<const Buffer*> buffers) {
+    pass.bind(std::vector<const Buffer*>(buffers));
+  };
+  const auto own = [&](Array a) { return &arrays_[a]; };
+  const auto forces = [&](F::Array a) { return &forces_.buffer(a); };
+  bind(stage_state_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
+                           own(control_uint), own(particle_anchor), own(anchor_paths), forces(F::position),
+                           forces(F::velocity)});
+  bind(acceleration_pass_,
+       {forces(F::velocity), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
+        forces(F::gather_offset), forces(F::gather_slot), forces(F::slot_force), own(rows), own(control_real),
+        own(control_uint), own(particle_anchor), own(anchor_paths), own(acceleration), own(particle_power)});
+  bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
+                        own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
+                        own(trial_velocity), own(block_error), own(block_particle)});
+  bind(control_pass_, {own(control_real), own(control_uint), own(block_error), own(block_particle), own(block_work)});
+  bind(accept_pass_, {own(control_real), own(control_uint), own(trial_position), own(trial_velocity),
+                      own(state_position), own(state_velocity), forces(F::element_power), own(particle_power),
+                      own(rows), own(block_work)});
+}
+
+DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with the device's pool
+
+void DeviceIntegrator::record_attempt(VkCommandBuffer commands) const {
+  const auto stages = static_cast<std::uint32_t>(tableau_.stages);
+  for (std::uint32_t i = 0; i < stages; ++i) {
+    const StagePassConstants stage{particles_, i, stages, 0};
+    stage_state_pass_.dispatch(commands, &stage, particles_);
+    forces_.record_element_passes(commands, i);
+    acceleration_pass_.dispatch(commands, &stage, particles_);
+  }
+  const StagePassConstants solution{particles_, 0, stages, symplectic_ ? 1u : 0u};
+  solution_pass_.dispatch(commands, &solution, particles_);
+  const ReducePassConstants decide{particles_, workgroups_of(particles_), 0, stages};
+  control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
+  const std::uint32_t accept_items = std::max(particles_, elements_);
+  const AcceptPassConstants accept{particles_, elements_, stages, workgroups_of(accept_items)};
+  accept_pass_.dispatch(commands, &accept, accept_items);
+  const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages};
+  control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
+}
+
+VkCommandBuffer DeviceIntegrator::attempts_buffer(std::uint32_t attempts) {
+  const auto found = recorded_.find(attempts);
+  if (found != recorded_.end()) return found->second;
+  VkCommandBuffer commands = device_.record([&](VkCommandBuffer c) {
+    for (std::uint32_t a = 0; a < attempts; ++a) record_attempt(c);
+    record_readback(c, arrays_[control_real], control_real_readback_, control_real_readback_.bytes());
+    record_readback(c, arrays_[control_uint], control_uint_readback_, control_uint_readback_.bytes());
+  });
+  recorded_.emplace(attempts, commands);
+  return commands;
+}
+
+void DeviceIntegrator::upload_changes(const ClothState& state) {
+  if (model_.revision != model_revision_ || exchanged_position_.empty()) {
+    if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
+    upload(device_, arrays_[inverse_mass], real_bytes(model_.particle_inverse_mass, precision_));
+    upload(device_, arrays_[particle_anchor], bytes_of(model_.particle_anchor));
+    model_revision_ = model_.revision;
+  }
+  if (state.position != exchanged_position_ || state.velocity != exchanged_velocity_) {
+    upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
+    upload(device_, arrays_[state_velocity], vector_bytes(state.velocity, precision_));
+    exchanged_position_ = state.position;
+    exchanged_velocity_ = state.velocity;
+  }
+}
+
+void DeviceIntegrator::write_anchor_paths(double t0) {
+  if (model_.anchors.size() > anchor_capacity_) {
+    // More anchors than the table holds (pins added at run time): a larger table, bound anew,
+    // and the recorded command buffers, which name the old one, recorded again.
+    anchor_capacity_ = 2 * static_cast<std::uint32_t>(model_.anchors.size());
+    arrays_[anchor_paths] = Buffer(device_, std::uint64_t{anchor_capacity_} * kAnchorReals * real_size(precision_),
+                                   Memory::device_local);
+    bind_passes();
+    for (const auto& [attempts, commands] : recorded_) device_.release(commands);
+    recorded_.clear();
+  }
+  std::vector<double> paths;
+  paths.reserve(model_.anchors.size() * kAnchorReals);
+  for (const Anchor& anchor : model_.anchors) {
+    const AnchorPath& path = anchor.path;
+    const Vec3 x0 = path.position(t0);
+    Vec3 v = path.velocity_at(t0);
+    Vec3 amplitude;
+    double omega = 0.0;
+    double theta0 = 0.0;
+    if (path.kind == AnchorPathKind::sinusoid) {
+      v = Vec3{};
+      amplitude = path.amplitude;
+      omega = 2.0 * std::numbers::pi * path.frequency;
+      theta0 = std::remainder(omega * t0 + path.phase, 2.0 * std::numbers::pi);
+    }
+    paths.insert(paths.end(), {x0.x, x0.y, x0.z, v.x, v.y, v.z, amplitude.x, amplitude.y, amplitude.z, omega, theta0});
+  }
+  if (!paths.empty()) upload(device_, arrays_[anchor_paths], real_bytes(paths, precision_));
+}
+
+void DeviceIntegrator::read_state(ClothState& state) {
+  std::vector<std::byte> bytes(std::uint64_t{particles_} * 3 * real_size(precision_));
+  download(device_, arrays_[state_position], bytes);
+  state.position = vectors_from_bytes(bytes, precision_);
+  download(device_, arrays_[state_velocity], bytes);
+  state.velocity = vectors_from_bytes(bytes, precision_);
+  exchanged_position_ = state.position;
+  exchanged_velocity_ = state.velocity;
+}
+
+StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32_t max_accepted) {
+  CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
+  const double t0 = state.time;
+  {
+    ScopedTimer timer(transfer_seconds_);
+    upload_changes(state);
+    write_anchor_paths(t0);
+  }
+
+  // The first attempt's step, as the CPU's integrators choose it.
+  double step = settings_.time_step;
+  if (adaptive_) {
+    if (proposed_step_ <= 0.0) {
+      if (settings_.time_step > 0.0) {
+        proposed_step_ = settings_.time_step;
+      } else {
+        ClothDynamics dynamics(model_, options_);
+        StateDerivative rate;
+        rate.resize(model_.particle_count());
+        dynamics.evaluate(state.time, state.position, state.velocity, rate);
+        proposed_step_ = initial_adaptive_step(model_, settings_, state, rate.velocity_rate, t_limit);
+        ++stats_.force_evaluations;
+      }
+    }
+    step = std::min(proposed_step_, settings_.max_step);
+  }
+  bool clipped = false;
+  const double h = clip_step(t0, step, t_limit, clipped);
+  if (adaptive_ && h < settings_.min_step && !clipped) return {StepStatus::step_underflow, h, 0, false};
+
+  std::vector<double> reals(kControlReals, 0.0);
+  reals[kStep] = h;
+  reals[kProposedStep] = proposed_step_;
+  reals[kPreviousError] = previous_error_;
+  reals[kTarget] = t_limit - t0;
+  reals[kSmallestStep] = 1e30;  // within float's range
+  reals[kMinStep] = settings_.min_step;
+  reals[kMaxStep] = settings_.max_step;
+  reals[kSafety] = settings_.safety;
+  reals[kMaxGrowth] = settings_.max_growth;
+  reals[kMaxShrink] = settings_.max_shrink;
+  reals[kAbsoluteTolerance] = settings_.absolute_tolerance;
+  reals[kRelativeTolerance] = settings_.relative_tolerance;
+  reals[kFixedStep] = settings_.time_step;
+  std::vector<std::uint32_t> uints(kControlUints, 0u);
+  uints[kActive] = 1;
+  uints[kClipped] = clipped ? 1 : 0;
+  uints[kMaxAccepted] = max_accepted;
+  uints[kAdaptive] = adaptive_ ? 1 : 0;
+  {
+    ScopedTimer timer(transfer_seconds_);
+    upload(device_, arrays_[control_real], real_bytes(reals, precision_));
+    upload(device_, arrays_[control_uint], bytes_of(uints));
+  }
+
+  // Batches of attempts until the advance ends; the next batch is twice the last.
+  std::uint32_t attempts = max_accepted == 1 ? 1 : std::bit_ceil(std::min(expected_attempts_, kMaxAttemptsPerSubmission));
+  for (;;) {
+    {
+      ScopedTimer timer(device_seconds_);
+      device_.run(attempts_buffer(attempts));
+    }
+    std::memcpy(uints.data(), control_uint_readback_.mapped(), kControlUints * 4);
+    if (uints[kActive] == 0) break;
+    attempts = std::min(2 * attempts, kMaxAttemptsPerSubmission);
+  }
+  reals = reals_from_bytes(std::span(control_real_readback_.mapped(), kControlReals * real_size(precision_)),
+                           precision_);
+
+  {
+    ScopedTimer timer(transfer_seconds_);
+    read_state(state);
+  }
+  const bool at_target = reals[kElapsed] >= reals[kTarget];
+  state.time = at_target ? t_limit : t0 + reals[kElapsed];
+  state.damping_work += reals[kWork] + reals[kWork + 1];
+  state.drag_work += reals[kWork + 2] + reals[kWork + 3];
+  state.anchor_work += reals[kWork + 4] + reals[kWork + 5];
+  proposed_step_ = reals[kProposedStep];
+  previous_error_ = reals[kPreviousError];
+  expected_attempts_ = std::max(1u, uints[kAttempts]);
+  stats_.accepted_steps += uints[kAcceptedSteps];
+  stats_.rejected_steps += uints[kRejectedSteps];
+  stats_.force_evaluations += std::uint64_t{uints[kAttempts]} * static_cast<std::uint64_t>(tableau_.stages);
+  if (uints[kAcceptedSteps] > 0) {
+    stats_.smallest_step = std::min(stats_.smallest_step, reals[kSmallestStep]);
+    stats_.largest_step = std::max(stats_.largest_step, reals[kLargestStep]);
+    stats_.last_step = reals[kTakenStep];
+  }
+  if (uints[kStatus] != 0) {
+    const auto status = uints[kStatus] == 1 ? StepStatus::step_underflow : StepStatus::non_finite;
+    return {status, std::min(reals[kProposedStep], reals[kStep]), uints[kFailedParticle], uints[kNonFiniteError] != 0};
+  }
+  return {StepStatus::ok, reals[kTakenStep], 0, false};
+}
+
+std::vector<PhaseTime> DeviceIntegrator::phase_times() const {
+  return {{"device steps", device_seconds_}, {"device transfers", transfer_seconds_}};
+}
+
+std::size_t DeviceIntegrator::workspace_bytes() const {
+  return (exchanged_position_.capacity() + exchanged_velocity_.capacity()) * sizeof(Vec3);
+}
+
+void DeviceIntegrator::transfer_state(StateArchive& archive) {
+  Integrator::transfer_state(archive);
+  if (adaptive_) {
+    archive.value("rkf45.proposed_step", proposed_step_);
+    archive.value("rkf45.previous_error", previous_error_);
+  }
+}
+
+}  // namespace clothsim::gpu

@@ -1,0 +1,134 @@
+// The Vulkan backend's integrator: RKF45, RK4 or symplectic Euler with the whole step on the
+// device, so that no step waits for the host.
+//
+// The state, the model and the method's scratch live in device memory. An attempt at a step is
+// a fixed sequence of passes, recorded once into a command buffer and submitted as often as
+// needed (docs/gpu.md, "The step on the device"):
+//   for each stage i:  rk_stage_state        y_i = y + h sum_j a_ij (V_j, K_j); anchors on their paths
+//                      connector, radial     the element forces into slots (DeviceForces), damping powers
+//                      stage_acceleration    K_i: gathered force / mass, path accelerations; drag and anchor powers
+//   rk_solution        the trial state and, for RKF45, each workgroup's largest scaled error
+//   rk_control (0)     the largest error; accept or reject; the next step (PI controller), clipped to the target
+//   rk_accept          on acceptance: state <- trial, and each workgroup's share of the step's work
+//   rk_control (1)     the step's work added to the advance's sums
+// A submission holds a batch of attempts; once the advance reaches its target (or fails, or has
+// taken max_accepted steps) the remaining attempts of the batch return at once. After each
+// submission the host reads back only the control arrays (a few hundred bytes), and after the
+// last one the state. advance() runs to t_limit; step() stops after one accepted step.
+//
+// The host keeps what it last exchanged with the device (the state as last read back or
+// uploaded): a caller that changes the state between calls (a pinned particle) has it uploaded
+// again, and a model whose revision moved (tearing by hand, parameter edits, anchors) is uploaded
+// again. Anchor paths are written per advance relative to its start (device_step.h); a step never
+// crosses an anchor event, which the Simulation guarantees by limiting each advance to the next.
+//
+// The results match the CPU's integrators within the precision's rounding and the tolerances,
+// not bit for bit: the device adds the stage sums in the CPU's order, but the error norm's scale,
+// the controller's factors (float, GLSL's pow) and the work sums (per workgroup) are its own.
+#pragma once
+
+#include <cstdint>
+#include <map>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/device.h"
+#include "gpu/device_forces.h"
+#include "integrators/integrator.h"
+#include "integrators/tableau.h"
+
+namespace clothsim::gpu {
+
+struct DeviceSelection {
+  std::uint32_t index = 0;  // the device, as `clothsim devices` numbers it
+  Precision precision = Precision::float32;
+  bool validation = kValidationByDefault;  // the validation layers, where installed
+};
+
+class DeviceIntegrator final : public Integrator {
+ public:
+  // Opens the device and uploads the model. `settings.kind` is rkf45, rk4 or symplectic_euler.
+  // Throws GpuError, before allocating anything on the device, when there is no such device, it
+  // lacks the precision, or the scene needs more memory than it has.
+  DeviceIntegrator(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options,
+                   const DeviceSelection& selection);
+  ~DeviceIntegrator() override;
+  DeviceIntegrator(const DeviceIntegrator&) = delete;
+  DeviceIntegrator& operator=(const DeviceIntegrator&) = delete;
+
+  IntegratorKind kind() const override { return settings_.kind; }
+  StepOutcome step(ClothState& state, double t_limit) override { return run(state, t_limit, 1); }
+  StepOutcome advance(ClothState& state, double t_limit) override { return run(state, t_limit, 0); }
+  std::vector<PhaseTime> phase_times() const override;
+  // Host memory: the copy of the state last exchanged with the device.
+  std::size_t workspace_bytes() const override;
+  // RKF45's next step and error history (the CPU's names, so checkpoints read the same).
+  void transfer_state(StateArchive& archive) override;
+
+  const DeviceInfo& device_info() const { return device_.info(); }
+  Precision precision() const { return precision_; }
+  // Device memory the integrator holds for `model`, bytes: what is checked before allocating.
+  static std::uint64_t device_bytes_for(const ClothModel& model, IntegratorKind kind, Precision precision);
+
+  // The device's arrays besides DeviceForces' (which holds the stage state, the model and the
+  // element scratch).
+  enum Array : std::uint32_t {
+    state_position,   // [3 particles], m
+    state_velocity,   // [3 particles], m/s
+    acceleration,     // [stages][3 particles], K_i, m/s^2
+    rows,             // [stages + 2][kRowReals], the Nystrom rows
+    control_real,     // [kControlReals]
+    control_uint,     // [kControlUints]
+    particle_anchor,  // [particles], int: anchor row or -1
+    inverse_mass,     // [particles], 1/kg
+    anchor_paths,     // [anchors][kAnchorReals]
+    trial_position,   // [3 particles]
+    trial_velocity,   // [3 particles]
+    block_error,      // [solution workgroups]
+    block_particle,   // [solution workgroups], uint
+    particle_power,   // [stages][2][particles], W: drag, anchor
+    block_work,       // [accept workgroups][3], J
+    array_count
+  };
+
+ private:
+  // Advances by accepted steps to t_limit, or by max_accepted of them (0: no limit).
+  StepOutcome run(ClothState& state, double t_limit, std::uint32_t max_accepted);
+  // Uploads what changed on the host since the last exchange: the model, the state.
+  void upload_changes(const ClothState& state);
+  void write_anchor_paths(double t0);
+  // The command buffer of `attempts` attempts, recorded on first use.
+  VkCommandBuffer attempts_buffer(std::uint32_t attempts);
+  void record_attempt(VkCommandBuffer commands) const;
+  // Binds every pass's arrays (again after the anchor table grows).
+  void bind_passes();
+  void read_state(ClothState& state);
+
+  const ClothModel& model_;
+  IntegratorSettings settings_;
+  ForceOptions options_;
+  ButcherTableau tableau_;
+  bool adaptive_;
+  bool symplectic_;
+  Precision precision_;
+  Device device_;
+  DeviceForces forces_;
+  std::uint32_t particles_, elements_, anchor_capacity_;
+  std::vector<Buffer> arrays_;  // [array_count]
+  Buffer control_real_readback_, control_uint_readback_;
+  ComputePipeline stage_state_pass_, acceleration_pass_, solution_pass_, control_pass_, accept_pass_;
+  std::map<std::uint32_t, VkCommandBuffer> recorded_;  // by attempts per submission
+
+  // What the host last exchanged with the device.
+  std::vector<Vec3> exchanged_position_, exchanged_velocity_;
+  std::uint64_t model_revision_ = 0;
+  // The controller between advances (the device holds it during one).
+  double proposed_step_ = 0.0;
+  double previous_error_ = 1e-4;
+  std::uint32_t expected_attempts_ = 4;  // attempts the last advance took
+  double device_seconds_ = 0.0;          // waiting for submissions, s
+  double transfer_seconds_ = 0.0;        // uploads and read-backs of the state and the control, s
+};
+
+}  // namespace clothsim::gpu

@@ -1,0 +1,97 @@
+// The device step's shared layout (gpu/device_integrator.h and the shaders rk_*.comp,
+// stage_acceleration.comp): the push constants of its passes and the slots of its two control
+// arrays, read by C++ and by GLSL, so that the two cannot disagree on a layout or an index.
+//
+// The control arrays hold the step-size controller and the step's bookkeeping on the device, so
+// that a step never waits for the host: `control_real` (Reals, the shader's precision) and
+// `control_uint` (32-bit words). The host writes them before an advance and reads them back after
+// each submission (DeviceIntegrator::advance); in between, only the shaders touch them.
+#if defined(__cplusplus)
+#pragma once
+#include <cstdint>
+namespace clothsim::gpu {
+using uint = std::uint32_t;
+#define CLOTHSIM_SLOT inline constexpr uint
+#else
+#define CLOTHSIM_SLOT const uint
+#endif
+
+// control_real: times are relative to the advance's start (the host adds them to its double time).
+CLOTHSIM_SLOT kStep = 0;            // s, the step the current attempt takes
+CLOTHSIM_SLOT kTakenStep = 1;       // s, the step the last decision accepted
+CLOTHSIM_SLOT kProposedStep = 2;    // s, the controller's proposal for the next step
+CLOTHSIM_SLOT kPreviousError = 3;   // the PI controller's memory (explicit_runge_kutta.cpp)
+CLOTHSIM_SLOT kElapsed = 4;         // s, simulated time since the advance began
+CLOTHSIM_SLOT kTarget = 5;          // s, where the advance ends (t_limit - its start)
+CLOTHSIM_SLOT kError = 6;           // the last attempt's scaled error norm
+CLOTHSIM_SLOT kSmallestStep = 7;    // s, over this advance's accepted steps
+CLOTHSIM_SLOT kLargestStep = 8;     // s
+CLOTHSIM_SLOT kWork = 9;            // J, [6]: damping, drag, anchor work of this advance, each as
+                                    // a compensated sum (value, then its rounding error)
+CLOTHSIM_SLOT kMinStep = 15;        // the IntegratorSettings fields of the same names
+CLOTHSIM_SLOT kMaxStep = 16;
+CLOTHSIM_SLOT kSafety = 17;
+CLOTHSIM_SLOT kMaxGrowth = 18;
+CLOTHSIM_SLOT kMaxShrink = 19;
+CLOTHSIM_SLOT kAbsoluteTolerance = 20;
+CLOTHSIM_SLOT kRelativeTolerance = 21;
+CLOTHSIM_SLOT kFixedStep = 22;      // s, the fixed-step methods' step (time_step)
+CLOTHSIM_SLOT kControlReals = 23;
+
+// control_uint.
+CLOTHSIM_SLOT kActive = 0;           // 1 while the advance goes on: not at its target, not failed, not at max_accepted
+CLOTHSIM_SLOT kClipped = 1;          // 1: the current attempt's step ends exactly at the target
+CLOTHSIM_SLOT kAccepted = 2;         // 1: the last decision accepted its attempt (the accept pass reads it)
+CLOTHSIM_SLOT kRejectedBefore = 3;   // 1: the step being sought was rejected once (no growth after it)
+CLOTHSIM_SLOT kStatus = 4;           // a StepStatus: 0 ok, 1 step underflow, 2 non-finite
+CLOTHSIM_SLOT kFailedParticle = 5;   // the particle named by a failure
+CLOTHSIM_SLOT kNonFiniteError = 6;   // 1: the underflow came from non-finite stage values
+CLOTHSIM_SLOT kAcceptedSteps = 7;    // in this advance
+CLOTHSIM_SLOT kRejectedSteps = 8;    // in this advance
+CLOTHSIM_SLOT kMaxAccepted = 9;      // the advance stops after this many accepted steps; 0: at its target
+CLOTHSIM_SLOT kAdaptive = 10;        // 1: RKF45's error control; 0: a fixed step, checked for finiteness
+CLOTHSIM_SLOT kAttempts = 11;        // attempts that ran in this advance
+CLOTHSIM_SLOT kWorstParticle = 12;   // where the last attempt's error was largest
+CLOTHSIM_SLOT kControlUints = 13;
+
+// The Nystrom rows of the method (explicit_runge_kutta.h) in the `rows` array, each kRowReals
+// Reals: the sum of its weights, then sum_i w_i a_il for each stage l (positions), then w_l
+// (velocities). Rows 0 .. stages-1 are the stages, then the solution (b), then the error (b - b^).
+CLOTHSIM_SLOT kMaxDeviceStages = 6;
+CLOTHSIM_SLOT kRowReals = 1 + 2 * kMaxDeviceStages;
+
+// One anchor's path over an advance, in `anchor_paths`, kAnchorReals Reals each, relative to the
+// advance's start t0 (tau = t - t0): x(tau) = x0 + v tau + A (sin(theta0 + omega tau) - sin theta0),
+// which covers every AnchorPath kind between anchor events (gpu/device_integrator.cpp).
+CLOTHSIM_SLOT kAnchorReals = 11;  // x0 (3), v (3), A (3), omega, theta0
+
+// The passes' push constants.
+struct StagePassConstants {
+  uint particle_count;
+  uint stage;       // which row of `rows` and which acceleration array
+  uint stages;      // the method's stage count
+  uint symplectic;  // rk_solution: 1 for symplectic Euler's update instead of the row b
+};
+
+struct ReducePassConstants {
+  uint count;   // items reduced (particles, or elements)
+  uint blocks;  // workgroups of the pass whose partial results are reduced
+  uint phase;   // rk_control: 0 decides on the attempt, 1 adds the accepted step's work
+  uint stages;
+};
+
+struct AcceptPassConstants {
+  uint particle_count;
+  uint element_count;  // connectors + radial springs
+  uint stages;
+  uint blocks;  // the pass's workgroups: ceil(max(particles, elements) / kReduceWorkgroup)
+};
+
+// The workgroup size of the passes that reduce in shared memory (rk_solution, rk_accept,
+// rk_control): fixed, because their shared arrays are.
+CLOTHSIM_SLOT kReduceWorkgroup = 256;
+
+#if defined(__cplusplus)
+#undef CLOTHSIM_SLOT
+}  // namespace clothsim::gpu
+#endif

@@ -1,0 +1,68 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// An accepted step on the device (ExplicitRungeKutta::accept and combine_solution's work
+// integrals on the CPU): when rk_control accepted the attempt, each particle takes its trial
+// state, and each particle and element its share of the step's work, h sum_i b_i P_i (damping
+// power per element; drag and anchor power per particle), summed per workgroup in shared memory
+// for rk_control's phase 1. Invocations cover max(particles, elements).
+#include "gpu/shaders/element_math.glsl"
+#include "gpu/shaders/device_step.h"
+
+const uint kWorkgroupSize = kReduceWorkgroup;
+layout(local_size_x = kWorkgroupSize) in;
+#include "gpu/shaders/invocation.glsl"
+
+layout(std430, binding = 0) readonly buffer ControlReal { Real control_real[]; };
+layout(std430, binding = 1) readonly buffer ControlUint { uint control_uint[]; };
+layout(std430, binding = 2) readonly buffer TrialPosition { Real trial_position[]; };
+layout(std430, binding = 3) readonly buffer TrialVelocity { Real trial_velocity[]; };
+layout(std430, binding = 4) writeonly buffer Position { Real position[]; };
+layout(std430, binding = 5) writeonly buffer Velocity { Real velocity[]; };
+layout(std430, binding = 6) readonly buffer ElementPower { Real element_power[]; };    // [stages][elements], W
+layout(std430, binding = 7) readonly buffer ParticlePower { Real particle_power[]; };  // [stages][2][particles], W
+layout(std430, binding = 8) readonly buffer Rows { Real rows[]; };
+layout(std430, binding = 9) writeonly buffer BlockWork { Real block_work[]; };  // [blocks][3], J
+
+layout(push_constant) uniform Constants { AcceptPassConstants constants; };
+
+shared Real work_sum[3][kReduceWorkgroup];
+
+void main() {
+  if (control_uint[kAccepted] == 0u) return;  // the same for the whole dispatch
+  const uint index = invocation_index();
+  const uint n = constants.particle_count;
+  const uint elements = constants.element_count;
+  const uint weights = constants.stages * kRowReals + 1u + kMaxDeviceStages;  // the row b's velocity weights
+  Real damping = Real(0.0);
+  Real drag = Real(0.0);
+  Real anchor = Real(0.0);
+  if (index < n) {
+    for (uint k = 0u; k < 3u; ++k) {
+      position[3 * index + k] = trial_position[3 * index + k];
+      velocity[3 * index + k] = trial_velocity[3 * index + k];
+    }
+    for (uint l = 0u; l < constants.stages; ++l) {
+      drag += rows[weights + l] * particle_power[2 * l * n + index];
+      anchor += rows[weights + l] * particle_power[(2 * l + 1) * n + index];
+    }
+  }
+  if (index < elements) {
+    for (uint l = 0u; l < constants.stages; ++l) damping += rows[weights + l] * element_power[l * elements + index];
+  }
+  const Real h = control_real[kTakenStep];
+  const uint i = gl_LocalInvocationID.x;
+  work_sum[0][i] = h * damping;
+  work_sum[1][i] = h * drag;
+  work_sum[2][i] = h * anchor;
+  barrier();
+  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
+    if (i < stride) {
+      for (uint k = 0u; k < 3u; ++k) work_sum[k][i] += work_sum[k][i + stride];
+    }
+    barrier();
+  }
+  const uint group = workgroup_index();
+  if (i == 0u && group < constants.blocks) {
+    for (uint k = 0u; k < 3u; ++k) block_work[3 * group + k] = work_sum[k][0];
+  }
+}

@@ -1,0 +1,148 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The step's decisions on the device, in one workgroup, so that no step waits for the host.
+//
+// Phase 0, after rk_solution: the largest error over rk_solution's workgroups, then
+// AdaptiveRungeKutta::step's decision: reject and shrink (a step underflow below min_step ends
+// the advance as failed), or accept, with the PI controller's next step (Gustafsson; Hairer and
+// Wanner's DOPRI5 settings) and the time advanced; a fixed-step method accepts every finite
+// step. Then the next attempt's step, clipped to land on the target (clip_step). The factors are
+// computed in float: GLSL's pow exists for float only, and a step-size factor needs no more.
+//
+// Phase 1, after rk_accept: the accepted step's work (damping, drag, anchor), summed over
+// rk_accept's workgroups in a fixed order, added to the advance's compensated sums.
+#include "gpu/shaders/element_math.glsl"
+#include "gpu/shaders/device_step.h"
+
+const uint kWorkgroupSize = kReduceWorkgroup;
+layout(local_size_x = kWorkgroupSize) in;
+#include "gpu/shaders/invocation.glsl"
+
+layout(std430, binding = 0) buffer ControlReal { Real control_real[]; };
+layout(std430, binding = 1) buffer ControlUint { uint control_uint[]; };
+layout(std430, binding = 2) readonly buffer BlockError { Real block_error[]; };
+layout(std430, binding = 3) readonly buffer BlockParticle { uint block_particle[]; };
+layout(std430, binding = 4) readonly buffer BlockWork { Real block_work[]; };  // [blocks][3]
+
+layout(push_constant) uniform Constants { ReducePassConstants constants; };
+
+#include "gpu/shaders/error_reduction.glsl"
+
+// The PI controller's exponents for an error estimate of order 5 (explicit_runge_kutta.cpp).
+const float kControllerBeta = 0.04;
+const float kControllerAlpha = 0.2 - 0.75 * kControllerBeta;
+
+// Ends the advance as failed.
+void fail(uint status, uint particle, bool non_finite) {
+  control_uint[kStatus] = status;
+  control_uint[kFailedParticle] = particle;
+  control_uint[kNonFiniteError] = non_finite ? 1u : 0u;
+  control_uint[kActive] = 0u;
+}
+
+void decide(Real error, uint worst) {
+  control_uint[kAttempts] += 1u;
+  control_uint[kWorstParticle] = worst;
+  control_real[kError] = error;
+  const Real h = control_real[kStep];
+  const bool clipped = control_uint[kClipped] != 0u;
+  const bool adaptive = control_uint[kAdaptive] != 0u;
+  const bool non_finite = error >= kHugeError;
+  control_uint[kAccepted] = 0u;
+  if (adaptive && error > Real(1.0)) {
+    // Reject: shrink by the optimal factor for this error, never by more than max_shrink.
+    control_uint[kRejectedSteps] += 1u;
+    const float max_shrink = float(control_real[kMaxShrink]);
+    const float factor =
+        non_finite ? max_shrink : max(max_shrink, float(control_real[kSafety]) * pow(float(error), -0.2));
+    const Real proposed = h * Real(min(1.0, factor));
+    control_real[kProposedStep] = proposed;
+    control_uint[kRejectedBefore] = 1u;
+    if (proposed < control_real[kMinStep]) fail(1u, worst, non_finite);
+  } else if (!adaptive && non_finite) {
+    fail(2u, worst, true);
+  } else {
+    if (adaptive) {
+      // Accept, and propose the next step; after a rejection the step may not grow.
+      const float bounded = max(float(error), 1e-10);
+      float factor = float(control_real[kSafety]) * pow(bounded, -kControllerAlpha) *
+                     pow(float(control_real[kPreviousError]), kControllerBeta);
+      factor = clamp(factor, float(control_real[kMaxShrink]), float(control_real[kMaxGrowth]));
+      if (control_uint[kRejectedBefore] != 0u) factor = min(factor, 1.0);
+      control_real[kPreviousError] = max(error, Real(1e-4));
+      const Real next = h * Real(factor);
+      // A step clipped to land on the target says little about the step the dynamics allow.
+      control_real[kProposedStep] = clipped ? max(next, control_real[kProposedStep]) : next;
+    }
+    control_real[kElapsed] = clipped ? control_real[kTarget] : control_real[kElapsed] + h;
+    control_real[kTakenStep] = h;
+    control_real[kSmallestStep] = min(control_real[kSmallestStep], h);
+    control_real[kLargestStep] = max(control_real[kLargestStep], h);
+    control_uint[kAccepted] = 1u;
+    control_uint[kAcceptedSteps] += 1u;
+    control_uint[kRejectedBefore] = 0u;
+    const uint limit = control_uint[kMaxAccepted];
+    if (clipped || (limit != 0u && control_uint[kAcceptedSteps] >= limit)) control_uint[kActive] = 0u;
+  }
+  if (control_uint[kActive] == 0u) return;
+  // The next attempt's step, stretched to end on the target when it would stop just short of it.
+  const Real step = adaptive ? min(control_real[kProposedStep], control_real[kMaxStep]) : control_real[kFixedStep];
+  const Real remaining = control_real[kTarget] - control_real[kElapsed];
+  const bool clip = step >= remaining * Real(1.0 - 1e-6);
+  const Real next_step = clip ? remaining : step;
+  control_real[kStep] = next_step;
+  control_uint[kClipped] = clip ? 1u : 0u;
+  if (adaptive && next_step < control_real[kMinStep] && !clip) fail(1u, 0u, false);
+}
+
+// sum + value as a compensated (Kahan) sum kept in control_real[slot] and [slot + 1].
+void add_compensated(uint slot, Real value) {
+  precise Real y = value - control_real[slot + 1];
+  precise Real t = control_real[slot] + y;
+  control_real[slot + 1] = (t - control_real[slot]) - y;
+  control_real[slot] = t;
+}
+
+shared Real work_sum[3][kReduceWorkgroup];
+
+void collect_work() {
+  const uint i = gl_LocalInvocationID.x;
+  Real sums[3] = Real[3](Real(0.0), Real(0.0), Real(0.0));
+  for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
+    for (uint k = 0u; k < 3u; ++k) sums[k] += block_work[3 * block + k];
+  }
+  for (uint k = 0u; k < 3u; ++k) work_sum[k][i] = sums[k];
+  barrier();
+  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
+    if (i < stride) {
+      for (uint k = 0u; k < 3u; ++k) work_sum[k][i] += work_sum[k][i + stride];
+    }
+    barrier();
+  }
+  if (i == 0u) {
+    for (uint k = 0u; k < 3u; ++k) add_compensated(kWork + 2u * k, work_sum[k][0]);
+  }
+}
+
+void main() {
+  if (constants.phase == 1u) {
+    if (control_uint[kAccepted] != 0u) collect_work();
+    return;
+  }
+  if (control_uint[kActive] == 0u) {
+    if (gl_LocalInvocationID.x == 0u) control_uint[kAccepted] = 0u;
+    return;
+  }
+  const uint i = gl_LocalInvocationID.x;
+  Real error = Real(0.0);
+  uint worst = 0xffffffffu;
+  for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
+    const Real e = block_error[block];
+    if (e > error || (e == error && block_particle[block] < worst)) {
+      error = e;
+      worst = block_particle[block];
+    }
+  }
+  reduce_largest_error(error, worst);
+  if (i == 0u) decide(largest_error[0], largest_particle[0]);
+}

@@ -1,0 +1,83 @@
+#include "sim/backend.h"
+
+#if CLOTHSIM_HAVE_VULKAN
+#include "gpu/device_integrator.h"
+#include "gpu/gpu_error.h"
+#endif
+
+namespace clothsim {
+
+std::string_view to_string(Backend backend) { return backend == Backend::cpu ? "cpu" : "vulkan"; }
+
+bool parse_backend(std::string_view text, Backend& backend) {
+  if (text == "cpu") {
+    backend = Backend::cpu;
+    return true;
+  }
+  if (text == "vulkan") {
+    backend = Backend::vulkan;
+    return true;
+  }
+  return false;
+}
+
+bool vulkan_backend_built() {
+#if CLOTHSIM_HAVE_VULKAN
+  return true;
+#else
+  return false;
+#endif
+}
+
+BackendFeatures features_of(const ClothModel& model, const IntegratorSettings& integrator) {
+  return {integrator.kind, model.limits, !model.colliders.empty(), model.collision.self};
+}
+
+BackendFeatures features_of(IntegratorKind kind) {
+  BackendFeatures features;
+  features.integrator = kind;
+  return features;
+}
+
+std::string unsupported_by_backend(const BackendFeatures& features, const BackendSettings& backend) {
+  if (backend.kind == Backend::cpu) {
+    return backend.resolved_precision() == Precision::float32 ? "float32 (precision); float32 runs on backend vulkan"
+                                                              : "";
+  }
+  if (features.integrator == IntegratorKind::implicit_euler) return "implicit-euler (integrator.method)";
+  const SpringLimits& limits = features.limits;
+  if (limits.break_strain != SpringLimits::kNever) return "tearing (springs.connector.break_strain)";
+  if (limits.yield_strain != SpringLimits::kNever) return "permanent stretching (springs.connector.yield_strain)";
+  if (limits.adjacent_yield_angle != SpringLimits::kNever) return "creasing (springs.adjacent.yield_angle_deg)";
+  if (limits.opposite_yield_angle != SpringLimits::kNever) return "creasing (springs.opposite.yield_angle_deg)";
+  if (features.colliders) return "obstacles (colliders)";
+  if (features.self_collision) return "self-collision (collision.self)";
+  return "";
+}
+
+std::string backend_refusal(const std::string& unsupported, const BackendSettings& backend) {
+  std::string message = "the " + std::string(to_string(backend.kind)) + " backend does not run " + unsupported;
+  if (backend.kind == Backend::vulkan) message += " yet; use backend cpu (docs/gpu.md lists what runs where)";
+  return message;
+}
+
+std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, const IntegratorSettings& integrator,
+                                                    const ForceOptions& options, const BackendSettings& backend) {
+  const std::string unsupported = unsupported_by_backend(features_of(model, integrator), backend);
+  if (!unsupported.empty()) throw BackendError(backend_refusal(unsupported, backend));
+  if (backend.kind == Backend::cpu) return make_integrator(model, integrator, options);
+#if CLOTHSIM_HAVE_VULKAN
+  try {
+    return std::make_unique<gpu::DeviceIntegrator>(
+        model, integrator, options, gpu::DeviceSelection{backend.device, backend.resolved_precision()});
+  } catch (const gpu::GpuError& error) {
+    throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
+  }
+#else
+  throw BackendError(
+      "this clothsim was built without the Vulkan backend (CLOTHSIM_BUILD_VULKAN=OFF, or Vulkan and glslc were not "
+      "found when it was configured); use --backend cpu");
+#endif
+}
+
+}  // namespace clothsim
