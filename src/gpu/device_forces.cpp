@@ -44,7 +44,7 @@ std::uint32_t count32(std::size_t count, const char* what) {
 // The checks before anything is made on the device.
 Device& checked(Device& device, const ClothModel& model, Precision precision, std::uint32_t power_slots) {
   device.require_precision(precision);
-  device.require_memory(DeviceForces::bytes_for(model, precision, power_slots), "the scene");
+  device.require_memory(DeviceForces::bytes_for(element_counts(model), precision, power_slots), "the scene");
   return device;
 }
 
@@ -77,18 +77,19 @@ std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(con
 }
 
 // The size of every array, bytes.
-std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const ClothModel& model, Precision precision,
+std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const LatticeCounts& counts, Precision precision,
                                                                  std::uint32_t power_slots) {
   using A = DeviceForces;
   const std::uint64_t real = real_size(precision);
-  const std::uint64_t particles = model.particle_count();
-  const std::uint64_t connectors = model.connector_count();
-  const std::uint64_t radials = model.radial_count();
+  const std::uint64_t particles = counts.particles;
+  const std::uint64_t connectors = counts.connectors;
+  const std::uint64_t radials = counts.radials;
+  const std::uint64_t slots = 2 * connectors + 3 * radials;  // ClothModel::force_slot_count()
   std::array<std::uint64_t, A::array_count> bytes{};
   bytes[A::particle_mass] = particles * real;
   bytes[A::environment] = 4 * real;
   bytes[A::gather_offset] = (particles + 1) * 4;
-  bytes[A::gather_slot] = std::uint64_t{model.force_slot_count()} * 4;
+  bytes[A::gather_slot] = slots * 4;
   bytes[A::connector_particles] = connectors * 2 * 4;
   bytes[A::connector_rest_length] = bytes[A::connector_stiffness] = bytes[A::connector_damping] = connectors * real;
   bytes[A::connector_active] = connectors * 4;
@@ -96,7 +97,7 @@ std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const ClothMode
   bytes[A::radial_rest_angle] = bytes[A::radial_stiffness] = bytes[A::radial_damping] = radials * real;
   bytes[A::radial_active] = radials * 4;
   bytes[A::position] = bytes[A::velocity] = bytes[A::force] = particles * 3 * real;
-  bytes[A::slot_force] = std::uint64_t{model.force_slot_count()} * 3 * real;
+  bytes[A::slot_force] = slots * 3 * real;
   bytes[A::element_power] = (connectors + radials) * power_slots * real;
   bytes[A::block_power] = (connectors + radials + kReductionBlock - 1) / kReductionBlock * real;
   bytes[A::damping_power] = real;
@@ -105,9 +106,19 @@ std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const ClothMode
 
 }  // namespace
 
-std::uint64_t DeviceForces::bytes_for(const ClothModel& model, Precision precision, std::uint32_t power_slots) {
+LatticeCounts element_counts(const ClothModel& model) {
+  LatticeCounts counts;
+  counts.particles = model.particle_count();
+  counts.connectors = model.connector_count();
+  counts.radials = model.radial_count();
+  CLOTHSIM_ASSERT(model.force_slot_count() == 2 * counts.connectors + 3 * counts.radials,
+                  "two force slots per connector, three per radial spring");
+  return counts;
+}
+
+std::uint64_t DeviceForces::bytes_for(const LatticeCounts& counts, Precision precision, std::uint32_t power_slots) {
   std::uint64_t total = 0;
-  for (std::uint64_t bytes : array_bytes(model, precision, power_slots)) total += bytes;
+  for (std::uint64_t bytes : array_bytes(counts, precision, power_slots)) total += bytes;
   return total;
 }
 
@@ -127,7 +138,7 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
                    sizeof(ElementPassConstants)),
       gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
       sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
-  const std::array<std::uint64_t, array_count> bytes = array_bytes(model, precision, power_slots);
+  const std::array<std::uint64_t, array_count> bytes = array_bytes(element_counts(model), precision, power_slots);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload_model(model);

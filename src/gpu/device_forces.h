@@ -55,8 +55,9 @@ class DeviceForces {
   // slots, and its damping power into element_power's set `power_slot`.
   void record_element_passes(VkCommandBuffer commands, std::uint32_t power_slot) const;
 
-  // Device memory for a model's arrays, the state and the scratch, bytes.
-  static std::uint64_t bytes_for(const ClothModel& model, Precision precision, std::uint32_t power_slots = 1);
+  // Device memory for the arrays of a model of these counts (rows and cols unused), the state
+  // and the scratch, bytes.
+  static std::uint64_t bytes_for(const LatticeCounts& counts, Precision precision, std::uint32_t power_slots = 1);
 
   // The device's arrays, by the CPU's names: the state, the model, the scratch, the results.
   enum Array : std::uint32_t {
@@ -99,5 +100,8 @@ class DeviceForces {
   std::vector<Buffer> arrays_;  // [array_count]
   ComputePipeline connector_pass_, radial_pass_, gather_pass_, sum_pass_;
 };
+
+// A model's particle, connector and radial spring counts (rows and cols 0).
+LatticeCounts element_counts(const ClothModel& model);
 
 }  // namespace clothsim::gpu

@@ -43,13 +43,13 @@ std::uint32_t workgroups_of(std::uint64_t items) {
 }
 
 // Sizes of the integrator's own arrays, bytes.
-std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const ClothModel& model, int stages,
+std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const LatticeCounts& counts, int stages,
                                                                      Precision precision,
                                                                      std::uint32_t anchor_capacity) {
   using A = DeviceIntegrator;
   const std::uint64_t real = real_size(precision);
-  const std::uint64_t n = model.particle_count();
-  const std::uint64_t elements = model.connector_count() + model.radial_count();
+  const std::uint64_t n = counts.particles;
+  const std::uint64_t elements = counts.connectors + counts.radials;
   const std::uint64_t s = static_cast<std::uint64_t>(stages);
   std::array<std::uint64_t, A::array_count> bytes{};
   bytes[A::state_position] = bytes[A::state_velocity] = bytes[A::trial_position] = bytes[A::trial_velocity] =
@@ -68,14 +68,13 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const Cloth
   return bytes;
 }
 
-std::uint32_t anchor_capacity_for(const ClothModel& model) {
-  return static_cast<std::uint32_t>(std::max<std::size_t>(model.anchors.size(), 16));
-}
+std::uint32_t anchor_capacity_for(std::size_t anchors) { return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16)); }
 
 // The checks before anything is allocated: the device, its precision and its memory.
 Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision) {
   device.require_precision(precision);
-  device.require_memory(DeviceIntegrator::device_bytes_for(model, kind, precision), "the scene");
+  device.require_memory(DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision),
+                        "the scene");
   return device;
 }
 
@@ -109,10 +108,11 @@ ComputePipeline make_pass(Device& device, const char* name, Precision precision,
 
 }  // namespace
 
-std::uint64_t DeviceIntegrator::device_bytes_for(const ClothModel& model, IntegratorKind kind, Precision precision) {
+std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
+                                                 Precision precision) {
   const int stages = tableau_for(kind).stages;
-  std::uint64_t total = DeviceForces::bytes_for(model, precision, static_cast<std::uint32_t>(stages));
-  for (std::uint64_t bytes : array_bytes(model, stages, precision, anchor_capacity_for(model))) total += bytes;
+  std::uint64_t total = DeviceForces::bytes_for(counts, precision, static_cast<std::uint32_t>(stages));
+  for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_capacity_for(anchors))) total += bytes;
   return total;
 }
 
@@ -130,7 +130,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
               static_cast<std::uint32_t>(tableau_.stages)),
       particles_(forces_.particle_count()),
       elements_(forces_.element_count()),
-      anchor_capacity_(anchor_capacity_for(model)),
+      anchor_capacity_(anchor_capacity_for(model.anchors.size())),
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
       stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 10, sizeof(StagePassConstants))),
@@ -138,7 +138,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       solution_pass_(make_pass(device_, "rk_solution", precision_, 12, sizeof(StagePassConstants), kReduceWorkgroup)),
       control_pass_(make_pass(device_, "rk_control", precision_, 5, sizeof(ReducePassConstants), kReduceWorkgroup)),
       accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)) {
-  const auto bytes = array_bytes(model, tableau_.stages, precision_, anchor_capacity_);
+  const auto bytes = array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload(device_, arrays_[rows], real_bytes(nystrom_rows(tableau_), precision_));
@@ -202,13 +202,16 @@ VkCommandBuffer DeviceIntegrator::attempts_buffer(std::uint32_t attempts) {
 }
 
 void DeviceIntegrator::upload_changes(const ClothState& state) {
-  if (model_.revision != model_revision_ || exchanged_position_.empty()) {
+  // A changed model may have freed an anchored particle, whose state the device holds only as
+  // its path left it: the state goes up with the model.
+  const bool model_changed = model_.revision != model_revision_ || exchanged_position_.empty();
+  if (model_changed) {
     if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
     upload(device_, arrays_[inverse_mass], real_bytes(model_.particle_inverse_mass, precision_));
     upload(device_, arrays_[particle_anchor], bytes_of(model_.particle_anchor));
     model_revision_ = model_.revision;
   }
-  if (state.position != exchanged_position_ || state.velocity != exchanged_velocity_) {
+  if (model_changed || state.position != exchanged_position_ || state.velocity != exchanged_velocity_) {
     upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
     upload(device_, arrays_[state_velocity], vector_bytes(state.velocity, precision_));
     exchanged_position_ = state.position;
@@ -253,8 +256,6 @@ void DeviceIntegrator::read_state(ClothState& state) {
   state.position = vectors_from_bytes(bytes, precision_);
   download(device_, arrays_[state_velocity], bytes);
   state.velocity = vectors_from_bytes(bytes, precision_);
-  exchanged_position_ = state.position;
-  exchanged_velocity_ = state.velocity;
 }
 
 StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32_t max_accepted) {
@@ -332,6 +333,15 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
   }
   const bool at_target = reals[kElapsed] >= reals[kTarget];
   state.time = at_target ? t_limit : t0 + reals[kElapsed];
+  // Anchored particles as ExplicitRungeKutta::accept leaves them: on their paths at the new time,
+  // with the velocity after it (a keyframed path's next segment at a key). The device keeps its
+  // own copy, which it never reads: each advance puts anchored particles on their paths.
+  for (const Anchor& anchor : model_.anchors) {
+    state.position[anchor.particle] = anchor.path.position(state.time);
+    state.velocity[anchor.particle] = anchor.path.velocity_at(state.time);
+  }
+  exchanged_position_ = state.position;
+  exchanged_velocity_ = state.velocity;
   state.damping_work += reals[kWork] + reals[kWork + 1];
   state.drag_work += reals[kWork + 2] + reals[kWork + 3];
   state.anchor_work += reals[kWork + 4] + reals[kWork + 5];

@@ -68,8 +68,10 @@ class DeviceIntegrator final : public Integrator {
 
   const DeviceInfo& device_info() const { return device_.info(); }
   Precision precision() const { return precision_; }
-  // Device memory the integrator holds for `model`, bytes: what is checked before allocating.
-  static std::uint64_t device_bytes_for(const ClothModel& model, IntegratorKind kind, Precision precision);
+  // Device memory the integrator holds for a model of these counts and anchors, bytes: what is
+  // checked before allocating, and before a run builds its model (sim/backend.h).
+  static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
+                                        Precision precision);
 
   // The device's arrays besides DeviceForces' (which holds the stage state, the model and the
   // element scratch).

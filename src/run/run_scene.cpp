@@ -16,6 +16,7 @@
 #include "io/checkpoint.h"
 #include "io/npy.h"
 #include "io/run_checkpoints.h"
+#include "io/run_memory.h"
 #include "run/run_folders.h"
 #include "run/run_recorder.h"
 #include "scene/parameters.h"
@@ -182,6 +183,13 @@ RunResult finish_run(const SceneSpec& spec, const RenderPlan& plan, std::unique_
   return result;
 }
 
+// The scene's backend has its device, with the memory for the scene (sim/backend.h): checked from
+// the lattice's shape, before its model is built. Throws BackendError.
+void check_backend_fits(const SceneSpec& spec) {
+  const SimulationShape shape = simulation_shape(spec);
+  clothsim::check_backend_fits(shape.counts, shape.anchors, spec.integrator.kind, spec.backend);
+}
+
 }  // namespace
 
 RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
@@ -191,6 +199,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   //    anything exists on disk.
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
   observer.check_memory(spec, *render_plan);  // a scene too large is refused before its model is built
+  check_backend_fits(spec);                   // so is one without its device, or too large for it
   ClothModel model = build_model(spec);
   RunWriter writer(options.out.empty() ? std::filesystem::path(default_output_folder(spec)) : options.out, options.info,
                    options.out_source);
@@ -230,6 +239,7 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   const ResumeTarget target = find_resume_target(path);
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
   observer.check_memory(spec, *parse_render_flags(options.render));
+  check_backend_fits(spec);
   const Stopwatch wall;
   std::unique_ptr<Simulation> simulation = make_unique_simulation(spec);
   RunCheckpoint run;

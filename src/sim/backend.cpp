@@ -6,6 +6,13 @@
 #endif
 
 namespace clothsim {
+namespace {
+
+[[maybe_unused]] constexpr const char* kNoVulkan =
+    "this clothsim was built without the Vulkan backend (CLOTHSIM_BUILD_VULKAN=OFF, or Vulkan and glslc were not "
+    "found when it was configured); use backend cpu";
+
+}  // namespace
 
 std::string_view to_string(Backend backend) { return backend == Backend::cpu ? "cpu" : "vulkan"; }
 
@@ -61,6 +68,27 @@ std::string backend_refusal(const std::string& unsupported, const BackendSetting
   return message;
 }
 
+void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, IntegratorKind integrator,
+                        const BackendSettings& backend) {
+  if (backend.kind == Backend::cpu) return;
+#if CLOTHSIM_HAVE_VULKAN
+  try {
+    const gpu::Device device(gpu::DeviceOptions{backend.device, false});
+    device.require_precision(backend.resolved_precision());
+    device.require_memory(
+        gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator, backend.resolved_precision()),
+        "the scene");
+  } catch (const gpu::GpuError& error) {
+    throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
+  }
+#else
+  (void)counts;
+  (void)anchors;
+  (void)integrator;
+  throw BackendError(kNoVulkan);
+#endif
+}
+
 std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, const IntegratorSettings& integrator,
                                                     const ForceOptions& options, const BackendSettings& backend) {
   const std::string unsupported = unsupported_by_backend(features_of(model, integrator), backend);
@@ -74,9 +102,7 @@ std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, con
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
   }
 #else
-  throw BackendError(
-      "this clothsim was built without the Vulkan backend (CLOTHSIM_BUILD_VULKAN=OFF, or Vulkan and glslc were not "
-      "found when it was configured); use --backend cpu");
+  throw BackendError(kNoVulkan);
 #endif
 }
 
