@@ -1,0 +1,131 @@
+// `--backend vulkan` end to end (docs/gpu.md): a run on the device writes the folder a CPU run
+// writes, with the backend recorded in its scene; what the backend cannot run, no device and a
+// scene too large for the device are refused with exit 2 and nothing written. And the bench on the
+// device. Without the Vulkan backend in the build, asking for it is the same clear refusal.
+#include <gtest/gtest.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_harness.h"
+#include "test_checks.h"
+
+namespace clothsim {
+namespace {
+
+namespace fs = std::filesystem;
+using checks::read_text;
+using cli_harness::contains;
+using cli_harness::describe;
+using cli_harness::entries;
+using cli_harness::spawn_clothsim;
+using cli_harness::wait_clothsim;
+using Result = checks::ProcessResult;
+
+class BackendTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    root_ = fs::path(CLOTHSIM_TEST_TMPDIR) / "backend" / info->name();
+    fs::remove_all(root_);
+    work_ = root_ / "work";
+    fs::create_directories(work_);
+  }
+
+  Result clothsim(const std::vector<std::string>& args) const {
+    return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
+  }
+
+  // A refusal: exit 2, the message, nothing written.
+  void expect_refused(const Result& result, const std::string& message) const {
+    EXPECT_EQ(result.exit_code, 2) << describe(result);
+    EXPECT_TRUE(contains(result.err, message));
+    EXPECT_TRUE(entries(work_).empty()) << "written: " << entries(work_).size() << " paths";
+  }
+
+  fs::path root_;
+  fs::path work_;
+};
+
+#if defined(CLOTHSIM_HAVE_VULKAN)
+
+TEST_F(BackendTest, ARunOnTheDeviceWritesTheCpusFolder) {
+  const std::vector<std::string> common = {"run", "paper-fig5", "--duration", "0.1", "--render", "none"};
+  std::vector<std::string> device = common;
+  device.insert(device.end(), {"--backend", "vulkan", "--out", "device"});
+  const Result result = clothsim(device);
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  std::vector<std::string> cpu = common;
+  cpu.insert(cpu.end(), {"--out", "cpu"});
+  ASSERT_EQ(clothsim(cpu).exit_code, 0);
+  std::set<std::string> cpu_files = entries(work_ / "cpu");
+  EXPECT_EQ(entries(work_ / "device"), cpu_files);
+  const nlohmann::json scene = nlohmann::json::parse(read_text(work_ / "device" / "scene.json"));
+  EXPECT_EQ(scene["backend"], "vulkan");
+  EXPECT_TRUE(scene["precision"].is_null());  // the backend's default, float32
+  const nlohmann::json summary = nlohmann::json::parse(read_text(work_ / "device" / "summary.json"));
+  EXPECT_EQ(summary["status"], "completed");
+  // The positions, 7 frames of 121 particles, agree with the CPU's within float32's (the library
+  // tests hold the trajectories: tests/gpu).
+  EXPECT_EQ(read_text(work_ / "device" / "positions.npy").size(), read_text(work_ / "cpu" / "positions.npy").size());
+}
+
+TEST_F(BackendTest, WhatTheDeviceDoesNotRunIsRefused) {
+  expect_refused(clothsim({"run", "tear-pull", "--backend", "vulkan", "--render", "none"}),
+                 "field 'backend': the vulkan backend does not run implicit-euler (integrator.method) yet");
+  expect_refused(clothsim({"run", "paper-fig4", "--backend", "vulkan", "--render", "none"}),
+                 "does not run self-collision (collision.self) yet");
+  expect_refused(clothsim({"run", "paper-fig5", "--precision", "float32", "--render", "none"}),
+                 "the cpu backend does not run float32 (precision)");
+  expect_refused(clothsim({"run", "paper-fig5", "--backend", "gpu", "--render", "none"}),
+                 "field 'backend': must be one of cpu, vulkan, got \"gpu\"");
+}
+
+TEST_F(BackendTest, NoDeviceAndTooLargeAreRefusedBeforeAnythingIsWritten) {
+  expect_refused(clothsim({"run", "paper-fig5", "--backend", "vulkan", "--device", "9", "--render", "none"}),
+                 "the vulkan backend cannot run: no Vulkan device 9");
+  // 3,000 x 3,000 particles need more than lavapipe's 2 GiB, and more than any device this test
+  // runs on that has less than 8 GiB.
+  const Result large = clothsim({"run", "--paper-args", "3000,3000,1,4,1,1400,200,80,5,1", "--backend", "vulkan",
+                                 "--precision", "float64", "--render", "none", "--duration", "0.01"});
+  if (large.exit_code != 0) {
+    expect_refused(large, "MiB of device memory");
+  }
+  ::setenv("VK_ICD_FILENAMES", "/nonexistent/no_driver.json", 1);
+  ::setenv("VK_DRIVER_FILES", "/nonexistent/no_driver.json", 1);
+  const Result none = clothsim({"run", "paper-fig5", "--backend", "vulkan", "--render", "none"});
+  ::unsetenv("VK_ICD_FILENAMES");
+  ::unsetenv("VK_DRIVER_FILES");
+  expect_refused(none, "the vulkan backend cannot run: no Vulkan device");
+}
+
+TEST_F(BackendTest, TheBenchRunsOnTheDevice) {
+  const Result result = clothsim({"bench", "--backend", "vulkan", "--sizes", "9", "--seconds", "0.2", "--sim-cap",
+                                  "0.05", "--csv", "bench.csv"});
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  const std::string csv = read_text(work_ / "bench.csv");
+  // rkf45, rk4 and symplectic-euler: what the backend runs (implicit-euler is the CPU's).
+  EXPECT_TRUE(contains(csv, ",rkf45,vulkan-float32,"));
+  EXPECT_TRUE(contains(csv, ",rk4,vulkan-float32,"));
+  EXPECT_TRUE(contains(csv, ",symplectic-euler,vulkan-float32,"));
+  EXPECT_FALSE(contains(csv, "implicit-euler"));
+  const Result refused = clothsim({"bench", "--backend", "vulkan", "--integrators", "implicit-euler"});
+  EXPECT_EQ(refused.exit_code, 2) << describe(refused);
+  EXPECT_TRUE(contains(refused.err, "does not run implicit-euler"));
+}
+
+#else
+
+TEST_F(BackendTest, WithoutVulkanInTheBuildTheBackendIsRefused) {
+  expect_refused(clothsim({"run", "paper-fig5", "--backend", "vulkan", "--render", "none"}),
+                 "built without the Vulkan backend");
+}
+
+#endif
+
+}  // namespace
+}  // namespace clothsim
