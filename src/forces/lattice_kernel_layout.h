@@ -1,7 +1,9 @@
 // The lattice kernel's own layout, shared by its two source files: the scratch arrays and the
 // order of a particle's radial springs (lattice_kernel.cpp, the vector loops), and the walk over
 // the lattice's springs in the model's order (lattice_kernel_parameters.cpp, which prepares the
-// scratch and copies the parameters). Private to forces/: the design is in lattice_kernel.h.
+// scratch and copies the parameters), and the Vulkan backend's lattice path, which lays out the
+// springs' parameters by particle the same way (gpu/device_integrator.cpp). The design is in
+// lattice_kernel.h.
 #pragma once
 
 #include <array>

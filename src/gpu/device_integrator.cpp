@@ -13,6 +13,7 @@
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
+#include "forces/lattice_kernel_layout.h"
 #include "gpu/shaders/device_step.h"
 #include "integrators/dynamics.h"
 #include "integrators/explicit_runge_kutta.h"
@@ -63,8 +64,10 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const Latti
   bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kAnchorReals * real;
   bytes[A::block_error] = workgroups_of(n) * real;
   bytes[A::block_particle] = workgroups_of(n) * 4;
-  bytes[A::particle_power] = s * 2 * n * real;
+  bytes[A::particle_power] = s * 3 * n * real;
   bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
+  bytes[A::lattice_params] = n * kLatticeParams * real;
+  bytes[A::lattice_forces] = n * kLatticeForces * real;
   return bytes;
 }
 
@@ -124,6 +127,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       tableau_(tableau_for(settings.kind)),
       adaptive_(settings.kind == IntegratorKind::rkf45),
       symplectic_(settings.kind == IntegratorKind::symplectic_euler),
+      lattice_(model.layout == ModelLayout::lattice && options.kernel != ForceKernel::general),
       precision_(selection.precision),
       device_(DeviceOptions{selection.index, selection.validation}),
       forces_(checked(device_, model, settings.kind, selection.precision), model, selection.precision, options.terms,
@@ -134,7 +138,8 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
       stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 10, sizeof(StagePassConstants))),
-      acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 14, sizeof(StagePassConstants))),
+      lattice_pass_(make_pass(device_, "lattice_elements", precision_, 6, sizeof(LatticePassConstants))),
+      acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 15, sizeof(StagePassConstants))),
       solution_pass_(make_pass(device_, "rk_solution", precision_, 12, sizeof(StagePassConstants), kReduceWorkgroup)),
       control_pass_(make_pass(device_, "rk_control", precision_, 5, sizeof(ReducePassConstants), kReduceWorkgroup)),
       accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)) {
@@ -158,7 +163,10 @@ void DeviceIntegrator::bind_passes() {
   bind(acceleration_pass_,
        {forces(F::velocity), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
         forces(F::gather_offset), forces(F::gather_slot), forces(F::slot_force), own(rows), own(control_real),
-        own(control_uint), own(particle_anchor), own(anchor_paths), own(acceleration), own(particle_power)});
+        own(control_uint), own(particle_anchor), own(anchor_paths), own(acceleration), own(particle_power),
+        own(lattice_forces)});
+  bind(lattice_pass_, {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces),
+                       own(particle_power), own(control_uint)});
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
                         own(trial_velocity), own(block_error), own(block_particle)});
@@ -172,18 +180,26 @@ DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with
 
 void DeviceIntegrator::record_attempt(VkCommandBuffer commands) const {
   const auto stages = static_cast<std::uint32_t>(tableau_.stages);
+  const std::uint32_t lattice_cols = lattice_ ? static_cast<std::uint32_t>(model_.cols) : 0u;
+  const std::uint32_t damped = (options_.terms & kSpringDamping) != 0 ? 1u : 0u;
   for (std::uint32_t i = 0; i < stages; ++i) {
-    const StagePassConstants stage{particles_, i, stages, 0};
+    const StagePassConstants stage{particles_, i, stages, 0, lattice_cols};
     stage_state_pass_.dispatch(commands, &stage, particles_);
-    forces_.record_element_passes(commands, i);
+    if (lattice_) {
+      const LatticePassConstants lattice{particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i};
+      lattice_pass_.dispatch(commands, &lattice, particles_);
+    } else {
+      forces_.record_element_passes(commands, i);
+    }
     acceleration_pass_.dispatch(commands, &stage, particles_);
   }
-  const StagePassConstants solution{particles_, 0, stages, symplectic_ ? 1u : 0u};
+  const StagePassConstants solution{particles_, 0, stages, symplectic_ ? 1u : 0u, lattice_cols};
   solution_pass_.dispatch(commands, &solution, particles_);
   const ReducePassConstants decide{particles_, workgroups_of(particles_), 0, stages};
   control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
-  const std::uint32_t accept_items = std::max(particles_, elements_);
-  const AcceptPassConstants accept{particles_, elements_, stages, workgroups_of(accept_items)};
+  const std::uint32_t element_items = lattice_ ? 0u : elements_;  // the lattice path's damping is per particle
+  const std::uint32_t accept_items = std::max(particles_, element_items);
+  const AcceptPassConstants accept{particles_, element_items, stages, workgroups_of(accept_items), lattice_ ? 1u : 0u};
   accept_pass_.dispatch(commands, &accept, accept_items);
   const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages};
   control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
@@ -209,6 +225,7 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
     if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
     upload(device_, arrays_[inverse_mass], real_bytes(model_.particle_inverse_mass, precision_));
     upload(device_, arrays_[particle_anchor], bytes_of(model_.particle_anchor));
+    if (lattice_) upload_lattice_params();
     model_revision_ = model_.revision;
   }
   if (model_changed || state.position != exchanged_position_ || state.velocity != exchanged_velocity_) {
@@ -217,6 +234,34 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
     exchanged_position_ = state.position;
     exchanged_velocity_ = state.velocity;
   }
+}
+
+void DeviceIntegrator::upload_lattice_params() {
+  // Active: live and its term on (the CPU's condition, as DeviceForces' flags); missing springs
+  // at the border stay 0.
+  const ForceTerms terms = options_.terms;
+  std::vector<double> params(std::size_t{particles_} * kLatticeParams, 0.0);
+  lattice_layout::for_each_lattice_spring(
+      static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols),
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];
+        c[0] = model_.connector_rest_length[e];
+        c[1] = model_.connector_stiffness[e];
+        c[2] = model_.connector_damping[e];
+        c[3] = (terms & kConnectorSprings) != 0 && model_.connector_live[e] != 0 ? 1.0 : 0.0;
+        return true;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        double* c = &params[std::size_t{p} * kLatticeParams + 8 + 4 * pair];
+        const ForceTerms term =
+            model_.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
+        c[0] = model_.radial_rest_angle[r];
+        c[1] = model_.radial_stiffness[r];
+        c[2] = model_.radial_damping[r];
+        c[3] = (terms & term) != 0 && model_.radial_live[r] != 0 ? 1.0 : 0.0;
+        return true;
+      });
+  upload(device_, arrays_[lattice_params], real_bytes(params, precision_));
 }
 
 void DeviceIntegrator::write_anchor_paths(double t0) {

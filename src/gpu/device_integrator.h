@@ -5,7 +5,9 @@
 // a fixed sequence of passes, recorded once into a command buffer and submitted as often as
 // needed (docs/gpu.md, "The step on the device"):
 //   for each stage i:  rk_stage_state        y_i = y + h sum_j a_ij (V_j, K_j); anchors on their paths
-//                      connector, radial     the element forces into slots (DeviceForces), damping powers
+//                      lattice_elements      each particle's own springs: their forces on it and on its
+//                                            four neighbours, their damping power (a lattice sheet), or
+//                      connector, radial     the element forces into slots (DeviceForces, any sheet)
 //                      stage_acceleration    K_i: gathered force / mass, path accelerations; drag and anchor powers
 //   rk_solution        the trial state and, for RKF45, each workgroup's largest scaled error
 //   rk_control (0)     the largest error; accept or reject; the next step (PI controller), clipped to the target
@@ -67,9 +69,13 @@ class DeviceIntegrator final : public Integrator {
   void transfer_state(StateArchive& archive) override;
 
   const DeviceInfo& device_info() const { return device_.info(); }
+  // True on the lattice path: each particle evaluates the springs it owns (lattice_elements);
+  // false on the general path of element passes and force slots.
+  bool lattice_path() const { return lattice_; }
   Precision precision() const { return precision_; }
   // Device memory the integrator holds for a model of these counts and anchors, bytes: what is
-  // checked before allocating, and before a run builds its model (sim/backend.h).
+  // checked before allocating, and before a run builds its model (sim/backend.h). The lattice
+  // path's arrays are counted whether or not the model takes it.
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
                                         Precision precision);
 
@@ -89,8 +95,10 @@ class DeviceIntegrator final : public Integrator {
     trial_velocity,   // [3 particles]
     block_error,      // [solution workgroups]
     block_particle,   // [solution workgroups], uint
-    particle_power,   // [stages][2][particles], W: drag, anchor
+    particle_power,   // [stages][3][particles], W: drag, anchor, damping (the lattice path)
     block_work,       // [accept workgroups][3], J
+    lattice_params,   // [particles][kLatticeParams] (the lattice path)
+    lattice_forces,   // [particles][kLatticeForces] (the lattice path)
     array_count
   };
 
@@ -106,6 +114,8 @@ class DeviceIntegrator final : public Integrator {
   // Binds every pass's arrays (again after the anchor table grows).
   void bind_passes();
   void read_state(ClothState& state);
+  // The lattice path's per-particle spring parameters, from the model.
+  void upload_lattice_params();
 
   const ClothModel& model_;
   IntegratorSettings settings_;
@@ -113,13 +123,14 @@ class DeviceIntegrator final : public Integrator {
   ButcherTableau tableau_;
   bool adaptive_;
   bool symplectic_;
+  bool lattice_;
   Precision precision_;
   Device device_;
   DeviceForces forces_;
   std::uint32_t particles_, elements_, anchor_capacity_;
   std::vector<Buffer> arrays_;  // [array_count]
   Buffer control_real_readback_, control_uint_readback_;
-  ComputePipeline stage_state_pass_, acceleration_pass_, solution_pass_, control_pass_, accept_pass_;
+  ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_, accept_pass_;
   std::map<std::uint32_t, VkCommandBuffer> recorded_;  // by attempts per submission
 
   // What the host last exchanged with the device.

@@ -65,12 +65,28 @@ CLOTHSIM_SLOT kRowReals = 1 + 2 * kMaxDeviceStages;
 // which covers every AnchorPath kind between anchor events (gpu/device_integrator.cpp).
 CLOTHSIM_SLOT kAnchorReals = 11;  // x0 (3), v (3), A (3), omega, theta0
 
+// The lattice path (lattice_elements.comp): per particle, its east and south connectors (rest
+// length, stiffness, damping, active) and its six radial springs (rest angle, stiffness, damping,
+// active) in `lattice_params`; its springs' force on itself (3), on its four neighbours (4 x 3)
+// in `lattice_forces`.
+CLOTHSIM_SLOT kLatticeParams = 32;
+CLOTHSIM_SLOT kLatticeForces = 15;
+
 // The passes' push constants.
 struct StagePassConstants {
   uint particle_count;
-  uint stage;       // which row of `rows` and which acceleration array
-  uint stages;      // the method's stage count
-  uint symplectic;  // rk_solution: 1 for symplectic Euler's update instead of the row b
+  uint stage;         // which row of `rows` and which acceleration array
+  uint stages;        // the method's stage count
+  uint symplectic;    // rk_solution: 1 for symplectic Euler's update instead of the row b
+  uint lattice_cols;  // stage_acceleration: the lattice's columns on the lattice path; 0: the general path
+};
+
+struct LatticePassConstants {
+  uint particle_count;
+  uint rows;
+  uint cols;
+  uint damped;  // 1: the springs' damping acts (kSpringDamping)
+  uint stage;   // where the damping power goes in particle_power
 };
 
 struct ReducePassConstants {
@@ -85,6 +101,7 @@ struct AcceptPassConstants {
   uint element_count;  // connectors + radial springs
   uint stages;
   uint blocks;  // the pass's workgroups: ceil(max(particles, elements) / kReduceWorkgroup)
+  uint particle_damping;  // 1: the damping power is per particle (the lattice path; element_count 0)
 };
 
 // The workgroup size of the passes that reduce in shared memory (rk_solution, rk_accept,

@@ -3,8 +3,9 @@
 // An accepted step on the device (ExplicitRungeKutta::accept and combine_solution's work
 // integrals on the CPU): when rk_control accepted the attempt, each particle takes its trial
 // state, and each particle and element its share of the step's work, h sum_i b_i P_i (damping
-// power per element; drag and anchor power per particle), summed per workgroup in shared memory
-// for rk_control's phase 1. Invocations cover max(particles, elements).
+// power per element, or per particle on the lattice path; drag and anchor power per particle),
+// summed per workgroup in shared memory for rk_control's phase 1. Invocations cover max(particles,
+// elements).
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
@@ -19,7 +20,7 @@ layout(std430, binding = 3) readonly buffer TrialVelocity { Real trial_velocity[
 layout(std430, binding = 4) writeonly buffer Position { Real position[]; };
 layout(std430, binding = 5) writeonly buffer Velocity { Real velocity[]; };
 layout(std430, binding = 6) readonly buffer ElementPower { Real element_power[]; };    // [stages][elements], W
-layout(std430, binding = 7) readonly buffer ParticlePower { Real particle_power[]; };  // [stages][2][particles], W
+layout(std430, binding = 7) readonly buffer ParticlePower { Real particle_power[]; };  // [stages][3][particles], W
 layout(std430, binding = 8) readonly buffer Rows { Real rows[]; };
 layout(std430, binding = 9) writeonly buffer BlockWork { Real block_work[]; };  // [blocks][3], J
 
@@ -42,8 +43,9 @@ void main() {
       velocity[3 * index + k] = trial_velocity[3 * index + k];
     }
     for (uint l = 0u; l < constants.stages; ++l) {
-      drag += rows[weights + l] * particle_power[2 * l * n + index];
-      anchor += rows[weights + l] * particle_power[(2 * l + 1) * n + index];
+      drag += rows[weights + l] * particle_power[3 * l * n + index];
+      anchor += rows[weights + l] * particle_power[(3 * l + 1) * n + index];
+      if (constants.particle_damping != 0u) damping += rows[weights + l] * particle_power[(3 * l + 2) * n + index];
     }
   }
   if (index < elements) {

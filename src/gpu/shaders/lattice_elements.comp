@@ -1,0 +1,88 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The element forces of a lattice sheet by particle, without element lists or force slots: the
+// device's form of the CPU's structured kernel (forces/lattice_kernel.h). Each particle evaluates
+// the springs it owns, in build_lattice's order: its east and south connectors and the six radial
+// springs centred at it (arms 0 east, 1 south, 2 west, 3 north; pairs (E,S), (S,W), (W,N), (N,E),
+// (E,W), (S,N)), with element_math.inc's formulas, and writes the sum of their forces on itself,
+// their forces on each of its four neighbours (which stage_acceleration gathers), and their
+// damping power. Parameters come per particle (lattice_params), so torn, plastic and creased
+// sheets take this path too: a missing, broken or switched-off spring has active 0.
+#include "gpu/shaders/element_math.glsl"
+#include "gpu/shaders/device_step.h"
+
+layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
+layout(local_size_x_id = 0) in;
+#include "gpu/shaders/invocation.glsl"
+
+layout(std430, binding = 0) readonly buffer Position { Real position[]; };    // stage state [3 particles], m
+layout(std430, binding = 1) readonly buffer Velocity { Real velocity[]; };    // m/s
+layout(std430, binding = 2) readonly buffer Params { Real lattice_params[]; };  // [particles][kLatticeParams]
+layout(std430, binding = 3) writeonly buffer Forces { Real lattice_forces[]; };  // [particles][kLatticeForces]
+layout(std430, binding = 4) writeonly buffer ParticlePower { Real particle_power[]; };  // [stages][3][particles]
+layout(std430, binding = 5) readonly buffer ControlUint { uint control_uint[]; };
+
+layout(push_constant) uniform Constants { LatticePassConstants constants; };
+
+Vec3 load_position(uint i) { return Vec3(position[3 * i], position[3 * i + 1], position[3 * i + 2]); }
+Vec3 load_velocity(uint i) { return Vec3(velocity[3 * i], velocity[3 * i + 1], velocity[3 * i + 2]); }
+
+void main() {
+  const uint p = invocation_index();
+  const uint n = constants.particle_count;
+  if (p >= n || control_uint[kActive] == 0u) return;
+  const uint cols = constants.cols;
+  const uint row = p / cols;
+  const uint col = p % cols;
+  // The neighbour in each direction (0 east, 1 south, 2 west, 3 north), where there is one.
+  const bool has[4] = bool[4](col + 1u < cols, row + 1u < constants.rows, col > 0u, row > 0u);
+  const uint neighbour[4] = uint[4](p + 1u, p + cols, p - 1u, p - cols);
+  const Vec3 x = load_position(p);
+  const Vec3 v = load_velocity(p);
+  Vec3 arm_x[4];
+  Vec3 arm_v[4];
+  for (uint d = 0u; d < 4u; ++d) {
+    arm_x[d] = has[d] ? load_position(neighbour[d]) : x;
+    arm_v[d] = has[d] ? load_velocity(neighbour[d]) : v;
+  }
+  const uint base = p * kLatticeParams;
+  const Real damped = constants.damped != 0u ? Real(1.0) : Real(0.0);
+  Vec3 own = Vec3(0.0);
+  Vec3 to[4] = Vec3[4](Vec3(0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0));
+  Real power = Real(0.0);
+  // East (d 0) and south (d 1) connectors: rest length, stiffness, damping, active.
+  for (uint d = 0u; d < 2u; ++d) {
+    const uint c = base + 4u * d;
+    if (!has[d] || lattice_params[c + 3u] == Real(0.0)) continue;
+    const ConnectorForce f = connector_force(x, arm_x[d], v, arm_v[d], lattice_params[c], lattice_params[c + 1u],
+                                             damped * lattice_params[c + 2u]);
+    own += f.force_on_a;
+    to[d] -= f.force_on_a;
+    power += f.damping_power;
+  }
+  // The six radial springs: rest angle, stiffness, damping, active.
+  const uint arm_b[6] = uint[6](0u, 1u, 2u, 3u, 0u, 1u);
+  const uint arm_c[6] = uint[6](1u, 2u, 3u, 0u, 2u, 3u);
+  for (uint k = 0u; k < 6u; ++k) {
+    const uint r = base + 8u + 4u * k;
+    const uint b = arm_b[k];
+    const uint c = arm_c[k];
+    if (!has[b] || !has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
+    const RadialForce f = radial_force(x, arm_x[b], arm_x[c], v, arm_v[b], arm_v[c], lattice_params[r],
+                                       lattice_params[r + 1u], damped * lattice_params[r + 2u]);
+    own -= f.force_on_b + f.force_on_c;
+    to[b] += f.force_on_b;
+    to[c] += f.force_on_c;
+    power += f.damping_power;
+  }
+  const uint slot = p * kLatticeForces;
+  lattice_forces[slot] = own.x;
+  lattice_forces[slot + 1u] = own.y;
+  lattice_forces[slot + 2u] = own.z;
+  for (uint d = 0u; d < 4u; ++d) {
+    lattice_forces[slot + 3u + 3u * d] = to[d].x;
+    lattice_forces[slot + 4u + 3u * d] = to[d].y;
+    lattice_forces[slot + 5u + 3u * d] = to[d].z;
+  }
+  particle_power[(3u * constants.stage + 2u) * n + p] = power;
+}
