@@ -75,6 +75,36 @@ TEST(Session, ScriptedRunsAreReproducible) {
   EXPECT_EQ(first.velocity, second.velocity);
 }
 
+#if defined(CLOTHSIM_HAVE_VULKAN)
+// The viewer on the Vulkan backend (`clothsim view --backend vulkan`): the same script (a drag
+// that adds a driven anchor and moves it, a pin, live edits of a spring family and of the
+// integrator, a release) plays on the device as on the CPU. float64, so the two differ by the
+// error control's slack only.
+TEST(Session, AScriptPlaysOnTheVulkanBackendAsOnTheCpu) {
+  const Script script = parse_script(R"({"events": [
+      {"at": 0.1, "drag": {"row": 4, "col": 2, "to": [0, 2, 3], "duration": 0.3}},
+      {"at": 0.2, "pin": {"row": 0, "col": 0}},
+      {"at": 0.3, "set": {"springs.adjacent.stiffness": 40, "integrator.method": "rk4", "integrator.time_step": 0.0002}},
+      {"at": 0.5, "release": {"row": 4, "col": 2}}]})",
+                                     "run.json");
+  const auto run = [&script](const BackendSettings& backend) {
+    SceneSpec scene = small_scene();
+    scene.backend = backend;
+    Session session(scene);
+    ScriptPlayer player(script, kFrameTime);
+    play(session, player, 45);
+    return session.simulation().state();
+  };
+  const ClothState cpu = run(BackendSettings{});
+  const ClothState device = run(BackendSettings{Backend::vulkan, 0, Precision::float64});
+  EXPECT_EQ(device.time, cpu.time);
+  for (std::size_t p = 0; p < cpu.position.size(); ++p) {
+    EXPECT_LT(norm(device.position[p] - cpu.position[p]), 1e-6) << "particle " << p;
+    EXPECT_LT(norm(device.velocity[p] - cpu.velocity[p]), 1e-4) << "particle " << p;
+  }
+}
+#endif
+
 TEST(Session, SetChangesTheRunningSimulationAndSurvivesAReset) {
   Session session(small_scene());
   session.advance(0.2);
