@@ -5,7 +5,10 @@
 // results are bit-for-bit identical for any thread count (see docs/architecture.md).
 #pragma once
 
+#include <algorithm>
+#include <array>
 #include <cstddef>
+#include <vector>
 
 namespace clothsim {
 
@@ -37,6 +40,30 @@ void parallel_for(std::size_t count, int threads, Body&& body) {
   for (long long i = 0; i < n; ++i) {
     body(static_cast<std::size_t>(i));
   }
+}
+
+// The sums over i in [0, count) of the N components that term(i) returns (an std::array<double, N>),
+// over fixed blocks of kSumBlock items, each added in index order, and the blocks added in block
+// order: bit-for-bit the same for any thread count.
+inline constexpr std::size_t kSumBlock = 4096;
+template <std::size_t N, typename Term>
+std::array<double, N> parallel_sum(std::size_t count, int threads, Term&& term) {
+  const std::size_t blocks = (count + kSumBlock - 1) / kSumBlock;
+  std::vector<std::array<double, N>> block_sums(blocks);
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    std::array<double, N> sum{};
+    const std::size_t end = std::min(count, (block + 1) * kSumBlock);
+    for (std::size_t i = block * kSumBlock; i < end; ++i) {
+      const std::array<double, N> value = term(i);
+      for (std::size_t k = 0; k < N; ++k) sum[k] += value[k];
+    }
+    block_sums[block] = sum;
+  });
+  std::array<double, N> total{};
+  for (const std::array<double, N>& sum : block_sums) {
+    for (std::size_t k = 0; k < N; ++k) total[k] += sum[k];
+  }
+  return total;
 }
 
 }  // namespace clothsim

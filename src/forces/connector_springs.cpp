@@ -35,10 +35,9 @@ double connector_spring_energy(const ClothModel& model, std::span<const Vec3> po
                                    model.connector_stiffness[e]);
 }
 
-double connector_energy(const ClothModel& model, std::span<const Vec3> position) {
-  double energy = 0.0;
-  for (std::size_t e = 0; e < model.connector_count(); ++e) energy += connector_spring_energy(model, position, e);
-  return energy;
+double connector_energy(const ClothModel& model, std::span<const Vec3> position, int threads) {
+  return parallel_sum<1>(model.connector_count(), threads,
+                         [&](std::size_t e) { return std::array{connector_spring_energy(model, position, e)}; })[0];
 }
 
 }  // namespace clothsim

@@ -98,13 +98,13 @@ ForcePowers evaluate_forces(const ClothModel& model, std::span<const Vec3> posit
   return powers;
 }
 
-EnergyReport compute_energy(const ClothModel& model, const ClothState& state, ForceTerms terms) {
+EnergyReport compute_energy(const ClothModel& model, const ClothState& state, ForceTerms terms, int threads) {
   EnergyReport report;
-  report.kinetic = kinetic_energy(model, state.velocity);
-  if ((terms & kGravity) != 0) report.gravitational = gravitational_energy(model, state.position);
-  if ((terms & kConnectorSprings) != 0) report.connector = connector_energy(model, state.position);
+  report.kinetic = kinetic_energy(model, state.velocity, threads);
+  if ((terms & kGravity) != 0) report.gravitational = gravitational_energy(model, state.position, threads);
+  if ((terms & kConnectorSprings) != 0) report.connector = connector_energy(model, state.position, threads);
   EnergyReport radial;
-  add_radial_energy(model, state.position, radial);
+  add_radial_energy(model, state.position, radial, threads);
   if ((terms & kAdjacentRadialSprings) != 0) report.radial_adjacent = radial.radial_adjacent;
   if ((terms & kOppositeRadialSprings) != 0) report.radial_opposite = radial.radial_opposite;
   return report;

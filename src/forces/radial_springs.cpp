@@ -39,11 +39,13 @@ double radial_spring_energy(const ClothModel& model, std::span<const Vec3> posit
                                 model.radial_stiffness[r]);
 }
 
-void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report) {
-  for (std::size_t r = 0; r < model.radial_count(); ++r) {
-    (model.radial_kind[r] == RadialKind::adjacent ? report.radial_adjacent : report.radial_opposite) +=
-        radial_spring_energy(model, position, r);
-  }
+void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report, int threads) {
+  const std::array<double, 2> sums = parallel_sum<2>(model.radial_count(), threads, [&](std::size_t r) {
+    const double energy = radial_spring_energy(model, position, r);
+    return model.radial_kind[r] == RadialKind::adjacent ? std::array{energy, 0.0} : std::array{0.0, energy};
+  });
+  report.radial_adjacent += sums[0];
+  report.radial_opposite += sums[1];
 }
 
 }  // namespace clothsim

@@ -96,8 +96,9 @@ void upload(Device& device, Buffer& destination, std::span<const std::byte> sour
   });
 }
 
-void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes) {
-  const VkBufferCopy region{0, 0, bytes};
+void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes,
+                     std::uint64_t destination_offset) {
+  const VkBufferCopy region{0, destination_offset, bytes};
   vkCmdCopyBuffer(commands, source.handle(), destination.handle(), 1, &region);
   memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_HOST_BIT,
                  VK_ACCESS_HOST_READ_BIT);

@@ -46,10 +46,12 @@ class Buffer {
 void upload(Device& device, Buffer& destination, std::span<const std::byte> source);
 void download(Device& device, const Buffer& source, std::span<std::byte> destination);
 
-// Records a copy of `bytes` from the start of `source` into `destination` (a host_visible buffer),
+// Records a copy of `bytes` from the start of `source` into `destination` (a host_visible buffer)
+// at `destination_offset`,
 // made visible to the host once the submission's fence signals: a submission's results read
 // back without a submission of their own.
-void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes);
+void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes,
+                     std::uint64_t destination_offset = 0);
 
 // The barrier between a compute pass and whatever reads its output next: a later pass or a copy.
 void compute_write_barrier(VkCommandBuffer commands);

@@ -9,6 +9,7 @@
 #include <span>
 
 #include "core/assert.h"
+#include "core/parallel.h"
 #include "core/timer.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
@@ -109,6 +110,33 @@ ComputePipeline make_pass(Device& device, const char* name, Precision precision,
   return ComputePipeline(device, embedded_shader(shader_variant(name, precision)), bindings, push_bytes, workgroup);
 }
 
+// A 64-bit fingerprint of the state's positions and velocities (FNV-1a over each block's bytes,
+// the blocks' hashes combined in order): what the host compares, instead of a copy of the state,
+// to see whether a caller changed the state since the device last had it.
+std::uint64_t state_fingerprint(const ClothState& state, int threads) {
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t n = state.position.size();
+  const std::size_t blocks = (n + kBlock - 1) / kBlock;
+  std::vector<std::uint64_t> hashes(blocks);
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    std::uint64_t hash = 1469598103934665603ull;
+    const auto mix = [&hash](const Vec3& v) {
+      std::uint64_t words[3];
+      std::memcpy(words, &v, sizeof words);
+      for (std::uint64_t word : words) hash = (hash ^ word) * 1099511628211ull;
+    };
+    const std::size_t end = std::min(n, (block + 1) * kBlock);
+    for (std::size_t p = block * kBlock; p < end; ++p) {
+      mix(state.position[p]);
+      mix(state.velocity[p]);
+    }
+    hashes[block] = hash;
+  });
+  std::uint64_t hash = n;
+  for (std::uint64_t block_hash : hashes) hash = (hash ^ block_hash) * 1099511628211ull + 0x9e3779b97f4a7c15ull;
+  return hash;
+}
+
 }  // namespace
 
 std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
@@ -137,6 +165,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       anchor_capacity_(anchor_capacity_for(model.anchors.size())),
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
+      state_readback_(device_, std::uint64_t{particles_} * 6 * real_size(precision_), Memory::host_visible),
       stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 10, sizeof(StagePassConstants))),
       lattice_pass_(make_pass(device_, "lattice_elements", precision_, 6, sizeof(LatticePassConstants))),
       acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 15, sizeof(StagePassConstants))),
@@ -220,7 +249,7 @@ VkCommandBuffer DeviceIntegrator::attempts_buffer(std::uint32_t attempts) {
 void DeviceIntegrator::upload_changes(const ClothState& state) {
   // A changed model may have freed an anchored particle, whose state the device holds only as
   // its path left it: the state goes up with the model.
-  const bool model_changed = model_.revision != model_revision_ || exchanged_position_.empty();
+  const bool model_changed = model_.revision != model_revision_ || !exchanged_;
   if (model_changed) {
     if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
     upload(device_, arrays_[inverse_mass], real_bytes(model_.particle_inverse_mass, precision_));
@@ -228,11 +257,11 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
     if (lattice_) upload_lattice_params();
     model_revision_ = model_.revision;
   }
-  if (model_changed || state.position != exchanged_position_ || state.velocity != exchanged_velocity_) {
+  if (model_changed || state_fingerprint(state, options_.threads) != exchanged_fingerprint_) {
     upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
     upload(device_, arrays_[state_velocity], vector_bytes(state.velocity, precision_));
-    exchanged_position_ = state.position;
-    exchanged_velocity_ = state.velocity;
+    exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
+    exchanged_ = true;
   }
 }
 
@@ -296,11 +325,28 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
 }
 
 void DeviceIntegrator::read_state(ClothState& state) {
-  std::vector<std::byte> bytes(std::uint64_t{particles_} * 3 * real_size(precision_));
-  download(device_, arrays_[state_position], bytes);
-  state.position = vectors_from_bytes(bytes, precision_);
-  download(device_, arrays_[state_velocity], bytes);
-  state.velocity = vectors_from_bytes(bytes, precision_);
+  // Both arrays in one submission into the persistent staging buffer, then converted to doubles
+  // by every thread: a 1024 x 1024 sheet's 48 MB each frame.
+  const std::uint64_t bytes = std::uint64_t{particles_} * 3 * real_size(precision_);
+  device_.submit([&](VkCommandBuffer commands) {
+    record_readback(commands, arrays_[state_position], state_readback_, bytes, 0);
+    record_readback(commands, arrays_[state_velocity], state_readback_, bytes, bytes);
+  });
+  const std::byte* mapped = state_readback_.mapped();
+  const auto read = [&](std::uint64_t offset, std::size_t index) {
+    if (precision_ == Precision::float64) {
+      double value = 0.0;
+      std::memcpy(&value, mapped + offset + 8 * index, 8);
+      return value;
+    }
+    float value = 0.0f;
+    std::memcpy(&value, mapped + offset + 4 * index, 4);
+    return static_cast<double>(value);
+  };
+  parallel_for(particles_, options_.threads, [&](std::size_t p) {
+    state.position[p] = {read(0, 3 * p), read(0, 3 * p + 1), read(0, 3 * p + 2)};
+    state.velocity[p] = {read(bytes, 3 * p), read(bytes, 3 * p + 1), read(bytes, 3 * p + 2)};
+  });
 }
 
 StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32_t max_accepted) {
@@ -385,8 +431,7 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
     state.position[anchor.particle] = anchor.path.position(state.time);
     state.velocity[anchor.particle] = anchor.path.velocity_at(state.time);
   }
-  exchanged_position_ = state.position;
-  exchanged_velocity_ = state.velocity;
+  exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
   state.damping_work += reals[kWork] + reals[kWork + 1];
   state.drag_work += reals[kWork + 2] + reals[kWork + 3];
   state.anchor_work += reals[kWork + 4] + reals[kWork + 5];
@@ -412,9 +457,7 @@ std::vector<PhaseTime> DeviceIntegrator::phase_times() const {
   return {{"device steps", device_seconds_}, {"device transfers", transfer_seconds_}};
 }
 
-std::size_t DeviceIntegrator::workspace_bytes() const {
-  return (exchanged_position_.capacity() + exchanged_velocity_.capacity()) * sizeof(Vec3);
-}
+std::size_t DeviceIntegrator::workspace_bytes() const { return 0; }
 
 void DeviceIntegrator::transfer_state(StateArchive& archive) {
   Integrator::transfer_state(archive);

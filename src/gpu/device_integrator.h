@@ -18,9 +18,9 @@
 // submission the host reads back only the control arrays (a few hundred bytes), and after the
 // last one the state. advance() runs to t_limit; step() stops after one accepted step.
 //
-// The host keeps what it last exchanged with the device (the state as last read back or
-// uploaded): a caller that changes the state between calls (a pinned particle) has it uploaded
-// again, and a model whose revision moved (tearing by hand, parameter edits, anchors) is uploaded
+// The host keeps a fingerprint of what it last exchanged with the device (the state as last read
+// back or uploaded): a caller that changes the state between calls (a pinned particle) has it
+// uploaded again, and a model whose revision moved (tearing by hand, parameter edits, anchors) is uploaded
 // again. Anchor paths are written per advance relative to its start (device_step.h); a step never
 // crosses an anchor event, which the Simulation guarantees by limiting each advance to the next.
 //
@@ -63,7 +63,7 @@ class DeviceIntegrator final : public Integrator {
   StepOutcome step(ClothState& state, double t_limit) override { return run(state, t_limit, 1); }
   StepOutcome advance(ClothState& state, double t_limit) override { return run(state, t_limit, 0); }
   std::vector<PhaseTime> phase_times() const override;
-  // Host memory: the copy of the state last exchanged with the device.
+  // Host memory besides the state: none (the read-back staging is the driver's).
   std::size_t workspace_bytes() const override;
   // RKF45's next step and error history (the CPU's names, so checkpoints read the same).
   void transfer_state(StateArchive& archive) override;
@@ -130,11 +130,13 @@ class DeviceIntegrator final : public Integrator {
   std::uint32_t particles_, elements_, anchor_capacity_;
   std::vector<Buffer> arrays_;  // [array_count]
   Buffer control_real_readback_, control_uint_readback_;
+  Buffer state_readback_;  // positions, then velocities
   ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_, accept_pass_;
   std::map<std::uint32_t, VkCommandBuffer> recorded_;  // by attempts per submission
 
-  // What the host last exchanged with the device.
-  std::vector<Vec3> exchanged_position_, exchanged_velocity_;
+  // What the host last exchanged with the device: a fingerprint of the state (not a copy of it).
+  bool exchanged_ = false;
+  std::uint64_t exchanged_fingerprint_ = 0;
   std::uint64_t model_revision_ = 0;
   // The controller between advances (the device holds it during one).
   double proposed_step_ = 0.0;

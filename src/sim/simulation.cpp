@@ -170,28 +170,57 @@ bool Simulation::check() {
   return !failure_;
 }
 
+namespace {
+
+// The first index in [0, count) where bad(i), or count: blocks in parallel, the first block's
+// find wins, so the answer does not depend on the thread count.
+template <typename Bad>
+std::size_t first_where(std::size_t count, int threads, Bad&& bad) {
+  constexpr std::size_t kBlock = 4096;
+  const std::size_t blocks = (count + kBlock - 1) / kBlock;
+  std::vector<std::size_t> first(blocks, count);
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    const std::size_t end = std::min(count, (block + 1) * kBlock);
+    for (std::size_t i = block * kBlock; i < end; ++i) {
+      if (bad(i)) {
+        first[block] = i;
+        return;
+      }
+    }
+  });
+  for (std::size_t found : first) {
+    if (found < count) return found;
+  }
+  return count;
+}
+
+}  // namespace
+
 void Simulation::check_state() {
   const ClothModel& model = *model_;
-  for (std::size_t p = 0; p < model.particle_count(); ++p) {
-    if (!is_finite(state_.position[p]) || !is_finite(state_.velocity[p])) {
-      const std::string where = model.describe_particle(p);
-      fail(where, "non-finite state at " + where + ": position " + format_vector(state_.position[p]) + ", velocity " +
-                      format_vector(state_.velocity[p]));
-      return;
-    }
+  const std::size_t particle = first_where(model.particle_count(), threads_, [&](std::size_t p) {
+    return !is_finite(state_.position[p]) || !is_finite(state_.velocity[p]);
+  });
+  if (particle < model.particle_count()) {
+    const std::string where = model.describe_particle(particle);
+    fail(where, "non-finite state at " + where + ": position " + format_vector(state_.position[particle]) +
+                    ", velocity " + format_vector(state_.velocity[particle]));
+    return;
   }
-  for (std::size_t e = 0; e < model.connector_count(); ++e) {
-    // The ends of a broken connector may drift apart without limit: torn pieces fall away.
-    if (model.connector_live[e] == 0) continue;
+  const auto stretch = [&](std::size_t e) {
     const auto [a, b] = model.connector_particles[e];
-    const double stretch = norm(state_.position[b] - state_.position[a]) / model.connector_rest_length[e];
-    if (stretch > settings_.explosion_stretch) {
-      const std::string where = "connector " + std::to_string(e) + " between " + model.describe_particle(a) + " and " +
-                                model.describe_particle(b);
-      fail(where, "the simulation exploded: " + where + " is " + format_number(stretch) +
-                      " times its rest length (limit " + format_number(settings_.explosion_stretch) + ")");
-      return;
-    }
+    return norm(state_.position[b] - state_.position[a]) / model.connector_rest_length[e];
+  };
+  // The ends of a broken connector may drift apart without limit: torn pieces fall away.
+  const std::size_t e = first_where(model.connector_count(), threads_, [&](std::size_t c) {
+    return model.connector_live[c] != 0 && stretch(c) > settings_.explosion_stretch;
+  });
+  if (e < model.connector_count()) {
+    const auto [a, b] = model.connector_particles[e];
+    const std::string where = "connector " + std::to_string(e) + " between " + model.describe_particle(a) + " and " +
+                              model.describe_particle(b);
+    fail(where, "the simulation exploded: " + where + " is " + format_number(stretch(e)) +
+                    " times its rest length (limit " + format_number(settings_.explosion_stretch) + ")");
   }
 }
 
@@ -210,7 +239,7 @@ std::size_t Simulation::memory_bytes() const {
          integrator_->workspace_bytes() + spring_events_.bytes() + collision_stage_->bytes();
 }
 
-EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms); }
+EnergyReport Simulation::energy() const { return compute_energy(*model_, state_, settings_.terms, threads_); }
 
 EnergyBalance Simulation::energy_balance() const {
   EnergyBalance balance;
