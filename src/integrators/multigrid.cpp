@@ -243,9 +243,9 @@ void LatticeMultigrid::galerkin(std::size_t level, int threads) {
       for (std::uint32_t k = fine_.row_offset[p]; k < fine_.row_offset[p + 1]; ++k) {
         const std::uint32_t q = fine_.column[k];
         if (!fine_.free[q]) continue;
-        body(q, fine_.holding
-                    ? held_block(fine_.block[k], fine_.hold[p], fine_.normal[p], fine_.hold[q], fine_.normal[q])
-                    : fine_.block[k]);
+        const bool filtered = fine_.holding && (fine_.hold[p] != Hold::none || fine_.hold[q] != Hold::none);
+        body(q, filtered ? held_block(fine_.block[k], fine_.hold[p], fine_.normal[p], fine_.hold[q], fine_.normal[q])
+                         : fine_.block[k]);
       }
       return;
     }
