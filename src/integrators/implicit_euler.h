@@ -69,9 +69,10 @@
 // between lattice levels halved in each direction, Galerkin coarse matrices P^T A P down to 8 x 8
 // nodes solved exactly, block Gauss-Seidel smoothing in fixed bands of rows, symmetric; the whole
 // preconditioner is the V-cycle (block Jacobi is its smoother's diagonal). On cotton at the frame
-// step it takes 14 iterations per step at 64 x 64 and 128 x 128 (most 18 and 19), and 11 % to
-// 15 % less time per step than the aggregates below at 128 x 128; at 1 ms steps on small sheets,
-// where few iterations are needed anyway, it costs more (docs/performance.md). Without
+// step it takes 14 iterations per step at 64 x 64 and 128 x 128 (most 18 and 19) against 89 for
+// the aggregates below; per step it costs about as much on one thread and 20 % less on two at
+// 128 x 128 (its loops are all parallel), and more at 1 ms steps on small sheets, where few
+// iterations are needed anyway (docs/performance.md). Without
 // cg_multigrid, the free particles are grouped into aggregates of 4 x 4, P sums a vector over
 // each aggregate, and the preconditioner is the additive two-level one
 //   M^-1 = D^-1 + P (P^T A P)^-1 P^T
