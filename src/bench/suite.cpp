@@ -3,10 +3,14 @@
 #include <sys/resource.h>
 
 #include <cstdio>
+#include <map>
 #include <utility>
+
+#include "bench/peak_flops.h"
 
 #include "core/parallel.h"
 #include "core/timer.h"
+#include "forces/lattice_kernel.h"
 #include "scene/scene.h"
 #include "scene/scene_simulation.h"
 #include "sim/simulation.h"
@@ -55,11 +59,13 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
   result.time_step = integrator == IntegratorKind::rkf45 ? 0.0 : spec.integrator.time_step;
 
   if (options.backend.kind == Backend::vulkan) {
+    // The device's rate is not the CPU kernel's: no FLOP count, no share of the CPU's peak.
     result.kernel = std::string("vulkan-") + to_string(options.backend.resolved_precision());
   } else {
     ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
     probe.resize(simulation.model());
     result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";
+    result.flops_per_particle = probe.uses_lattice_kernel() ? kLatticeKernelFlopsPerParticle : 0.0;
   }
   result.threads = simulation.threads();
 
@@ -101,13 +107,28 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
   // The load average counts the suite's own threads from the cases before, which would talk the
   // automatic choice down to 1 thread as the suite goes on: sample the idle cores once, now.
   const int idle_at_start = idle_hardware_threads();
+  std::vector<int> thread_counts;
   for (int size : options.sizes) {
+    thread_counts.push_back(resolve_thread_count(options.threads,
+                                                 static_cast<std::size_t>(size) * static_cast<std::size_t>(size),
+                                                 kParallelThreshold, idle_at_start));
+  }
+  // The CPU's peak for each thread count, measured before the cases (about 0.1 s each); not for
+  // cases on a device, whose rate is not the CPU kernel's (docs/performance.md has the device's
+  // roofline).
+  std::map<int, double> peak_gflops;
+  for (int threads : thread_counts) {
+    if (options.backend.kind == Backend::cpu && peak_gflops.count(threads) == 0) {
+      peak_gflops[threads] = measure_peak_gflops(threads);
+    }
+  }
+  for (std::size_t i = 0; i < options.sizes.size(); ++i) {
+    const int size = options.sizes[i];
     BenchOptions case_options = options;
-    case_options.threads =
-        resolve_thread_count(options.threads, static_cast<std::size_t>(size) * static_cast<std::size_t>(size),
-                             kParallelThreshold, idle_at_start);
+    case_options.threads = thread_counts[i];
     for (IntegratorKind kind : kinds) {
       results.push_back(run_bench_case(size, kind, case_options));
+      results.back().peak_gflops = peak_gflops[thread_counts[i]];
       if (on_result) on_result(results.back());
     }
   }
@@ -116,20 +137,21 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
 
 std::string bench_table_header() {
   char line[256];
-  std::snprintf(line, sizeof line, "%-9s %-17s %-14s %3s %10s %10s %10s %9s %8s %7s %9s %9s  %s", "lattice",
-                "integrator", "kernel", "thr", "evals/s", "us/eval", "p-steps/s", "sim s/s", "sim s", "wall s",
-                "sim MiB", "RSS MiB", "status");
+  std::snprintf(line, sizeof line, "%-9s %-17s %-14s %3s %10s %10s %8s %6s %6s %10s %9s %8s %7s %9s %9s  %s",
+                "lattice", "integrator", "kernel", "thr", "evals/s", "us/eval", "GFLOP/s", "peak", "%peak", "p-steps/s",
+                "sim s/s", "sim s", "wall s", "sim MiB", "RSS MiB", "status");
   return line;
 }
 
 std::string bench_table_row(const BenchResult& r) {
   char line[512];
   const std::string lattice = std::to_string(r.size) + "x" + std::to_string(r.size);
-  std::snprintf(line, sizeof line, "%-9s %-17s %-14s %3d %10.4g %10.4g %10.4g %9.4g %8.4g %7.3g %9.1f %9.1f  %s",
+  std::snprintf(line, sizeof line,
+                "%-9s %-17s %-14s %3d %10.4g %10.4g %8.3g %6.3g %5.1f%% %10.4g %9.4g %8.4g %7.3g %9.1f %9.1f  %s",
                 lattice.c_str(), std::string(to_string(r.integrator)).c_str(), r.kernel.c_str(), r.threads,
-                r.evaluations_per_second(), r.microseconds_per_evaluation(), r.particle_steps_per_second(),
-                r.realtime_factor(), r.simulated_seconds, r.wall_seconds,
-                static_cast<double>(r.memory_bytes) / (1024.0 * 1024.0),
+                r.evaluations_per_second(), r.microseconds_per_evaluation(), r.achieved_gflops(), r.peak_gflops,
+                100.0 * r.peak_share(), r.particle_steps_per_second(), r.realtime_factor(), r.simulated_seconds,
+                r.wall_seconds, static_cast<double>(r.memory_bytes) / (1024.0 * 1024.0),
                 static_cast<double>(r.peak_rss_bytes) / (1024.0 * 1024.0), r.status.c_str());
   return line;
 }
@@ -139,7 +161,7 @@ std::string bench_csv(const std::vector<BenchResult>& results) {
       "rows,cols,particles,integrator,kernel,threads,time_step,status,wall_seconds,simulated_seconds,"
       "force_evaluations,accepted_steps,rejected_steps,force_seconds,evaluations_per_second,"
       "microseconds_per_evaluation,particle_steps_per_second,simulated_seconds_per_wall_second,memory_bytes,"
-      "peak_rss_bytes\n";
+      "peak_rss_bytes,flops_per_particle,achieved_gflops,peak_gflops,peak_share\n";
   char line[1024];
   for (const BenchResult& r : results) {
     std::string status = r.status;
@@ -147,13 +169,15 @@ std::string bench_csv(const std::vector<BenchResult>& results) {
       if (c == '"') c = '\'';
     }
     std::snprintf(line, sizeof line,
-                  "%d,%d,%zu,%s,%s,%d,%.17g,\"%s\",%.17g,%.17g,%llu,%llu,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu\n",
+                  "%d,%d,%zu,%s,%s,%d,%.17g,\"%s\",%.17g,%.17g,%llu,%llu,%llu,%.17g,%.17g,%.17g,%.17g,%.17g,%zu,%zu,"
+                  "%.17g,%.17g,%.17g,%.17g\n",
                   r.size, r.size, r.particles, std::string(to_string(r.integrator)).c_str(), r.kernel.c_str(),
                   r.threads, r.time_step, status.c_str(), r.wall_seconds, r.simulated_seconds,
                   static_cast<unsigned long long>(r.force_evaluations),
                   static_cast<unsigned long long>(r.accepted_steps), static_cast<unsigned long long>(r.rejected_steps),
                   r.force_seconds, r.evaluations_per_second(), r.microseconds_per_evaluation(),
-                  r.particle_steps_per_second(), r.realtime_factor(), r.memory_bytes, r.peak_rss_bytes);
+                  r.particle_steps_per_second(), r.realtime_factor(), r.memory_bytes, r.peak_rss_bytes,
+                  r.flops_per_particle, r.achieved_gflops(), r.peak_gflops, r.peak_share());
     csv += line;
   }
   return csv;

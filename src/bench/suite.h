@@ -9,6 +9,12 @@
 // reported two ways: the bytes the simulation holds (model arrays, state and integrator
 // workspace, Simulation::memory_bytes()), and the process's peak resident set size so far
 // (getrusage), which includes the program itself and everything before the case.
+//
+// The roofline, read from the command: per case, the force kernel's achieved floating-point rate,
+// kLatticeKernelFlopsPerParticle (forces/lattice_kernel.h: 820 operations per particle and
+// evaluation, counted from the code) times particles times evaluations over the wall time inside
+// force evaluation, and its share of the machine's float64 peak on the case's thread count,
+// measured by a multiply-add probe (bench/peak_flops.h) once per thread count at the start.
 #pragma once
 
 #include <cstdint>
@@ -50,9 +56,11 @@ struct BenchResult {
   std::uint64_t force_evaluations = 0;
   std::uint64_t accepted_steps = 0;
   std::uint64_t rejected_steps = 0;
-  double force_seconds = 0.0;      // wall time inside force evaluation
-  std::size_t memory_bytes = 0;    // Simulation::memory_bytes()
-  std::size_t peak_rss_bytes = 0;  // process peak resident set size after the case
+  double force_seconds = 0.0;       // wall time inside force evaluation
+  std::size_t memory_bytes = 0;     // Simulation::memory_bytes()
+  std::size_t peak_rss_bytes = 0;   // process peak resident set size after the case
+  double flops_per_particle = 0.0;  // per force evaluation; 0 where not counted (the general kernel)
+  double peak_gflops = 0.0;         // the machine's measured float64 peak on `threads` threads
 
   double evaluations_per_second() const {
     return wall_seconds > 0 ? static_cast<double>(force_evaluations) / wall_seconds : 0.0;
@@ -64,6 +72,13 @@ struct BenchResult {
   double microseconds_per_evaluation() const {
     return force_evaluations > 0 ? 1e6 * force_seconds / static_cast<double>(force_evaluations) : 0.0;
   }
+  // The force kernel's floating-point rate, GFLOP/s (0 where not counted), and its share of the peak.
+  double achieved_gflops() const {
+    return force_seconds > 0 ? flops_per_particle * static_cast<double>(particles) *
+                                   static_cast<double>(force_evaluations) / force_seconds / 1e9
+                             : 0.0;
+  }
+  double peak_share() const { return peak_gflops > 0 ? achieved_gflops() / peak_gflops : 0.0; }
 };
 
 // The scene of one case: the paper's material on a size x size lattice, with `integrator`.

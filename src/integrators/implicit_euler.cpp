@@ -41,15 +41,6 @@ std::array<double, 3> blocked_sums(std::size_t n, int threads, std::vector<doubl
   return total;
 }
 
-// S_p B S_q with S = I - n n^T (the identity where n is zero): the block of the held system,
-// B - n_p (B^T n_p)^T - (B n_q) n_q^T + (n_p . B n_q) n_p n_q^T.
-Mat3 held_block(const Mat3& b, const Vec3& np, const Vec3& nq) {
-  const Vec3 bt_np{b(0, 0) * np.x + b(1, 0) * np.y + b(2, 0) * np.z, b(0, 1) * np.x + b(1, 1) * np.y + b(2, 1) * np.z,
-                   b(0, 2) * np.x + b(1, 2) * np.y + b(2, 2) * np.z};
-  const Vec3 b_nq = b * nq;
-  return b - outer(np, bt_np) - outer(b_nq, nq) + dot(np, b_nq) * outer(np, nq);
-}
-
 std::uint32_t find_block(const std::vector<std::uint32_t>& row_offset, const std::vector<std::uint32_t>& column,
                          std::uint32_t row, std::uint32_t col) {
   const auto first = column.begin() + row_offset[row];
@@ -133,8 +124,11 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
   }
   hold_.assign(n, Hold::none);
   slipped_.assign(n, 0);
-  if (settings.cg_two_level && model.rows > 0 && model.cols > 0 &&
-      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == n) {
+  const bool lattice = model.rows > 0 && model.cols > 0 &&
+                       static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == n;
+  if (settings.cg_two_level && settings.cg_multigrid && lattice) {
+    multigrid_.emplace(static_cast<std::size_t>(model.rows), static_cast<std::size_t>(model.cols));
+  } else if (settings.cg_two_level && lattice) {
     // Aggregates of kAggregateSize x kAggregateSize particles, numbered row by row.
     const std::size_t aggregate_cols = (static_cast<std::size_t>(model.cols) + kAggregateSize - 1) / kAggregateSize;
     const std::size_t aggregate_rows = (static_cast<std::size_t>(model.rows) + kAggregateSize - 1) / kAggregateSize;
@@ -155,11 +149,8 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
         farthest = std::max<std::size_t>(farthest, a > b ? a - b : b - a);
       }
     }
-    coarse_dofs_ = 3 * aggregate_rows * aggregate_cols;
-    coarse_bandwidth_ = 3 * farthest + 2;
-    coarse_band_.resize(coarse_dofs_ * (coarse_bandwidth_ + 1));
-    coarse_upper_.resize(coarse_band_.size());
-    coarse_vector_.resize(coarse_dofs_);
+    coarse_factor_.resize(3 * aggregate_rows * aggregate_cols, 3 * farthest + 2);
+    coarse_vector_.resize(coarse_factor_.dofs());
   }
   block_sum_a_.resize(block_count(n));
   block_sum_b_.resize(block_count(n));
@@ -175,7 +166,8 @@ std::size_t ImplicitEuler::workspace_bytes() const {
   total += bytes(preconditioner_) + bytes(free_);
   total += bytes(displacement_) + bytes(rhs_) + bytes(dv_) + bytes(residual_) + bytes(preconditioned_) +
            bytes(direction_) + bytes(product_);
-  total += bytes(particle_aggregate_) + bytes(coarse_band_) + bytes(coarse_upper_) + bytes(coarse_vector_);
+  total += bytes(particle_aggregate_) + coarse_factor_.bytes() + bytes(coarse_vector_);
+  if (multigrid_) total += multigrid_->bytes();
   total += bytes(block_sum_a_) + bytes(block_sum_b_) + bytes(block_sum_c_);
   total += bytes(hold_) + bytes(slipped_) + bytes(held_normal_);
   return total;
@@ -202,14 +194,16 @@ std::size_t ImplicitEuler::workspace_bytes_for(const LatticeCounts& counts, cons
   total += 8 * n * sizeof(Vec3);                       // 7 CG vectors and the held normals
   total += n * (sizeof(Hold) + sizeof(std::uint8_t));  // hold, slipped
   total += 3 * block_count(n) * sizeof(double);
-  if (settings.cg_two_level && n > 0) {
+  if (settings.cg_two_level && settings.cg_multigrid && n > 0) {
+    total += LatticeMultigrid::bytes_for(rows, cols);
+  } else if (settings.cg_two_level && n > 0) {
     const std::size_t aggregate_cols = (cols + kAggregateSize - 1) / kAggregateSize;
     const std::size_t aggregate_rows = (rows + kAggregateSize - 1) / kAggregateSize;
     const std::size_t dofs = 3 * aggregate_rows * aggregate_cols;
     // Aggregates couple to their 8 neighbours: at most aggregate_cols + 1 apart (the constructor
     // measures it; this is its value from 5 x 5 particles on).
     const std::size_t bandwidth = 3 * (aggregate_cols + 1) + 2;
-    total += n * sizeof(std::uint32_t) + (2 * dofs * (bandwidth + 1) + dofs) * sizeof(double);
+    total += n * sizeof(std::uint32_t) + BandedCholesky::bytes_for(dofs, bandwidth) + dofs * sizeof(double);
   }
   return total;
 }
@@ -321,7 +315,16 @@ void ImplicitEuler::assemble(double h) {
 
 double ImplicitEuler::precondition() {
   const std::size_t n = model_.particle_count();
-  if (coarse_dofs_ > 0) {
+  if (multigrid_) {
+    multigrid_->apply(residual_, preconditioned_, threads_);
+    return blocked_sums(n, threads_, block_sum_a_, block_sum_b_, block_sum_c_, [&](std::size_t begin, std::size_t end) {
+      std::array<double, 3> sums{};
+      for (std::size_t p = begin; p < end; ++p) sums[0] += dot(residual_[p], preconditioned_[p]);
+      return sums;
+    })[0];
+  }
+  const bool coarse = coarse_factor_.dofs() > 0;
+  if (coarse) {
     // Restriction (sums over each aggregate's free particles, in particle order), then the
     // coarse solve by the banded Cholesky factor.
     std::fill(coarse_vector_.begin(), coarse_vector_.end(), 0.0);
@@ -332,9 +335,8 @@ double ImplicitEuler::precondition() {
       target[1] += residual_[p].y;
       target[2] += residual_[p].z;
     }
-    solve_coarse();
+    coarse_factor_.solve(coarse_vector_);
   }
-  const bool coarse = coarse_dofs_ > 0;
   return blocked_sums(n, threads_, block_sum_a_, block_sum_b_, block_sum_c_, [&](std::size_t begin, std::size_t end) {
     std::array<double, 3> sums{};
     for (std::size_t p = begin; p < end; ++p) {
@@ -435,9 +437,13 @@ int ImplicitEuler::solve() {
 }
 
 void ImplicitEuler::assemble_coarse() {
+  if (multigrid_) {
+    multigrid_->setup({row_offset_, column_, block_, preconditioner_, free_, hold_, held_normal_, holding_}, threads_);
+    return;
+  }
+  if (coarse_factor_.dofs() == 0) return;
   const std::size_t n = model_.particle_count();
-  const std::size_t width = coarse_bandwidth_ + 1;
-  std::fill(coarse_band_.begin(), coarse_band_.end(), 0.0);
+  coarse_factor_.clear();
   // The lower triangle of P^T A P over the free particles; P sums each aggregate's particles.
   for (std::size_t p = 0; p < n; ++p) {
     if (!free_[p]) continue;
@@ -447,97 +453,20 @@ void ImplicitEuler::assemble_coarse() {
       if (!free_[q]) continue;
       const std::size_t column_aggregate = particle_aggregate_[q];
       if (column_aggregate > row_aggregate) continue;
-      Mat3 block = block_[k];
-      if (holding_) {
-        block = hold_[p] == Hold::all || hold_[q] == Hold::all ? Mat3{}
-                                                               : held_block(block, held_normal_[p], held_normal_[q]);
-      }
+      const Mat3 block =
+          holding_ ? held_block(block_[k], hold_[p], held_normal_[p], hold_[q], held_normal_[q]) : block_[k];
       for (int r = 0; r < 3; ++r) {
         const std::size_t i = 3 * row_aggregate + static_cast<std::size_t>(r);
         for (int c = 0; c < 3; ++c) {
           const std::size_t j = 3 * column_aggregate + static_cast<std::size_t>(c);
-          if (j <= i) coarse_band_[i * width + (i - j)] += block(r, c);
+          if (j <= i) coarse_factor_.lower(i, j) += block(r, c);
         }
       }
     }
   }
-  // Aggregates without free particles: an identity block keeps the matrix definite (their
-  // right-hand side is always zero).
-  for (std::size_t i = 0; i < coarse_dofs_; ++i) {
-    if (coarse_band_[i * width] == 0.0) coarse_band_[i * width] = 1.0;
-  }
-  // Banded Cholesky, L L^T, in place: entry (i, j), i - bandwidth <= j <= i, at band[i width + i - j].
-  const std::size_t bandwidth = coarse_bandwidth_;
-  for (std::size_t j = 0; j < coarse_dofs_; ++j) {
-    double* row_j = &coarse_band_[j * width];
-    const std::size_t first_j = j > bandwidth ? j - bandwidth : 0;
-    double diagonal = row_j[0];
-    for (std::size_t k = first_j; k < j; ++k) diagonal -= row_j[j - k] * row_j[j - k];
-    diagonal = diagonal > 0.0 ? std::sqrt(diagonal) : 1.0;  // SPD in exact arithmetic
-    row_j[0] = diagonal;
-    const std::size_t last = std::min(coarse_dofs_ - 1, j + bandwidth);
-    for (std::size_t i = j + 1; i <= last; ++i) {
-      double* row_i = &coarse_band_[i * width];
-      const std::size_t first = i > bandwidth ? i - bandwidth : 0;  // >= first_j as i > j
-      double sum = row_i[i - j];
-      for (std::size_t k = first; k < j; ++k) sum -= row_i[i - k] * row_j[j - k];
-      row_i[i - j] = sum / diagonal;
-    }
-  }
-  // Layouts for the substitutions, each reading memory in ascending order: L^T by rows, entry
-  // (i, k) at upper[i width + k - i], copied out first; then, in place of the band, L by rows in
-  // column order, entry (i, j) at band[i width + bandwidth - (i - j)] for j < i and the diagonal at
-  // band[i width + bandwidth]. (A third copy, for the band itself, would be a third of the
-  // integrator's memory on a large sheet: docs/performance.md, "Memory".)
-  for (std::size_t i = 0; i < coarse_dofs_; ++i) {
-    const std::size_t last = std::min(coarse_dofs_ - 1, i + bandwidth);
-    for (std::size_t k = i; k <= last; ++k) coarse_upper_[i * width + (k - i)] = coarse_band_[k * width + (k - i)];
-  }
-  for (std::size_t i = 0; i < coarse_dofs_; ++i) {
-    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
-    double* row = &coarse_band_[i * width];
-    const double diagonal = row[0];
-    // row[d] = L(i, i - d), d = 1 .. i - first, becomes row[m] = L(i, first + m), m = 0 .. i - first - 1.
-    std::reverse(row + 1, row + 1 + (i - first));
-    std::copy(row + 1, row + 1 + (i - first), row);
-    row[bandwidth] = diagonal;
-  }
-}
-
-namespace {
-
-// sum_k a[k] b[k] over k in [0, count), in four interleaved partial sums added in a fixed order:
-// the same bits every time, without the latency of one long chain of dependent additions.
-double band_dot(const double* a, const double* b, std::size_t count) {
-  double s0 = 0.0, s1 = 0.0, s2 = 0.0, s3 = 0.0;
-  std::size_t k = 0;
-  for (; k + 4 <= count; k += 4) {
-    s0 += a[k] * b[k];
-    s1 += a[k + 1] * b[k + 1];
-    s2 += a[k + 2] * b[k + 2];
-    s3 += a[k + 3] * b[k + 3];
-  }
-  for (; k < count; ++k) s0 += a[k] * b[k];
-  return (s0 + s1) + (s2 + s3);
-}
-
-}  // namespace
-
-void ImplicitEuler::solve_coarse() {
-  const std::size_t width = coarse_bandwidth_ + 1;
-  const std::size_t bandwidth = coarse_bandwidth_;
-  std::vector<double>& x = coarse_vector_;
-  for (std::size_t i = 0; i < coarse_dofs_; ++i) {  // L y = b, with L by reversed rows (see assemble_coarse)
-    const double* row_i = &coarse_band_[i * width];
-    const std::size_t first = i > bandwidth ? i - bandwidth : 0;
-    // row_i[m] = L(i, first + m) for m < i - first; row_i[bandwidth] = L(i, i).
-    x[i] = (x[i] - band_dot(row_i, &x[first], i - first)) / row_i[bandwidth];
-  }
-  for (std::size_t i = coarse_dofs_; i-- > 0;) {  // L^T x = y
-    const double* row_i = &coarse_upper_[i * width];
-    const std::size_t last = std::min(coarse_dofs_ - 1, i + bandwidth);
-    x[i] = (x[i] - band_dot(row_i + 1, &x[i + 1], last - i)) / row_i[0];
-  }
+  // Aggregates without free particles get an identity block (BandedCholesky::factor): their
+  // right-hand side is always zero.
+  coarse_factor_.factor();
 }
 
 StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
@@ -571,9 +500,14 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
   }
   assemble(h);
   hold_on_surfaces(state, h);
-  if (coarse_dofs_ > 0) assemble_coarse();
+  assemble_coarse();
   last_iterations_ = solve();
-  if (release_held_particles()) last_iterations_ += solve();
+  if (release_held_particles()) {
+    // The multigrid's levels are built for the held set; the aggregates' coarse matrix keeps the
+    // first one (the additive correction stays definite with any).
+    if (multigrid_) assemble_coarse();
+    last_iterations_ += solve();
+  }
   stats_.linear_iterations += static_cast<std::uint64_t>(last_iterations_);
   stats_.max_linear_iterations = std::max(stats_.max_linear_iterations, static_cast<std::uint64_t>(last_iterations_));
 

@@ -64,19 +64,27 @@
 // fabric it is not enough: the in-plane stretch part of A is a stiff lattice Laplacian, whose
 // condition number grows with the square of the lattice size, and Jacobi-preconditioned CG took
 // about 420 iterations per step on 32 x 32 cotton and 480 on 64 x 64 (docs/performance.md). With
-// cg_two_level (the default) a coarse-grid correction is added: the free particles are grouped
-// into aggregates of 4 x 4, P sums a vector over each aggregate, and the preconditioner is the
-// additive two-level one
+// cg_two_level (the default) a coarse-grid correction is added, and with cg_multigrid (the
+// default too) it is a multigrid V-cycle (integrators/multigrid.h): bilinear interpolation
+// between lattice levels halved in each direction, Galerkin coarse matrices P^T A P down to 8 x 8
+// nodes solved exactly, block Gauss-Seidel smoothing in fixed bands of rows, symmetric; the whole
+// preconditioner is the V-cycle (block Jacobi is its smoother's diagonal). On cotton at the frame
+// step it takes 14 iterations per step at 64 x 64 and 128 x 128 (most 18 and 19) against 89 for
+// the aggregates below; per step it costs about as much on one thread and 20 % less on two at
+// 128 x 128 (its loops are all parallel), and more at 1 ms steps on small sheets, where few
+// iterations are needed anyway (docs/performance.md). Without
+// cg_multigrid, the free particles are grouped into aggregates of 4 x 4, P sums a vector over
+// each aggregate, and the preconditioner is the additive two-level one
 //   M^-1 = D^-1 + P (P^T A P)^-1 P^T
 // (unsmoothed aggregation; see Tamstorf, Jones and McCormick, "Smoothed aggregation multigrid for
-// cloth simulation", SIGGRAPH Asia 2015, for the full multigrid this is the first level of). The
-// coarse matrix P^T A P is banded (aggregates couple to their 8 neighbours) and is factored by a
-// banded Cholesky once per step; applying it costs two band solves, serial, about a quarter of a
-// matrix product. It brings the iterations to about 80 per step at the default tolerance,
-// independent of the lattice size. It is symmetric positive definite, so CG still applies; at
-// very tight tolerances (1e-10) on small lattices it can need more iterations than Jacobi alone,
-// since piecewise-constant aggregates give coarse functions with stiff jumps at their borders
-// (the weakness that smoothing the aggregates removes).
+// cloth simulation", SIGGRAPH Asia 2015). The coarse matrix P^T A P is banded (aggregates couple
+// to their 8 neighbours) and is factored by a banded Cholesky (integrators/banded_cholesky.h)
+// once per step; applying it costs two band solves, serial. It brings the iterations to about 89
+// per step at 128 x 128, independent of the lattice size; its factor grows as particles x cols.
+// Both are symmetric positive definite, so CG still applies; at very tight tolerances (1e-10) on
+// small lattices the aggregates can need more iterations than Jacobi alone, since
+// piecewise-constant aggregates give coarse functions with stiff jumps at their borders (which
+// interpolation avoids).
 //
 // Energy bookkeeping. The work integrals of ClothState take the powers at the end of the step,
 // (x1, v1), times h: a backward-Euler quadrature of the work, first order like the method. The
@@ -89,12 +97,16 @@
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "core/mat3.h"
 #include "forces/element_jacobian.h"
 #include "forces/forces.h"
+#include "integrators/banded_cholesky.h"
+#include "integrators/held_directions.h"
 #include "integrators/integrator.h"
+#include "integrators/multigrid.h"
 #include "model/gather_table.h"
 
 namespace clothsim {
@@ -142,24 +154,18 @@ class ImplicitEuler final : public Integrator {
   // surface, with the normal part of their dv set; after a solve, lets go of those the surface
   // would have to pull (returns whether any); after the step, the impulses and their work.
   // (implicit_euler_contacts.cpp)
-  enum class Hold : std::uint8_t { none, normal, all };
   void hold_on_surfaces(const ClothState& state, double h);
   bool release_held_particles();
   void book_surface_impulses(ClothState& state);
   void set_hold(std::size_t p, Hold hold, const Vec3& normal);
   // v with the held directions of particle p removed (the filter S_p: I - n n^T held along the
   // normal, 0 stuck); v where not held.
-  Vec3 held(std::size_t p, const Vec3& v) const {
-    if (!holding_) return v;
-    if (hold_[p] == Hold::all) return Vec3{};
-    const Vec3& normal = held_normal_[p];
-    return v - dot(v, normal) * normal;
-  }
+  Vec3 held(std::size_t p, const Vec3& v) const { return holding_ ? held_vector(hold_[p], held_normal_[p], v) : v; }
   // preconditioned_ = M^-1 residual_ (zero on anchored particles); returns residual . preconditioned.
   double precondition();
-  // The coarse matrix P^T A P and its banded Cholesky factor; the coarse solve in place on coarse_vector_.
+  // The coarse-grid correction for this step's system (and held set): the aggregates' coarse
+  // matrix P^T A P and its factor, or the multigrid hierarchy.
   void assemble_coarse();
-  void solve_coarse();
 
   const ClothModel& model_;
   IntegratorSettings settings_;
@@ -201,14 +207,13 @@ class ImplicitEuler final : public Integrator {
   std::vector<Vec3> preconditioned_;
   std::vector<Vec3> direction_;
   std::vector<Vec3> product_;
-  // Coarse-grid correction (cg_two_level): aggregate of each particle, and the coarse matrix's
-  // banded Cholesky factor, coarse_dofs_ rows of coarse_bandwidth_ + 1 entries (i, i - k).
+  // Coarse-grid correction (cg_two_level): with cg_multigrid the V-cycle's hierarchy; without,
+  // the aggregate of each particle and the coarse matrix's banded Cholesky factor (3 unknowns per
+  // aggregate; none without the correction).
+  std::optional<LatticeMultigrid> multigrid_;
   std::vector<std::uint32_t> particle_aggregate_;  // [particle_count()]
-  std::size_t coarse_dofs_ = 0;                    // 3 per aggregate; 0 without the correction
-  std::size_t coarse_bandwidth_ = 0;
-  std::vector<double> coarse_band_;    // [coarse_dofs_ (coarse_bandwidth_ + 1)], L by rows, then in column order
-  std::vector<double> coarse_upper_;   // L^T by rows, for the backward substitution
-  std::vector<double> coarse_vector_;  // [coarse_dofs_]
+  BandedCholesky coarse_factor_;
+  std::vector<double> coarse_vector_;  // [coarse_factor_.dofs()]
 
   std::vector<double> block_sum_a_;  // per-block partial sums of the reductions
   std::vector<double> block_sum_b_;

@@ -51,6 +51,10 @@ struct IntegratorSettings {
   // Adds a coarse-grid correction to the Jacobi preconditioner: the system restricted to
   // aggregates of 4 x 4 particles, solved exactly (two-level additive preconditioner).
   bool cg_two_level = true;
+  // With cg_two_level: the coarse-grid correction is a multigrid V-cycle (bilinear interpolation,
+  // Galerkin coarse matrices down to 8 x 8 nodes, Gauss-Seidel smoothing; integrators/multigrid.h)
+  // instead of the exact solve on 4 x 4 aggregates.
+  bool cg_multigrid = true;
   // The blow-up check (sim/simulation.h): a run whose energy balance gains more than this fraction
   // of its energy scale stops as failed.
   double energy_error_limit = 10.0;  // dimensionless

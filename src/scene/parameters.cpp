@@ -166,6 +166,11 @@ constexpr std::array kScalarParameters = {
                     "implicit Euler: add a coarse-grid correction (4 x 4 aggregates) to the Jacobi preconditioner",
                     [](const SceneSpec& s) { return s.integrator.cg_two_level ? 1.0 : 0.0; },
                     [](SceneSpec& s, double v) { s.integrator.cg_two_level = v != 0.0; }},
+    ScalarParameter{"integrator.cg_multigrid", ParameterType::boolean, "", closed_range(0.0, 1.0),
+                    "implicit Euler, with cg_two_level: the coarse-grid correction is a multigrid V-cycle (bilinear "
+                    "interpolation, Gauss-Seidel smoothing) instead of an exact solve on 4 x 4 aggregates",
+                    [](const SceneSpec& s) { return s.integrator.cg_multigrid ? 1.0 : 0.0; },
+                    [](SceneSpec& s, double v) { s.integrator.cg_multigrid = v != 0.0; }},
     // Output.
     ScalarParameter{"output.duration", ParameterType::real, "s", left_open_range(0.0, 1e7),
                     "simulated time to run; with until_rest, the upper limit",

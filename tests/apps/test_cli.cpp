@@ -728,6 +728,8 @@ TEST_F(CliTest, BenchWritesOneCsvRowPerCase) {
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   EXPECT_TRUE(contains(result.out, "6x6"));
   EXPECT_TRUE(contains(result.out, "symplectic-euler"));
+  EXPECT_TRUE(contains(result.out, "GFLOP/s"));
+  EXPECT_TRUE(contains(result.out, "%peak"));
   EXPECT_EQ(entries(work_), (std::set<std::string>{"bench.csv"}));
   std::istringstream csv(read_text(work_ / "bench.csv"));
   std::string line;
@@ -752,6 +754,16 @@ TEST_F(CliTest, BenchWritesOneCsvRowPerCase) {
     EXPECT_GT(std::stod(rows[i][column("force_evaluations")]), 0.0);
     EXPECT_GT(std::stod(rows[i][column("evaluations_per_second")]), 0.0);
     EXPECT_GT(std::stod(rows[i][column("memory_bytes")]), 0.0);
+    // The roofline: the lattice kernel's counted operations, its achieved rate, the probed peak
+    // and the share, which no kernel can push past the peak (1.5: the margin of a noisy probe).
+    EXPECT_EQ(std::stod(rows[i][column("flops_per_particle")]), 820.0);
+    EXPECT_GT(std::stod(rows[i][column("peak_gflops")]), 0.0);
+    EXPECT_GT(std::stod(rows[i][column("achieved_gflops")]), 0.0);
+    const double share = std::stod(rows[i][column("peak_share")]);
+    EXPECT_GT(share, 0.0);
+    EXPECT_LT(share, 1.5);
+    EXPECT_NEAR(share, std::stod(rows[i][column("achieved_gflops")]) / std::stod(rows[i][column("peak_gflops")]),
+                1e-12 * share);
     // Each case stops at the simulated-time cap (0.05 s rounded up to whole 60 fps frames) or
     // at the wall budget, whichever comes first.
     EXPECT_LE(std::stod(rows[i][column("simulated_seconds")]), 0.05 + 1e-9);

@@ -1,0 +1,355 @@
+#include "integrators/multigrid.h"
+
+#include <algorithm>
+
+#include "core/assert.h"
+#include "core/parallel.h"
+
+namespace clothsim {
+namespace {
+
+// A coarse row's blocks: the offsets (di, dj) in [-2, 2]^2 but the corners, in ascending node order.
+constexpr std::array<std::array<int, 2>, 21> kOffsets = {{{-2, -1}, {-2, 0},  {-2, 1},                    //
+                                                          {-1, -2}, {-1, -1}, {-1, 0}, {-1, 1}, {-1, 2},  //
+                                                          {0, -2},  {0, -1},  {0, 0},  {0, 1},  {0, 2},   //
+                                                          {1, -2},  {1, -1},  {1, 0},  {1, 1},  {1, 2},   //
+                                                          {2, -1},  {2, 0},   {2, 1}}};
+constexpr std::size_t kDiagonalSlot = 10;
+
+// The slot of offset (di, dj), both in [-2, 2], not a corner.
+constexpr std::size_t stencil_slot(int di, int dj) {
+  constexpr int kRowStart[5] = {0, 3, 8, 13, 18};  // first slot of each di
+  constexpr int kRowFirst[5] = {-1, -2, -2, -2, -1};
+  return static_cast<std::size_t>(kRowStart[di + 2] + dj - kRowFirst[di + 2]);
+}
+
+// Gauss-Seidel sweeps on each side of the coarse correction, on the fine level and on the coarse
+// ones. Cotton at 128 x 128, 1 s (docs/performance.md), CG iterations per step (most in one):
+// 1 and 1 sweeps 18.5 (26); 2 and 1, 14.0 (19), the least time per step; 2 and 2, 12.0 (16);
+// 3 and 3, 9.6 (14).
+constexpr int kFineSweeps = 2;
+constexpr int kCoarseSweeps = 1;
+
+// Rows per band of the Gauss-Seidel sweeps (at least 2: bands two apart must share no matrix entry).
+constexpr std::size_t kBandRows = 4;
+
+// Levels with fewer nodes run on one thread: a parallel loop's start costs more than it saves.
+constexpr std::size_t kParallelNodes = 1024;
+
+int level_threads(std::size_t nodes, int threads) { return nodes >= kParallelNodes ? threads : 1; }
+
+// Bilinear interpolation along one lattice direction: fine node f's coarse parents (up to 2) and
+// their weights, on a coarse level of `coarse_count` nodes, node I sitting on fine node 2I.
+struct Parents {
+  std::size_t count = 0;
+  std::array<std::size_t, 2> node{};
+  std::array<double, 2> weight{};
+};
+
+Parents parents_1d(std::size_t fine, std::size_t coarse_count) {
+  if (fine % 2 == 0) return {1, {fine / 2, 0}, {1.0, 0.0}};
+  const std::size_t right = (fine + 1) / 2;
+  if (right >= coarse_count) return {1, {fine / 2, 0}, {1.0, 0.0}};  // past the last coarse node
+  return {2, {fine / 2, right}, {0.5, 0.5}};
+}
+
+// Calls body(fine node, weight) for the fine nodes that coarse node `coarse` interpolates to
+// (its children: 2 coarse - 1 .. 2 coarse + 1), in ascending order.
+template <typename Body>
+void for_each_child_1d(std::size_t coarse, std::size_t fine_count, std::size_t coarse_count, Body&& body) {
+  const std::size_t first = coarse > 0 ? 2 * coarse - 1 : 0;
+  const std::size_t last = std::min(fine_count - 1, 2 * coarse + 1);
+  for (std::size_t fine = first; fine <= last; ++fine) {
+    const Parents parents = parents_1d(fine, coarse_count);
+    for (std::size_t k = 0; k < parents.count; ++k) {
+      if (parents.node[k] == coarse) body(fine, parents.weight[k]);
+    }
+  }
+}
+
+}  // namespace
+
+LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols) : rows_(rows), cols_(cols) {
+  CLOTHSIM_ASSERT(rows > 0 && cols > 0, "a lattice");
+  fine_residual_.assign(rows * cols, Vec3{});
+  std::size_t level_rows = rows;
+  std::size_t level_cols = cols;
+  do {
+    level_rows = (level_rows + 1) / 2;
+    level_cols = (level_cols + 1) / 2;
+    CoarseLevel level;
+    level.rows = level_rows;
+    level.cols = level_cols;
+    for (std::size_t s = 0; s < kStencil; ++s) {
+      level.node_offset[s] = kOffsets[s][0] * static_cast<std::ptrdiff_t>(level_cols) + kOffsets[s][1];
+    }
+    const std::size_t nodes = level_rows * level_cols;
+    level.block.assign(nodes * kStencil, Mat3{});
+    level.diagonal_inverse.assign(nodes, Mat3{});
+    for (std::vector<Vec3>* vector : {&level.rhs, &level.solution, &level.residual}) vector->assign(nodes, Vec3{});
+    coarse_.push_back(std::move(level));
+  } while (level_rows * level_cols > kCoarsestNodes);
+  // Nodes couple up to 2 rows and 1 column apart, or 1 row and 2 columns: 2 cols + 1 nodes.
+  coarsest_.resize(3 * level_rows * level_cols, 3 * (2 * level_cols + 1) + 2);
+  coarsest_vector_.assign(coarsest_.dofs(), 0.0);
+}
+
+std::size_t LatticeMultigrid::bytes() const {
+  std::size_t total = fine_residual_.capacity() * sizeof(Vec3) + coarsest_.bytes();
+  total += coarsest_vector_.capacity() * sizeof(double);
+  for (const CoarseLevel& level : coarse_) {
+    total += (level.block.capacity() + level.diagonal_inverse.capacity()) * sizeof(Mat3);
+    total += (level.rhs.capacity() + level.solution.capacity() + level.residual.capacity()) * sizeof(Vec3);
+  }
+  return total;
+}
+
+std::size_t LatticeMultigrid::bytes_for(std::size_t rows, std::size_t cols) {
+  std::size_t total = rows * cols * sizeof(Vec3);
+  std::size_t level_rows = rows;
+  std::size_t level_cols = cols;
+  do {
+    level_rows = (level_rows + 1) / 2;
+    level_cols = (level_cols + 1) / 2;
+    const std::size_t nodes = level_rows * level_cols;
+    total += nodes * ((kStencil + 1) * sizeof(Mat3) + 3 * sizeof(Vec3));
+  } while (level_rows * level_cols > kCoarsestNodes);
+  const std::size_t dofs = 3 * level_rows * level_cols;
+  return total + BandedCholesky::bytes_for(dofs, 3 * (2 * level_cols + 1) + 2) + dofs * sizeof(double);
+}
+
+Vec3 LatticeMultigrid::row_product(std::size_t level, std::size_t node, std::span<const Vec3> x) const {
+  if (level == 0) {
+    // Two partial sums, alternating blocks: half the chain of dependent additions.
+    Vec3 even;
+    Vec3 odd;
+    const std::uint32_t end = fine_.row_offset[node + 1];
+    std::uint32_t k = fine_.row_offset[node];
+    for (; k + 1 < end; k += 2) {
+      even += fine_.block[k] * x[fine_.column[k]];
+      odd += fine_.block[k + 1] * x[fine_.column[k + 1]];
+    }
+    if (k < end) even += fine_.block[k] * x[fine_.column[k]];
+    const Vec3 sum = even + odd;
+    return fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], sum) : sum;
+  }
+  const CoarseLevel& coarse = coarse_[level - 1];
+  const std::size_t row = node / coarse.cols;
+  const std::size_t col = node % coarse.cols;
+  const Mat3* blocks = &coarse.block[node * kStencil];
+  Vec3 even;
+  Vec3 odd;
+  if (row >= 2 && col >= 2 && row + 2 < coarse.rows && col + 2 < coarse.cols) {
+    // An interior node: every neighbour exists.
+    const Vec3* centre = &x[node];
+    for (std::size_t s = 0; s + 1 < kStencil; s += 2) {
+      even += blocks[s] * centre[coarse.node_offset[s]];
+      odd += blocks[s + 1] * centre[coarse.node_offset[s + 1]];
+    }
+    even += blocks[kStencil - 1] * centre[coarse.node_offset[kStencil - 1]];
+    return even + odd;
+  }
+  for (std::size_t s = 0; s < kStencil; ++s) {
+    const std::ptrdiff_t i = static_cast<std::ptrdiff_t>(row) + kOffsets[s][0];
+    const std::ptrdiff_t j = static_cast<std::ptrdiff_t>(col) + kOffsets[s][1];
+    if (i < 0 || j < 0 || i >= static_cast<std::ptrdiff_t>(coarse.rows) ||
+        j >= static_cast<std::ptrdiff_t>(coarse.cols)) {
+      continue;
+    }
+    even += blocks[s] * x[static_cast<std::size_t>(i) * coarse.cols + static_cast<std::size_t>(j)];
+  }
+  return even;
+}
+
+void LatticeMultigrid::smooth(std::size_t level, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x,
+                              int threads) {
+  const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
+  const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
+  const auto update = [&](std::size_t node) {
+    if (level == 0) {
+      if (!fine_.free[node]) return;
+      const Vec3 change = fine_.diagonal_inverse[node] * (rhs[node] - row_product(0, node, x));
+      x[node] += fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], change) : change;
+    } else {
+      x[node] += coarse_[level - 1].diagonal_inverse[node] * (rhs[node] - row_product(level, node, x));
+    }
+  };
+  const std::size_t bands = (rows + kBandRows - 1) / kBandRows;
+  const int loop_threads = level_threads(rows * cols, threads);
+  for (std::size_t step = 0; step < 2; ++step) {
+    const std::size_t parity = ascending ? step : 1 - step;
+    parallel_for((bands + 1 - parity) / 2, loop_threads, [&](std::size_t k) {
+      const std::size_t band = parity + 2 * k;
+      const std::size_t first = band * kBandRows * cols;
+      const std::size_t end = std::min(rows, (band + 1) * kBandRows) * cols;
+      if (ascending) {
+        for (std::size_t node = first; node < end; ++node) update(node);
+      } else {
+        for (std::size_t node = end; node-- > first;) update(node);
+      }
+    });
+  }
+}
+
+void LatticeMultigrid::restrict_residual(std::size_t level, std::span<const Vec3> rhs, std::span<const Vec3> x,
+                                         int threads) {
+  const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
+  const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
+  std::vector<Vec3>& residual = level == 0 ? fine_residual_ : coarse_[level - 1].residual;
+  parallel_for(rows * cols, level_threads(rows * cols, threads), [&](std::size_t node) {
+    residual[node] = level == 0 && !fine_.free[node] ? Vec3{} : rhs[node] - row_product(level, node, x);
+  });
+  CoarseLevel& next = coarse_[level];
+  parallel_for(next.rows * next.cols, level_threads(rows * cols, threads), [&](std::size_t node) {
+    const std::size_t row = node / next.cols;
+    const std::size_t col = node % next.cols;
+    Vec3 sum;
+    for_each_child_1d(row, rows, next.rows, [&](std::size_t i, double row_weight) {
+      for_each_child_1d(col, cols, next.cols, [&](std::size_t j, double col_weight) {
+        sum += (row_weight * col_weight) * residual[i * cols + j];
+      });
+    });
+    next.rhs[node] = sum;
+  });
+}
+
+void LatticeMultigrid::prolong(std::size_t level, std::span<Vec3> x, int threads) {
+  const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
+  const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
+  const CoarseLevel& next = coarse_[level];
+  parallel_for(rows * cols, level_threads(rows * cols, threads), [&](std::size_t node) {
+    if (level == 0 && !fine_.free[node]) return;
+    const Parents row_parents = parents_1d(node / cols, next.rows);
+    const Parents col_parents = parents_1d(node % cols, next.cols);
+    Vec3 sum;
+    for (std::size_t a = 0; a < row_parents.count; ++a) {
+      for (std::size_t b = 0; b < col_parents.count; ++b) {
+        sum += (row_parents.weight[a] * col_parents.weight[b]) *
+               next.solution[row_parents.node[a] * next.cols + col_parents.node[b]];
+      }
+    }
+    x[node] += level == 0 && fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], sum) : sum;
+  });
+}
+
+void LatticeMultigrid::galerkin(std::size_t level, int threads) {
+  const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
+  const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
+  CoarseLevel& next = coarse_[level];
+  // Calls body(q, block) for the blocks of level l's row p in the solved directions.
+  const auto for_each_block = [&](std::size_t p, auto&& body) {
+    if (level == 0) {
+      if (!fine_.free[p] || (fine_.holding && fine_.hold[p] == Hold::all)) return;
+      for (std::uint32_t k = fine_.row_offset[p]; k < fine_.row_offset[p + 1]; ++k) {
+        const std::uint32_t q = fine_.column[k];
+        if (!fine_.free[q]) continue;
+        const bool filtered = fine_.holding && (fine_.hold[p] != Hold::none || fine_.hold[q] != Hold::none);
+        body(q, filtered ? held_block(fine_.block[k], fine_.hold[p], fine_.normal[p], fine_.hold[q], fine_.normal[q])
+                         : fine_.block[k]);
+      }
+      return;
+    }
+    const CoarseLevel& coarse = coarse_[level - 1];
+    const auto row = static_cast<std::ptrdiff_t>(p / cols);
+    const auto col = static_cast<std::ptrdiff_t>(p % cols);
+    for (std::size_t s = 0; s < kStencil; ++s) {
+      const std::ptrdiff_t i = row + kOffsets[s][0];
+      const std::ptrdiff_t j = col + kOffsets[s][1];
+      if (i < 0 || j < 0 || i >= static_cast<std::ptrdiff_t>(rows) || j >= static_cast<std::ptrdiff_t>(cols)) continue;
+      body(static_cast<std::size_t>(i) * cols + static_cast<std::size_t>(j), coarse.block[p * kStencil + s]);
+    }
+  };
+  // Row I of P^T A P: sum over I's children p and the blocks (p, q) of w(p, I) w(q, J) A_pq, J
+  // over q's parents; each row by one thread, in a fixed order.
+  parallel_for(next.rows * next.cols, level_threads(rows * cols, threads), [&](std::size_t node) {
+    const auto node_row = static_cast<std::ptrdiff_t>(node / next.cols);
+    const auto node_col = static_cast<std::ptrdiff_t>(node % next.cols);
+    Mat3* row_blocks = &next.block[node * kStencil];
+    std::fill(row_blocks, row_blocks + kStencil, Mat3{});
+    for_each_child_1d(node / next.cols, rows, next.rows, [&](std::size_t i, double row_weight) {
+      for_each_child_1d(node % next.cols, cols, next.cols, [&](std::size_t j, double col_weight) {
+        const double child_weight = row_weight * col_weight;
+        for_each_block(i * cols + j, [&](std::size_t q, const Mat3& block) {
+          const Parents row_parents = parents_1d(q / cols, next.rows);
+          const Parents col_parents = parents_1d(q % cols, next.cols);
+          for (std::size_t a = 0; a < row_parents.count; ++a) {
+            for (std::size_t b = 0; b < col_parents.count; ++b) {
+              const int di = static_cast<int>(static_cast<std::ptrdiff_t>(row_parents.node[a]) - node_row);
+              const int dj = static_cast<int>(static_cast<std::ptrdiff_t>(col_parents.node[b]) - node_col);
+              row_blocks[stencil_slot(di, dj)] +=
+                  (child_weight * row_parents.weight[a] * col_parents.weight[b]) * block;
+            }
+          }
+        });
+      });
+    });
+    // The smoother's block: the diagonal's inverse, zero for a node no free particle reaches.
+    // The tiny shift keeps it finite where the held directions of all its children coincide
+    // (the diagonal is then singular in a direction in which its right-hand side is zero).
+    const Mat3& diagonal = row_blocks[kDiagonalSlot];
+    const double trace = diagonal(0, 0) + diagonal(1, 1) + diagonal(2, 2);
+    next.diagonal_inverse[node] = trace > 0.0 ? inverse(diagonal + Mat3::diagonal(1e-12 * trace)) : Mat3{};
+  });
+}
+
+void LatticeMultigrid::setup(const MultigridFineSystem& fine, int threads) {
+  CLOTHSIM_ASSERT(fine.row_offset.size() == rows_ * cols_ + 1, "the fine system is the lattice's");
+  fine_ = fine;
+  for (std::size_t level = 0; level < coarse_.size(); ++level) galerkin(level, threads);
+  // The coarsest matrix's lower triangle into the banded factor.
+  const CoarseLevel& last = coarse_.back();
+  coarsest_.clear();
+  for (std::size_t node = 0; node < last.rows * last.cols; ++node) {
+    const auto row = static_cast<std::ptrdiff_t>(node / last.cols);
+    const auto col = static_cast<std::ptrdiff_t>(node % last.cols);
+    for (std::size_t s = 0; s <= kDiagonalSlot; ++s) {  // the offsets before the node, and itself
+      const std::ptrdiff_t i = row + kOffsets[s][0];
+      const std::ptrdiff_t j = col + kOffsets[s][1];
+      if (i < 0 || j < 0 || j >= static_cast<std::ptrdiff_t>(last.cols)) continue;
+      const std::size_t other = static_cast<std::size_t>(i) * last.cols + static_cast<std::size_t>(j);
+      const Mat3& block = last.block[node * kStencil + s];
+      for (std::size_t r = 0; r < 3; ++r) {
+        for (std::size_t c = 0; c < 3; ++c) {
+          if (3 * other + c <= 3 * node + r) {
+            coarsest_.lower(3 * node + r, 3 * other + c) = block(static_cast<int>(r), static_cast<int>(c));
+          }
+        }
+      }
+    }
+  }
+  coarsest_.factor();
+}
+
+void LatticeMultigrid::apply(std::span<const Vec3> residual, std::span<Vec3> result, int threads) {
+  std::fill(result.begin(), result.end(), Vec3{});
+  const std::size_t last = coarse_.size();  // the coarsest level's index
+  // Down: smooth from zero, restrict the residual.
+  for (int sweep = 0; sweep < kFineSweeps; ++sweep) smooth(0, true, residual, result, threads);
+  restrict_residual(0, residual, result, threads);
+  for (std::size_t level = 1; level < last; ++level) {
+    CoarseLevel& coarse = coarse_[level - 1];
+    std::fill(coarse.solution.begin(), coarse.solution.end(), Vec3{});
+    for (int sweep = 0; sweep < kCoarseSweeps; ++sweep) smooth(level, true, coarse.rhs, coarse.solution, threads);
+    restrict_residual(level, coarse.rhs, coarse.solution, threads);
+  }
+  // The coarsest level exactly.
+  CoarseLevel& coarsest = coarse_.back();
+  for (std::size_t node = 0; node < coarsest.rhs.size(); ++node) {
+    for (int k = 0; k < 3; ++k) coarsest_vector_[3 * node + static_cast<std::size_t>(k)] = coarsest.rhs[node][k];
+  }
+  coarsest_.solve(coarsest_vector_);
+  for (std::size_t node = 0; node < coarsest.solution.size(); ++node) {
+    coarsest.solution[node] = {coarsest_vector_[3 * node], coarsest_vector_[3 * node + 1],
+                               coarsest_vector_[3 * node + 2]};
+  }
+  // Up: add the correction, smooth in the reverse order.
+  for (std::size_t level = last - 1; level >= 1; --level) {
+    CoarseLevel& coarse = coarse_[level - 1];
+    prolong(level, coarse.solution, threads);
+    for (int sweep = 0; sweep < kCoarseSweeps; ++sweep) smooth(level, false, coarse.rhs, coarse.solution, threads);
+  }
+  prolong(0, result, threads);
+  for (int sweep = 0; sweep < kFineSweeps; ++sweep) smooth(0, false, residual, result, threads);
+}
+
+}  // namespace clothsim

@@ -1,0 +1,132 @@
+// The multigrid preconditioner of implicit Euler's conjugate gradients on a lattice: one
+// symmetric V-cycle per application, geometric coarsening with Galerkin coarse matrices.
+//
+// Why. The system A = M + h C + h^2 K of stiff cloth at a frame-sized step is dominated by the
+// connectors' stretch stiffness: a lattice Laplacian, strong along each connector and weak across
+// it (cotton's shear and bending are 2 to 6 orders of magnitude softer than its stretch), whose
+// condition number grows with the square of the lattice size. Block Jacobi took 420 to 900 CG
+// iterations per step on cotton, the two-level additive preconditioner (Jacobi plus an exact
+// solve on 4 x 4 piecewise-constant aggregates) about 89 at 128 x 128; this V-cycle takes 14 at
+// 64 x 64 and at 128 x 128, at most 19 in a step (docs/performance.md, "The preconditioner").
+//
+// Levels. Level 0 is the lattice and implicit Euler's own block-sparse matrix (CSR of 3x3 blocks,
+// not copied). Level l + 1 keeps every other node of level l in each direction: a rows x cols
+// level has ceil(rows / 2) x ceil(cols / 2) nodes, node (I, J) sitting on node (2I, 2J) below.
+// Coarsening stops at kCoarsestNodes nodes or fewer (8 x 8 from 128 x 128: four coarse levels),
+// whose system is solved exactly by a banded Cholesky factor (integrators/banded_cholesky.h).
+//
+// Transfer. The prolongation P is bilinear interpolation, per lattice direction: a node on a
+// coarse node takes its value, one between two coarse nodes their mean, and a last node past the
+// last coarse node (an even side) the value of that node; its tensor product gives every fine
+// node up to 4 coarse parents, each with a scalar weight times the 3x3 identity. Restriction is
+// P^T. The coarse matrices are Galerkin's, A_{l+1} = P^T A_l P, assembled each step (A changes
+// every step), so the coarse systems are exactly the energy of the interpolated functions. With
+// the lattice's elements reaching 2 nodes (opposite radial springs), every level's matrix couples a
+// node to its neighbours at offsets (di, dj) in [-2, 2]^2 except the 4 corners (+-2, +-2): 21 blocks,
+// stored densely per node.
+//
+// Smoother. Block Gauss-Seidel (3x3 blocks and their inverses: the block Jacobi preconditioner's
+// on level 0), 2 sweeps on level 0 and 1 on the coarse levels on each side of the coarse
+// correction. The nodes are visited in bands of kBandRows = 4 whole rows: first the even bands,
+// each in parallel with the others and lexicographically within itself, then the odd ones. Elements
+// reach 2 rows, so no two bands of the same parity share a matrix entry: each node is updated by
+// one thread from values that do not depend on the thread count, and the bands are fixed by the
+// lattice, not by the threads. On the way up the V the sweep runs in exactly the reverse order,
+// the adjoint of the way down, so the V-cycle is a symmetric positive definite operator, as
+// conjugate gradients require. (Gauss-Seidel converges on any symmetric positive definite matrix,
+// with no damping to tune: damped Jacobi at 0.8 diverged on cotton. A 9-colour Gauss-Seidel,
+// (i mod 3, j mod 3), took as many iterations and 13 % more time: it reads the matrix in strides.)
+//
+// Held particles (integrators/held_directions.h). The level-0 operator is S A S and the transfer
+// S P: the Galerkin product filters each fine block, the prolongation filters what it adds, the
+// smoother works in the free directions only. Anchored particles are outside the system: their
+// rows and columns are left out of every product. setup() must run again when the held set changes.
+//
+// Rejected. Smoothed aggregation (Tamstorf, Jones and McCormick 2015: the tentative piecewise-
+// constant prolongator smoothed by a damped Jacobi step): its prolongator has 3x3 blocks, up to 9
+// per row, and its Galerkin triple product would cost about 130 Mflop per step at 128 x 128 (a
+// count of the block products, not built), against about 20 for the scalar bilinear weights. A
+// multiplicative two-level cycle on the old 4 x 4 aggregates with damped Jacobi: 29 iterations
+// with two sweeps on each side, 20 with four (64 x 64), and a coarse factor that grows as
+// particles x cols. (docs/performance.md has the measurements.)
+#pragma once
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/mat3.h"
+#include "integrators/banded_cholesky.h"
+#include "integrators/held_directions.h"
+
+namespace clothsim {
+
+// The level-0 system: implicit Euler's matrix, its block Jacobi inverses and which particles and
+// directions it solves for. The spans must stay valid until the next setup().
+struct MultigridFineSystem {
+  std::span<const std::uint32_t> row_offset;  // [particles + 1], rows of the CSR of 3x3 blocks
+  std::span<const std::uint32_t> column;      // [blocks], ascending within a row
+  std::span<const Mat3> block;                // [blocks], A
+  std::span<const Mat3> diagonal_inverse;     // [particles], the smoother's blocks; unused where not free
+  std::span<const std::uint8_t> free;         // [particles], 1 for the particles solved for
+  std::span<const Hold> hold;                 // [particles], read only when holding
+  std::span<const Vec3> normal;               // [particles], held normals, read only when holding
+  bool holding = false;                       // some particle is held on a surface
+};
+
+class LatticeMultigrid {
+ public:
+  // Nodes per level at most for the exact solve that ends the V-cycle.
+  static constexpr std::size_t kCoarsestNodes = 64;
+
+  // The hierarchy's structure for a rows x cols lattice (particle (i, j) at index i cols + j):
+  // at least one coarse level.
+  LatticeMultigrid(std::size_t rows, std::size_t cols);
+  // The coarse matrices, their smoother blocks and the coarsest factor, from the fine system.
+  void setup(const MultigridFineSystem& fine, int threads);
+  // result = V-cycle applied to residual ([particles] each; residual zero where not solved for and
+  // in the held directions). result is zero where not solved for.
+  void apply(std::span<const Vec3> residual, std::span<Vec3> result, int threads);
+
+  std::size_t level_count() const { return 1 + coarse_.size(); }
+  std::size_t bytes() const;
+  // bytes() of the hierarchy for a rows x cols lattice.
+  static std::size_t bytes_for(std::size_t rows, std::size_t cols);
+
+ private:
+  static constexpr std::size_t kStencil = 21;  // blocks per coarse row: offsets in [-2, 2]^2 but the corners
+
+  struct CoarseLevel {
+    std::size_t rows = 0;  // nodes
+    std::size_t cols = 0;
+    std::array<std::ptrdiff_t, kStencil> node_offset{};  // index of the node at each slot's offset, less I
+    std::vector<Mat3> block;             // [nodes kStencil], row I's block to node I + offset(s) at I kStencil + s
+    std::vector<Mat3> diagonal_inverse;  // [nodes], the smoother's blocks
+    std::vector<Vec3> rhs;               // [nodes] restricted residual
+    std::vector<Vec3> solution;          // [nodes]
+    std::vector<Vec3> residual;          // [nodes] rhs - A solution, before restriction
+  };
+
+  // Level l's matrix row `node` (l = 0: the fine CSR) times `x`, in the solved directions.
+  Vec3 row_product(std::size_t level, std::size_t node, std::span<const Vec3> x) const;
+  // One Gauss-Seidel sweep over level l's colours, ascending (down the V) or descending.
+  void smooth(std::size_t level, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
+  // residual = rhs - A x on level l, then the next level's rhs = P^T residual.
+  void restrict_residual(std::size_t level, std::span<const Vec3> rhs, std::span<const Vec3> x, int threads);
+  // x += P (next level's solution) on level l.
+  void prolong(std::size_t level, std::span<Vec3> x, int threads);
+  // Level l + 1's matrix from level l's: P^T A_l P.
+  void galerkin(std::size_t level, int threads);
+
+  std::size_t rows_ = 0;
+  std::size_t cols_ = 0;
+  MultigridFineSystem fine_;
+  std::vector<Vec3> fine_residual_;  // [particles]
+  std::vector<CoarseLevel> coarse_;  // levels 1 .. level_count() - 1
+  BandedCholesky coarsest_;          // the last level's matrix, factored
+  std::vector<double> coarsest_vector_;
+};
+
+}  // namespace clothsim
