@@ -328,8 +328,11 @@ TEST_F(GpuTest, RadialForcesFloat64MatchElementH) {
     const RadialDifferences d =
         radial_differences(cases, passes.accumulate_radial_springs(cases.arrays(), damped), damped, 0.0);
     print_radial(damped ? "float64 radial springs (damped)" : "float64 radial springs", d, kEpsilon64);
+    // 32 eps K S: lavapipe agrees to 3.4 eps K S; NVIDIA's driver 580 on an H200, which may
+    // contract a * b + c into one rounding (the SPIR-V does not forbid it), to 22.8 on nearly
+    // straight springs (docs/gpu.md, "Measured agreement").
     for (std::size_t s = 0; s < kShapes; ++s) {
-      EXPECT_LE(d.conditioned[s], 16 * kEpsilon64) << kShapeNames[s] << (damped ? ", damped" : "");
+      EXPECT_LE(d.conditioned[s], 32 * kEpsilon64) << kShapeNames[s] << (damped ? ", damped" : "");
     }
   }
 }
