@@ -137,9 +137,9 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
 
 std::string bench_table_header() {
   char line[256];
-  std::snprintf(line, sizeof line, "%-9s %-17s %-14s %3s %10s %10s %8s %6s %6s %10s %9s %8s %7s %9s %9s  %s",
-                "lattice", "integrator", "kernel", "thr", "evals/s", "us/eval", "GFLOP/s", "peak", "%peak", "p-steps/s",
-                "sim s/s", "sim s", "wall s", "sim MiB", "RSS MiB", "status");
+  std::snprintf(line, sizeof line, "%-9s %-17s %-14s %3s %10s %10s %8s %6s %6s %10s %9s %8s %7s %9s %9s  %s", "lattice",
+                "integrator", "kernel", "thr", "evals/s", "us/eval", "GFLOP/s", "peak", "%peak", "p-steps/s", "sim s/s",
+                "sim s", "wall s", "sim MiB", "RSS MiB", "status");
   return line;
 }
 

@@ -9,9 +9,7 @@ namespace clothsim {
 
 enum class Precision : std::uint8_t { float64, float32 };
 
-constexpr const char* to_string(Precision precision) {
-  return precision == Precision::float64 ? "float64" : "float32";
-}
+constexpr const char* to_string(Precision precision) { return precision == Precision::float64 ? "float64" : "float32"; }
 
 // "float64" or "float32"; false for any other text (`precision` is then unchanged).
 constexpr bool parse_precision(std::string_view text, Precision& precision) {

@@ -48,10 +48,9 @@ Device& checked(Device& device, const ClothModel& model, Precision precision, st
   return device;
 }
 
-
 // The model's arrays as the device holds them (the other arrays are state and scratch: empty).
 std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(const ClothModel& model,
-                                                                              Precision precision, ForceTerms terms) {
+                                                                             Precision precision, ForceTerms terms) {
   using A = DeviceForces;
   GatherTable gather;
   gather.build(model);

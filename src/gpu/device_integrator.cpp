@@ -11,10 +11,10 @@
 #include "core/assert.h"
 #include "core/parallel.h"
 #include "core/timer.h"
+#include "forces/lattice_kernel_layout.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
-#include "forces/lattice_kernel_layout.h"
 #include "gpu/shaders/device_step.h"
 #include "integrators/dynamics.h"
 #include "integrators/explicit_runge_kutta.h"
@@ -72,13 +72,15 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const Latti
   return bytes;
 }
 
-std::uint32_t anchor_capacity_for(std::size_t anchors) { return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16)); }
+std::uint32_t anchor_capacity_for(std::size_t anchors) {
+  return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16));
+}
 
 // The checks before anything is allocated: the device, its precision and its memory.
 Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision) {
   device.require_precision(precision);
-  device.require_memory(DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision),
-                        "the scene");
+  device.require_memory(
+      DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision), "the scene");
   return device;
 }
 
@@ -186,23 +188,22 @@ void DeviceIntegrator::bind_passes() {
   };
   const auto own = [&](Array a) { return &arrays_[a]; };
   const auto forces = [&](F::Array a) { return &forces_.buffer(a); };
-  bind(stage_state_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
-                           own(control_uint), own(particle_anchor), own(anchor_paths), forces(F::position),
-                           forces(F::velocity)});
-  bind(acceleration_pass_,
-       {forces(F::velocity), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
-        forces(F::gather_offset), forces(F::gather_slot), forces(F::slot_force), own(rows), own(control_real),
-        own(control_uint), own(particle_anchor), own(anchor_paths), own(acceleration), own(particle_power),
-        own(lattice_forces)});
+  bind(stage_state_pass_,
+       {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real), own(control_uint),
+        own(particle_anchor), own(anchor_paths), forces(F::position), forces(F::velocity)});
+  bind(acceleration_pass_, {forces(F::velocity), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
+                            forces(F::gather_offset), forces(F::gather_slot), forces(F::slot_force), own(rows),
+                            own(control_real), own(control_uint), own(particle_anchor), own(anchor_paths),
+                            own(acceleration), own(particle_power), own(lattice_forces)});
   bind(lattice_pass_, {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces),
                        own(particle_power), own(control_uint)});
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
                         own(trial_velocity), own(block_error), own(block_particle)});
   bind(control_pass_, {own(control_real), own(control_uint), own(block_error), own(block_particle), own(block_work)});
-  bind(accept_pass_, {own(control_real), own(control_uint), own(trial_position), own(trial_velocity),
-                      own(state_position), own(state_velocity), forces(F::element_power), own(particle_power),
-                      own(rows), own(block_work)});
+  bind(accept_pass_,
+       {own(control_real), own(control_uint), own(trial_position), own(trial_velocity), own(state_position),
+        own(state_velocity), forces(F::element_power), own(particle_power), own(rows), own(block_work)});
 }
 
 DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with the device's pool
@@ -298,8 +299,8 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
     // More anchors than the table holds (pins added at run time): a larger table, bound anew,
     // and the recorded command buffers, which name the old one, recorded again.
     anchor_capacity_ = 2 * static_cast<std::uint32_t>(model_.anchors.size());
-    arrays_[anchor_paths] = Buffer(device_, std::uint64_t{anchor_capacity_} * kAnchorReals * real_size(precision_),
-                                   Memory::device_local);
+    arrays_[anchor_paths] =
+        Buffer(device_, std::uint64_t{anchor_capacity_} * kAnchorReals * real_size(precision_), Memory::device_local);
     bind_passes();
     for (const auto& [attempts, commands] : recorded_) device_.release(commands);
     recorded_.clear();
@@ -405,7 +406,8 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
   }
 
   // Batches of attempts until the advance ends; the next batch is twice the last.
-  std::uint32_t attempts = max_accepted == 1 ? 1 : std::bit_ceil(std::min(expected_attempts_, kMaxAttemptsPerSubmission));
+  std::uint32_t attempts =
+      max_accepted == 1 ? 1 : std::bit_ceil(std::min(expected_attempts_, kMaxAttemptsPerSubmission));
   for (;;) {
     {
       ScopedTimer timer(device_seconds_);
@@ -415,8 +417,8 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
     if (uints[kActive] == 0) break;
     attempts = std::min(2 * attempts, kMaxAttemptsPerSubmission);
   }
-  reals = reals_from_bytes(std::span(control_real_readback_.mapped(), kControlReals * real_size(precision_)),
-                           precision_);
+  reals =
+      reals_from_bytes(std::span(control_real_readback_.mapped(), kControlReals * real_size(precision_)), precision_);
 
   {
     ScopedTimer timer(transfer_seconds_);

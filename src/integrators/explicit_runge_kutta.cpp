@@ -96,7 +96,8 @@ ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const Integrator
                                        const ForceOptions& options, const ButcherTableau& tableau)
     : model_(model), settings_(settings), tableau_(tableau), dynamics_(model, options) {
   for (int i = 0; i < tableau_.stages; ++i) {
-    stage_rows_[static_cast<std::size_t>(i)] = nystrom_row(tableau_, tableau_.coefficients[static_cast<std::size_t>(i)]);
+    stage_rows_[static_cast<std::size_t>(i)] =
+        nystrom_row(tableau_, tableau_.coefficients[static_cast<std::size_t>(i)]);
   }
   solution_row_ = nystrom_row(tableau_, tableau_.weights);
   const std::size_t n = model.particle_count();

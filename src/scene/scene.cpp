@@ -57,18 +57,20 @@ std::string method_choices() {
 std::string backend_choices() { return join_names(std::array{to_string(Backend::cpu), to_string(Backend::vulkan)}); }
 
 std::string precision_choices() {
-  return join_names(std::array{std::string_view(to_string(Precision::float64)),
-                               std::string_view(to_string(Precision::float32))});
+  return join_names(
+      std::array{std::string_view(to_string(Precision::float64)), std::string_view(to_string(Precision::float32))});
 }
 
 void read_backend(std::string_view text, SceneSpec& spec, const std::string& source, const std::string& got) {
-  if (!parse_backend(text, spec.backend.kind)) fail(source, "backend", "must be one of " + backend_choices() + ", got " + got);
+  if (!parse_backend(text, spec.backend.kind))
+    fail(source, "backend", "must be one of " + backend_choices() + ", got " + got);
 }
 
 void read_precision(std::string_view text, SceneSpec& spec, const std::string& source, const std::string& got) {
   Precision precision = Precision::float64;
   if (!parse_precision(text, precision)) {
-    fail(source, "precision", "must be one of " + precision_choices() + " (or absent: the backend's default), got " + got);
+    fail(source, "precision",
+         "must be one of " + precision_choices() + " (or absent: the backend's default), got " + got);
   }
   spec.backend.precision = precision;
 }

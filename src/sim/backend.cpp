@@ -96,8 +96,8 @@ std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, con
   if (backend.kind == Backend::cpu) return make_integrator(model, integrator, options);
 #if CLOTHSIM_HAVE_VULKAN
   try {
-    return std::make_unique<gpu::DeviceIntegrator>(
-        model, integrator, options, gpu::DeviceSelection{backend.device, backend.resolved_precision()});
+    return std::make_unique<gpu::DeviceIntegrator>(model, integrator, options,
+                                                   gpu::DeviceSelection{backend.device, backend.resolved_precision()});
   } catch (const gpu::GpuError& error) {
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
   }

@@ -26,8 +26,8 @@ bool parse_backend(std::string_view text, Backend& backend);
 
 struct BackendSettings {
   Backend kind = Backend::cpu;
-  std::uint32_t device = 0;             // the Vulkan device, as `clothsim devices` numbers it
-  std::optional<Precision> precision;   // unset: the backend's default, precision()
+  std::uint32_t device = 0;            // the Vulkan device, as `clothsim devices` numbers it
+  std::optional<Precision> precision;  // unset: the backend's default, precision()
   // The precision the backend computes in: the one set, else float64 on the CPU and float32 on
   // a device (the default: twice the throughput, and every device has it).
   Precision resolved_precision() const {

@@ -104,8 +104,8 @@ TEST_F(BackendTest, NoDeviceAndTooLargeAreRefusedBeforeAnythingIsWritten) {
 }
 
 TEST_F(BackendTest, TheBenchRunsOnTheDevice) {
-  const Result result = clothsim({"bench", "--backend", "vulkan", "--sizes", "9", "--seconds", "0.2", "--sim-cap",
-                                  "0.05", "--csv", "bench.csv"});
+  const Result result = clothsim(
+      {"bench", "--backend", "vulkan", "--sizes", "9", "--seconds", "0.2", "--sim-cap", "0.05", "--csv", "bench.csv"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   const std::string csv = read_text(work_ / "bench.csv");
   // rkf45, rk4 and symplectic-euler: what the backend runs (implicit-euler is the CPU's).

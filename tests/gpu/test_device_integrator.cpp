@@ -125,8 +125,9 @@ TEST(DeviceIntegrator, PaperScenesFollowTheCpu) {
 
 // free-spin: no anchors, gravity or drag, so the sheet's momentum and angular momentum stay what
 // they were. Momentum: each element's forces sum to zero, so only their rounding moves it, against
-// the scale sum m |v| (measured after 0.5 s: 1.9 eps of it in float64, 1.6 eps_f in float32). Angular momentum: RKF45's truncation error moves it too (1.4e-12 of |L| in float64, the
-// CPU's figure), and in float32 the rounding of some thousand steps (1.4e-5 of |L|, 230 eps_f).
+// the scale sum m |v| (measured after 0.5 s: 1.9 eps of it in float64, 1.6 eps_f in float32). Angular momentum: RKF45's
+// truncation error moves it too (1.4e-12 of |L| in float64, the CPU's figure), and in float32 the rounding of some
+// thousand steps (1.4e-5 of |L|, 230 eps_f).
 TEST(DeviceIntegrator, FreeFlightKeepsMomentumAndAngularMomentum) {
   for (Precision precision : {Precision::float64, Precision::float32}) {
     SceneSpec spec = builtin_scene("free-spin");
@@ -180,7 +181,8 @@ TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPath) {
     model.connector_rest_length[e] *= 1.0 + 0.01 * std::sin(static_cast<double>(e));
     model.connector_stiffness[e] *= 1.0 + 0.1 * std::cos(static_cast<double>(e));
   }
-  for (std::size_t r = 0; r < model.radial_count(); ++r) model.radial_rest_angle[r] += 0.05 * std::sin(static_cast<double>(r));
+  for (std::size_t r = 0; r < model.radial_count(); ++r)
+    model.radial_rest_angle[r] += 0.05 * std::sin(static_cast<double>(r));
   for (std::uint32_t e : {5u, 17u, 40u, 41u}) tear_connector(model, state, e);
   IntegratorSettings settings;  // rkf45, first step 1e-3 s
   ForceOptions general;

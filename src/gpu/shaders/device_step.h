@@ -17,41 +17,41 @@ using uint = std::uint32_t;
 #endif
 
 // control_real: times are relative to the advance's start (the host adds them to its double time).
-CLOTHSIM_SLOT kStep = 0;            // s, the step the current attempt takes
-CLOTHSIM_SLOT kTakenStep = 1;       // s, the step the last decision accepted
-CLOTHSIM_SLOT kProposedStep = 2;    // s, the controller's proposal for the next step
-CLOTHSIM_SLOT kPreviousError = 3;   // the PI controller's memory (explicit_runge_kutta.cpp)
-CLOTHSIM_SLOT kElapsed = 4;         // s, simulated time since the advance began
-CLOTHSIM_SLOT kTarget = 5;          // s, where the advance ends (t_limit - its start)
-CLOTHSIM_SLOT kError = 6;           // the last attempt's scaled error norm
-CLOTHSIM_SLOT kSmallestStep = 7;    // s, over this advance's accepted steps
-CLOTHSIM_SLOT kLargestStep = 8;     // s
-CLOTHSIM_SLOT kWork = 9;            // J, [6]: damping, drag, anchor work of this advance, each as
-                                    // a compensated sum (value, then its rounding error)
-CLOTHSIM_SLOT kMinStep = 15;        // the IntegratorSettings fields of the same names
+CLOTHSIM_SLOT kStep = 0;           // s, the step the current attempt takes
+CLOTHSIM_SLOT kTakenStep = 1;      // s, the step the last decision accepted
+CLOTHSIM_SLOT kProposedStep = 2;   // s, the controller's proposal for the next step
+CLOTHSIM_SLOT kPreviousError = 3;  // the PI controller's memory (explicit_runge_kutta.cpp)
+CLOTHSIM_SLOT kElapsed = 4;        // s, simulated time since the advance began
+CLOTHSIM_SLOT kTarget = 5;         // s, where the advance ends (t_limit - its start)
+CLOTHSIM_SLOT kError = 6;          // the last attempt's scaled error norm
+CLOTHSIM_SLOT kSmallestStep = 7;   // s, over this advance's accepted steps
+CLOTHSIM_SLOT kLargestStep = 8;    // s
+CLOTHSIM_SLOT kWork = 9;           // J, [6]: damping, drag, anchor work of this advance, each as
+                                   // a compensated sum (value, then its rounding error)
+CLOTHSIM_SLOT kMinStep = 15;       // the IntegratorSettings fields of the same names
 CLOTHSIM_SLOT kMaxStep = 16;
 CLOTHSIM_SLOT kSafety = 17;
 CLOTHSIM_SLOT kMaxGrowth = 18;
 CLOTHSIM_SLOT kMaxShrink = 19;
 CLOTHSIM_SLOT kAbsoluteTolerance = 20;
 CLOTHSIM_SLOT kRelativeTolerance = 21;
-CLOTHSIM_SLOT kFixedStep = 22;      // s, the fixed-step methods' step (time_step)
+CLOTHSIM_SLOT kFixedStep = 22;  // s, the fixed-step methods' step (time_step)
 CLOTHSIM_SLOT kControlReals = 23;
 
 // control_uint.
-CLOTHSIM_SLOT kActive = 0;           // 1 while the advance goes on: not at its target, not failed, not at max_accepted
-CLOTHSIM_SLOT kClipped = 1;          // 1: the current attempt's step ends exactly at the target
-CLOTHSIM_SLOT kAccepted = 2;         // 1: the last decision accepted its attempt (the accept pass reads it)
-CLOTHSIM_SLOT kRejectedBefore = 3;   // 1: the step being sought was rejected once (no growth after it)
-CLOTHSIM_SLOT kStatus = 4;           // a StepStatus: 0 ok, 1 step underflow, 2 non-finite
-CLOTHSIM_SLOT kFailedParticle = 5;   // the particle named by a failure
-CLOTHSIM_SLOT kNonFiniteError = 6;   // 1: the underflow came from non-finite stage values
-CLOTHSIM_SLOT kAcceptedSteps = 7;    // in this advance
-CLOTHSIM_SLOT kRejectedSteps = 8;    // in this advance
-CLOTHSIM_SLOT kMaxAccepted = 9;      // the advance stops after this many accepted steps; 0: at its target
-CLOTHSIM_SLOT kAdaptive = 10;        // 1: RKF45's error control; 0: a fixed step, checked for finiteness
-CLOTHSIM_SLOT kAttempts = 11;        // attempts that ran in this advance
-CLOTHSIM_SLOT kWorstParticle = 12;   // where the last attempt's error was largest
+CLOTHSIM_SLOT kActive = 0;          // 1 while the advance goes on: not at its target, not failed, not at max_accepted
+CLOTHSIM_SLOT kClipped = 1;         // 1: the current attempt's step ends exactly at the target
+CLOTHSIM_SLOT kAccepted = 2;        // 1: the last decision accepted its attempt (the accept pass reads it)
+CLOTHSIM_SLOT kRejectedBefore = 3;  // 1: the step being sought was rejected once (no growth after it)
+CLOTHSIM_SLOT kStatus = 4;          // a StepStatus: 0 ok, 1 step underflow, 2 non-finite
+CLOTHSIM_SLOT kFailedParticle = 5;  // the particle named by a failure
+CLOTHSIM_SLOT kNonFiniteError = 6;  // 1: the underflow came from non-finite stage values
+CLOTHSIM_SLOT kAcceptedSteps = 7;   // in this advance
+CLOTHSIM_SLOT kRejectedSteps = 8;   // in this advance
+CLOTHSIM_SLOT kMaxAccepted = 9;     // the advance stops after this many accepted steps; 0: at its target
+CLOTHSIM_SLOT kAdaptive = 10;       // 1: RKF45's error control; 0: a fixed step, checked for finiteness
+CLOTHSIM_SLOT kAttempts = 11;       // attempts that ran in this advance
+CLOTHSIM_SLOT kWorstParticle = 12;  // where the last attempt's error was largest
 CLOTHSIM_SLOT kControlUints = 13;
 
 // The Nystrom rows of the method (explicit_runge_kutta.h) in the `rows` array, each kRowReals
@@ -100,7 +100,7 @@ struct AcceptPassConstants {
   uint particle_count;
   uint element_count;  // connectors + radial springs
   uint stages;
-  uint blocks;  // the pass's workgroups: ceil(max(particles, elements) / kReduceWorkgroup)
+  uint blocks;            // the pass's workgroups: ceil(max(particles, elements) / kReduceWorkgroup)
   uint particle_damping;  // 1: the damping power is per particle (the lattice path; element_count 0)
 };
 
