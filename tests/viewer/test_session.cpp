@@ -55,13 +55,16 @@ TEST(Session, ScriptedDragEndsAtItsTargetAndReleaseFreesTheParticle) {
   EXPECT_GT(norm(session.simulation().state().position[corner] - Vec3{-3, 1.5, -2.5}), 1e-3);  // it falls
 }
 
+// A drag (a driven anchor added and moved), a pin, live edits of a spring family and of the
+// integrator, and a release.
+constexpr const char* kDragPinSetRelease = R"({"events": [
+    {"at": 0.1, "drag": {"row": 4, "col": 2, "to": [0, 2, 3], "duration": 0.3}},
+    {"at": 0.2, "pin": {"row": 0, "col": 0}},
+    {"at": 0.3, "set": {"springs.adjacent.stiffness": 40, "integrator.method": "rk4", "integrator.time_step": 0.0002}},
+    {"at": 0.5, "release": {"row": 4, "col": 2}}]})";
+
 TEST(Session, ScriptedRunsAreReproducible) {
-  const Script script = parse_script(R"({"events": [
-      {"at": 0.1, "drag": {"row": 4, "col": 2, "to": [0, 2, 3], "duration": 0.3}},
-      {"at": 0.2, "pin": {"row": 0, "col": 0}},
-      {"at": 0.3, "set": {"springs.adjacent.stiffness": 40, "integrator.method": "rk4", "integrator.time_step": 0.0002}},
-      {"at": 0.5, "release": {"row": 4, "col": 2}}]})",
-                                     "run.json");
+  const Script script = parse_script(kDragPinSetRelease, "run.json");
   const auto run = [&script] {
     Session session(small_scene());
     ScriptPlayer player(script, kFrameTime);
@@ -81,12 +84,7 @@ TEST(Session, ScriptedRunsAreReproducible) {
 // integrator, a release) plays on the device as on the CPU. float64, so the two differ by the
 // error control's slack only.
 TEST(Session, AScriptPlaysOnTheVulkanBackendAsOnTheCpu) {
-  const Script script = parse_script(R"({"events": [
-      {"at": 0.1, "drag": {"row": 4, "col": 2, "to": [0, 2, 3], "duration": 0.3}},
-      {"at": 0.2, "pin": {"row": 0, "col": 0}},
-      {"at": 0.3, "set": {"springs.adjacent.stiffness": 40, "integrator.method": "rk4", "integrator.time_step": 0.0002}},
-      {"at": 0.5, "release": {"row": 4, "col": 2}}]})",
-                                     "run.json");
+  const Script script = parse_script(kDragPinSetRelease, "run.json");
   const auto run = [&script](const BackendSettings& backend) {
     SceneSpec scene = small_scene();
     scene.backend = backend;
