@@ -350,6 +350,9 @@ void DeviceIntegrator::read_state(ClothState& state) {
   });
 }
 
+// An advance, as named stages: what changed goes up, the first step is chosen as on the CPU, the
+// control arrays are written, batches of attempts run until the device says the advance is over,
+// and the state and the counters come back.
 StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32_t max_accepted) {
   CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
   const double t0 = state.time;
@@ -358,33 +361,42 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
     upload_changes(state);
     write_anchor_paths(t0);
   }
-
-  // The first attempt's step, as the CPU's integrators choose it.
-  double step = settings_.time_step;
-  if (adaptive_) {
-    if (proposed_step_ <= 0.0) {
-      if (settings_.time_step > 0.0) {
-        proposed_step_ = settings_.time_step;
-      } else {
-        ClothDynamics dynamics(model_, options_);
-        StateDerivative rate;
-        rate.resize(model_.particle_count());
-        dynamics.evaluate(state.time, state.position, state.velocity, rate);
-        proposed_step_ = initial_adaptive_step(model_, settings_, state, rate.velocity_rate, t_limit);
-        ++stats_.force_evaluations;
-      }
-    }
-    step = std::min(proposed_step_, settings_.max_step);
-  }
   bool clipped = false;
-  const double h = clip_step(t0, step, t_limit, clipped);
+  const double h = clip_step(t0, first_step(state, t_limit), t_limit, clipped);
   if (adaptive_ && h < settings_.min_step && !clipped) return {StepStatus::step_underflow, h, 0, false};
+  write_control(h, clipped, t_limit - t0, max_accepted);
+  const Control control = run_attempts(max_accepted);
+  {
+    ScopedTimer timer(transfer_seconds_);
+    read_state(state);
+  }
+  return take_results(state, t0, t_limit, control);
+}
 
+double DeviceIntegrator::first_step(const ClothState& state, double t_limit) {
+  if (!adaptive_) return settings_.time_step;
+  if (proposed_step_ <= 0.0) {
+    if (settings_.time_step > 0.0) {
+      proposed_step_ = settings_.time_step;
+    } else {
+      // time_step 0: the CPU's automatic first step, from one evaluation on the host.
+      ClothDynamics dynamics(model_, options_);
+      StateDerivative rate;
+      rate.resize(model_.particle_count());
+      dynamics.evaluate(state.time, state.position, state.velocity, rate);
+      proposed_step_ = initial_adaptive_step(model_, settings_, state, rate.velocity_rate, t_limit);
+      ++stats_.force_evaluations;
+    }
+  }
+  return std::min(proposed_step_, settings_.max_step);
+}
+
+void DeviceIntegrator::write_control(double h, bool clipped, double target, std::uint32_t max_accepted) {
   std::vector<double> reals(kControlReals, 0.0);
   reals[kStep] = h;
   reals[kProposedStep] = proposed_step_;
   reals[kPreviousError] = previous_error_;
-  reals[kTarget] = t_limit - t0;
+  reals[kTarget] = target;
   reals[kSmallestStep] = 1e30;  // within float's range
   reals[kMinStep] = settings_.min_step;
   reals[kMaxStep] = settings_.max_step;
@@ -399,31 +411,35 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
   uints[kClipped] = clipped ? 1 : 0;
   uints[kMaxAccepted] = max_accepted;
   uints[kAdaptive] = adaptive_ ? 1 : 0;
-  {
-    ScopedTimer timer(transfer_seconds_);
-    upload(device_, arrays_[control_real], real_bytes(reals, precision_));
-    upload(device_, arrays_[control_uint], bytes_of(uints));
-  }
+  ScopedTimer timer(transfer_seconds_);
+  upload(device_, arrays_[control_real], real_bytes(reals, precision_));
+  upload(device_, arrays_[control_uint], bytes_of(uints));
+}
 
-  // Batches of attempts until the advance ends; the next batch is twice the last.
+DeviceIntegrator::Control DeviceIntegrator::run_attempts(std::uint32_t max_accepted) {
+  // Batches of attempts until the advance ends: as many as the last advance took (a power of
+  // two), then each batch twice the last.
   std::uint32_t attempts =
       max_accepted == 1 ? 1 : std::bit_ceil(std::min(expected_attempts_, kMaxAttemptsPerSubmission));
+  Control control;
+  control.uints.resize(kControlUints);
   for (;;) {
     {
       ScopedTimer timer(device_seconds_);
       device_.run(attempts_buffer(attempts));
     }
-    std::memcpy(uints.data(), control_uint_readback_.mapped(), kControlUints * 4);
-    if (uints[kActive] == 0) break;
+    std::memcpy(control.uints.data(), control_uint_readback_.mapped(), kControlUints * 4);
+    if (control.uints[kActive] == 0) break;
     attempts = std::min(2 * attempts, kMaxAttemptsPerSubmission);
   }
-  reals =
+  control.reals =
       reals_from_bytes(std::span(control_real_readback_.mapped(), kControlReals * real_size(precision_)), precision_);
+  return control;
+}
 
-  {
-    ScopedTimer timer(transfer_seconds_);
-    read_state(state);
-  }
+StepOutcome DeviceIntegrator::take_results(ClothState& state, double t0, double t_limit, const Control& control) {
+  const std::vector<double>& reals = control.reals;
+  const std::vector<std::uint32_t>& uints = control.uints;
   const bool at_target = reals[kElapsed] >= reals[kTarget];
   state.time = at_target ? t_limit : t0 + reals[kElapsed];
   // Anchored particles as ExplicitRungeKutta::accept leaves them: on their paths at the new time,

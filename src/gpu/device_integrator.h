@@ -103,8 +103,20 @@ class DeviceIntegrator final : public Integrator {
   };
 
  private:
+  // The control arrays as read back after a submission.
+  struct Control {
+    std::vector<double> reals;         // [kControlReals]
+    std::vector<std::uint32_t> uints;  // [kControlUints]
+  };
+
   // Advances by accepted steps to t_limit, or by max_accepted of them (0: no limit).
   StepOutcome run(ClothState& state, double t_limit, std::uint32_t max_accepted);
+  // Its stages: the first attempt's step (as the CPU's integrators choose it), the control arrays
+  // written, the batches of attempts run, the state's time, anchors, work and the statistics.
+  double first_step(const ClothState& state, double t_limit);
+  void write_control(double h, bool clipped, double target, std::uint32_t max_accepted);
+  Control run_attempts(std::uint32_t max_accepted);
+  StepOutcome take_results(ClothState& state, double t0, double t_limit, const Control& control);
   // Uploads what changed on the host since the last exchange: the model, the state.
   void upload_changes(const ClothState& state);
   void write_anchor_paths(double t0);
