@@ -51,8 +51,8 @@ inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
      "files for other tools, comma-separated: pc2 (animation.pc2 and rest.obj), obj-sequence (frames/*.obj), gltf "
      "(final.glb); none"},
     {"--backend", "backend", "cpu|vulkan",
-     "where the steps run: cpu (every feature), or vulkan (rkf45, rk4 and symplectic-euler on a Vulkan device; "
-     "implicit-euler, tearing, plasticity, creasing and collisions run on the cpu only: docs/gpu.md)"},
+     "where the steps run: cpu (every feature), or vulkan (rkf45, rk4 and symplectic-euler on a Vulkan device, "
+     "tearing, plasticity and creasing included; implicit-euler and collisions run on the cpu only: docs/gpu.md)"},
     {"--device", "device", "N", "the Vulkan device of --backend vulkan, as 'clothsim devices' lists them"},
     {"--precision", "precision", "float32|float64",
      "arithmetic of the backend: float32 (the vulkan default) or float64 (the cpu's, and the only one it runs)"},

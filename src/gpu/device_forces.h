@@ -50,6 +50,9 @@ class DeviceForces {
   // environment) after a change; its particle and element counts must be the same.
   void refresh(const ClothModel& model);
   std::uint64_t model_revision() const { return model_revision_; }
+  // Takes `revision` as uploaded without uploading: the caller made the model's change on the
+  // device itself (the lattice path's events), in arrays this class's general path does not share.
+  void adopt_revision(std::uint64_t revision) { model_revision_ = revision; }
 
   // Records the connector and radial passes on `position` and `velocity`: every element's force
   // slots, and its damping power into element_power's set `power_slot`.

@@ -11,7 +11,6 @@
 #include "core/assert.h"
 #include "core/parallel.h"
 #include "core/timer.h"
-#include "forces/lattice_kernel_layout.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
@@ -69,6 +68,10 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const Latti
   bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
   bytes[A::lattice_params] = n * kLatticeParams * real;
   bytes[A::lattice_forces] = n * kLatticeForces * real;
+  bytes[A::event_params] = n * kEventParams * real;
+  bytes[A::event_energy] = n * 2 * real;
+  bytes[A::event_flags] = n * 4;
+  bytes[A::block_events] = workgroups_of(n) * 2 * real;
   return bytes;
 }
 
@@ -172,8 +175,15 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       lattice_pass_(make_pass(device_, "lattice_elements", precision_, 6, sizeof(LatticePassConstants))),
       acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 15, sizeof(StagePassConstants))),
       solution_pass_(make_pass(device_, "rk_solution", precision_, 12, sizeof(StagePassConstants), kReduceWorkgroup)),
-      control_pass_(make_pass(device_, "rk_control", precision_, 5, sizeof(ReducePassConstants), kReduceWorkgroup)),
+      control_pass_(make_pass(device_, "rk_control", precision_, 6, sizeof(ReducePassConstants), kReduceWorkgroup)),
+      events_connectors_pass_(
+          make_pass(device_, "lattice_events_connectors", precision_, 7, sizeof(EventPassConstants))),
+      events_radial_pass_(
+          make_pass(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants), kReduceWorkgroup)),
       accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)) {
+  if (!lattice_ && model.limits.changes_sheet()) {
+    throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
+  }
   const auto bytes = array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
@@ -200,7 +210,12 @@ void DeviceIntegrator::bind_passes() {
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
                         own(trial_velocity), own(block_error), own(block_particle)});
-  bind(control_pass_, {own(control_real), own(control_uint), own(block_error), own(block_particle), own(block_work)});
+  bind(control_pass_, {own(control_real), own(control_uint), own(block_error), own(block_particle), own(block_work),
+                       own(block_events)});
+  bind(events_connectors_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
+                                 own(event_flags), own(control_real), own(control_uint)});
+  bind(events_radial_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
+                             own(event_flags), own(control_uint), own(block_events)});
   bind(accept_pass_,
        {own(control_real), own(control_uint), own(trial_position), own(trial_velocity), own(state_position),
         own(state_velocity), forces(F::element_power), own(particle_power), own(rows), own(block_work)});
@@ -233,6 +248,16 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands) const {
   accept_pass_.dispatch(commands, &accept, accept_items);
   const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages};
   control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
+  if (laws_ != 0) {
+    // Tearing, stretching and creasing on the accepted state (events/spring_events.h), then their
+    // work into the advance's sums.
+    const EventPassConstants events{particles_, static_cast<std::uint32_t>(model_.rows),
+                                    static_cast<std::uint32_t>(model_.cols), laws_, workgroups_of(particles_)};
+    events_connectors_pass_.dispatch(commands, &events, particles_);
+    events_radial_pass_.dispatch(commands, &events, particles_);
+    const ReducePassConstants collect_events{particles_, workgroups_of(particles_), 2, stages};
+    control_pass_.dispatch(commands, &collect_events, kReduceWorkgroup);
+  }
 }
 
 VkCommandBuffer DeviceIntegrator::attempts_buffer(std::uint32_t attempts) {
@@ -257,6 +282,7 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
     upload(device_, arrays_[particle_anchor], bytes_of(model_.particle_anchor));
     if (lattice_) upload_lattice_params();
     model_revision_ = model_.revision;
+    set_laws();
   }
   if (model_changed || state_fingerprint(state, options_.threads) != exchanged_fingerprint_) {
     upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
@@ -264,34 +290,6 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
     exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
     exchanged_ = true;
   }
-}
-
-void DeviceIntegrator::upload_lattice_params() {
-  // Active: live and its term on (the CPU's condition, as DeviceForces' flags); missing springs
-  // at the border stay 0.
-  const ForceTerms terms = options_.terms;
-  std::vector<double> params(std::size_t{particles_} * kLatticeParams, 0.0);
-  lattice_layout::for_each_lattice_spring(
-      static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols),
-      [&](std::uint32_t e, std::uint32_t p, bool south) {
-        double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];
-        c[0] = model_.connector_rest_length[e];
-        c[1] = model_.connector_stiffness[e];
-        c[2] = model_.connector_damping[e];
-        c[3] = (terms & kConnectorSprings) != 0 && model_.connector_live[e] != 0 ? 1.0 : 0.0;
-        return true;
-      },
-      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
-        double* c = &params[std::size_t{p} * kLatticeParams + 8 + 4 * pair];
-        const ForceTerms term =
-            model_.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
-        c[0] = model_.radial_rest_angle[r];
-        c[1] = model_.radial_stiffness[r];
-        c[2] = model_.radial_damping[r];
-        c[3] = (terms & term) != 0 && model_.radial_live[r] != 0 ? 1.0 : 0.0;
-        return true;
-      });
-  upload(device_, arrays_[lattice_params], real_bytes(params, precision_));
 }
 
 void DeviceIntegrator::write_anchor_paths(double t0) {
@@ -406,6 +404,7 @@ void DeviceIntegrator::write_control(double h, bool clipped, double target, std:
   reals[kAbsoluteTolerance] = settings_.absolute_tolerance;
   reals[kRelativeTolerance] = settings_.relative_tolerance;
   reals[kFixedStep] = settings_.time_step;
+  reals[kHardening] = model_.limits.hardening;
   std::vector<std::uint32_t> uints(kControlUints, 0u);
   uints[kActive] = 1;
   uints[kClipped] = clipped ? 1 : 0;
@@ -453,6 +452,14 @@ StepOutcome DeviceIntegrator::take_results(ClothState& state, double t0, double 
   state.damping_work += reals[kWork] + reals[kWork + 1];
   state.drag_work += reals[kWork + 2] + reals[kWork + 3];
   state.anchor_work += reals[kWork + 4] + reals[kWork + 5];
+  state.fracture_work += reals[kWork + 6] + reals[kWork + 7];
+  state.plastic_work += reals[kWork + 8] + reals[kWork + 9];
+  if (uints[kBreaks] + uints[kYields] + uints[kCreases] > 0) {
+    events_.breaks += uints[kBreaks];
+    events_.yields += uints[kYields];
+    events_.creases += uints[kCreases];
+    events_t0_ = t0;
+  }
   proposed_step_ = reals[kProposedStep];
   previous_error_ = reals[kPreviousError];
   expected_attempts_ = std::max(1u, uints[kAttempts]);

@@ -67,6 +67,11 @@ class DeviceIntegrator final : public Integrator {
   std::size_t workspace_bytes() const override;
   // RKF45's next step and error history (the CPU's names, so checkpoints read the same).
   void transfer_state(StateArchive& archive) override;
+  // Tearing, permanent stretching and creasing run on the device after every accepted step (the
+  // lattice path; device_lattice.cpp); take_spring_events() carries the advance's changes into
+  // the model.
+  bool runs_spring_events() const override { return lattice_; }
+  IntegratorEvents take_spring_events(ClothModel& model) override;
 
   const DeviceInfo& device_info() const { return device_.info(); }
   // True on the lattice path: each particle evaluates the springs it owns (lattice_elements);
@@ -99,6 +104,10 @@ class DeviceIntegrator final : public Integrator {
     block_work,       // [accept workgroups][3], J
     lattice_params,   // [particles][kLatticeParams] (the lattice path)
     lattice_forces,   // [particles][kLatticeForces] (the lattice path)
+    event_params,     // [particles][kEventParams] (the lattice path's events)
+    event_energy,     // [particles][2], J: fracture and plastic work of the step
+    event_flags,      // [particles], uint: the connectors that broke in the step
+    block_events,     // [workgroups][2], J
     array_count
   };
 
@@ -126,8 +135,11 @@ class DeviceIntegrator final : public Integrator {
   // Binds every pass's arrays (again after the anchor table grows).
   void bind_passes();
   void read_state(ClothState& state);
-  // The lattice path's per-particle spring parameters, from the model.
+  // The lattice path (device_lattice.cpp): the per-particle spring parameters and the events'
+  // thresholds from the model; which laws act (laws_, from the model's limits); the events of an
+  // advance applied to the model through model/model_edits.h.
   void upload_lattice_params();
+  void set_laws();
 
   const ClothModel& model_;
   IntegratorSettings settings_;
@@ -136,6 +148,9 @@ class DeviceIntegrator final : public Integrator {
   bool adaptive_;
   bool symplectic_;
   bool lattice_;
+  std::uint32_t laws_ = 0;   // EventPassConstants::laws of the recorded attempts
+  IntegratorEvents events_;  // since the last take_spring_events()
+  double events_t0_ = 0.0;   // the start of the advance whose events wait for take_spring_events()
   Precision precision_;
   Device device_;
   DeviceForces forces_;
@@ -143,7 +158,8 @@ class DeviceIntegrator final : public Integrator {
   std::vector<Buffer> arrays_;  // [array_count]
   Buffer control_real_readback_, control_uint_readback_;
   Buffer state_readback_;  // positions, then velocities
-  ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_, accept_pass_;
+  ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_,
+      events_connectors_pass_, events_radial_pass_, accept_pass_;
   std::map<std::uint32_t, VkCommandBuffer> recorded_;  // by attempts per submission
 
   // What the host last exchanged with the device: a fingerprint of the state (not a copy of it).

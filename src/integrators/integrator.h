@@ -89,6 +89,14 @@ struct StepOutcome {
   bool non_finite_error = false;  // step_underflow caused by non-finite stage values
 };
 
+// Tearing, permanent stretching and creasing applied by an integrator that runs the laws itself,
+// between its own steps (gpu/device_integrator.h), instead of the Simulation's event stage.
+struct IntegratorEvents {
+  std::size_t breaks = 0;
+  std::size_t yields = 0;
+  std::size_t creases = 0;
+};
+
 struct ForceOptions {
   ForceTerms terms = kAllForceTerms;
   int threads = 1;  // resolved thread count (>= 1)
@@ -121,6 +129,13 @@ class Integrator {
   virtual std::vector<PhaseTime> phase_times() const { return {}; }
   // Bytes of scratch memory the integrator holds: stage arrays, force buffers, and so on.
   virtual std::size_t workspace_bytes() const { return 0; }
+  // True when the integrator applies tearing, permanent stretching and creasing itself after each
+  // of its steps (events/spring_events.h's laws, on a device: gpu/device_integrator.h). The
+  // Simulation then calls take_spring_events() after each advance() instead of running its event
+  // stage: the integrator makes its changes in `model` (the one it was made for, through
+  // model/model_edits.h) and returns their counts; the work they released is in the state already.
+  virtual bool runs_spring_events() const { return false; }
+  virtual IntegratorEvents take_spring_events(ClothModel& /*model*/) { return {}; }
   // The particles resting on obstacles, which the collision stage refreshes before each step: an
   // integrator that can hold them on their surface within a step reads them and writes the
   // impulses it needed (model/surface_contacts.h). Null (the default): none.

@@ -37,7 +37,8 @@ bool vulkan_backend_built() {
 }
 
 BackendFeatures features_of(const ClothModel& model, const IntegratorSettings& integrator) {
-  return {integrator.kind, model.limits, !model.colliders.empty(), model.collision.self};
+  return {integrator.kind, model.limits, !model.colliders.empty(), model.collision.self,
+          model.layout == ModelLayout::lattice};
 }
 
 BackendFeatures features_of(IntegratorKind kind) {
@@ -52,11 +53,10 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
                                                               : "";
   }
   if (features.integrator == IntegratorKind::implicit_euler) return "implicit-euler (integrator.method)";
-  const SpringLimits& limits = features.limits;
-  if (limits.break_strain != SpringLimits::kNever) return "tearing (springs.connector.break_strain)";
-  if (limits.yield_strain != SpringLimits::kNever) return "permanent stretching (springs.connector.yield_strain)";
-  if (limits.adjacent_yield_angle != SpringLimits::kNever) return "creasing (springs.adjacent.yield_angle_deg)";
-  if (limits.opposite_yield_angle != SpringLimits::kNever) return "creasing (springs.opposite.yield_angle_deg)";
+  // The laws run on the device's lattice path only (gpu/device_lattice.cpp).
+  if (!features.lattice && features.limits.changes_sheet()) {
+    return "tearing, permanent stretching or creasing of a sheet that is not a lattice (springs.*)";
+  }
   if (features.colliders) return "obstacles (colliders)";
   if (features.self_collision) return "self-collision (collision.self)";
   return "";

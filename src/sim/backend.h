@@ -46,6 +46,7 @@ struct BackendFeatures {
   SpringLimits limits;          // tearing, permanent stretching, creasing
   bool colliders = false;       // any obstacle
   bool self_collision = false;  // collision.self
+  bool lattice = true;          // the lattice layout of build_lattice (every scene's)
 };
 BackendFeatures features_of(const ClothModel& model, const IntegratorSettings& integrator);
 // A plain sheet integrated with `kind`: the features of the benchmark's cases.

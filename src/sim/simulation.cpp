@@ -158,6 +158,14 @@ void Simulation::apply_events() {
   stop_arrived_anchors();
   book_anchor_keys();
   release_due_anchors();
+  // A device integrator applied the laws after each of its steps (sim/backend.h).
+  if (integrator_->runs_spring_events()) {
+    const IntegratorEvents counts = integrator_->take_spring_events(*model_);
+    event_totals_.breaks += counts.breaks;
+    event_totals_.yields += counts.yields;
+    event_totals_.creases += counts.creases;
+    return;
+  }
   const SpringEventCounts counts = spring_events_.apply(*model_, state_, threads_);
   event_totals_.breaks += counts.breaks;
   event_totals_.yields += counts.yields;
@@ -301,17 +309,15 @@ void Simulation::set_environment(const Environment& environment) {
   edit_work_ += energy().total() - before;
 }
 
-void Simulation::require_backend_runs(const ClothModel& model, const IntegratorSettings& integrator) const {
-  const std::string unsupported = unsupported_by_backend(features_of(model, integrator), settings_.backend);
+void Simulation::require_backend_runs(const BackendFeatures& features) const {
+  const std::string unsupported = unsupported_by_backend(features, settings_.backend);
   if (!unsupported.empty()) throw BackendError(backend_refusal(unsupported, settings_.backend));
 }
 
 void Simulation::set_spring_limits(const SpringLimits& limits) {
-  if (settings_.backend.kind != Backend::cpu) {
-    ClothModel changed;
-    changed.limits = limits;
-    require_backend_runs(changed, settings_.integrator);
-  }
+  BackendFeatures features = features_of(*model_, settings_.integrator);
+  features.limits = limits;
+  require_backend_runs(features);
   apply_spring_limits(*model_, limits);
 }
 
@@ -392,20 +398,16 @@ bool Simulation::release_particle(std::uint32_t particle) {
 }
 
 void Simulation::set_self_collision(bool on) {
-  if (on && settings_.backend.kind != Backend::cpu) {
-    ClothModel changed;
-    changed.collision.self = true;
-    require_backend_runs(changed, settings_.integrator);
-  }
+  BackendFeatures features = features_of(*model_, settings_.integrator);
+  features.self_collision = on;
+  require_backend_runs(features);
   clothsim::set_self_collision(*model_, on);
 }
 
 std::size_t Simulation::add_collider(const Collider& collider) {
-  if (settings_.backend.kind != Backend::cpu) {
-    ClothModel changed;
-    changed.colliders.push_back(collider);
-    require_backend_runs(changed, settings_.integrator);
-  }
+  BackendFeatures features = features_of(*model_, settings_.integrator);
+  features.colliders = true;
+  require_backend_runs(features);
   return clothsim::add_collider(*model_, collider);
 }
 

@@ -187,7 +187,8 @@ class Simulation {
   void set_integrator(const IntegratorSettings& settings);
   // Break, yield and crease limits of every spring (model/spring_limits.h). Hardened yields
   // start again from limits.yield_strain; broken springs stay broken and rest values stay.
-  // Throws BackendError, changing nothing, for limits the backend does not run.
+  // Throws BackendError, changing nothing, for limits the backend does not run (the Vulkan
+  // backend's general path).
   void set_spring_limits(const SpringLimits& limits);
   // Breaks the given connectors now, with the radial springs that use them (a cut with the
   // mouse); their elastic energy goes into fracture_work. Returns how many were intact.
@@ -244,9 +245,9 @@ class Simulation {
   // Replaces the integrator with a new one for the current model and settings_.integrator,
   // keeping the statistics of the old one.
   void restart_integrator();
-  // Throws BackendError when the backend cannot run `model` with `integrator` (an edit about to
-  // be made, checked on a copy of what it changes).
-  void require_backend_runs(const ClothModel& model, const IntegratorSettings& integrator) const;
+  // Throws BackendError when the backend cannot run these features (an edit about to be made:
+  // the model's features with the edit's change).
+  void require_backend_runs(const BackendFeatures& features) const;
 
   // The stages of advance_to(), in order. Each returns false when the simulation failed.
   bool integrate(double time);

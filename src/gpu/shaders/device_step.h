@@ -26,17 +26,19 @@ CLOTHSIM_SLOT kTarget = 5;         // s, where the advance ends (t_limit - its s
 CLOTHSIM_SLOT kError = 6;          // the last attempt's scaled error norm
 CLOTHSIM_SLOT kSmallestStep = 7;   // s, over this advance's accepted steps
 CLOTHSIM_SLOT kLargestStep = 8;    // s
-CLOTHSIM_SLOT kWork = 9;           // J, [6]: damping, drag, anchor work of this advance, each as
-                                   // a compensated sum (value, then its rounding error)
-CLOTHSIM_SLOT kMinStep = 15;       // the IntegratorSettings fields of the same names
-CLOTHSIM_SLOT kMaxStep = 16;
-CLOTHSIM_SLOT kSafety = 17;
-CLOTHSIM_SLOT kMaxGrowth = 18;
-CLOTHSIM_SLOT kMaxShrink = 19;
-CLOTHSIM_SLOT kAbsoluteTolerance = 20;
-CLOTHSIM_SLOT kRelativeTolerance = 21;
-CLOTHSIM_SLOT kFixedStep = 22;  // s, the fixed-step methods' step (time_step)
-CLOTHSIM_SLOT kControlReals = 23;
+CLOTHSIM_SLOT kWork = 9;           // J, [10]: damping, drag, anchor, fracture and plastic work of this
+                                   // advance, each as a compensated sum (value, then its rounding error)
+CLOTHSIM_SLOT kWorks = 5;
+CLOTHSIM_SLOT kMinStep = 19;  // the IntegratorSettings fields of the same names
+CLOTHSIM_SLOT kMaxStep = 20;
+CLOTHSIM_SLOT kSafety = 21;
+CLOTHSIM_SLOT kMaxGrowth = 22;
+CLOTHSIM_SLOT kMaxShrink = 23;
+CLOTHSIM_SLOT kAbsoluteTolerance = 24;
+CLOTHSIM_SLOT kRelativeTolerance = 25;
+CLOTHSIM_SLOT kFixedStep = 26;  // s, the fixed-step methods' step (time_step)
+CLOTHSIM_SLOT kHardening = 27;  // SpringLimits::hardening
+CLOTHSIM_SLOT kControlReals = 28;
 
 // control_uint.
 CLOTHSIM_SLOT kActive = 0;          // 1 while the advance goes on: not at its target, not failed, not at max_accepted
@@ -52,7 +54,10 @@ CLOTHSIM_SLOT kMaxAccepted = 9;     // the advance stops after this many accepte
 CLOTHSIM_SLOT kAdaptive = 10;       // 1: RKF45's error control; 0: a fixed step, checked for finiteness
 CLOTHSIM_SLOT kAttempts = 11;       // attempts that ran in this advance
 CLOTHSIM_SLOT kWorstParticle = 12;  // where the last attempt's error was largest
-CLOTHSIM_SLOT kControlUints = 13;
+CLOTHSIM_SLOT kBreaks = 13;         // connectors broken in this advance (lattice_events)
+CLOTHSIM_SLOT kYields = 14;         // connectors yielded
+CLOTHSIM_SLOT kCreases = 15;        // radial springs creased
+CLOTHSIM_SLOT kControlUints = 16;
 
 // The Nystrom rows of the method (explicit_runge_kutta.h) in the `rows` array, each kRowReals
 // Reals: the sum of its weights, then sum_i w_i a_il for each stage l (positions), then w_l
@@ -71,6 +76,10 @@ CLOTHSIM_SLOT kAnchorReals = 11;  // x0 (3), v (3), A (3), omega, theta0
 // in `lattice_forces`.
 CLOTHSIM_SLOT kLatticeParams = 32;
 CLOTHSIM_SLOT kLatticeForces = 15;
+// The laws of events/spring_events.h on the lattice path, per particle in `event_params`: for the
+// east and south connector, the original length, the break strain, the yield strain and the time
+// it broke (elapsed in the advance); the six radial springs' yield angles.
+CLOTHSIM_SLOT kEventParams = 16;
 
 // The passes' push constants.
 struct StagePassConstants {
@@ -89,10 +98,18 @@ struct LatticePassConstants {
   uint stage;   // where the damping power goes in particle_power
 };
 
+struct EventPassConstants {
+  uint particle_count;
+  uint rows;
+  uint cols;
+  uint laws;    // bits: 1 tearing, 2 permanent stretching, 4 creasing
+  uint blocks;  // lattice_events_radial: its workgroups
+};
+
 struct ReducePassConstants {
   uint count;   // items reduced (particles, or elements)
   uint blocks;  // workgroups of the pass whose partial results are reduced
-  uint phase;   // rk_control: 0 decides on the attempt, 1 adds the accepted step's work
+  uint phase;   // rk_control: 0 decides on the attempt, 1 adds the accepted step's work, 2 the events' work
   uint stages;
 };
 

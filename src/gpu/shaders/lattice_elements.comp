@@ -24,6 +24,8 @@ layout(std430, binding = 5) readonly buffer ControlUint { uint control_uint[]; }
 
 layout(push_constant) uniform Constants { LatticePassConstants constants; };
 
+#include "gpu/shaders/lattice_cell.glsl"
+
 Vec3 load_position(uint i) { return Vec3(position[3 * i], position[3 * i + 1], position[3 * i + 2]); }
 Vec3 load_velocity(uint i) { return Vec3(velocity[3 * i], velocity[3 * i + 1], velocity[3 * i + 2]); }
 
@@ -31,12 +33,9 @@ void main() {
   const uint p = invocation_index();
   const uint n = constants.particle_count;
   if (p >= n || control_uint[kActive] == 0u) return;
-  const uint cols = constants.cols;
-  const uint row = p / cols;
-  const uint col = p % cols;
-  // The neighbour in each direction (0 east, 1 south, 2 west, 3 north), where there is one.
-  const bool has[4] = bool[4](col + 1u < cols, row + 1u < constants.rows, col > 0u, row > 0u);
-  const uint neighbour[4] = uint[4](p + 1u, p + cols, p - 1u, p - cols);
+  const LatticeCell cell = lattice_cell(p, constants.rows, constants.cols);
+  const bool has[4] = cell.has;
+  const uint neighbour[4] = cell.neighbour;
   const Vec3 x = load_position(p);
   const Vec3 v = load_velocity(p);
   Vec3 arm_x[4];
@@ -61,12 +60,10 @@ void main() {
     power += f.damping_power;
   }
   // The six radial springs: rest angle, stiffness, damping, active.
-  const uint arm_b[6] = uint[6](0u, 1u, 2u, 3u, 0u, 1u);
-  const uint arm_c[6] = uint[6](1u, 2u, 3u, 0u, 2u, 3u);
   for (uint k = 0u; k < 6u; ++k) {
     const uint r = base + 8u + 4u * k;
-    const uint b = arm_b[k];
-    const uint c = arm_c[k];
+    const uint b = kArmB[k];
+    const uint c = kArmC[k];
     if (!has[b] || !has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
     const RadialForce f = radial_force(x, arm_x[b], arm_x[c], v, arm_v[b], arm_v[c], lattice_params[r],
                                        lattice_params[r + 1u], damped * lattice_params[r + 2u]);

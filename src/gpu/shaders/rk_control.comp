@@ -10,7 +10,8 @@
 // computed in float: GLSL's pow exists for float only, and a step-size factor needs no more.
 //
 // Phase 1, after rk_accept: the accepted step's work (damping, drag, anchor), summed over
-// rk_accept's workgroups in a fixed order, added to the advance's compensated sums.
+// rk_accept's workgroups in a fixed order, added to the advance's compensated sums. Phase 2,
+// after lattice_events_radial: the events' fracture and plastic work, the same way.
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
@@ -23,6 +24,7 @@ layout(std430, binding = 1) buffer ControlUint { uint control_uint[]; };
 layout(std430, binding = 2) readonly buffer BlockError { Real block_error[]; };
 layout(std430, binding = 3) readonly buffer BlockParticle { uint block_particle[]; };
 layout(std430, binding = 4) readonly buffer BlockWork { Real block_work[]; };  // [blocks][3]
+layout(std430, binding = 5) readonly buffer BlockEvents { Real block_events[]; };  // [blocks][2]
 
 layout(push_constant) uniform Constants { ReducePassConstants constants; };
 
@@ -105,11 +107,18 @@ void add_compensated(uint slot, Real value) {
 
 shared Real work_sum[3][kReduceWorkgroup];
 
+// Work k of block `block`: phase 1's three from rk_accept, phase 2's two from the events.
+Real block_value(uint block, uint k) {
+  return constants.phase == 1u ? block_work[3u * block + k] : block_events[2u * block + k];
+}
+
 void collect_work() {
   const uint i = gl_LocalInvocationID.x;
+  const uint count = constants.phase == 1u ? 3u : 2u;
+  const uint first = constants.phase == 1u ? 0u : 3u;  // damping, drag, anchor; then fracture, plastic
   Real sums[3] = Real[3](Real(0.0), Real(0.0), Real(0.0));
   for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
-    for (uint k = 0u; k < 3u; ++k) sums[k] += block_work[3 * block + k];
+    for (uint k = 0u; k < count; ++k) sums[k] += block_value(block, k);
   }
   for (uint k = 0u; k < 3u; ++k) work_sum[k][i] = sums[k];
   barrier();
@@ -120,12 +129,12 @@ void collect_work() {
     barrier();
   }
   if (i == 0u) {
-    for (uint k = 0u; k < 3u; ++k) add_compensated(kWork + 2u * k, work_sum[k][0]);
+    for (uint k = 0u; k < count; ++k) add_compensated(kWork + 2u * (first + k), work_sum[k][0]);
   }
 }
 
 void main() {
-  if (constants.phase == 1u) {
+  if (constants.phase != 0u) {
     if (control_uint[kAccepted] != 0u) collect_work();
     return;
   }

@@ -1,0 +1,113 @@
+// The Vulkan backend's lattice path on the host side (gpu/device_integrator.h): the model's
+// springs laid out by particle for lattice_elements and the event passes, and the events the
+// device applied during an advance carried back into the model.
+#include <cmath>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "core/assert.h"
+#include "forces/lattice_kernel_layout.h"
+#include "gpu/device_integrator.h"
+#include "gpu/real_arrays.h"
+#include "gpu/shaders/device_step.h"
+#include "model/model_edits.h"
+
+namespace clothsim::gpu {
+
+void DeviceIntegrator::upload_lattice_params() {
+  // Active: live and its term on (the CPU's condition, as DeviceForces' flags); missing springs
+  // at the border stay 0. The events' thresholds: +inf where a law never acts.
+  const ForceTerms terms = options_.terms;
+  constexpr double kNever = std::numeric_limits<double>::infinity();
+  std::vector<double> params(std::size_t{particles_} * kLatticeParams, 0.0);
+  std::vector<double> events(std::size_t{particles_} * kEventParams, kNever);
+  lattice_layout::for_each_lattice_spring(
+      static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols),
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];
+        c[0] = model_.connector_rest_length[e];
+        c[1] = model_.connector_stiffness[e];
+        c[2] = model_.connector_damping[e];
+        c[3] = (terms & kConnectorSprings) != 0 && model_.connector_live[e] != 0 ? 1.0 : 0.0;
+        double* t = &events[std::size_t{p} * kEventParams + (south ? 4 : 0)];
+        t[0] = model_.connector_original_length[e];
+        t[1] = model_.connector_break_strain[e];
+        t[2] = model_.connector_yield_strain[e];
+        return true;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        double* c = &params[std::size_t{p} * kLatticeParams + 8 + 4 * pair];
+        const ForceTerms term =
+            model_.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
+        c[0] = model_.radial_rest_angle[r];
+        c[1] = model_.radial_stiffness[r];
+        c[2] = model_.radial_damping[r];
+        c[3] = (terms & term) != 0 && model_.radial_live[r] != 0 ? 1.0 : 0.0;
+        events[std::size_t{p} * kEventParams + 8 + pair] = model_.radial_yield_angle[r];
+        return true;
+      });
+  upload(device_, arrays_[lattice_params], real_bytes(params, precision_));
+  upload(device_, arrays_[event_params], real_bytes(events, precision_));
+}
+
+void DeviceIntegrator::set_laws() {
+  const SpringLimits& limits = model_.limits;
+  std::uint32_t laws = 0;
+  if (lattice_ && limits.break_strain != SpringLimits::kNever) laws |= 1u;
+  if (lattice_ && limits.yield_strain != SpringLimits::kNever) laws |= 2u;
+  if (lattice_ &&
+      (limits.adjacent_yield_angle != SpringLimits::kNever || limits.opposite_yield_angle != SpringLimits::kNever)) {
+    laws |= 4u;
+  }
+  if (laws == laws_) return;
+  // The laws are in the recorded attempts' push constants: record them again.
+  laws_ = laws;
+  for (const auto& [attempts, commands] : recorded_) device_.release(commands);
+  recorded_.clear();
+}
+
+IntegratorEvents DeviceIntegrator::take_spring_events(ClothModel& model) {
+  CLOTHSIM_ASSERT(&model == &model_, "take_spring_events: the integrator's own model");
+  const IntegratorEvents counts = std::exchange(events_, IntegratorEvents{});
+  if (counts.breaks + counts.yields + counts.creases == 0) return counts;
+  // The device's per-particle parameters back, each change made to the model by the edit the
+  // CPU's event stage makes; values compared in the device's precision, so only what the device
+  // changed differs. A break's time is the end of the step it came after.
+  const double t0 = events_t0_;
+  std::vector<std::byte> bytes(std::uint64_t{particles_} * kLatticeParams * real_size(precision_));
+  download(device_, arrays_[lattice_params], bytes);
+  const std::vector<double> params = reals_from_bytes(bytes, precision_);
+  bytes.resize(std::uint64_t{particles_} * kEventParams * real_size(precision_));
+  download(device_, arrays_[event_params], bytes);
+  const std::vector<double> events = reals_from_bytes(bytes, precision_);
+  const auto on_device = [this](double value) {
+    return precision_ == Precision::float64 ? value : static_cast<double>(static_cast<float>(value));
+  };
+  lattice_layout::for_each_lattice_spring(
+      static_cast<std::size_t>(model.rows), static_cast<std::size_t>(model.cols),
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];
+        const double* t = &events[std::size_t{p} * kEventParams + (south ? 4 : 0)];
+        if (model.connector_live[e] != 0 && c[3] == 0.0) {
+          break_connector(model, e, t0 + t[3]);
+        } else if (model.connector_live[e] != 0) {
+          if (c[0] != on_device(model.connector_rest_length[e])) set_connector_rest_length(model, e, c[0]);
+          if (t[2] != on_device(model.connector_yield_strain[e])) set_connector_yield_strain(model, e, t[2]);
+        }
+        return true;
+      },
+      [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
+        const double* c = &params[std::size_t{p} * kLatticeParams + 8 + 4 * pair];
+        if (model.radial_live[r] != 0 && c[0] != on_device(model.radial_rest_angle[r])) {
+          set_radial_rest_angle(model, r, c[0]);
+        }
+        return true;
+      });
+  // The device holds these changes already: nothing to upload for them.
+  model_revision_ = model.revision;
+  forces_.adopt_revision(model.revision);
+  return counts;
+}
+
+}  // namespace clothsim::gpu

@@ -1,0 +1,70 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// Tearing and permanent stretching on the lattice path, after an accepted step
+// (events/spring_events.h, laws 1 and 2, on the accepted state): each particle takes its east
+// and south connectors. A live connector whose strain against its original length exceeds its
+// break strain breaks (active 0, the time noted, its elastic energy released as fracture work;
+// lattice_events_radial then breaks the radial springs that use it); otherwise one whose elastic
+// strain against its rest length exceeds its yield strain yields by the return mapping (rest
+// length l / (1 + sign(eps) y), y grown by hardening, the elastic energy's change as plastic
+// work). Each particle writes only its own connectors: no two invocations touch one spring.
+#include "gpu/shaders/element_math.glsl"
+#include "gpu/shaders/device_step.h"
+
+layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
+layout(local_size_x_id = 0) in;
+#include "gpu/shaders/invocation.glsl"
+
+layout(std430, binding = 0) readonly buffer Position { Real position[]; };  // the accepted state, m
+layout(std430, binding = 1) buffer Params { Real lattice_params[]; };       // [particles][kLatticeParams]
+layout(std430, binding = 2) buffer EventParams { Real event_params[]; };    // [particles][kEventParams]
+layout(std430, binding = 3) writeonly buffer EventEnergy { Real event_energy[]; };  // [particles][2]: fracture, plastic, J
+layout(std430, binding = 4) writeonly buffer EventFlags { uint event_flags[]; };    // [particles]: bit d, connector d broke now
+layout(std430, binding = 5) readonly buffer ControlReal { Real control_real[]; };
+layout(std430, binding = 6) buffer ControlUint { uint control_uint[]; };
+
+layout(push_constant) uniform Constants { EventPassConstants constants; };
+
+#include "gpu/shaders/lattice_cell.glsl"
+
+Vec3 load_position(uint i) { return Vec3(position[3 * i], position[3 * i + 1], position[3 * i + 2]); }
+
+void main() {
+  const uint p = invocation_index();
+  if (p >= constants.particle_count || control_uint[kAccepted] == 0u) return;
+  const LatticeCell cell = lattice_cell(p, constants.rows, constants.cols);
+  const Vec3 x = load_position(p);
+  Real fracture = Real(0.0);
+  Real plastic = Real(0.0);
+  uint broke = 0u;
+  for (uint d = 0u; d < 2u; ++d) {
+    const uint c = p * kLatticeParams + 4u * d;  // rest length, stiffness, damping, active
+    const uint e = p * kEventParams + 4u * d;    // original length, break strain, yield strain, break time
+    if (!cell.has[d] || lattice_params[c + 3u] == Real(0.0)) continue;
+    const Vec3 xb = load_position(cell.neighbour[d]);
+    const Real length = norm(xb - x);
+    const Real rest = lattice_params[c];
+    const Real stiffness = lattice_params[c + 1u];
+    if ((constants.laws & 1u) != 0u && length / event_params[e] - Real(1.0) > event_params[e + 1u]) {
+      fracture -= connector_energy(x, xb, rest, stiffness);
+      lattice_params[c + 3u] = Real(0.0);
+      event_params[e + 3u] = control_real[kElapsed];
+      broke |= 1u << d;
+      atomicAdd(control_uint[kBreaks], 1u);
+      continue;
+    }
+    const Real strain = length / rest - Real(1.0);
+    const Real yield_strain = event_params[e + 2u];
+    if ((constants.laws & 2u) == 0u || !(abs(strain) > yield_strain)) continue;
+    if (strain < Real(0.0) && yield_strain >= Real(1.0)) continue;  // no negative rest length
+    const Real new_rest = length / (Real(1.0) + (strain < Real(0.0) ? -yield_strain : yield_strain));
+    plastic += connector_energy(x, xb, new_rest, stiffness) - connector_energy(x, xb, rest, stiffness);
+    lattice_params[c] = new_rest;
+    const Real hardening = control_real[kHardening];
+    if (hardening != Real(0.0)) event_params[e + 2u] = yield_strain + hardening * (abs(strain) - yield_strain);
+    atomicAdd(control_uint[kYields], 1u);
+  }
+  event_energy[2u * p] = fracture;
+  event_energy[2u * p + 1u] = plastic;
+  event_flags[p] = broke;
+}

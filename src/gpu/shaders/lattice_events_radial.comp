@@ -1,0 +1,91 @@
+#version 450
+#extension GL_GOOGLE_include_directive : require
+// The radial springs' side of the events on the lattice path, after lattice_events_connectors
+// (events/spring_events.h): each particle takes its six radial springs. One whose arm connector
+// broke in this step breaks with it (its elastic energy released as fracture work); a live one
+// whose angle is further than its yield angle from its rest angle creases (rest angle theta -
+// sign(theta - theta0) a, kept in [0, pi]; the elastic energy's change as plastic work). Each
+// workgroup then sums its particles' fracture and plastic work for rk_control's phase 2.
+#include "gpu/shaders/element_math.glsl"
+#include "gpu/shaders/device_step.h"
+
+const uint kWorkgroupSize = kReduceWorkgroup;
+layout(local_size_x = kWorkgroupSize) in;
+#include "gpu/shaders/invocation.glsl"
+
+layout(std430, binding = 0) readonly buffer Position { Real position[]; };  // the accepted state, m
+layout(std430, binding = 1) buffer Params { Real lattice_params[]; };       // [particles][kLatticeParams]
+layout(std430, binding = 2) readonly buffer EventParams { Real event_params[]; };
+layout(std430, binding = 3) readonly buffer EventEnergy { Real event_energy[]; };  // [particles][2]
+layout(std430, binding = 4) readonly buffer EventFlags { uint event_flags[]; };
+layout(std430, binding = 5) buffer ControlUint { uint control_uint[]; };
+layout(std430, binding = 6) writeonly buffer BlockEvents { Real block_events[]; };  // [blocks][2], J
+
+layout(push_constant) uniform Constants { EventPassConstants constants; };
+
+#include "gpu/shaders/lattice_cell.glsl"
+
+Vec3 load_position(uint i) { return Vec3(position[3 * i], position[3 * i + 1], position[3 * i + 2]); }
+
+// Whether the connector of arm d of particle p (east and south its own, west and north its
+// neighbours') broke in this step.
+bool arm_broke(uint d, LatticeCell cell, uint p) {
+  if (d < 2u) return (event_flags[p] & (1u << d)) != 0u;
+  return (event_flags[cell.neighbour[d]] & (1u << (d - 2u))) != 0u;
+}
+
+shared Real sums[2][kReduceWorkgroup];
+
+void main() {
+  if (control_uint[kAccepted] == 0u) return;  // the same for the whole dispatch
+  const uint p = invocation_index();
+  Real fracture = Real(0.0);
+  Real plastic = Real(0.0);
+  if (p < constants.particle_count) {
+    const LatticeCell cell = lattice_cell(p, constants.rows, constants.cols);
+    const Vec3 x = load_position(p);
+    fracture = event_energy[2u * p];
+    plastic = event_energy[2u * p + 1u];
+    for (uint k = 0u; k < 6u; ++k) {
+      const uint r = p * kLatticeParams + 8u + 4u * k;  // rest angle, stiffness, damping, active
+      const uint b = kArmB[k];
+      const uint c = kArmC[k];
+      if (!cell.has[b] || !cell.has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
+      const Vec3 xb = load_position(cell.neighbour[b]);
+      const Vec3 xc = load_position(cell.neighbour[c]);
+      const Real rest = lattice_params[r];
+      const Real stiffness = lattice_params[r + 1u];
+      if (arm_broke(b, cell, p) || arm_broke(c, cell, p)) {
+        fracture -= radial_energy(x, xb, xc, rest, stiffness);
+        lattice_params[r + 3u] = Real(0.0);
+        continue;
+      }
+      const Real yield_angle = event_params[p * kEventParams + 8u + k];
+      if ((constants.laws & 4u) == 0u) continue;
+      const Real angle = radial_angle(x, xb, xc);
+      if (!(abs(angle - rest) > yield_angle)) continue;
+      const Real new_rest =
+          clamp(angle - (angle - rest < Real(0.0) ? -yield_angle : yield_angle), Real(0.0), CLOTHSIM_REAL(3.141592653589793));
+      if (new_rest == rest) continue;
+      plastic += radial_energy(x, xb, xc, new_rest, stiffness) - radial_energy(x, xb, xc, rest, stiffness);
+      lattice_params[r] = new_rest;
+      atomicAdd(control_uint[kCreases], 1u);
+    }
+  }
+  const uint i = gl_LocalInvocationID.x;
+  sums[0][i] = fracture;
+  sums[1][i] = plastic;
+  barrier();
+  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
+    if (i < stride) {
+      sums[0][i] += sums[0][i + stride];
+      sums[1][i] += sums[1][i + stride];
+    }
+    barrier();
+  }
+  const uint group = workgroup_index();
+  if (i == 0u && group < constants.blocks) {
+    block_events[2u * group] = sums[0][0];
+    block_events[2u * group + 1u] = sums[1][0];
+  }
+}
