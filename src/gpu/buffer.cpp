@@ -21,13 +21,23 @@ Buffer::Buffer(Device& device, std::uint64_t bytes, Memory memory)
   try {
     VkMemoryRequirements requirements{};
     vkGetBufferMemoryRequirements(device_, buffer_, &requirements);
-    const VkMemoryPropertyFlags properties =
-        memory == Memory::device_local ? VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT
-                                       : VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
+    const VkMemoryPropertyFlags staging = VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT | VK_MEMORY_PROPERTY_HOST_COHERENT_BIT;
     VkMemoryAllocateInfo allocate{};
     allocate.sType = VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO;
     allocate.allocationSize = requirements.size;
-    allocate.memoryTypeIndex = device.memory_type(requirements.memoryTypeBits, properties);
+    if (memory == Memory::device_local) {
+      allocate.memoryTypeIndex = device.memory_type(requirements.memoryTypeBits, VK_MEMORY_PROPERTY_DEVICE_LOCAL_BIT);
+    } else {
+      // Cached where the device has it: the host reads the read-backs, and on a discrete GPU
+      // uncached host memory is write-combined, slow to read (a 1024 x 1024 sheet's state took
+      // tens of milliseconds per frame on an H200's host; docs/performance.md).
+      try {
+        allocate.memoryTypeIndex =
+            device.memory_type(requirements.memoryTypeBits, staging | VK_MEMORY_PROPERTY_HOST_CACHED_BIT);
+      } catch (const GpuError&) {
+        allocate.memoryTypeIndex = device.memory_type(requirements.memoryTypeBits, staging);
+      }
+    }
     check(vkAllocateMemory(device_, &allocate, nullptr, &memory_), "vkAllocateMemory");
     check(vkBindBufferMemory(device_, buffer_, memory_, 0), "vkBindBufferMemory");
     if (memory == Memory::host_visible) {

@@ -15,7 +15,8 @@ namespace clothsim::gpu {
 
 enum class Memory {
   device_local,  // where the shaders read and write; reached by the host only through copies
-  host_visible,  // staging: mapped for the host's whole lifetime of the buffer, coherent
+  host_visible,  // staging: mapped for the host's whole lifetime of the buffer, coherent, and cached
+                 // where the device offers it (for the read-backs the host reads)
 };
 
 class Buffer {
