@@ -284,10 +284,11 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
     model_revision_ = model_.revision;
     set_laws();
   }
-  if (model_changed || state_fingerprint(state, options_.threads) != exchanged_fingerprint_) {
+  const std::uint64_t fingerprint = state_fingerprint(state, options_.threads);
+  if (model_changed || fingerprint != exchanged_fingerprint_) {
     upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
     upload(device_, arrays_[state_velocity], vector_bytes(state.velocity, precision_));
-    exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
+    exchanged_fingerprint_ = fingerprint;
     exchanged_ = true;
   }
 }
