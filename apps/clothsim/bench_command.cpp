@@ -88,9 +88,9 @@ BenchOptions make_options(const BenchFlags& flags) {
     options.backend.device = static_cast<std::uint32_t>(flags.device);
   }
   if (flags.given("--precision")) {
-    Precision precision{};
-    if (!parse_precision(flags.precision, precision)) {
-      throw InputError("--precision", "", "expected float32 or float64, got '" + flags.precision + "'");
+    PrecisionRequest precision{};
+    if (!parse_precision_request(flags.precision, precision)) {
+      throw InputError("--precision", "", "expected float64, float32 or auto, got '" + flags.precision + "'");
     }
     options.backend.precision = precision;
   }
@@ -218,7 +218,8 @@ Subcommand add_bench_command(CLI::App& parent) {
       ->type_name("cpu|vulkan");
   app->add_option("--device", flags->device, "the Vulkan device, as 'clothsim devices' lists them (default 0)")
       ->type_name("N");
-  app->add_option("--precision", flags->precision, "float32 (the vulkan default) or float64 (the cpu's)")
+  app->add_option("--precision", flags->precision, "float64 (the cpu default), float32 (the vulkan default; float32 springs on the cpu) or auto (float32 where "
+                 "rkf45's tolerances allow it)")
       ->type_name("float32|float64");
   add_memory_flag(*app, flags->memory);
   app->footer(

@@ -54,8 +54,10 @@ inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
      "where the steps run: cpu (every feature), or vulkan (rkf45, rk4 and symplectic-euler on a Vulkan device, "
      "tearing, plasticity and creasing included; implicit-euler and collisions run on the cpu only: docs/gpu.md)"},
     {"--device", "device", "N", "the Vulkan device of --backend vulkan, as 'clothsim devices' lists them"},
-    {"--precision", "precision", "float32|float64",
-     "arithmetic of the backend: float32 (the vulkan default) or float64 (the cpu's, and the only one it runs)"},
+    {"--precision", "precision", "float64|float32|auto",
+     "arithmetic of the forces: float64 (the cpu default), float32 (the vulkan default; on the cpu, float32 springs "
+     "with a float64 state, for rkf45, rk4 and symplectic-euler), or auto (float32 where rkf45's tolerances are both "
+     "1e-6 or looser, else float64: docs/performance.md)"},
 }};
 
 // Which of kFieldFlags a subcommand offers, by flag name, with optional help text replacing the

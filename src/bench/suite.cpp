@@ -60,11 +60,12 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
 
   if (options.backend.kind == Backend::vulkan) {
     // The device's rate is not the CPU kernel's: no FLOP count, no share of the CPU's peak.
-    result.kernel = std::string("vulkan-") + to_string(options.backend.resolved_precision());
+    result.kernel = std::string("vulkan-") + to_string(options.backend.resolved_precision(spec.integrator));
   } else {
     ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
     probe.resize(simulation.model());
     result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";
+    if (options.backend.resolved_precision(spec.integrator) == Precision::float32) result.kernel += "-float32";
     result.flops_per_particle = probe.uses_lattice_kernel() ? kLatticeKernelFlopsPerParticle : 0.0;
   }
   result.threads = simulation.threads();
@@ -116,10 +117,17 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
   // The CPU's peak for each thread count, measured before the cases (about 0.1 s each); not for
   // cases on a device, whose rate is not the CPU kernel's (docs/performance.md has the device's
   // roofline).
-  std::map<int, double> peak_gflops;
-  for (int threads : thread_counts) {
-    if (options.backend.kind == Backend::cpu && peak_gflops.count(threads) == 0) {
-      peak_gflops[threads] = measure_peak_gflops(threads);
+  // In the precision of the case's forces: float32 has twice the lanes.
+  const auto precision_of = [&](int size, IntegratorKind kind) {
+    return options.backend.resolved_precision(bench_case_scene(size, kind, options).integrator);
+  };
+  std::map<std::pair<int, Precision>, double> peak_gflops;
+  for (std::size_t i = 0; i < options.sizes.size(); ++i) {
+    for (IntegratorKind kind : kinds) {
+      const std::pair key{thread_counts[i], precision_of(options.sizes[i], kind)};
+      if (options.backend.kind == Backend::cpu && peak_gflops.count(key) == 0) {
+        peak_gflops[key] = measure_peak_gflops(key.first, key.second);
+      }
     }
   }
   for (std::size_t i = 0; i < options.sizes.size(); ++i) {
@@ -128,7 +136,7 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
     case_options.threads = thread_counts[i];
     for (IntegratorKind kind : kinds) {
       results.push_back(run_bench_case(size, kind, case_options));
-      results.back().peak_gflops = peak_gflops[thread_counts[i]];
+      results.back().peak_gflops = peak_gflops[{thread_counts[i], precision_of(size, kind)}];
       if (on_result) on_result(results.back());
     }
   }

@@ -13,8 +13,9 @@
 // The roofline, read from the command: per case, the force kernel's achieved floating-point rate,
 // kLatticeKernelFlopsPerParticle (forces/lattice_kernel.h: 820 operations per particle and
 // evaluation, counted from the code) times particles times evaluations over the wall time inside
-// force evaluation, and its share of the machine's float64 peak on the case's thread count,
-// measured by a multiply-add probe (bench/peak_flops.h) once per thread count at the start.
+// force evaluation, and its share of the machine's peak on the case's thread count, in the
+// precision of its forces, measured by a multiply-add probe (bench/peak_flops.h) once per thread
+// count and precision at the start.
 #pragma once
 
 #include <cstdint>
@@ -47,7 +48,7 @@ struct BenchResult {
   int size = 0;  // N
   std::size_t particles = 0;
   IntegratorKind integrator = IntegratorKind::rkf45;
-  std::string kernel;  // force kernel in use: "lattice" or "general" on the CPU; "vulkan-float32" or "vulkan-float64"
+  std::string kernel;  // force kernel in use: "lattice", "lattice-float32" or "general" on the CPU; "vulkan-float32" or "vulkan-float64"
   int threads = 1;
   double time_step = 0.0;  // s; the fixed step, or 0 for adaptive
   std::string status;      // "ok", or the failure diagnosis
@@ -60,7 +61,7 @@ struct BenchResult {
   std::size_t memory_bytes = 0;     // Simulation::memory_bytes()
   std::size_t peak_rss_bytes = 0;   // process peak resident set size after the case
   double flops_per_particle = 0.0;  // per force evaluation; 0 where not counted (the general kernel)
-  double peak_gflops = 0.0;         // the machine's measured float64 peak on `threads` threads
+  double peak_gflops = 0.0;         // the machine's measured peak on `threads` threads, forces' precision
 
   double evaluations_per_second() const {
     return wall_seconds > 0 ? static_cast<double>(force_evaluations) / wall_seconds : 0.0;

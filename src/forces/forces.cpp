@@ -15,10 +15,12 @@ constexpr std::size_t kReductionBlock = 1024;
 }  // namespace
 
 void ForceBuffers::resize(const ClothModel& model) {
-  const bool lattice_ready = kernel != ForceKernel::general && lattice.prepare(model);
+  const bool lattice_ready = kernel != ForceKernel::general && lattice.prepare(model, precision);
   if (kernel == ForceKernel::general) lattice = LatticeKernel{};
   CLOTHSIM_ASSERT(kernel != ForceKernel::lattice || lattice_ready,
                   "ForceKernel::lattice needs a model with the lattice layout");
+  CLOTHSIM_ASSERT(precision == Precision::float64 || lattice_ready,
+                  "float32 forces are the lattice kernel's: a model with the lattice layout, kernel not general");
   if (lattice_ready) {
     // Released, not just cleared: a ForceBuffers resized for another model may hold them.
     std::vector<Vec3>().swap(slot_force);
@@ -38,8 +40,9 @@ std::size_t ForceBuffers::bytes() const {
          gather.bytes() + lattice.bytes();
 }
 
-std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays) {
-  if (kernel != ForceKernel::general) return LatticeKernel::bytes_for(counts, parameter_arrays);
+std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays,
+                                    Precision precision) {
+  if (kernel != ForceKernel::general) return LatticeKernel::bytes_for(counts, parameter_arrays, precision);
   const std::size_t elements = counts.connectors + counts.radials;
   const std::size_t slots = 2 * counts.connectors + 3 * counts.radials;
   return slots * sizeof(decltype(slot_force)::value_type) +
@@ -49,7 +52,10 @@ std::size_t ForceBuffers::bytes_for(const LatticeCounts& counts, ForceKernel ker
 
 std::size_t deterministic_sum_blocks(std::size_t count) { return (count + kReductionBlock - 1) / kReductionBlock; }
 
-double deterministic_sum(std::span<const double> values, int threads, std::vector<double>& block_sums) {
+namespace {
+
+template <typename Real>
+double deterministic_sum_of(std::span<const Real> values, int threads, std::vector<double>& block_sums) {
   const std::size_t blocks = (values.size() + kReductionBlock - 1) / kReductionBlock;
   CLOTHSIM_ASSERT(block_sums.size() >= blocks, "block buffer sized by ForceBuffers::resize");
   parallel_for(blocks, threads, [&](std::size_t block) {
@@ -62,6 +68,16 @@ double deterministic_sum(std::span<const double> values, int threads, std::vecto
   double total = 0.0;
   for (std::size_t block = 0; block < blocks; ++block) total += block_sums[block];
   return total;
+}
+
+}  // namespace
+
+double deterministic_sum(std::span<const double> values, int threads, std::vector<double>& block_sums) {
+  return deterministic_sum_of(values, threads, block_sums);
+}
+
+double deterministic_sum(std::span<const float> values, int threads, std::vector<double>& block_sums) {
+  return deterministic_sum_of(values, threads, block_sums);
 }
 
 void gather_forces(const ClothModel& model, std::span<const Vec3> velocity, ForceTerms terms, int threads,

@@ -52,6 +52,9 @@ enum class ForceKernel : std::uint8_t {
 // (they would be 684 bytes per particle of a lattice, more than the kernel's own scratch).
 struct ForceBuffers {
   ForceKernel kernel = ForceKernel::automatic;  // set before resize()
+  // Set before resize(): float32 runs the lattice kernel's springs in float (lattice_kernel.h,
+  // "Precision"); resize() fails an assertion if the model is not a lattice then.
+  Precision precision = Precision::float64;
   std::vector<Vec3> slot_force;                 // general path: [model.force_slot_count()], N
   std::vector<double> element_power;            // general path: [connectors + radials], damping power per element, W
   std::vector<double> block_power;              // general path: partial sums over fixed blocks of element_power
@@ -62,9 +65,10 @@ struct ForceBuffers {
   // Bytes of scratch memory held.
   std::size_t bytes() const;
   // The bytes bytes() reports after resize() for the lattice build_lattice() makes with `counts`,
-  // with `kernel`; `parameter_arrays`: whether the lattice kernel keeps them (LatticeKernel::
-  // bytes_for) (the memory estimate, sim/memory_estimate.h).
-  static std::size_t bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays);
+  // with `kernel`, in `precision`; `parameter_arrays`: whether the lattice kernel keeps them
+  // (LatticeKernel::bytes_for) (the memory estimate, sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts, ForceKernel kernel, bool parameter_arrays,
+                               Precision precision = Precision::float64);
 };
 
 // Powers of the dissipative forces at the evaluated state (W, never positive).
@@ -113,9 +117,10 @@ double gravitational_energy(const ClothModel& model, std::span<const Vec3> posit
 EnergyReport compute_energy(const ClothModel& model, const ClothState& state, ForceTerms terms = kAllForceTerms,
                             int threads = 1);
 
-// Sums `values` over fixed blocks in index order: the same result for any thread count.
-// `block_sums` needs deterministic_sum_blocks(values.size()) entries.
+// Sums `values` over fixed blocks in index order, in double: the same result for any thread
+// count. `block_sums` needs deterministic_sum_blocks(values.size()) entries.
 double deterministic_sum(std::span<const double> values, int threads, std::vector<double>& block_sums);
+double deterministic_sum(std::span<const float> values, int threads, std::vector<double>& block_sums);
 std::size_t deterministic_sum_blocks(std::size_t count);
 
 }  // namespace clothsim

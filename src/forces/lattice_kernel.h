@@ -22,9 +22,9 @@
 // times slower), and per-family constants with a mask only (plasticity and creasing make every
 // rest value different).
 //
-// Uniform sheets. The 26 parameter arrays are 208 bytes per particle, half the kernel's scratch,
-// and on an intact sheet whose springs all have their family's values (the paper's sheets, and
-// a material's) they hold three values per family. There the kernel keeps no parameter arrays
+// Uniform sheets. The 26 parameter arrays are 208 bytes per particle in float64, 45 % of the
+// kernel's scratch, and on an intact sheet whose springs all have their family's values (the
+// paper's sheets, and a material's) they hold three values per family. There the kernel keeps no parameter arrays
 // and reads the family's value instead (uniform(); a second instantiation of the connector and
 // radial loops); both forms compute the same products, so they give the same bits. The kernel
 // reads the arrays whenever it holds them. prepare() allocates them when the sheet is not
@@ -37,9 +37,9 @@
 // whole rows (at least 256 particles, so that short rows still make long vector loops) for the
 // other two:
 //   1. connectors the east and south connector of each particle, read from the Vec3 position and
-//                 velocity arrays: unit vector, 1/length, tension; the row's velocities are copied
-//                 into x/y/z arrays (SoA) for the later passes. The radial springs reuse the unit
-//                 vectors and inverse lengths: each connector's square root and division are done
+//                 velocity arrays: unit vector, 1/length, tension, and the neighbour's relative
+//                 velocity, into x/y/z arrays (SoA) for the later passes. The radial springs reuse
+//                 them: each connector's square root, division and velocity difference are done
 //                 once, not once per spring that uses it;
 //   2. radials    the six radial springs centred at each particle; each writes its forces on the
 //                 four neighbours into to_east/to_south/to_west/to_north of the centre;
@@ -65,20 +65,38 @@
 // if-convert the square roots and divisions; neither changes a value. -ffp-contract=off stays:
 // no fused multiply-adds are introduced, and vector lanes round exactly like scalar code.
 //
-// Precision. Double throughout, like the general path: the kernel differs from it only by
-// rounding (1/l multiplied instead of dividing by l, the polynomial arctangent instead of libm's),
-// a few ulps per force. float32 was rejected: RKF45's default tolerance is 1e-6 m + 1e-6 |x|,
-// and float's 24-bit significand resolves a coordinate of 100 m (a 200 x 200 sheet) only to
-// 8e-6 m, and the stiff opposite springs' forces (differences of nearly equal angles) to a few
-// parts in 1e7: the error estimate would be rounding noise (docs/performance.md).
+// Precision. In float64 (the default) the kernel differs from the general path only by rounding
+// (1/l multiplied instead of dividing by l, the polynomial arctangent instead of libm's), a few
+// ulps per force. In float32 (ForceBuffers::precision; `precision float32` or `auto`, sim/backend.h)
+// the same loops run on floats, twice the SIMD lanes, while everything that decides accuracy
+// stays float64:
+//   * the state: each connector's position and velocity differences are taken in double from the
+//     float64 state and only then rounded (kEastVelocityX...: the relative velocities are stored
+//     per connector), so a sheet 100 m from the origin or falling at 30 m/s loses nothing that a
+//     sheet at rest at the origin keeps: the forces' error is relative to the forces, never to the
+//     coordinates (the Vulkan backend's float32, whose state is float too, lacks this);
+//   * the gather: each particle's force is summed in double, gravity and drag first;
+//   * the powers are summed in double, and the integrator's stage sums and error norm are float64.
+// What rounds in float is each spring's own force: a few float ulps of it, about 1e-6 of the
+// largest force on the sheet (tests/forces/test_float32_forces.cpp, bound 2e-5). RKF45's error
+// estimate is then accurate to about h * 1e-6 of the accelerations, which the default tolerances
+// of 1e-6 absorb and tighter ones do not (docs/performance.md, "Mixed precision"; `auto`'s rule).
+// Two details are float's own: subnormal floats are flushed to zero while the kernel runs (a
+// nearly flat sheet makes products of 1e-40, each a microcode assist of ~100 cycles: the float
+// kernel ran no faster than the double one before this), and a radial spring counts as straight
+// or folded below sin(theta) = 1e-6 instead of 1e-12 (lattice_spring.h, SingularLimits), where
+// float's unit vectors stop defining its bending plane. The float64 results are unchanged by a bit
+// by all of this.
 #pragma once
 
 #include <array>
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
 #include <vector>
 
+#include "core/precision.h"
 #include "core/vec3.h"
 #include "model/cloth_model.h"
 
@@ -110,9 +128,11 @@ class LatticeKernel {
  public:
   // Sizes the scratch for `model` and copies its per-spring parameters, if the model has the
   // lattice layout (ClothModel::layout, recorded by build_lattice; torn, plastic and creased
-  // sheets keep it); false (and no scratch) otherwise.
-  bool prepare(const ClothModel& model);
+  // sheets keep it); false (and no scratch) otherwise. `precision`: the arithmetic of the springs
+  // (see "Precision" at the top of this file).
+  bool prepare(const ClothModel& model, Precision precision = Precision::float64);
   bool active() const { return active_; }
+  Precision precision() const { return precision_; }
   // True when the kernel reads one value per family instead of the parameter arrays: every
   // connector is intact, every spring has its family's stiffness, damping and rest value, and
   // the kernel holds no arrays (see the top of this file).
@@ -125,24 +145,48 @@ class LatticeKernel {
                   std::uint32_t terms, int threads, std::span<Vec3> force);
 
   // Bytes of scratch memory held.
-  std::size_t bytes() const { return (scratch_.capacity() + block_power_.capacity()) * sizeof(double); }
+  std::size_t bytes() const {
+    return scratch64_.capacity() * sizeof(double) + scratch32_.capacity() * sizeof(float) +
+           block_power_.capacity() * sizeof(double);
+  }
   // The bytes bytes() reports after prepare() for the lattice build_lattice() makes with `counts`,
   // with the parameter arrays or without them (a uniform sheet whose limits are all infinite; see
-  // the top of this file) (the memory estimate, sim/memory_estimate.h).
-  static std::size_t bytes_for(const LatticeCounts& counts, bool parameter_arrays);
+  // the top of this file), in `precision` (the memory estimate, sim/memory_estimate.h).
+  static std::size_t bytes_for(const LatticeCounts& counts, bool parameter_arrays,
+                               Precision precision = Precision::float64);
 
  private:
+  template <typename Real>
+  double evaluate_in(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                     std::uint32_t terms, int threads, std::span<Vec3> force);
+  // The scratch of precision Real: scratch64_ or scratch32_ (the other stays empty).
+  template <typename Real>
+  std::vector<Real>& scratch() {
+    if constexpr (std::is_same_v<Real, double>) {
+      return scratch64_;
+    } else {
+      return scratch32_;
+    }
+  }
+  // Reals in the scratch of the current precision.
+  std::size_t scratch_size() const {
+    return precision_ == Precision::float64 ? scratch64_.size() : scratch32_.size();
+  }
+  // Resizes the scratch of the current precision to `arrays` arrays, new entries zero.
+  void resize_scratch(std::size_t arrays);
+  template <typename Real>
+  void copy_parameters(const ClothModel& model);
   // Takes the model's parameters: one value per family on a uniform sheet, else every spring's
   // stiffness, damping, rest value and liveness into the padded arrays.
   void refresh(const ClothModel& model);
   // Every connector intact, and every spring of a family with the same stiffness, damping and
   // rest value.
   static bool is_uniform(const ClothModel& model);
-  // Zero entries before and after each array, and doubles per array (padding + particles +
-  // padding, rounded up to whole 64-byte lines).
+  // Zero entries before and after each array, and Reals per array (padding + particles +
+  // padding, rounded up to whole 64-byte lines of floats).
   static std::size_t padding(std::size_t cols) { return cols + 8; }
   static std::size_t stride(std::size_t particles, std::size_t cols) {
-    return (particles + 2 * padding(cols) + 7) / 8 * 8;
+    return (particles + 2 * padding(cols) + 15) / 16 * 16;
   }
 
   // One family's parameters while the sheet is uniform.
@@ -155,15 +199,17 @@ class LatticeKernel {
 
   bool active_ = false;
   bool uniform_ = false;
+  Precision precision_ = Precision::float64;
   std::array<FamilyValues, 3> family_{};  // connector, adjacent, opposite (uniform sheets)
   int rows_ = 0;
   int cols_ = 0;
   std::size_t padding_ = 0;     // zero entries before and after each array
-  std::size_t stride_ = 0;      // doubles per array (padding + particles + padding, rounded up)
+  std::size_t stride_ = 0;      // Reals per array (padding + particles + padding, rounded up)
   std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
-  // kArrayCount arrays of stride_ doubles, the parameter arrays last and only while needed
-  // (lattice_kernel_layout.h).
-  std::vector<double> scratch_;
+  // kArrayCount arrays of stride_ Reals, the parameter arrays last and only while needed
+  // (lattice_kernel_layout.h): in double, or in float for float32 forces.
+  std::vector<double> scratch64_;
+  std::vector<float> scratch32_;
   std::vector<double> block_power_;
 };
 

@@ -12,14 +12,18 @@
 
 namespace clothsim::lattice_layout {
 
-// The scratch arrays, each `stride_` doubles, indexed by particle (with padding both sides).
+// The scratch arrays, each `stride_` Reals (double or float: the precision of the forces), indexed
+// by particle (with padding both sides).
 // clang-format off
 enum Array : std::size_t {
-  kVelocityX, kVelocityY, kVelocityZ,
   // East connector of each particle (to col + 1) and south connector (to row + 1): unit vector,
-  // 1/length (0 where the connector does not exist or has zero length), tension (N).
-  kEastX, kEastY, kEastZ, kEastInverseLength, kEastTension,
-  kSouthX, kSouthY, kSouthZ, kSouthInverseLength, kSouthTension,
+  // 1/length (0 where the connector does not exist or has zero length), tension (N), and the
+  // neighbour's velocity relative to the particle's (m/s; 0 where there is no connector). The
+  // relative velocities are differences of the float64 state, taken once per connector: the
+  // radial springs of both ends read them, and in float32 (lattice_kernel.h, "Precision") they
+  // keep the digits a difference of two rounded absolute velocities would lose.
+  kEastX, kEastY, kEastZ, kEastInverseLength, kEastTension, kEastVelocityX, kEastVelocityY, kEastVelocityZ,
+  kSouthX, kSouthY, kSouthZ, kSouthInverseLength, kSouthTension, kSouthVelocityX, kSouthVelocityY, kSouthVelocityZ,
   kConnectorPower,  // damping power of the east and south connectors, W
   // Force that the radial springs centred at a particle exert on each of its four neighbours, N.
   kToEastX, kToEastY, kToEastZ,

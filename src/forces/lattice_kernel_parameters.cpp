@@ -12,10 +12,11 @@ namespace clothsim {
 
 using namespace lattice_layout;
 
-bool LatticeKernel::prepare(const ClothModel& model) {
+bool LatticeKernel::prepare(const ClothModel& model, Precision precision) {
   active_ = false;
-  scratch_.clear();
-  scratch_.shrink_to_fit();
+  std::vector<double>().swap(scratch64_);
+  std::vector<float>().swap(scratch32_);
+  precision_ = precision;
   if (model.layout != ModelLayout::lattice || model.rows < 1 || model.cols < 1 ||
       static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) != model.particle_count()) {
     return false;
@@ -49,16 +50,25 @@ bool LatticeKernel::prepare(const ClothModel& model) {
   stride_ = stride(n, cols);
   // The parameter arrays only where the sheet is not uniform or a law can make it so.
   const bool arrays = !is_uniform(model) || model.limits.changes_sheet();
-  scratch_.assign((arrays ? kArrayCount : kUniformArrayCount) * stride_, 0.0);
+  resize_scratch(arrays ? kArrayCount : kUniformArrayCount);
   block_power_.assign(deterministic_sum_blocks(n), 0.0);
   active_ = true;
   refresh(model);
   return true;
 }
 
-std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays) {
+std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays, Precision precision) {
   const std::size_t arrays = parameter_arrays ? kArrayCount : kUniformArrayCount;
-  return (arrays * stride(counts.particles, counts.cols) + deterministic_sum_blocks(counts.particles)) * sizeof(double);
+  return arrays * stride(counts.particles, counts.cols) * real_size(precision) +
+         deterministic_sum_blocks(counts.particles) * sizeof(double);
+}
+
+void LatticeKernel::resize_scratch(std::size_t arrays) {
+  if (precision_ == Precision::float64) {
+    scratch64_.resize(arrays * stride_, 0.0);
+  } else {
+    scratch32_.resize(arrays * stride_, 0.0f);
+  }
 }
 
 bool LatticeKernel::is_uniform(const ClothModel& model) {
@@ -90,7 +100,7 @@ bool LatticeKernel::is_uniform(const ClothModel& model) {
 
 void LatticeKernel::refresh(const ClothModel& model) {
   revision_ = model.revision;
-  const bool arrays = scratch_.size() == kArrayCount * stride_;
+  const bool arrays = scratch_size() == kArrayCount * stride_;
   uniform_ = !arrays && is_uniform(model);
   if (uniform_) {
     family_[0] = {model.connector_stiffness[0], model.connector_damping[0], model.connector_rest_length[0]};
@@ -102,26 +112,37 @@ void LatticeKernel::refresh(const ClothModel& model) {
   }
   // A uniform sheet made non-uniform by a live edit: the parameter arrays now, kept from then on
   // (see the top of lattice_kernel.h).
-  if (!arrays) scratch_.resize(kArrayCount * stride_, 0.0);
-  double* base = scratch_.data() + padding_;
+  if (!arrays) resize_scratch(kArrayCount);
+  if (precision_ == Precision::float64) {
+    copy_parameters<double>(model);
+  } else {
+    copy_parameters<float>(model);
+  }
+}
+
+template <typename Real>
+void LatticeKernel::copy_parameters(const ClothModel& model) {
+  std::vector<Real>& scratch = this->scratch<Real>();
+  Real* base = scratch.data() + padding_;
   const auto array = [&](std::size_t a) { return base + a * stride_; };
+  const auto real = [](double value) { return static_cast<Real>(value); };
   // Missing springs (borders) keep zeros: no stiffness, no damping, not live.
-  std::fill(scratch_.begin() + static_cast<std::ptrdiff_t>(kEastStiffness * stride_), scratch_.end(), 0.0);
+  std::fill(scratch.begin() + static_cast<std::ptrdiff_t>(kEastStiffness * stride_), scratch.end(), Real(0));
   for_each_lattice_spring(
       static_cast<std::size_t>(rows_), static_cast<std::size_t>(cols_),
       [&](std::uint32_t e, std::uint32_t p, bool south) {
         const std::size_t first = south ? kSouthStiffness : kEastStiffness;
-        array(first)[p] = model.connector_stiffness[e];
-        array(first + 1)[p] = model.connector_damping[e];
-        array(first + 2)[p] = model.connector_rest_length[e];
-        array(first + 3)[p] = model.connector_live[e] != 0 ? 1.0 : 0.0;
+        array(first)[p] = real(model.connector_stiffness[e]);
+        array(first + 1)[p] = real(model.connector_damping[e]);
+        array(first + 2)[p] = real(model.connector_rest_length[e]);
+        array(first + 3)[p] = model.connector_live[e] != 0 ? Real(1) : Real(0);
         return true;
       },
       [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
         const bool live = model.radial_live[r] != 0;
-        array(kRadialStiffness + pair)[p] = live ? model.radial_stiffness[r] : 0.0;
-        array(kRadialDamping + pair)[p] = live ? model.radial_damping[r] : 0.0;
-        array(kRadialRestAngle + pair)[p] = model.radial_rest_angle[r];
+        array(kRadialStiffness + pair)[p] = live ? real(model.radial_stiffness[r]) : Real(0);
+        array(kRadialDamping + pair)[p] = live ? real(model.radial_damping[r]) : Real(0);
+        array(kRadialRestAngle + pair)[p] = real(model.radial_rest_angle[r]);
         return true;
       });
 }

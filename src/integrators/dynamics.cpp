@@ -9,6 +9,7 @@ void StateDerivative::resize(std::size_t particles) { velocity_rate.assign(parti
 
 ClothDynamics::ClothDynamics(const ClothModel& model, const ForceOptions& options) : model_(model), options_(options) {
   buffers_.kernel = options.kernel;
+  buffers_.precision = options.precision;
   buffers_.resize(model);
 }
 

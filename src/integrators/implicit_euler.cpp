@@ -55,6 +55,8 @@ std::uint32_t find_block(const std::vector<std::uint32_t>& row_offset, const std
 ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options)
     : model_(model), settings_(settings), options_(options), threads_(options.threads) {
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
+  CLOTHSIM_ASSERT(options.precision == Precision::float64,
+                  "implicit Euler's forces are float64 (sim/backend.h refuses float32 with it)");
   const std::size_t n = model.particle_count();
   buffers_.resize(model);
   gather_.build(model);

@@ -101,6 +101,9 @@ struct ForceOptions {
   ForceTerms terms = kAllForceTerms;
   int threads = 1;  // resolved thread count (>= 1)
   ForceKernel kernel = ForceKernel::automatic;
+  // The arithmetic of the springs: float32 is the lattice kernel's (forces/lattice_kernel.h),
+  // for the explicit methods; the state and the integration stay float64 either way.
+  Precision precision = Precision::float64;
 };
 
 // Wall time of one named sub-phase of step() besides force evaluation, s.

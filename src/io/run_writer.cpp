@@ -390,6 +390,8 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
   const IntegratorSettings& settings = simulation.settings().integrator;
   summary["integrator"] = ordered_json{
       {"method", std::string(to_string(settings.kind))},
+      // The precision of the forces, `auto` resolved (sim/backend.h).
+      {"precision", to_string(simulation.settings().backend.resolved_precision(settings))},
       {"relative_tolerance", settings.relative_tolerance},
       {"absolute_tolerance", settings.absolute_tolerance},
       {"time_step", settings.time_step},

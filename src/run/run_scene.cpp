@@ -187,7 +187,7 @@ RunResult finish_run(const SceneSpec& spec, const RenderPlan& plan, std::unique_
 // the lattice's shape, before its model is built. Throws BackendError.
 void check_backend_fits(const SceneSpec& spec) {
   const SimulationShape shape = simulation_shape(spec);
-  clothsim::check_backend_fits(shape.counts, shape.anchors, spec.integrator.kind, spec.backend);
+  clothsim::check_backend_fits(shape.counts, shape.anchors, spec.integrator, spec.backend);
 }
 
 }  // namespace

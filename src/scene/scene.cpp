@@ -57,8 +57,9 @@ std::string method_choices() {
 std::string backend_choices() { return join_names(std::array{to_string(Backend::cpu), to_string(Backend::vulkan)}); }
 
 std::string precision_choices() {
-  return join_names(
-      std::array{std::string_view(to_string(Precision::float64)), std::string_view(to_string(Precision::float32))});
+  return join_names(std::array{std::string_view(to_string(PrecisionRequest::float64)),
+                               std::string_view(to_string(PrecisionRequest::float32)),
+                               std::string_view(to_string(PrecisionRequest::automatic))});
 }
 
 void read_backend(std::string_view text, SceneSpec& spec, const std::string& source, const std::string& got) {
@@ -67,8 +68,8 @@ void read_backend(std::string_view text, SceneSpec& spec, const std::string& sou
 }
 
 void read_precision(std::string_view text, SceneSpec& spec, const std::string& source, const std::string& got) {
-  Precision precision = Precision::float64;
-  if (!parse_precision(text, precision)) {
+  PrecisionRequest precision = PrecisionRequest::float64;
+  if (!parse_precision_request(text, precision)) {
     fail(source, "precision",
          "must be one of " + precision_choices() + " (or absent: the backend's default), got " + got);
   }

@@ -105,7 +105,7 @@ struct SceneSpec {
   OutputSettings output;
   int threads = 0;  // 0: choose from the lattice size (core/parallel.h)
   // Where the steps run: "backend" ("cpu" or "vulkan"), "device" (the Vulkan device) and
-  // "precision" ("float64" or "float32"; absent: the backend's own) (sim/backend.h).
+  // "precision" ("float64", "float32" or "auto"; absent: the backend's own) (sim/backend.h).
   BackendSettings backend;
 };
 

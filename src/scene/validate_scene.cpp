@@ -104,7 +104,7 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
   }
   check_self_collision_thickness(spec, source);
   const std::string unsupported = unsupported_by_backend(
-      BackendFeatures{spec.integrator.kind, spec.lattice.limits, !spec.colliders.empty(), spec.collision.self},
+      BackendFeatures{spec.integrator, spec.lattice.limits, !spec.colliders.empty(), spec.collision.self},
       spec.backend);
   if (!unsupported.empty()) fail(source, "backend", backend_refusal(unsupported, spec.backend));
 }

@@ -37,22 +37,44 @@ bool vulkan_backend_built() {
 }
 
 BackendFeatures features_of(const ClothModel& model, const IntegratorSettings& integrator) {
-  return {integrator.kind, model.limits, !model.colliders.empty(), model.collision.self,
+  return {integrator, model.limits, !model.colliders.empty(), model.collision.self,
           model.layout == ModelLayout::lattice};
 }
 
 BackendFeatures features_of(IntegratorKind kind) {
   BackendFeatures features;
-  features.integrator = kind;
+  features.integrator.kind = kind;
   return features;
+}
+
+Precision automatic_precision(const IntegratorSettings& integrator) {
+  const bool loose = integrator.relative_tolerance >= kAutomaticFloat32Tolerance &&
+                     integrator.absolute_tolerance >= kAutomaticFloat32Tolerance;
+  return integrator.kind == IntegratorKind::rkf45 && loose ? Precision::float32 : Precision::float64;
+}
+
+Precision BackendSettings::resolved_precision(const IntegratorSettings& integrator) const {
+  if (!precision) return kind == Backend::cpu ? Precision::float64 : Precision::float32;
+  switch (*precision) {
+    case PrecisionRequest::float64: return Precision::float64;
+    case PrecisionRequest::float32: return Precision::float32;
+    case PrecisionRequest::automatic: return automatic_precision(integrator);
+  }
+  return Precision::float64;
 }
 
 std::string unsupported_by_backend(const BackendFeatures& features, const BackendSettings& backend) {
   if (backend.kind == Backend::cpu) {
-    return backend.resolved_precision() == Precision::float32 ? "float32 (precision); float32 runs on backend vulkan"
-                                                              : "";
+    // float32 is the lattice kernel's, for the methods that only evaluate forces.
+    if (backend.resolved_precision(features.integrator) == Precision::float64) return "";
+    if (features.integrator.kind == IntegratorKind::implicit_euler) {
+      return "float32 (precision) with implicit-euler (integrator.method), whose Newton solve needs float64 forces; "
+             "use precision float64 or auto";
+    }
+    if (!features.lattice) return "float32 (precision) on a sheet that is not a lattice; use precision float64";
+    return "";
   }
-  if (features.integrator == IntegratorKind::implicit_euler) return "implicit-euler (integrator.method)";
+  if (features.integrator.kind == IntegratorKind::implicit_euler) return "implicit-euler (integrator.method)";
   // The laws run on the device's lattice path only (gpu/device_lattice.cpp).
   if (!features.lattice && features.limits.changes_sheet()) {
     return "tearing, permanent stretching or creasing of a sheet that is not a lattice (springs.*)";
@@ -68,16 +90,16 @@ std::string backend_refusal(const std::string& unsupported, const BackendSetting
   return message;
 }
 
-void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, IntegratorKind integrator,
+void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const IntegratorSettings& integrator,
                         const BackendSettings& backend) {
   if (backend.kind == Backend::cpu) return;
 #if CLOTHSIM_HAVE_VULKAN
   try {
+    const Precision precision = backend.resolved_precision(integrator);
     const gpu::Device device(gpu::DeviceOptions{backend.device, false});
-    device.require_precision(backend.resolved_precision());
-    device.require_memory(
-        gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator, backend.resolved_precision()),
-        "the scene");
+    device.require_precision(precision);
+    device.require_memory(gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision),
+                          "the scene");
   } catch (const gpu::GpuError& error) {
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
   }
@@ -93,11 +115,16 @@ std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, con
                                                     const ForceOptions& options, const BackendSettings& backend) {
   const std::string unsupported = unsupported_by_backend(features_of(model, integrator), backend);
   if (!unsupported.empty()) throw BackendError(backend_refusal(unsupported, backend));
-  if (backend.kind == Backend::cpu) return make_integrator(model, integrator, options);
+  const Precision precision = backend.resolved_precision(integrator);
+  if (backend.kind == Backend::cpu) {
+    ForceOptions cpu = options;
+    cpu.precision = precision;
+    return make_integrator(model, integrator, cpu);
+  }
 #if CLOTHSIM_HAVE_VULKAN
   try {
     return std::make_unique<gpu::DeviceIntegrator>(model, integrator, options,
-                                                   gpu::DeviceSelection{backend.device, backend.resolved_precision()});
+                                                   gpu::DeviceSelection{backend.device, precision});
   } catch (const gpu::GpuError& error) {
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
   }

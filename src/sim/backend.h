@@ -26,15 +26,25 @@ bool parse_backend(std::string_view text, Backend& backend);
 
 struct BackendSettings {
   Backend kind = Backend::cpu;
-  std::uint32_t device = 0;            // the Vulkan device, as `clothsim devices` numbers it
-  std::optional<Precision> precision;  // unset: the backend's default, precision()
-  // The precision the backend computes in: the one set, else float64 on the CPU and float32 on
-  // a device (the default: twice the throughput, and every device has it).
-  Precision resolved_precision() const {
-    return precision.value_or(kind == Backend::cpu ? Precision::float64 : Precision::float32);
-  }
+  std::uint32_t device = 0;                   // the Vulkan device, as `clothsim devices` numbers it
+  std::optional<PrecisionRequest> precision;  // unset: the backend's default (resolved_precision)
+  // The precision the backend computes in for `integrator`: the one asked for; for `auto`,
+  // automatic_precision's choice; unset, float64 on the CPU and float32 on a device (twice the
+  // throughput there, and every device has it).
+  Precision resolved_precision(const IntegratorSettings& integrator) const;
   bool operator==(const BackendSettings&) const = default;
 };
+
+// `auto`'s rule: float32 where RKF45's requested tolerances are loose enough that float32 forces
+// cannot spoil them, float64 everywhere else (fixed-step methods ask for no accuracy to check
+// against, and implicit Euler runs float64 only). docs/performance.md, "Mixed precision", has
+// the measurements behind the threshold.
+Precision automatic_precision(const IntegratorSettings& integrator);
+// The tightest tolerances (relative and absolute, each) at which `auto` picks float32: RKF45's
+// default. There float32 forces keep a paper scene as close to the exact motion as float64 ones
+// and take no more steps; at 1e-7 their rounding is four times the float64 run's error and costs
+// 14 % more evaluations (docs/performance.md, "Mixed precision").
+inline constexpr double kAutomaticFloat32Tolerance = 1e-6;
 
 // Whether this build has the Vulkan backend (CLOTHSIM_BUILD_VULKAN).
 bool vulkan_backend_built();
@@ -42,7 +52,7 @@ bool vulkan_backend_built();
 // What of a simulation not every backend runs: read from a model (features_of) or from a scene
 // before its model is built (validate_scene).
 struct BackendFeatures {
-  IntegratorKind integrator = IntegratorKind::rkf45;
+  IntegratorSettings integrator;  // the method, and for `auto` its tolerances
   SpringLimits limits;          // tearing, permanent stretching, creasing
   bool colliders = false;       // any obstacle
   bool self_collision = false;  // collision.self
@@ -54,7 +64,7 @@ BackendFeatures features_of(IntegratorKind kind);
 
 // What `backend` cannot run of these features, as a phrase naming the feature and the scene field
 // that asks for it ("tearing (springs.connector.break_strain)"); empty when it runs all of them.
-// The CPU runs everything, in float64; float32 is a device precision.
+// The CPU runs everything in float64, and float32 forces for the explicit methods on a lattice.
 std::string unsupported_by_backend(const BackendFeatures& features, const BackendSettings& backend);
 
 // "the vulkan backend does not run <unsupported> yet; use backend cpu (...)".
@@ -72,7 +82,7 @@ class BackendError : public std::runtime_error {
 // memory for it: opens the device (a Vulkan instance, a few milliseconds) and compares. Nothing
 // to check on the CPU (its memory is checked from the scene: sim/memory_estimate.h). Throws
 // BackendError.
-void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, IntegratorKind integrator,
+void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const IntegratorSettings& integrator,
                         const BackendSettings& backend);
 
 // The integrator of `integrator.kind` on `backend`. Throws BackendError.

@@ -46,7 +46,7 @@ MemoryEstimate estimate_simulation_memory(const SimulationShape& shape) {
   estimate.add("model", lattice_model_bytes(counts, shape.anchors));
   estimate.add("state", 2 * counts.particles * sizeof(Vec3));
   const bool parameter_arrays = !shape.uniform || shape.sheet_changes;
-  estimate.add("force scratch", ForceBuffers::bytes_for(counts, shape.kernel, parameter_arrays));
+  estimate.add("force scratch", ForceBuffers::bytes_for(counts, shape.kernel, parameter_arrays, shape.precision));
   std::size_t workspace = 0;
   switch (shape.integrator.kind) {
     case IntegratorKind::rkf45:

@@ -50,6 +50,7 @@ struct SimulationShape {
   std::size_t anchors = 0;
   IntegratorSettings integrator;
   ForceKernel kernel = ForceKernel::automatic;
+  Precision precision = Precision::float64;  // of the CPU's forces (ForceOptions::precision)
   // Every connector intact and every spring with its family's values at the start (no cuts):
   // the lattice kernel then keeps no parameter arrays (forces/lattice_kernel.h).
   bool uniform = true;

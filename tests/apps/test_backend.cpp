@@ -4,6 +4,8 @@
 // device. Without the Vulkan backend in the build, asking for it is the same clear refusal.
 #include <gtest/gtest.h>
 
+#include <array>
+
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -51,6 +53,22 @@ class BackendTest : public ::testing::Test {
   fs::path work_;
 };
 
+// Float32 forces on the CPU (tests/sim/test_mixed_precision.cpp holds their accuracy): the scene
+// records what was asked, the summary what ran, with `auto` resolved from the tolerances.
+TEST_F(BackendTest, TheCpuRunsFloat32ForcesAndAutoResolvesThem) {
+  for (const auto& [asked, tolerance, ran] : std::vector<std::array<std::string, 3>>{
+           {"float32", "1e-6", "float32"}, {"auto", "1e-6", "float32"}, {"auto", "1e-8", "float64"}}) {
+    const std::string out = asked + "-" + tolerance;
+    const Result result = clothsim({"run", "paper-fig5", "--duration", "0.05", "--render", "none", "--precision", asked,
+                                    "--rtol", tolerance, "--out", out});
+    ASSERT_EQ(result.exit_code, 0) << describe(result);
+    const nlohmann::json scene = nlohmann::json::parse(read_text(work_ / out / "scene.json"));
+    EXPECT_EQ(scene["precision"], asked);
+    const nlohmann::json summary = nlohmann::json::parse(read_text(work_ / out / "summary.json"));
+    EXPECT_EQ(summary["integrator"]["precision"], ran) << out;
+  }
+}
+
 #if defined(CLOTHSIM_HAVE_VULKAN)
 
 TEST_F(BackendTest, ARunOnTheDeviceWritesTheCpusFolder) {
@@ -79,8 +97,10 @@ TEST_F(BackendTest, WhatTheDeviceDoesNotRunIsRefused) {
                  "field 'backend': the vulkan backend does not run implicit-euler (integrator.method) yet");
   expect_refused(clothsim({"run", "paper-fig4", "--backend", "vulkan", "--render", "none"}),
                  "does not run self-collision (collision.self) yet");
-  expect_refused(clothsim({"run", "paper-fig5", "--precision", "float32", "--render", "none"}),
-                 "the cpu backend does not run float32 (precision)");
+  expect_refused(clothsim({"run", "tear-pull", "--precision", "float32", "--render", "none"}),
+                 "the cpu backend does not run float32 (precision) with implicit-euler (integrator.method)");
+  expect_refused(clothsim({"run", "paper-fig5", "--precision", "float16", "--render", "none"}),
+                 "field 'precision': must be one of float64, float32, auto");
   expect_refused(clothsim({"run", "paper-fig5", "--backend", "gpu", "--render", "none"}),
                  "field 'backend': must be one of cpu, vulkan, got \"gpu\"");
 }

@@ -26,7 +26,7 @@ namespace {
 // Device 0 with the validation layers, where installed (tests/gpu/gpu_fixture.h).
 gpu::DeviceSelection device0(Precision precision) { return gpu::DeviceSelection{0, precision, true}; }
 
-BackendSettings vulkan(Precision precision) { return BackendSettings{Backend::vulkan, 0, precision}; }
+BackendSettings vulkan(Precision precision) { return BackendSettings{Backend::vulkan, 0, request(precision)}; }
 
 ClothModel paper_lattice(int rows, int cols) {
   LatticeDef lattice;  // the paper's material: 1 kg, (4, 1), (1400, 200), (80, 5), L = 1
@@ -404,12 +404,12 @@ TEST(DeviceIntegrator, RefusesWhatItCannotRun) {
   EXPECT_TRUE(simulation.advance_to(0.05)) << simulation.failure()->message;
   // 20,000 x 20,000 particles: hundreds of GiB.
   try {
-    check_backend_fits(lattice_counts(20000, 20000), 1, IntegratorKind::rkf45, vulkan(Precision::float32));
+    check_backend_fits(lattice_counts(20000, 20000), 1, IntegratorSettings{}, vulkan(Precision::float32));
     ADD_FAILURE() << "a 20000 x 20000 sheet fits the device";
   } catch (const BackendError& error) {
     EXPECT_NE(std::string(error.what()).find("MiB of device memory"), std::string::npos) << error.what();
   }
-  EXPECT_NO_THROW(check_backend_fits(lattice_counts(21, 21), 1, IntegratorKind::rkf45, vulkan(Precision::float32)));
+  EXPECT_NO_THROW(check_backend_fits(lattice_counts(21, 21), 1, IntegratorSettings{}, vulkan(Precision::float32)));
 }
 
 // A step the error control cannot make small enough fails as on the CPU: with the time, the step

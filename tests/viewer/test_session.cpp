@@ -94,7 +94,7 @@ TEST(Session, AScriptPlaysOnTheVulkanBackendAsOnTheCpu) {
     return session.simulation().state();
   };
   const ClothState cpu = run(BackendSettings{});
-  const ClothState device = run(BackendSettings{Backend::vulkan, 0, Precision::float64});
+  const ClothState device = run(BackendSettings{Backend::vulkan, 0, PrecisionRequest::float64});
   EXPECT_EQ(device.time, cpu.time);
   for (std::size_t p = 0; p < cpu.position.size(); ++p) {
     EXPECT_LT(norm(device.position[p] - cpu.position[p]), 1e-6) << "particle " << p;
