@@ -66,24 +66,6 @@ CLOTHSIM_MULTIVERSION void combination_range(double* out, const double* base, co
   static_assert(kMaxTerms == 7, "one case per term count");
 }
 
-// Linear combination of Vec3 arrays over particles p in [begin, end): out[p - begin] = base[p] +
-// sum_t c[t] in[t][p] (base null: 0 + ...). The same sums, in the same order, as adding
-// c[t] * in[t][p] to a Vec3 term by term, so the result is independent of the blocking and of
-// the thread count.
-void linear_combination(Vec3* out, const Vec3* base, const Terms& in, const Coefficients& c, int terms,
-                        std::size_t begin, std::size_t end, int threads) {
-  const std::size_t first = 3 * begin;
-  const std::size_t size = 3 * end;
-  double* out_data = &out->x;
-  const double* base_data = base == nullptr ? nullptr : &base->x;
-  const std::size_t blocks = (size - first + kCombinationBlock - 1) / kCombinationBlock;
-  parallel_for(blocks, threads, [&](std::size_t block) {
-    const std::size_t block_begin = first + block * kCombinationBlock;
-    const std::size_t block_end = std::min(size, block_begin + kCombinationBlock);
-    combination_range(out_data + (block_begin - first), base_data, in.data(), c.data(), terms, block_begin, block_end);
-  });
-}
-
 // Exponents of the PI step-size controller for an error estimate of order 5 (the embedded
 // 4th-order solution's local error): Hairer, Norsett and Wanner's DOPRI5 values, beta = 0.04,
 // alpha = 1/5 - 0.75 beta.
@@ -150,10 +132,27 @@ void ExplicitRungeKutta::combine_row(const NystromRow& row, double h, const Vec3
       velocity_term[t] = acceleration;
     }
   }
-  linear_combination(position_out, base_position, position_term, position_coefficient, position_terms, begin, end,
-                     threads);
-  linear_combination(velocity_out, base_velocity, velocity_term, velocity_coefficient, velocity_terms, begin, end,
-                     threads);
+  // One parallel sweep over the flat doubles [3 begin, 3 end) writes both halves, block by block:
+  // one fork and join instead of one per array, and a block's accelerations, which the two share,
+  // are still in cache for the velocities. Each value is the same sum, in the same order, as
+  // adding c[t] * in[t][p] to a Vec3 term by term, so the result is independent of the blocking
+  // and of the thread count.
+  const std::size_t first = 3 * begin;
+  const std::size_t size = 3 * end;
+  const double* base_position_data = base_position == nullptr ? nullptr : &base_position->x;
+  const double* base_velocity_data = base_velocity == nullptr ? nullptr : &base_velocity->x;
+  double* position_data = &position_out->x;
+  double* velocity_data = &velocity_out->x;
+  const std::size_t blocks = (size - first + kCombinationBlock - 1) / kCombinationBlock;
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    const std::size_t block_begin = first + block * kCombinationBlock;
+    const std::size_t block_end = std::min(size, block_begin + kCombinationBlock);
+    const std::size_t offset = block_begin - first;
+    combination_range(position_data + offset, base_position_data, position_term.data(), position_coefficient.data(),
+                      position_terms, block_begin, block_end);
+    combination_range(velocity_data + offset, base_velocity_data, velocity_term.data(), velocity_coefficient.data(),
+                      velocity_terms, block_begin, block_end);
+  });
 }
 
 void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {

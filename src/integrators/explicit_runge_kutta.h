@@ -55,7 +55,7 @@ class ExplicitRungeKutta : public Integrator {
   void compute_stages(const ClothState& state, double h);
   // Writes (x, v) + h sum_i w_i (V_i, K_i) of particles p in [begin, end) into position_out[p -
   // begin] and velocity_out[p - begin]: all particles, or a piece of them (the error estimate).
-  // Null bases: 0 + h sum ... .
+  // Null bases: 0 + h sum ... . Positions and velocities in one sweep.
   void combine_row(const NystromRow& row, double h, const Vec3* base_position, const Vec3* base_velocity,
                    const Vec3* velocity, Vec3* position_out, Vec3* velocity_out, std::size_t begin, std::size_t end,
                    int threads) const;
