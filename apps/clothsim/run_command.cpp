@@ -352,7 +352,7 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   app->add_flag("--quiet", options->quiet, "print nothing but errors");
   app->add_flag("--no-progress", options->no_progress, "no progress bar (it is shown only on a terminal anyway)");
   app->add_flag("--profile", options->profile,
-                "print where the wall time went: forces, integration (stage sums, error control), checks, output");
+                "print where the wall time went: forces, integration (stage sums, solution and error), checks, output");
   add_render_flags(*app, options->render);
   add_memory_flag(*app, options->memory);
   app->footer(run_footer());

@@ -4,6 +4,8 @@
 #include <bit>
 #include <cmath>
 #include <span>
+#include <string_view>
+#include <vector>
 
 #include "core/assert.h"
 #include "core/multiversion.h"
@@ -13,13 +15,16 @@
 namespace clothsim {
 namespace {
 
-// Particles per block of the parallel error-norm reduction; fixed so the result never depends
-// on the thread count.
-constexpr std::size_t kErrorBlock = 1024;
-// Particles per piece of a block whose error estimate is formed at once (on the stack, 2 x 6 KiB).
-constexpr std::size_t kErrorPiece = 256;
+// Particles per block of the solution pass (the trial solution and, under error control, the
+// largest scaled error of its estimate); fixed so that the per-block maxima, and so the result,
+// never depend on the thread count.
+constexpr std::size_t kSolutionBlock = 1024;
+// Particles per piece of a block whose trial solution and error estimate are formed one after the
+// other: the piece's accelerations (s x 6 KiB), state and trial solution are still in the core's
+// cache when its error estimate (on the stack, 2 x 6 KiB) reads them again.
+constexpr std::size_t kSolutionPiece = 256;
 
-// Doubles per block of the parallel linear combinations.
+// Doubles per block of the parallel stage sums.
 constexpr std::size_t kCombinationBlock = 4096;
 
 // Terms of a combination: the velocity and one acceleration per stage (Nystrom form).
@@ -66,22 +71,85 @@ CLOTHSIM_MULTIVERSION void combination_range(double* out, const double* base, co
   static_assert(kMaxTerms == 7, "one case per term count");
 }
 
-// Linear combination of Vec3 arrays over particles p in [begin, end): out[p - begin] = base[p] +
-// sum_t c[t] in[t][p] (base null: 0 + ...). The same sums, in the same order, as adding
-// c[t] * in[t][p] to a Vec3 term by term, so the result is independent of the blocking and of
-// the thread count.
-void linear_combination(Vec3* out, const Vec3* base, const Terms& in, const Coefficients& c, int terms,
-                        std::size_t begin, std::size_t end, int threads) {
-  const std::size_t first = 3 * begin;
-  const std::size_t size = 3 * end;
-  double* out_data = &out->x;
-  const double* base_data = base == nullptr ? nullptr : &base->x;
-  const std::size_t blocks = (size - first + kCombinationBlock - 1) / kCombinationBlock;
-  parallel_for(blocks, threads, [&](std::size_t block) {
-    const std::size_t block_begin = first + block * kCombinationBlock;
-    const std::size_t block_end = std::min(size, block_begin + kCombinationBlock);
-    combination_range(out_data + (block_begin - first), base_data, in.data(), c.data(), terms, block_begin, block_end);
-  });
+// A row's combination h sum_i w_i (V_i, K_i) in Nystrom form as two lists of terms: positions
+// h (sum w) v + h^2 sum_l position_l K_l, velocities h sum_l w_l K_l. Zero coefficients are
+// skipped (an unused stage, Fehlberg's second one in b).
+struct RowTerms {
+  Terms position_term{};
+  Coefficients position_coefficient{};
+  int position_terms = 0;
+  Terms velocity_term{};
+  Coefficients velocity_coefficient{};
+  int velocity_terms = 0;
+};
+
+RowTerms row_terms(const NystromRow& row, double h, const Vec3* velocity, const std::vector<StateDerivative>& rates) {
+  RowTerms terms;
+  if (row.velocity_sum != 0.0) {
+    terms.position_coefficient[0] = h * row.velocity_sum;
+    terms.position_term[0] = &velocity->x;
+    terms.position_terms = 1;
+  }
+  for (std::size_t l = 0; l < rates.size(); ++l) {
+    const double* acceleration = &rates[l].velocity_rate.data()->x;
+    if (row.position[l] != 0.0) {
+      const auto t = static_cast<std::size_t>(terms.position_terms++);
+      terms.position_coefficient[t] = h * h * row.position[l];
+      terms.position_term[t] = acceleration;
+    }
+    if (row.velocity[l] != 0.0) {
+      const auto t = static_cast<std::size_t>(terms.velocity_terms++);
+      terms.velocity_coefficient[t] = h * row.velocity[l];
+      terms.velocity_term[t] = acceleration;
+    }
+  }
+  return terms;
+}
+
+// Both halves of a row over the flat doubles k in [begin, end) (particles begin / 3 to end / 3):
+// position_out[k - begin] = base_position[k] + the position terms, velocity_out[k - begin] =
+// base_velocity[k] + the velocity terms (null bases: 0 + ...). One pass over the range for both,
+// so the terms' accelerations, which the two share, are read from cache the second time. Each
+// value is the same sum, in the same order, as adding c[t] * in[t][p] to a Vec3 term by term,
+// whatever the range: the result is independent of the blocking and of the thread count.
+void combine_range(const RowTerms& terms, const double* base_position, const double* base_velocity,
+                   double* position_out, double* velocity_out, std::size_t begin, std::size_t end) {
+  combination_range(position_out, base_position, terms.position_term.data(), terms.position_coefficient.data(),
+                    terms.position_terms, begin, end);
+  combination_range(velocity_out, base_velocity, terms.velocity_term.data(), terms.velocity_coefficient.data(),
+                    terms.velocity_terms, begin, end);
+}
+
+// The scaled error of one particle as the bit pattern of a non-negative double: for those,
+// unsigned integer order is numeric order, with +inf above every finite value and NaN above +inf,
+// so a plain integer maximum finds the largest error and lets a non-finite one win, without
+// branches. 0 for anchored particles.
+[[gnu::always_inline]] inline std::uint64_t scaled_error_bits(const Vec3& error_x, const Vec3& error_v, const Vec3& x0,
+                                                              const Vec3& x1, const Vec3& v0, const Vec3& v1,
+                                                              double atol, double rtol, bool anchored) {
+  const auto ratio = [&](double error, double before, double after) {
+    const double scale = atol + rtol * std::max(std::abs(before), std::abs(after));
+    // (e - e) and (after - after) are 0 for finite values and NaN otherwise.
+    const double ratio_value = std::abs(error) / scale + ((error - error) + (after - after));
+    return std::bit_cast<std::uint64_t>(std::abs(ratio_value));
+  };
+  const std::uint64_t largest = std::max(std::max(std::max(ratio(error_x.x, x0.x, x1.x), ratio(error_x.y, x0.y, x1.y)),
+                                                  std::max(ratio(error_x.z, x0.z, x1.z), ratio(error_v.x, v0.x, v1.x))),
+                                         std::max(ratio(error_v.y, v0.y, v1.y), ratio(error_v.z, v0.z, v1.z)));
+  return anchored ? 0 : largest;
+}
+
+// The largest scaled error bits over particles [begin, end).
+CLOTHSIM_MULTIVERSION std::uint64_t largest_error_bits(const Vec3* error_x, const Vec3* error_v, const Vec3* x0,
+                                                       const Vec3* x1, const Vec3* v0, const Vec3* v1,
+                                                       const std::int32_t* anchor, double atol, double rtol,
+                                                       std::size_t begin, std::size_t end) {
+  std::uint64_t worst = 0;
+  for (std::size_t p = begin; p < end; ++p) {
+    worst = std::max(worst,
+                     scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0));
+  }
+  return worst;
 }
 
 // Exponents of the PI step-size controller for an error estimate of order 5 (the embedded
@@ -121,51 +189,32 @@ NystromRow nystrom_row(const ButcherTableau& tableau, const std::array<double, k
   return row;
 }
 
-void ExplicitRungeKutta::combine_row(const NystromRow& row, double h, const Vec3* base_position,
-                                     const Vec3* base_velocity, const Vec3* velocity, Vec3* position_out,
-                                     Vec3* velocity_out, std::size_t begin, std::size_t end, int threads) const {
-  // Positions: h (sum w) v + h^2 sum_l position_l K_l; velocities: h sum_l w_l K_l. Zero
-  // coefficients are skipped (an unused stage, Fehlberg's second one in b).
-  Coefficients position_coefficient{};
-  Coefficients velocity_coefficient{};
-  Terms position_term{};
-  Terms velocity_term{};
-  int position_terms = 0;
-  int velocity_terms = 0;
-  if (row.velocity_sum != 0.0) {
-    position_coefficient[0] = h * row.velocity_sum;
-    position_term[0] = &velocity->x;
-    position_terms = 1;
-  }
-  for (std::size_t l = 0; l < stage_rate_.size(); ++l) {
-    const double* acceleration = &stage_rate_[l].velocity_rate.data()->x;
-    if (row.position[l] != 0.0) {
-      const auto t = static_cast<std::size_t>(position_terms++);
-      position_coefficient[t] = h * h * row.position[l];
-      position_term[t] = acceleration;
-    }
-    if (row.velocity[l] != 0.0) {
-      const auto t = static_cast<std::size_t>(velocity_terms++);
-      velocity_coefficient[t] = h * row.velocity[l];
-      velocity_term[t] = acceleration;
-    }
-  }
-  linear_combination(position_out, base_position, position_term, position_coefficient, position_terms, begin, end,
-                     threads);
-  linear_combination(velocity_out, base_velocity, velocity_term, velocity_coefficient, velocity_terms, begin, end,
-                     threads);
+void ExplicitRungeKutta::combine_stage(const NystromRow& row, double h, const ClothState& state) {
+  // One parallel sweep writes both the stage positions and the stage velocities, block by
+  // block: one fork and join per stage instead of one per array, and each block's accelerations
+  // (shared by both rows' terms) are still in cache for the velocities.
+  const RowTerms terms = row_terms(row, h, state.velocity.data(), stage_rate_);
+  const double* base_position = &state.position.data()->x;
+  const double* base_velocity = &state.velocity.data()->x;
+  double* position_out = &stage_position_.data()->x;
+  double* velocity_out = &stage_velocity_.data()->x;
+  const std::size_t size = 3 * model_.particle_count();
+  const std::size_t blocks = (size + kCombinationBlock - 1) / kCombinationBlock;
+  parallel_for(blocks, dynamics_.threads(), [&](std::size_t block) {
+    const std::size_t begin = block * kCombinationBlock;
+    const std::size_t end = std::min(size, begin + kCombinationBlock);
+    combine_range(terms, base_position, base_velocity, position_out + begin, velocity_out + begin, begin, end);
+  });
 }
 
 void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
-  const std::size_t n = model_.particle_count();
   for (int i = 0; i < tableau_.stages; ++i) {
     const auto k = static_cast<std::size_t>(i);
     // Stage state y_i = y + h sum_{j<i} a_ij (V_j, K_j), over the terms with a non-zero coefficient.
     const double stage_time = state.time + tableau_.nodes[k] * h;
     {
       ScopedTimer timer(stage_sum_seconds_);
-      combine_row(stage_rows_[k], h, state.position.data(), state.velocity.data(), state.velocity.data(),
-                  stage_position_.data(), stage_velocity_.data(), 0, n, dynamics_.threads());
+      combine_stage(stage_rows_[k], h, state);
       dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
     }
     dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[k]);
@@ -174,10 +223,42 @@ void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
   force_seconds_ = dynamics_.seconds();
 }
 
-void ExplicitRungeKutta::combine_solution(const ClothState& state, double h) {
-  ScopedTimer timer(solution_seconds_);
-  combine_row(solution_row_, h, state.position.data(), state.velocity.data(), state.velocity.data(),
-              stage_position_.data(), stage_velocity_.data(), 0, model_.particle_count(), dynamics_.threads());
+void ExplicitRungeKutta::combine_solution(const ClothState& state, double h, const NystromRow* error_row,
+                                          std::span<double> block_error) {
+  const std::size_t n = model_.particle_count();
+  CLOTHSIM_ASSERT(error_row == nullptr || block_error.size() == (n + kSolutionBlock - 1) / kSolutionBlock,
+                  "one error maximum per block of the solution pass");
+  const RowTerms solution = row_terms(solution_row_, h, state.velocity.data(), stage_rate_);
+  const RowTerms error =
+      error_row != nullptr ? row_terms(*error_row, h, state.velocity.data(), stage_rate_) : RowTerms{};
+  const double atol = settings_.absolute_tolerance;
+  const double rtol = settings_.relative_tolerance;
+  const Vec3* x0 = state.position.data();
+  const Vec3* v0 = state.velocity.data();
+  Vec3* x1 = stage_position_.data();
+  Vec3* v1 = stage_velocity_.data();
+  const std::int32_t* anchor = model_.particle_anchor.data();
+  const std::size_t blocks = (n + kSolutionBlock - 1) / kSolutionBlock;
+  // Piece by piece, the trial solution y + h sum b_i (V_i, K_i) goes into the stage arrays, and
+  // then, from the same accelerations and the solution just written, while both are in cache,
+  // the error estimate h sum (b_i - b^_i) (V_i, K_i) and its largest scaled error. Separate
+  // sweeps (positions, velocities, then the error) read the accelerations from memory three
+  // times and forked and joined three times.
+  parallel_for(blocks, dynamics_.threads(), [&](std::size_t block) {
+    std::array<Vec3, kSolutionPiece> error_x;
+    std::array<Vec3, kSolutionPiece> error_v;
+    std::uint64_t worst = 0;
+    const std::size_t block_end = std::min(n, (block + 1) * kSolutionBlock);
+    for (std::size_t begin = block * kSolutionBlock; begin < block_end; begin += kSolutionPiece) {
+      const std::size_t end = std::min(block_end, begin + kSolutionPiece);
+      combine_range(solution, &x0->x, &v0->x, &x1[begin].x, &v1[begin].x, 3 * begin, 3 * end);
+      if (error_row == nullptr) continue;
+      combine_range(error, nullptr, nullptr, &error_x.data()->x, &error_v.data()->x, 3 * begin, 3 * end);
+      worst = std::max(worst, largest_error_bits(error_x.data(), error_v.data(), x0 + begin, x1 + begin, v0 + begin,
+                                                 v1 + begin, anchor + begin, atol, rtol, 0, end - begin));
+    }
+    if (error_row != nullptr) block_error[block] = std::bit_cast<double>(worst);
+  });
   trial_work_ = {state.damping_work, state.drag_work, state.anchor_work};
   for (std::size_t i = 0; i < stage_rate_.size(); ++i) {
     const double hb = h * tableau_.weights[i];
@@ -189,9 +270,9 @@ void ExplicitRungeKutta::combine_solution(const ClothState& state, double h) {
 }
 
 std::vector<PhaseTime> ExplicitRungeKutta::phase_times() const {
-  std::vector<PhaseTime> phases = {{"stage sums", stage_sum_seconds_}, {"solution update", solution_seconds_}};
-  if (kind() == IntegratorKind::rkf45) phases.push_back({"error control", error_seconds_});
-  return phases;
+  // With error control the solution update and the error norm are one pass, timed as one.
+  const std::string_view solution = kind() == IntegratorKind::rkf45 ? "solution and error" : "solution update";
+  return {{"stage sums", stage_sum_seconds_}, {solution, solution_seconds_}};
 }
 
 std::size_t ExplicitRungeKutta::workspace_bytes() const {
@@ -224,7 +305,10 @@ StepOutcome FixedStepRungeKutta::step(ClothState& state, double t_limit) {
   bool clipped = false;
   const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
   compute_stages(state, h);
-  combine_solution(state, h);
+  {
+    ScopedTimer timer(solution_seconds_);
+    combine_solution(state, h);
+  }
   for (std::size_t p = 0; p < model_.particle_count(); ++p) {
     if (!is_finite(stage_position_[p]) || !is_finite(stage_velocity_[p])) {
       return {StepStatus::non_finite, h, static_cast<std::uint32_t>(p), true};
@@ -241,71 +325,13 @@ AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const Integrator
   std::array<double, kMaxStages> difference{};
   for (std::size_t i = 0; i < difference.size(); ++i) difference[i] = tableau.weights[i] - tableau.embedded_weights[i];
   error_row_ = nystrom_row(tableau, difference);
-  const std::size_t blocks = (model.particle_count() + kErrorBlock - 1) / kErrorBlock;
+  const std::size_t blocks = (model.particle_count() + kSolutionBlock - 1) / kSolutionBlock;
   block_error_.resize(blocks);
 }
 
-namespace {
-
-// The scaled error of one particle as the bit pattern of a non-negative double: for those,
-// unsigned integer order is numeric order, with +inf above every finite value and NaN above +inf,
-// so a plain integer maximum finds the largest error and lets a non-finite one win, without
-// branches. 0 for anchored particles.
-[[gnu::always_inline]] inline std::uint64_t scaled_error_bits(const Vec3& error_x, const Vec3& error_v, const Vec3& x0,
-                                                              const Vec3& x1, const Vec3& v0, const Vec3& v1,
-                                                              double atol, double rtol, bool anchored) {
-  const auto ratio = [&](double error, double before, double after) {
-    const double scale = atol + rtol * std::max(std::abs(before), std::abs(after));
-    // (e - e) and (after - after) are 0 for finite values and NaN otherwise.
-    const double ratio_value = std::abs(error) / scale + ((error - error) + (after - after));
-    return std::bit_cast<std::uint64_t>(std::abs(ratio_value));
-  };
-  const std::uint64_t largest = std::max(std::max(std::max(ratio(error_x.x, x0.x, x1.x), ratio(error_x.y, x0.y, x1.y)),
-                                                  std::max(ratio(error_x.z, x0.z, x1.z), ratio(error_v.x, v0.x, v1.x))),
-                                         std::max(ratio(error_v.y, v0.y, v1.y), ratio(error_v.z, v0.z, v1.z)));
-  return anchored ? 0 : largest;
-}
-
-// The largest scaled error bits over particles [begin, end).
-CLOTHSIM_MULTIVERSION std::uint64_t largest_error_bits(const Vec3* error_x, const Vec3* error_v, const Vec3* x0,
-                                                       const Vec3* x1, const Vec3* v0, const Vec3* v1,
-                                                       const std::int32_t* anchor, double atol, double rtol,
-                                                       std::size_t begin, std::size_t end) {
-  std::uint64_t worst = 0;
-  for (std::size_t p = begin; p < end; ++p) {
-    worst = std::max(worst,
-                     scaled_error_bits(error_x[p], error_v[p], x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0));
-  }
-  return worst;
-}
-
-}  // namespace
-
-AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& state, double h) {
-  ScopedTimer timer(error_seconds_);
-  const double atol = settings_.absolute_tolerance;
-  const double rtol = settings_.relative_tolerance;
-  const std::size_t n = model_.particle_count();
-  const Vec3* x0 = state.position.data();
-  const Vec3* x1 = stage_position_.data();
-  const Vec3* v0 = state.velocity.data();
-  const Vec3* v1 = stage_velocity_.data();
-  const std::int32_t* anchor = model_.particle_anchor.data();
-  // Each block forms its error estimate h sum (b_i - b^_i) (V_i, K_i) in pieces of
-  // kErrorPiece particles on the stack, then takes their largest scaled error.
-  parallel_for(block_error_.size(), dynamics_.threads(), [&](std::size_t block) {
-    std::array<Vec3, kErrorPiece> error_x;
-    std::array<Vec3, kErrorPiece> error_v;
-    std::uint64_t worst = 0;
-    const std::size_t block_end = std::min(n, (block + 1) * kErrorBlock);
-    for (std::size_t begin = block * kErrorBlock; begin < block_end; begin += kErrorPiece) {
-      const std::size_t end = std::min(block_end, begin + kErrorPiece);
-      combine_row(error_row_, h, nullptr, nullptr, v0, error_x.data(), error_v.data(), begin, end, 1);
-      worst = std::max(worst, largest_error_bits(error_x.data(), error_v.data(), x0 + begin, x1 + begin, v0 + begin,
-                                                 v1 + begin, anchor + begin, atol, rtol, 0, end - begin));
-    }
-    block_error_[block] = std::bit_cast<double>(worst);
-  });
+AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::solution_and_error(const ClothState& state, double h) {
+  ScopedTimer timer(solution_seconds_);
+  combine_solution(state, h, &error_row_, block_error_);
   // The first block with the largest error, and (only when the step fails, where it is reported)
   // the first particle in it with that error.
   std::uint64_t worst = 0;
@@ -319,19 +345,27 @@ AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::error_norm(const ClothState& s
   }
   ErrorNorm norm;
   norm.value = std::bit_cast<double>(worst);
-  norm.particle = static_cast<std::uint32_t>(worst_block * kErrorBlock);
+  norm.particle = static_cast<std::uint32_t>(worst_block * kSolutionBlock);
   if (!(norm.value <= 1.0)) {
-    const std::size_t block_end = std::min(n, (worst_block + 1) * kErrorBlock);
-    for (std::size_t p = worst_block * kErrorBlock; p < block_end; ++p) {
+    const double atol = settings_.absolute_tolerance;
+    const double rtol = settings_.relative_tolerance;
+    const Vec3* x0 = state.position.data();
+    const Vec3* x1 = stage_position_.data();
+    const Vec3* v0 = state.velocity.data();
+    const Vec3* v1 = stage_velocity_.data();
+    const RowTerms error = row_terms(error_row_, h, v0, stage_rate_);
+    const std::size_t block_end = std::min(model_.particle_count(), (worst_block + 1) * kSolutionBlock);
+    for (std::size_t p = worst_block * kSolutionBlock; p < block_end; ++p) {
       Vec3 error_x;
       Vec3 error_v;
-      combine_row(error_row_, h, nullptr, nullptr, v0, &error_x, &error_v, p, p + 1, 1);
-      if (scaled_error_bits(error_x, error_v, x0[p], x1[p], v0[p], v1[p], atol, rtol, anchor[p] >= 0) == worst) {
+      combine_range(error, nullptr, nullptr, &error_x.x, &error_v.x, 3 * p, 3 * p + 3);
+      if (scaled_error_bits(error_x, error_v, x0[p], x1[p], v0[p], v1[p], atol, rtol, model_.is_anchored(p)) == worst) {
         norm.particle = static_cast<std::uint32_t>(p);
         break;
       }
     }
   }
+  last_error_ = norm;
   return norm;
 }
 
@@ -373,8 +407,7 @@ StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
       return {StepStatus::step_underflow, h, 0, false};
     }
     compute_stages(state, h);
-    combine_solution(state, h);
-    const ErrorNorm error = error_norm(state, h);
+    const ErrorNorm error = solution_and_error(state, h);
 
     if (std::isnan(error.value) || error.value > 1.0) {
       // Reject: shrink by the optimal factor for this error, never by more than max_shrink.

@@ -13,9 +13,16 @@
 // Only the accelerations K_i are kept per stage, not the position rates (copies of the stage
 // velocities): 24 bytes per particle and stage less. The combinations are the same method, equal
 // up to rounding. The trial solution is written into the stage arrays, which are free once the
-// last stage is evaluated, and the error estimate is formed block by block inside its norm: the
-// workspace is s accelerations and one stage state, (s + 2) x 24 bytes per particle besides the
-// force buffers (docs/performance.md, "Memory").
+// last stage is evaluated, and the error estimate is formed piece by piece on the stack inside the
+// solution pass: the workspace is s accelerations and one stage state, (s + 2) x 24 bytes per
+// particle besides the force buffers (docs/performance.md, "Memory"), and 8 bytes per 1024
+// particles for the error norm's block maxima, not counted.
+//
+// Passes. Each stage's positions and velocities are formed in one parallel sweep, and so are the
+// trial solution and, for RKF45, its error estimate and error norm: the accelerations a block
+// needs are read from memory once, and each sweep is one fork and join. Every value is the same
+// sum, in the same order, as when each array had its own sweep, so the fusion changed no result
+// (docs/performance.md, "The integrator").
 #pragma once
 
 #include <array>
@@ -53,15 +60,16 @@ class ExplicitRungeKutta : public Integrator {
  protected:
   // Evaluates every stage of a step of size h from `state`.
   void compute_stages(const ClothState& state, double h);
-  // Writes (x, v) + h sum_i w_i (V_i, K_i) of particles p in [begin, end) into position_out[p -
-  // begin] and velocity_out[p - begin]: all particles, or a piece of them (the error estimate).
-  // Null bases: 0 + h sum ... .
-  void combine_row(const NystromRow& row, double h, const Vec3* base_position, const Vec3* base_velocity,
-                   const Vec3* velocity, Vec3* position_out, Vec3* velocity_out, std::size_t begin, std::size_t end,
-                   int threads) const;
-  // Writes the propagated solution state + h sum_i b_i (V_i, K_i) into the stage arrays, and its
-  // work integrals into trial_work_.
-  void combine_solution(const ClothState& state, double h);
+  // Writes the stage state state + h sum_i w_i (V_i, K_i) for the row w into the stage arrays
+  // (without the anchor constraint), positions and velocities in one sweep.
+  void combine_stage(const NystromRow& row, double h, const ClothState& state);
+  // The solution pass: writes the propagated solution state + h sum_i b_i (V_i, K_i) into the
+  // stage arrays, and its work integrals into trial_work_. With an error row (b - b^), the same
+  // sweep forms the error estimate h sum_i (b_i - b^_i) (V_i, K_i) and writes into block_error
+  // the largest scaled error of each block of 1024 particles (the bits of a non-negative double,
+  // NaN where a value is non-finite; see AdaptiveRungeKutta).
+  void combine_solution(const ClothState& state, double h, const NystromRow* error_row = nullptr,
+                        std::span<double> block_error = {});
   // Accepts the solution in the stage arrays as the new state at time t: exact anchor positions,
   // statistics.
   void accept(ClothState& state, double h, double t);
@@ -84,11 +92,10 @@ class ExplicitRungeKutta : public Integrator {
   std::vector<Vec3> stage_position_;  // [particle_count()], m
   std::vector<Vec3> stage_velocity_;  // [particle_count()], m/s
   Work trial_work_;
-  // Profile: wall time of the stage sums y + h sum a_ij k_j (with the anchor constraint), of the
-  // solution update y + h sum b_i k_i, and of the error norm (adaptive methods), s.
+  // Profile: wall time of the stage sums y + h sum a_ij k_j (with the anchor constraint), and of
+  // the solution update y + h sum b_i k_i with, for adaptive methods, the error norm, s.
   double stage_sum_seconds_ = 0.0;
   double solution_seconds_ = 0.0;
-  double error_seconds_ = 0.0;
 };
 
 class FixedStepRungeKutta final : public ExplicitRungeKutta {
@@ -115,21 +122,28 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
   // The statistics, the next step and the controller's error history.
   void transfer_state(StateArchive& archive) override;
 
- private:
   struct ErrorNorm {
-    double value = 0.0;          // max scaled error; NaN if any value was non-finite
-    std::uint32_t particle = 0;  // where it was largest
+    double value = 0.0;  // max scaled error; NaN if any value was non-finite
+    // Where it was largest: the first such particle where value > 1 (or NaN), else the first
+    // particle of the first block of 1024 with that value.
+    std::uint32_t particle = 0;
   };
-  // The max norm of the error estimate h sum_i (b_i - b^_i) (V_i, K_i), formed block by block.
-  // The trial solution must be in the stage arrays.
-  ErrorNorm error_norm(const ClothState& state, double h);
+  // The error norm of the last trial step (accepted or not).
+  const ErrorNorm& last_error() const { return last_error_; }
+
+ private:
+  // Forms the trial solution in the stage arrays and, in the same pass, the max norm of the
+  // error estimate h sum_i (b_i - b^_i) (V_i, K_i) (combine_solution); where it is above 1, finds
+  // the particle.
+  ErrorNorm solution_and_error(const ClothState& state, double h);
   // The first trial step: time_step, or initial_adaptive_step() where it is 0.
   double initial_step(const ClothState& state, double t_limit);
 
   NystromRow error_row_;        // the row b - b^
   double proposed_step_ = 0.0;  // 0 until the first step
   double previous_error_ = 1e-4;
-  std::vector<double> block_error_;  // per-block maxima of the error norm
+  std::vector<double> block_error_;  // [blocks of 1024 particles]: per-block maxima of the error norm
+  ErrorNorm last_error_;
 };
 
 // RKF45's automatic first step (time_step 0), from the state and its acceleration, after Hairer,

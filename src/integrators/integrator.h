@@ -108,7 +108,7 @@ struct ForceOptions {
 
 // Wall time of one named sub-phase of step() besides force evaluation, s.
 struct PhaseTime {
-  std::string_view name;  // "stage sums", "error control", ...
+  std::string_view name;  // "stage sums", "solution and error", ...
   double seconds = 0.0;
 };
 

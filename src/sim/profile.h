@@ -2,7 +2,7 @@
 //
 // The phases are the ones the code has, each timed where it runs: force evaluation and the
 // integrator's own work (Simulation::profile(), with the integrator's sub-phases such as stage
-// sums and error control), the events between steps (anchors, tearing, plasticity, creasing),
+// sums and the solution and error pass), the events between steps (anchors, tearing, plasticity, creasing),
 // the checks between steps, and what the caller measures around the
 // simulation (writing output). "other" is the rest of the wall time (setup, the frame loop, the
 // progress bar), so the rows add up to the total. Phases that a run does not have are not listed.

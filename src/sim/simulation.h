@@ -64,11 +64,11 @@ struct SimulationSettings {
   BackendSettings backend;
 };
 
-// Wall time per phase, s. The integrator's own sub-phases (stage sums, error control, ...) are
+// Wall time per phase, s. The integrator's own sub-phases (stage sums, solution and error, ...) are
 // in Simulation::integration_phases().
 struct StepProfile {
   double forces = 0.0;       // force evaluation (inside the integrator)
-  double integration = 0.0;  // the rest of the integrator: stage sums, error control
+  double integration = 0.0;  // the rest of the integrator: stage sums, solution and error
   double collisions = 0.0;   // between steps: obstacle and self contacts (with keeping the step's start positions)
   double events = 0.0;       // between steps: anchors, tearing, plasticity, creasing
   double checks = 0.0;       // finiteness and explosion checks

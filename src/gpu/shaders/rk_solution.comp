@@ -1,7 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The trial solution of a step and its error (ExplicitRungeKutta::combine_solution and
-// AdaptiveRungeKutta::error_norm on the CPU). Each particle forms y + h sum b_i (V_i, K_i) (or
+// The trial solution of a step and its error (ExplicitRungeKutta::combine_solution with an
+// error row on the CPU, AdaptiveRungeKutta::solution_and_error). Each particle forms y + h sum b_i (V_i, K_i) (or
 // symplectic Euler's v + h K_0, x + h v_new), an anchored one its path's state at the step's end,
 // and, under error control, its scaled error max_k |e_k| / (atol + rtol max(|y_k|, |y_new,k|))
 // with e = h sum (b_i - b^_i) (V_i, K_i); without it, 0. A non-finite trial or error counts as
