@@ -2,7 +2,11 @@
 // on one thread, so that figures do not depend on the machine's load.
 #pragma once
 
+#include <cmath>
 #include <utility>
+#include <vector>
+
+#include <gtest/gtest.h>
 
 #include "scene/scene.h"
 #include "scene/scene_simulation.h"
@@ -18,6 +22,34 @@ inline Simulation one_thread_simulation(SceneSpec spec, ClothModel model) {
 
 inline Simulation one_thread_simulation(const SceneSpec& spec) {
   return one_thread_simulation(spec, build_model(spec));
+}
+
+// Where a run ended: the state, the energy balance and the integrator's statistics.
+struct RunEnd {
+  std::vector<Vec3> position, velocity;
+  double balance_error = 0.0;
+  double energy_scale = 0.0;
+  IntegratorStats stats;
+};
+
+// Runs `spec` (on its own thread count) frame by frame to `t`, expecting every frame to succeed.
+inline RunEnd run_scene_to(const SceneSpec& spec, double t) {
+  Simulation simulation = make_simulation(spec);
+  const int frames = static_cast<int>(std::lround(t * spec.output.fps));
+  for (int k = 1; k <= frames; ++k) {
+    EXPECT_TRUE(simulation.advance_to(static_cast<double>(k) / spec.output.fps))
+        << spec.name << ": " << simulation.failure()->message;
+  }
+  const ClothState& state = simulation.state();
+  return {state.position, state.velocity, simulation.energy_balance().error(), simulation.energy_scale(),
+          simulation.integrator_stats()};
+}
+
+// The largest |a_p - b_p| over the particles.
+inline double largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
+  double largest = 0.0;
+  for (std::size_t p = 0; p < a.size(); ++p) largest = std::max(largest, norm(a[p] - b[p]));
+  return largest;
 }
 
 }  // namespace clothsim::testing

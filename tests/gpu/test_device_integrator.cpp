@@ -17,11 +17,16 @@
 #include "model/model_edits.h"
 #include "scene/scene.h"
 #include "scene/scene_simulation.h"
+#include "scene_simulation.h"
 #include "sim/backend.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
 namespace {
+
+using testing::largest_distance;
+using testing::run_scene_to;
+using testing::RunEnd;
 
 // Device 0 with the validation layers, where installed (tests/gpu/gpu_fixture.h).
 gpu::DeviceSelection device0(Precision precision) { return gpu::DeviceSelection{0, precision, true}; }
@@ -35,11 +40,6 @@ ClothModel paper_lattice(int rows, int cols) {
   return build_lattice(lattice, Environment{{0, -9.81, 0}, 0.0}, {});
 }
 
-double largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double largest = 0.0;
-  for (std::size_t p = 0; p < a.size(); ++p) largest = std::max(largest, norm(a[p] - b[p]));
-  return largest;
-}
 
 // A built-in scene the backend runs: paper-fig4 without its self-collision (the paper had none).
 SceneSpec device_scene(const char* name, const BackendSettings& backend) {
@@ -47,25 +47,6 @@ SceneSpec device_scene(const char* name, const BackendSettings& backend) {
   spec.collision.self = false;
   spec.backend = backend;
   return spec;
-}
-
-struct RunEnd {
-  std::vector<Vec3> position, velocity;
-  double balance_error = 0.0;
-  double energy_scale = 0.0;
-  IntegratorStats stats;
-};
-
-RunEnd run_scene_to(const SceneSpec& spec, double t) {
-  Simulation simulation = make_simulation(spec);
-  const int frames = static_cast<int>(std::lround(t * spec.output.fps));
-  for (int k = 1; k <= frames; ++k) {
-    EXPECT_TRUE(simulation.advance_to(static_cast<double>(k) / spec.output.fps))
-        << spec.name << ": " << simulation.failure()->message;
-  }
-  const ClothState& state = simulation.state();
-  return {state.position, state.velocity, simulation.energy_balance().error(), simulation.energy_scale(),
-          simulation.integrator_stats()};
 }
 
 TEST(DeviceIntegrator, OneStepIsTheCpusInFloat64) {

@@ -21,30 +21,15 @@
 namespace clothsim {
 namespace {
 
-struct RunEnd {
-  std::vector<Vec3> position, velocity;
-  double balance_error = 0.0;
-  double energy_scale = 0.0;
-  IntegratorStats stats;
-};
+using testing::largest_distance;
+using testing::run_scene_to;
+using testing::RunEnd;
 
+// On one thread, so that the figures do not depend on the machine's load.
 RunEnd run_to(SceneSpec spec, PrecisionRequest precision, double t) {
   spec.backend.precision = precision;
-  Simulation simulation = testing::one_thread_simulation(spec);
-  const int frames = static_cast<int>(std::lround(t * spec.output.fps));
-  for (int k = 1; k <= frames; ++k) {
-    EXPECT_TRUE(simulation.advance_to(static_cast<double>(k) / spec.output.fps))
-        << spec.name << ": " << simulation.failure()->message;
-  }
-  const ClothState& state = simulation.state();
-  return {state.position, state.velocity, simulation.energy_balance().error(), simulation.energy_scale(),
-          simulation.integrator_stats()};
-}
-
-double largest_distance(const std::vector<Vec3>& a, const std::vector<Vec3>& b) {
-  double largest = 0.0;
-  for (std::size_t p = 0; p < a.size(); ++p) largest = std::max(largest, norm(a[p] - b[p]));
-  return largest;
+  spec.threads = 1;
+  return run_scene_to(spec, t);
 }
 
 TEST(MixedPrecision, PaperScenesInFloat32StayWithTheFloat64Runs) {
