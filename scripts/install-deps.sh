@@ -5,6 +5,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config
+  ccache               # repeated builds (CMakeLists.txt, .ci/run): the cache lives outside the clone
   nlohmann-json3-dev   # scene files and summary.json
   libtinygltf-dev      # --export gltf (final.glb): its header, compiled into src/io/gltf.cpp
   libcli11-dev         # command-line parsing

@@ -1,0 +1,120 @@
+#!/usr/bin/env bash
+# Runs every built-in scene with two clothsim binaries and checks that every output file is the
+# same, byte for byte: the arrays, energy.csv, scene.json, final.obj, every export (PC2 and its
+# rest mesh, the OBJ sequence, final.glb), a checkpoint, and summary.json but for what measures
+# the machine (timings, the peak RSS) and the command line. A refactoring that claims to change no
+# behaviour is held to this (docs/testing.md, "Outputs byte for byte").
+#
+#   scripts/check-identical-outputs.sh BEFORE AFTER [options] [-- extra run flags]
+#     BEFORE, AFTER   two clothsim executables, e.g. a build of main and one of the change
+#     --duration S    simulate S seconds of every scene (default: each scene's own duration)
+#     --scenes LIST   comma-separated built-in scenes (default: all of `AFTER scenes`)
+#     --backend B     cpu (default) or vulkan (where a device is at hand)
+#     --work DIR      where the runs go (default: a temporary folder, removed at the end)
+#   Anything after `--` is passed to every run of both binaries.
+#
+# Prints one line per scene and exits 1 if any file differs (naming it), 0 if all are the same.
+# Pictures are not compared (--render none): they are drawn by OpenGL from the same positions,
+# and issue 26 changes what they draw.
+set -euo pipefail
+
+usage() { sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+[ $# -ge 2 ] || usage
+before=$(realpath "$1")
+after=$(realpath "$2")
+shift 2
+duration=""
+scenes=""
+backend=cpu
+work=""
+extra=()
+while [ $# -gt 0 ]; do
+  case "$1" in
+    --duration) duration=$2; shift 2 ;;
+    --scenes) scenes=$2; shift 2 ;;
+    --backend) backend=$2; shift 2 ;;
+    --work) work=$2; shift 2 ;;
+    --) shift; extra=("$@"); break ;;
+    *) usage ;;
+  esac
+done
+for binary in "$before" "$after"; do
+  [ -x "$binary" ] || { echo "check-identical-outputs: $binary is not an executable" >&2; exit 2; }
+done
+if [ -z "$work" ]; then
+  work=$(mktemp -d)
+  trap 'rm -rf "$work"' EXIT
+fi
+mkdir -p "$work"
+if [ -z "$scenes" ]; then
+  scenes=$("$after" scenes | awk '/^  [a-z]/ {print $1}' | paste -sd, -)
+fi
+
+# summary.json without what measures the machine or names the binary's path.
+strip_summary() {
+  python3 - "$1" <<'EOF'
+import json, sys
+summary = json.load(open(sys.argv[1]))
+for key in ("timings", "command_line", "peak_rss_bytes"):
+    summary.pop(key, None)
+print(json.dumps(summary, indent=1, sort_keys=False))
+EOF
+}
+
+failures=0
+IFS=, read -ra scene_list <<<"$scenes"
+for scene in "${scene_list[@]}"; do
+  flags=(--render none --export pc2,obj-sequence,gltf --backend "$backend" --quiet)
+  [ -n "$duration" ] && flags+=(--duration "$duration")
+  # One checkpoint part-way (the first frame after a quarter of the run), compared too.
+  status=()
+  for side in before after; do
+    binary=$before
+    [ $side = after ] && binary=$after
+    out="$work/$side/$scene"
+    rm -rf "$out"
+    set +e
+    "$binary" run "$scene" "${flags[@]}" --checkpoint-every 0.25 --out "$out" "${extra[@]}" >"$work/$side-$scene.log" 2>&1
+    status+=($?)
+    set -e
+  done
+  if [ "${status[0]}" != "${status[1]}" ]; then
+    echo "$scene: exit status ${status[0]} before, ${status[1]} after"
+    failures=$((failures + 1))
+    continue
+  fi
+  differ=()
+  a="$work/before/$scene"
+  b="$work/after/$scene"
+  if [ ! -d "$a" ] || [ ! -d "$b" ]; then
+    [ -d "$a" ] || [ -d "$b" ] && differ+=("(output folder on one side only)")
+  else
+    while IFS= read -r -d '' file; do
+      rel=${file#"$a"/}
+      if [ ! -e "$b/$rel" ]; then
+        differ+=("$rel (only before)")
+      elif [ "$rel" = summary.json ]; then
+        cmp -s <(strip_summary "$a/$rel") <(strip_summary "$b/$rel") || differ+=("$rel")
+      else
+        cmp -s "$a/$rel" "$b/$rel" || differ+=("$rel")
+      fi
+    done < <(find "$a" -type f -print0 | sort -z)
+    while IFS= read -r -d '' file; do
+      rel=${file#"$b"/}
+      [ -e "$a/$rel" ] || differ+=("$rel (only after)")
+    done < <(find "$b" -type f -print0 | sort -z)
+  fi
+  files=$(find "$a" -type f 2>/dev/null | wc -l)
+  if ((${#differ[@]})); then
+    echo "$scene: DIFFERENT: ${differ[*]}"
+    failures=$((failures + 1))
+  else
+    echo "$scene: same ($files files, exit ${status[0]})"
+  fi
+done
+
+if ((failures)); then
+  echo "check-identical-outputs: $failures scene(s) differ"
+  exit 1
+fi
+echo "check-identical-outputs: every output of ${#scene_list[@]} scene(s) is byte-identical"
