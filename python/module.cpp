@@ -8,8 +8,8 @@
 
 #include "bindings.h"
 #include "core/error.h"
-#include "io/run_writer.h"
 #include "run/run_scene.h"
+#include "run/run_writer.h"
 #include "scene/parameters.h"
 
 namespace clothsim::python {

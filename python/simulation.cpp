@@ -7,11 +7,13 @@
 #include <cstring>
 #include <span>
 #include <string>
+#include <string_view>
 
 #include "bindings.h"
 #include "core/error.h"
-#include "io/run_writer.h"
+#include "core/record_fields.h"
 #include "run/run_scene.h"
+#include "run/run_writer.h"
 #include "scene/parameters.h"
 #include "scene/scene_simulation.h"
 
@@ -77,47 +79,27 @@ std::uint64_t next_frame(double time, int fps) {
   return frame;
 }
 
+// A record's fields into a dict, in the record's order (core/record_fields.h).
+template <typename Record>
+void add_fields(py::dict& dict, const Record& record) {
+  Record::for_each_field(record, [&dict](std::string_view name, auto&& field, auto...) {
+    dict[py::str(std::string(name))] = field_value(field);
+  });
+}
+
 py::dict energy_terms(const Simulation& simulation) {
-  const EnergyBalance balance = simulation.energy_balance();
-  const EnergyReport& e = balance.energy;
   py::dict terms;
-  // The names and values of energy.csv's columns (io/run_writer.h), then the rest of the balance.
+  // The time, then the balance's fields as energy.csv and summary.json name them.
   terms["time"] = simulation.state().time;
-  terms["kinetic"] = e.kinetic;
-  terms["gravitational"] = e.gravitational;
-  terms["connector"] = e.connector;
-  terms["radial_adjacent"] = e.radial_adjacent;
-  terms["radial_opposite"] = e.radial_opposite;
-  terms["total"] = e.total();
-  terms["damping_work"] = balance.damping_work;
-  terms["drag_work"] = balance.drag_work;
-  terms["anchor_work"] = balance.anchor_work;
-  terms["balance_error"] = balance.error();
-  terms["plastic_work"] = balance.plastic_work;
-  terms["fracture_work"] = balance.fracture_work;
-  terms["contact_work"] = balance.contact_work;
-  terms["edit_work"] = balance.edit_work;
-  terms["initial_total"] = balance.initial_total;
+  add_fields(terms, simulation.energy_balance());
   return terms;
 }
 
 py::dict statistics(const Simulation& simulation) {
-  const IntegratorStats stats = simulation.integrator_stats();
-  const ModelChanges changes = simulation.model_changes();
   py::dict table;
-  table["accepted_steps"] = stats.accepted_steps;
-  table["rejected_steps"] = stats.rejected_steps;
-  table["force_evaluations"] = stats.force_evaluations;
-  table["smallest_step"] = stats.smallest_step;
-  table["largest_step"] = stats.largest_step;
-  table["last_step"] = stats.last_step;
-  table["linear_iterations"] = stats.linear_iterations;
-  table["broken_connectors"] = changes.broken_connectors;
-  table["broken_radials"] = changes.broken_radials;
-  table["max_plastic_strain"] = changes.max_plastic_strain;
-  table["max_rest_angle_change"] = changes.max_rest_angle_change;
-  table["contacts"] = simulation.contact_statistics().last_step;
-  table["self_contacts"] = simulation.contact_statistics().self_last_step;
+  add_fields(table, simulation.integrator_stats());
+  add_fields(table, simulation.model_changes());
+  add_fields(table, simulation.contact_statistics());
   table["threads"] = simulation.threads();
   return table;
 }

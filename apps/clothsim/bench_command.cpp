@@ -14,9 +14,9 @@
 #include "bench/suite.h"
 #include "commands.h"
 #include "core/error.h"
-#include "io/run_memory.h"
-#include "io/run_writer.h"
 #include "memory_check.h"
+#include "run/run_memory.h"
+#include "run/run_writer.h"
 #include "sim/backend.h"
 
 namespace clothsim::cli {
@@ -218,8 +218,10 @@ Subcommand add_bench_command(CLI::App& parent) {
       ->type_name("cpu|vulkan");
   app->add_option("--device", flags->device, "the Vulkan device, as 'clothsim devices' lists them (default 0)")
       ->type_name("N");
-  app->add_option("--precision", flags->precision, "float64 (the cpu default), float32 (the vulkan default; float32 springs on the cpu) or auto (float32 where "
-                 "rkf45's tolerances allow it)")
+  app->add_option(
+         "--precision", flags->precision,
+         "float64 (the cpu default), float32 (the vulkan default; float32 springs on the cpu) or auto (float32 where "
+         "rkf45's tolerances allow it)")
       ->type_name("float32|float64");
   add_memory_flag(*app, flags->memory);
   app->footer(

@@ -6,7 +6,7 @@
 #include <new>
 
 #include "core/error.h"
-#include "io/run_writer.h"
+#include "run/run_writer.h"
 #include "scene/parameters.h"
 #include "sim/backend.h"
 

@@ -1,12 +1,8 @@
 #include "memory_check.h"
 
-#include <algorithm>
-#include <cmath>
-
 #include "core/available_memory.h"
 #include "core/error.h"
 #include "core/memory_size.h"
-#include "io/run_memory.h"
 
 namespace clothsim::cli {
 
@@ -19,56 +15,22 @@ void add_memory_flag(CLI::App& app, MemoryFlags& flags) {
                      ->multi_option_policy(CLI::MultiOptionPolicy::TakeLast);
 }
 
-MemoryLimit memory_limit(const MemoryFlags& flags) {
-  MemoryLimit limit;
-  if (flags.option != nullptr && flags.option->count() > 0) {
-    const std::optional<std::uint64_t> bytes = parse_memory_size(flags.max_memory);
-    if (!bytes) {
-      std::string reason = "must be ";
-      reason += memory_size_forms();
-      reason += ", got \"" + flags.max_memory + "\"";
-      throw InputError("--max-memory", "", reason);
-    }
-    limit.bytes = static_cast<std::size_t>(*bytes);
-    limit.cap = limit.bytes;
-    limit.from_flag = true;
-    limit.description = "--max-memory allows " + format_memory_size(*bytes);
-    return limit;
+std::optional<std::uint64_t> max_memory(const MemoryFlags& flags) {
+  if (flags.option == nullptr || flags.option->count() == 0) return std::nullopt;
+  const std::optional<std::uint64_t> bytes = parse_memory_size(flags.max_memory);
+  if (!bytes) {
+    std::string reason = "must be ";
+    reason += memory_size_forms();
+    reason += ", got \"" + flags.max_memory + "\"";
+    throw InputError("--max-memory", "", reason);
   }
-  const AvailableMemory available = available_memory();
-  if (!available.known()) {
-    limit.unknown = true;
-    return limit;
-  }
-  limit.bytes = usable_memory(available);
-  limit.cap = available.bytes;
-  const auto percent = static_cast<int>(std::lround(100.0 * kUsableMemoryFraction));
-  limit.description = format_memory_size(available.bytes) + " is available (" + available.source +
-                      "), of which a run " + "may use " + std::to_string(percent) + "%, " +
-                      format_memory_size(limit.bytes);
-  return limit;
+  return bytes;
 }
 
-void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, std::string_view what) {
-  if (limit.unknown || estimate.total() <= limit.bytes) return;
-  std::string reason(what);
-  reason += " needs an estimated " + estimate.describe() + " and " + limit.description;
-  reason += limit.from_flag ? "; use a smaller lattice or a larger --max-memory"
-                            : "; use a smaller lattice, or --max-memory SIZE to override";
-  throw InputError("", "", reason);
-}
+MemoryLimit memory_limit(const MemoryFlags& flags) { return clothsim::memory_limit(max_memory(flags)); }
 
 void cap_run_growth(const MemoryLimit& limit) {
   if (!limit.unknown) cap_data_growth(limit.cap);
-}
-
-void check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const MemoryFlags& flags) {
-  const MemoryLimit limit = memory_limit(flags);
-  MemoryEstimate estimate = estimate_run_memory(spec);
-  const SimulationShape shape = simulation_shape(spec);
-  estimate.add("pictures", estimate_render_bytes(plan, shape.counts, shape.anchors));
-  check_memory(estimate, limit, "the scene");
-  cap_run_growth(limit);
 }
 
 void check_view_memory(const SceneSpec& spec, int width, int height, const MemoryFlags& flags) {

@@ -20,10 +20,10 @@
 
 #include "commands.h"
 #include "core/error.h"
-#include "io/run_writer.h"
 #include "memory_check.h"
 #include "progress_bar.h"
 #include "run/run_scene.h"
+#include "run/run_writer.h"
 #include "run_render.h"
 #include "scene/parameters.h"
 #include "scene_options.h"
@@ -127,9 +127,9 @@ void print_summary(const RunResult& result) {
   std::printf("; %llu force evaluations", static_cast<unsigned long long>(stats.force_evaluations));
   if (integrator.kind == IntegratorKind::implicit_euler && stats.accepted_steps > 0) {
     std::printf("; CG iterations %.3g per step (most %llu, %llu solves at the cap)",
-                static_cast<double>(stats.linear_iterations) / static_cast<double>(stats.accepted_steps),
-                static_cast<unsigned long long>(stats.max_linear_iterations),
-                static_cast<unsigned long long>(stats.unconverged_solves));
+                static_cast<double>(stats.cg_iterations) / static_cast<double>(stats.accepted_steps),
+                static_cast<unsigned long long>(stats.cg_max_iterations_in_a_step),
+                static_cast<unsigned long long>(stats.cg_unconverged_solves));
   }
   std::printf("\n");
   const EnergyBalance& initial = result.initial_energy;
@@ -164,15 +164,12 @@ void print_summary(const RunResult& result) {
 }
 
 // What the command shows of a run while it goes on: the progress bar (unless --quiet or
-// --no-progress), notices (unless --quiet) and warnings on stderr, the memory check, and Ctrl-C,
+// --no-progress), notices (unless --quiet) and warnings on stderr, and Ctrl-C,
 // caught while the frames are simulated.
 class CommandObserver final : public RunObserver {
  public:
   explicit CommandObserver(const RunFlags& options) : options_(options) {}
 
-  void check_memory(const SceneSpec& spec, const RenderPlan& plan) override {
-    check_run_memory(spec, plan, options_.memory);
-  }
   void notice(const std::string& message) override {
     if (!options_.quiet) warning(message);
   }
@@ -203,6 +200,9 @@ RunOptions run_options(const RunFlags& options, const Invocation& invocation, Ru
   run.info = RunInfo{CLOTHSIM_VERSION, invocation.command_line};
   run.render = options.render;
   run.observer = &observer;
+  run.max_memory = max_memory(options.memory);
+  // The library refuses a scene above the limit; the command also caps the process's growth.
+  cap_run_growth(clothsim::memory_limit(run.max_memory));
   // A resumed run keeps the picture flags it began with, but for those given again.
   run.resumed_render = [&options](const RenderFlags& stored) {
     RenderFlags flags = stored;
@@ -237,7 +237,7 @@ int report_run(const RunResult& result, const RunFlags& options) {
   if (options.profile) {
     // "output" is everything written during the run: the data files and the pictures.
     std::printf(
-        "\nprofile (wall time per phase)\n%s",
+        "\nprofile (wall time per stage)\n%s",
         format_profile(profile_rows(simulation, result.output_seconds + result.picture_seconds, result.wall_seconds),
                        simulation.integrator_stats().force_evaluations)
             .c_str());
@@ -352,7 +352,8 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   app->add_flag("--quiet", options->quiet, "print nothing but errors");
   app->add_flag("--no-progress", options->no_progress, "no progress bar (it is shown only on a terminal anyway)");
   app->add_flag("--profile", options->profile,
-                "print where the wall time went: forces, integration (stage sums, solution and error), checks, output");
+                "print where the wall time went, by the stages of the step: forces, integration (and its parts: stage "
+                "sums, solution and error, ...), collisions, anchors, events, checks; then output, other, total");
   add_render_flags(*app, options->render);
   add_memory_flag(*app, options->memory);
   app->footer(run_footer());

@@ -10,10 +10,11 @@
 #include <system_error>
 
 #include "core/error.h"
-#include "io/run_checkpoints.h"
-#include "io/run_writer.h"
+#include "run/run_checkpoints.h"
 #include "run/run_folders.h"
+#include "run/run_writer.h"
 #include "scene/json_fields.h"
+#include "sim/statistics.h"
 
 namespace clothsim::cli {
 namespace {
@@ -116,9 +117,13 @@ const json& at_path(const json& root, std::initializer_list<std::string_view> pa
   return *node;
 }
 
-constexpr std::array<std::string_view, 8> kFinalEnergyTerms = {"kinetic",         "gravitational",   "connector",
-                                                               "radial_adjacent", "radial_opposite", "total",
-                                                               "balance_error",   "damping_work"};
+// The energy terms and works of summary.json's "energy", by EnergyBalance's one field list.
+std::vector<std::string_view> final_energy_terms() {
+  std::vector<std::string_view> terms;
+  const EnergyBalance balance;
+  EnergyBalance::for_each_field(balance, [&terms](std::string_view name, auto&&...) { terms.push_back(name); });
+  return terms;
+}
 
 }  // namespace
 
@@ -264,7 +269,8 @@ void write_sweep_index(const fs::path& out, const std::vector<SweepParameter>& p
   csv << "run,folder";
   for (const SweepParameter& parameter : parameters) csv << ',' << csv_cell(parameter.key);
   csv << ",status,wall_seconds,simulated_time,frames,accepted_steps";
-  for (std::string_view term : kFinalEnergyTerms) csv << ",final_" << term;
+  const std::vector<std::string_view> terms = final_energy_terms();
+  for (std::string_view term : terms) csv << ",final_" << term;
   csv << '\n';
   for (const SweepRun& run : runs) {
     const RunStatus status = read_run_status(out, run);
@@ -274,8 +280,7 @@ void write_sweep_index(const fs::path& out, const std::vector<SweepParameter>& p
     csv << ',' << to_string(status.state) << ',' << number_cell(at_path(summary, {"timings", "wall_seconds"})) << ','
         << number_cell(at_path(summary, {"simulated_time"})) << ',' << number_cell(at_path(summary, {"frames"})) << ','
         << number_cell(at_path(summary, {"integrator", "accepted_steps"}));
-    for (std::string_view term : kFinalEnergyTerms)
-      csv << ',' << number_cell(at_path(summary, {"energy", "final", term}));
+    for (std::string_view term : terms) csv << ',' << number_cell(at_path(summary, {"energy", "final", term}));
     csv << '\n';
   }
   write_text_atomically(out / kIndexFile, csv.str());

@@ -9,9 +9,9 @@
 
 #include "commands.h"
 #include "core/error.h"
-#include "io/run_writer.h"
 #include "memory_check.h"
 #include "render/render_error.h"
+#include "run/run_writer.h"
 #include "scene_options.h"
 #include "viewer/script.h"
 #include "viewer/session.h"

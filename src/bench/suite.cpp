@@ -81,7 +81,6 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
     }
     if (wall.seconds() >= options.wall_budget) break;
   }
-  const StepProfile& profile = simulation.profile();
   result.wall_seconds = wall.seconds();
   result.simulated_seconds = simulation.state().time;
   result.status = ok ? "ok" : "failed: " + simulation.failure()->message;
@@ -89,7 +88,7 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
   result.force_evaluations = stats.force_evaluations;
   result.accepted_steps = stats.accepted_steps;
   result.rejected_steps = stats.rejected_steps;
-  result.force_seconds = profile.forces;
+  result.force_seconds = simulation.profile().seconds(StepStage::forces);
   result.memory_bytes = simulation.memory_bytes();
   result.peak_rss_bytes = peak_rss_bytes();
   return result;

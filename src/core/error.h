@@ -5,6 +5,10 @@
 // message alone tells the user what to fix. Parsing and validation throw it before any output is
 // created.
 //
+// OutputError: the output could not be written (disk full, permission denied, a path component
+// that is a file). Its message carries the system's, which names the path. The tools map it to
+// their "output error" exit code (3), distinct from bad input (2) and a failed simulation (1).
+//
 // SimulationError: the numerical integration cannot go on (non-finite or exploding state, step
 // size underflow). It carries a diagnosis: simulated time, step number and the element involved.
 // The simulation core never throws from inside a step; Simulation::advance returns a status and
@@ -43,6 +47,11 @@ class InputError : public std::runtime_error {
   std::string source_;
   std::string field_;
   std::string reason_;
+};
+
+class OutputError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
 };
 
 class SimulationError : public std::runtime_error {

@@ -59,6 +59,13 @@ struct SpringEventCounts {
   std::size_t yields = 0;   // connectors whose rest length changed
   std::size_t creases = 0;  // radial springs whose rest angle changed
   bool any() const { return breaks + yields + creases > 0; }
+
+  template <typename Self, typename Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit("breaks", self.breaks);
+    visit("yields", self.yields);
+    visit("creases", self.creases);
+  }
 };
 
 // Breaks `connector` (with its radial springs) at `state`'s time and books the elastic energy

@@ -55,11 +55,11 @@ struct ForceBuffers {
   // Set before resize(): float32 runs the lattice kernel's springs in float (lattice_kernel.h,
   // "Precision"); resize() fails an assertion if the model is not a lattice then.
   Precision precision = Precision::float64;
-  std::vector<Vec3> slot_force;                 // general path: [model.force_slot_count()], N
-  std::vector<double> element_power;            // general path: [connectors + radials], damping power per element, W
-  std::vector<double> block_power;              // general path: partial sums over fixed blocks of element_power
-  GatherTable gather;                           // general path: each particle's slots
-  LatticeKernel lattice;                        // scratch of the structured kernel, when it is in use
+  std::vector<Vec3> slot_force;       // general path: [model.force_slot_count()], N
+  std::vector<double> element_power;  // general path: [connectors + radials], damping power per element, W
+  std::vector<double> block_power;    // general path: partial sums over fixed blocks of element_power
+  GatherTable gather;                 // general path: each particle's slots
+  LatticeKernel lattice;              // scratch of the structured kernel, when it is in use
   void resize(const ClothModel& model);
   bool uses_lattice_kernel() const { return lattice.active(); }
   // Bytes of scratch memory held.
@@ -98,6 +98,17 @@ struct EnergyReport {
   double radial_adjacent = 0.0;
   double radial_opposite = 0.0;
   double total() const { return kinetic + gravitational + connector + radial_adjacent + radial_opposite; }
+
+  // The stored terms, in order (core/record_fields.h); total() is reported beside them where a
+  // record of energies is written (EnergyBalance).
+  template <typename Self, typename Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit("kinetic", self.kinetic);
+    visit("gravitational", self.gravitational);
+    visit("connector", self.connector);
+    visit("radial_adjacent", self.radial_adjacent);
+    visit("radial_opposite", self.radial_opposite);
+  }
 };
 
 // The sums below are parallel over `threads` in fixed blocks (core/parallel.h, parallel_sum): the

@@ -10,7 +10,7 @@
 
 #include "core/assert.h"
 #include "core/parallel.h"
-#include "core/timer.h"
+#include "core/step_profile.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
@@ -356,7 +356,7 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
   CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
   const double t0 = state.time;
   {
-    ScopedTimer timer(transfer_seconds_);
+    StageTimer timer(profile_, StepStage::device_transfers);
     upload_changes(state);
     write_anchor_paths(t0);
   }
@@ -366,7 +366,7 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
   write_control(h, clipped, t_limit - t0, max_accepted);
   const Control control = run_attempts(max_accepted);
   {
-    ScopedTimer timer(transfer_seconds_);
+    StageTimer timer(profile_, StepStage::device_transfers);
     read_state(state);
   }
   return take_results(state, t0, t_limit, control);
@@ -411,7 +411,7 @@ void DeviceIntegrator::write_control(double h, bool clipped, double target, std:
   uints[kClipped] = clipped ? 1 : 0;
   uints[kMaxAccepted] = max_accepted;
   uints[kAdaptive] = adaptive_ ? 1 : 0;
-  ScopedTimer timer(transfer_seconds_);
+  StageTimer timer(profile_, StepStage::device_transfers);
   upload(device_, arrays_[control_real], real_bytes(reals, precision_));
   upload(device_, arrays_[control_uint], bytes_of(uints));
 }
@@ -425,7 +425,7 @@ DeviceIntegrator::Control DeviceIntegrator::run_attempts(std::uint32_t max_accep
   control.uints.resize(kControlUints);
   for (;;) {
     {
-      ScopedTimer timer(device_seconds_);
+      StageTimer timer(profile_, StepStage::device_steps);
       device_.run(attempts_buffer(attempts));
     }
     std::memcpy(control.uints.data(), control_uint_readback_.mapped(), kControlUints * 4);
@@ -477,10 +477,6 @@ StepOutcome DeviceIntegrator::take_results(ClothState& state, double t0, double 
     return {status, std::min(reals[kProposedStep], reals[kStep]), uints[kFailedParticle], uints[kNonFiniteError] != 0};
   }
   return {StepStatus::ok, reals[kTakenStep], 0, false};
-}
-
-std::vector<PhaseTime> DeviceIntegrator::phase_times() const {
-  return {{"device steps", device_seconds_}, {"device transfers", transfer_seconds_}};
 }
 
 std::size_t DeviceIntegrator::workspace_bytes() const { return 0; }

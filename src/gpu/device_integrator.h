@@ -62,7 +62,6 @@ class DeviceIntegrator final : public Integrator {
   IntegratorKind kind() const override { return settings_.kind; }
   StepOutcome step(ClothState& state, double t_limit) override { return run(state, t_limit, 1); }
   StepOutcome advance(ClothState& state, double t_limit) override { return run(state, t_limit, 0); }
-  std::vector<PhaseTime> phase_times() const override;
   // Host memory besides the state: none (the read-back staging is the driver's).
   std::size_t workspace_bytes() const override;
   // RKF45's next step and error history (the CPU's names, so checkpoints read the same).
@@ -170,8 +169,6 @@ class DeviceIntegrator final : public Integrator {
   double proposed_step_ = 0.0;
   double previous_error_ = 1e-4;
   std::uint32_t expected_attempts_ = 4;  // attempts the last advance took
-  double device_seconds_ = 0.0;          // waiting for submissions, s
-  double transfer_seconds_ = 0.0;        // uploads and read-backs of the state and the control, s
 };
 
 }  // namespace clothsim::gpu

@@ -10,7 +10,7 @@
 #include "core/assert.h"
 #include "core/multiversion.h"
 #include "core/parallel.h"
-#include "core/timer.h"
+#include "core/step_profile.h"
 
 namespace clothsim {
 namespace {
@@ -213,14 +213,14 @@ void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
     // Stage state y_i = y + h sum_{j<i} a_ij (V_j, K_j), over the terms with a non-zero coefficient.
     const double stage_time = state.time + tableau_.nodes[k] * h;
     {
-      ScopedTimer timer(stage_sum_seconds_);
+      StageTimer timer(profile_, StepStage::stage_sums);
       combine_stage(stage_rows_[k], h, state);
       dynamics_.constrain(stage_time, stage_position_, stage_velocity_);
     }
     dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[k]);
   }
   stats_.force_evaluations = dynamics_.evaluations();
-  force_seconds_ = dynamics_.seconds();
+  profile_.set(StepStage::forces, dynamics_.seconds());
 }
 
 void ExplicitRungeKutta::combine_solution(const ClothState& state, double h, const NystromRow* error_row,
@@ -269,12 +269,6 @@ void ExplicitRungeKutta::combine_solution(const ClothState& state, double h, con
   }
 }
 
-std::vector<PhaseTime> ExplicitRungeKutta::phase_times() const {
-  // With error control the solution update and the error norm are one pass, timed as one.
-  const std::string_view solution = kind() == IntegratorKind::rkf45 ? "solution and error" : "solution update";
-  return {{"stage sums", stage_sum_seconds_}, {solution, solution_seconds_}};
-}
-
 std::size_t ExplicitRungeKutta::workspace_bytes() const {
   std::size_t bytes = dynamics_.bytes();
   for (const StateDerivative& rate : stage_rate_) bytes += rate.bytes();
@@ -306,7 +300,7 @@ StepOutcome FixedStepRungeKutta::step(ClothState& state, double t_limit) {
   const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
   compute_stages(state, h);
   {
-    ScopedTimer timer(solution_seconds_);
+    StageTimer timer(profile_, StepStage::solution_update);
     combine_solution(state, h);
   }
   for (std::size_t p = 0; p < model_.particle_count(); ++p) {
@@ -330,7 +324,8 @@ AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const Integrator
 }
 
 AdaptiveRungeKutta::ErrorNorm AdaptiveRungeKutta::solution_and_error(const ClothState& state, double h) {
-  ScopedTimer timer(solution_seconds_);
+  // With error control the solution and its error norm are one pass, timed as one.
+  StageTimer timer(profile_, StepStage::solution_and_error);
   combine_solution(state, h, &error_row_, block_error_);
   // The first block with the largest error, and (only when the step fails, where it is reported)
   // the first particle in it with that error.

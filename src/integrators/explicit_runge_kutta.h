@@ -51,7 +51,6 @@ class ExplicitRungeKutta : public Integrator {
   ExplicitRungeKutta(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options,
                      const ButcherTableau& tableau);
   const ButcherTableau& tableau() const { return tableau_; }
-  std::vector<PhaseTime> phase_times() const override;
   std::size_t workspace_bytes() const override;
   // The bytes workspace_bytes() reports for a method of `stages` stages and `particles`
   // particles, besides the force buffers (ForceBuffers::bytes_for) (sim/memory_estimate.h).
@@ -94,8 +93,6 @@ class ExplicitRungeKutta : public Integrator {
   Work trial_work_;
   // Profile: wall time of the stage sums y + h sum a_ij k_j (with the anchor constraint), and of
   // the solution update y + h sum b_i k_i with, for adaptive methods, the error norm, s.
-  double stage_sum_seconds_ = 0.0;
-  double solution_seconds_ = 0.0;
 };
 
 class FixedStepRungeKutta final : public ExplicitRungeKutta {

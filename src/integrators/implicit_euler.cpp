@@ -5,7 +5,7 @@
 
 #include "core/assert.h"
 #include "core/parallel.h"
-#include "core/timer.h"
+#include "core/step_profile.h"
 #include "integrators/dynamics.h"
 
 namespace clothsim {
@@ -212,7 +212,7 @@ std::size_t ImplicitEuler::workspace_bytes_for(const LatticeCounts& counts, cons
 
 ImplicitEuler::Powers ImplicitEuler::evaluate(double time, std::span<const Vec3> position,
                                               std::span<const Vec3> velocity) {
-  ScopedTimer timer(force_seconds_);
+  StageTimer timer(profile_, StepStage::forces);
   ++stats_.force_evaluations;
   const ForcePowers powers = evaluate_forces(model_, position, velocity, options_.terms, threads_, buffers_, force_);
   Powers out{powers.damping, powers.drag, 0.0};
@@ -434,7 +434,7 @@ int ImplicitEuler::solve() {
       if (free_[p]) direction_[p] = preconditioned_[p] + beta * direction_[p];
     });
   }
-  ++stats_.unconverged_solves;
+  ++stats_.cg_unconverged_solves;
   return settings_.cg_max_iterations;
 }
 
@@ -510,8 +510,9 @@ StepOutcome ImplicitEuler::step(ClothState& state, double t_limit) {
     if (multigrid_) assemble_coarse();
     last_iterations_ += solve();
   }
-  stats_.linear_iterations += static_cast<std::uint64_t>(last_iterations_);
-  stats_.max_linear_iterations = std::max(stats_.max_linear_iterations, static_cast<std::uint64_t>(last_iterations_));
+  stats_.cg_iterations += static_cast<std::uint64_t>(last_iterations_);
+  stats_.cg_max_iterations_in_a_step =
+      std::max(stats_.cg_max_iterations_in_a_step, static_cast<std::uint64_t>(last_iterations_));
 
   for (std::size_t p = 0; p < n; ++p) {
     if (free_[p] && !is_finite(dv_[p])) {

@@ -56,7 +56,7 @@
 //
 // Conjugate gradients: started from the previous step's dv (Baraff and Witkin's warm start),
 // stopped when |r| <= cg_tolerance |b| over the free coordinates or after cg_max_iterations (the
-// step is then taken with the last iterate and counted in IntegratorStats::unconverged_solves).
+// step is then taken with the last iterate and counted in IntegratorStats::cg_unconverged_solves).
 // Dot products are sums over fixed blocks of particles added in block order, so the result is
 // bit-for-bit the same for any thread count.
 //

@@ -1,5 +1,6 @@
 #include "integrators/integrator.h"
 
+#include <algorithm>
 #include <stdexcept>
 #include <string>
 
@@ -49,15 +50,20 @@ void Integrator::transfer_state(StateArchive& archive) {
     throw std::runtime_error("field 'integrator.kind' is " + std::to_string(kind_code) + ", not " +
                              std::string(to_string(kind())) + "'s " + std::to_string(static_cast<int>(kind())));
   }
-  archive.value("integrator.accepted_steps", stats_.accepted_steps);
-  archive.value("integrator.rejected_steps", stats_.rejected_steps);
-  archive.value("integrator.force_evaluations", stats_.force_evaluations);
-  archive.value("integrator.smallest_step", stats_.smallest_step);
-  archive.value("integrator.largest_step", stats_.largest_step);
-  archive.value("integrator.last_step", stats_.last_step);
-  archive.value("integrator.linear_iterations", stats_.linear_iterations);
-  archive.value("integrator.max_linear_iterations", stats_.max_linear_iterations);
-  archive.value("integrator.unconverged_solves", stats_.unconverged_solves);
+  transfer_fields(archive, "integrator", stats_);
+}
+
+IntegratorStats combine(const IntegratorStats& earlier, const IntegratorStats& later) {
+  IntegratorStats total = later;
+  for_each_field_pair(total, earlier, [](std::string_view, auto& field, const auto& before, Tally tally) {
+    switch (tally) {
+      case Tally::sum: field += before; break;
+      case Tally::least: field = std::min(field, before); break;
+      case Tally::greatest: field = std::max(field, before); break;
+      case Tally::latest: break;
+    }
+  });
+  return total;
 }
 
 std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const IntegratorSettings& settings,

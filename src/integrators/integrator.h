@@ -14,7 +14,9 @@
 #include <string_view>
 #include <vector>
 
+#include "core/record_fields.h"
 #include "core/state_archive.h"
+#include "core/step_profile.h"
 #include "forces/forces.h"
 #include "model/cloth_model.h"
 #include "model/surface_contacts.h"
@@ -60,7 +62,7 @@ struct IntegratorSettings {
   double energy_error_limit = 10.0;  // dimensionless
 };
 
-// Counters for one run, reported in summary.json.
+// Counters for one run, reported in summary.json's "integrator".
 struct IntegratorStats {
   std::uint64_t accepted_steps = 0;
   std::uint64_t rejected_steps = 0;
@@ -70,10 +72,28 @@ struct IntegratorStats {
   double last_step = 0.0;                                          // s
   // Implicit Euler: conjugate-gradient iterations, in all steps and the most in one step, and
   // the solves that stopped at cg_max_iterations before reaching cg_tolerance.
-  std::uint64_t linear_iterations = 0;
-  std::uint64_t max_linear_iterations = 0;
-  std::uint64_t unconverged_solves = 0;
+  std::uint64_t cg_iterations = 0;
+  std::uint64_t cg_max_iterations_in_a_step = 0;
+  std::uint64_t cg_unconverged_solves = 0;
+
+  // Every field, in order, with how it adds up over a run's integrators (core/record_fields.h).
+  template <typename Self, typename Visit>
+  static void for_each_field(Self& self, Visit&& visit) {
+    visit("accepted_steps", self.accepted_steps, Tally::sum);
+    visit("rejected_steps", self.rejected_steps, Tally::sum);
+    visit("force_evaluations", self.force_evaluations, Tally::sum);
+    visit("smallest_step", self.smallest_step, Tally::least);
+    visit("largest_step", self.largest_step, Tally::greatest);
+    visit("last_step", self.last_step, Tally::latest);
+    visit("cg_iterations", self.cg_iterations, Tally::sum);
+    visit("cg_max_iterations_in_a_step", self.cg_max_iterations_in_a_step, Tally::greatest);
+    visit("cg_unconverged_solves", self.cg_unconverged_solves, Tally::sum);
+  }
 };
+
+// The statistics of a run whose integrator was replaced: `earlier`'s (the replaced integrators')
+// and `later`'s (the current one's), field by field as their Tally says.
+IntegratorStats combine(const IntegratorStats& earlier, const IntegratorStats& later);
 
 enum class StepStatus : std::uint8_t {
   ok,
@@ -106,12 +126,6 @@ struct ForceOptions {
   Precision precision = Precision::float64;
 };
 
-// Wall time of one named sub-phase of step() besides force evaluation, s.
-struct PhaseTime {
-  std::string_view name;  // "stage sums", "solution and error", ...
-  double seconds = 0.0;
-};
-
 class Integrator {
  public:
   virtual ~Integrator() = default;
@@ -125,11 +139,9 @@ class Integrator {
   // runs between steps that the integrator does not run itself.
   virtual StepOutcome advance(ClothState& state, double t_limit) { return step(state, t_limit); }
   const IntegratorStats& stats() const { return stats_; }
-  // Time spent in force evaluation, s (the rest of step() is integration).
-  double force_seconds() const { return force_seconds_; }
-  // The timed sub-phases of the integration (the part of step() outside force evaluation), for
-  // the run profile; an integrator lists only the phases it has. Called once per report.
-  virtual std::vector<PhaseTime> phase_times() const { return {}; }
+  // Wall time in the stages it times (core/step_profile.h): forces, and the parts of integration
+  // it has (stage sums, solution and error, ...); the Simulation times the step as a whole.
+  const StepProfile& profile() const { return profile_; }
   // Bytes of scratch memory the integrator holds: stage arrays, force buffers, and so on.
   virtual std::size_t workspace_bytes() const { return 0; }
   // True when the integrator applies tearing, permanent stretching and creasing itself after each
@@ -160,7 +172,7 @@ class Integrator {
   }
 
   IntegratorStats stats_;
-  double force_seconds_ = 0.0;
+  StepProfile profile_;
   SurfaceContacts* surface_contacts_ = nullptr;
 };
 

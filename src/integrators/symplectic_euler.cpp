@@ -4,7 +4,7 @@
 
 #include "core/assert.h"
 #include "core/parallel.h"
-#include "core/timer.h"
+#include "core/step_profile.h"
 
 namespace clothsim {
 
@@ -20,7 +20,7 @@ StepOutcome SymplecticEuler::step(ClothState& state, double t_limit) {
   const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
   dynamics_.evaluate(state.time, state.position, state.velocity, rate_);
   {
-    ScopedTimer timer(update_seconds_);
+    StageTimer timer(profile_, StepStage::solution_update);
     parallel_for(model_.particle_count(), dynamics_.threads(), [&](std::size_t p) {
       state.velocity[p] += h * rate_.velocity_rate[p];
       state.position[p] += h * state.velocity[p];
@@ -34,7 +34,7 @@ StepOutcome SymplecticEuler::step(ClothState& state, double t_limit) {
   dynamics_.constrain(state.time, state.position, state.velocity);
 
   stats_.force_evaluations = dynamics_.evaluations();
-  force_seconds_ = dynamics_.seconds();
+  profile_.set(StepStage::forces, dynamics_.seconds());
   for (std::size_t p = 0; p < model_.particle_count(); ++p) {
     if (!is_finite(state.position[p]) || !is_finite(state.velocity[p])) {
       return {StepStatus::non_finite, h, static_cast<std::uint32_t>(p), true};

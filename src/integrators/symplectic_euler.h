@@ -13,7 +13,6 @@ class SymplecticEuler final : public Integrator {
   SymplecticEuler(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options);
   IntegratorKind kind() const override { return IntegratorKind::symplectic_euler; }
   StepOutcome step(ClothState& state, double t_limit) override;
-  std::vector<PhaseTime> phase_times() const override { return {{"solution update", update_seconds_}}; }
   std::size_t workspace_bytes() const override { return dynamics_.bytes() + rate_.bytes(); }
   // The bytes workspace_bytes() reports for `particles` particles, besides the force buffers
   // (ForceBuffers::bytes_for) (sim/memory_estimate.h).
@@ -24,7 +23,6 @@ class SymplecticEuler final : public Integrator {
   IntegratorSettings settings_;
   ClothDynamics dynamics_;
   StateDerivative rate_;
-  double update_seconds_ = 0.0;  // the position and velocity update, s
 };
 
 }  // namespace clothsim

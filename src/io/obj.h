@@ -35,7 +35,7 @@ void write_obj(const std::string& path, const ClothModel& model, std::span<const
                std::string_view comment = {});
 
 // Writes a mesh of the sheet built elsewhere (vertex positions, normals, sources and triangles of
-// `mesh`, e.g. a run's rest.obj, io/run_exports.h), in the same layout as write_obj. A 1-wide
+// `mesh`, e.g. a run's rest.obj, run/run_exports.h), in the same layout as write_obj. A 1-wide
 // lattice is written as write_obj writes it, a polyline through the particles.
 void write_obj_mesh(const std::string& path, const ClothModel& model, const SheetMesh& mesh,
                     std::string_view comment = {});

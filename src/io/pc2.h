@@ -14,7 +14,7 @@
 //
 // Like NpyWriter, Pc2Writer streams: the header is written first with 0 samples and close()
 // rewrites the count in place, so a trajectory never has to fit in memory. Until close() the
-// header says 0 samples; a run's output folder is only ever seen after close() (io/run_writer.h).
+// header says 0 samples; a run's output folder is only ever seen after close() (run/run_writer.h).
 // Positions are rounded from double to the nearest float32, the only precision the format has.
 #pragma once
 

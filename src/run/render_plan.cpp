@@ -10,9 +10,9 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "io/run_writer.h"
 #include "model/sheet_mesh.h"
 #include "run/render_plan_detail.h"
+#include "run/run_writer.h"
 
 #if CLOTHSIM_HAVE_RENDER
 #include "render/headless.h"

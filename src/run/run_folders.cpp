@@ -11,8 +11,8 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "io/run_checkpoints.h"
-#include "io/run_writer.h"
+#include "run/run_checkpoints.h"
+#include "run/run_writer.h"
 
 namespace clothsim {
 namespace {

@@ -1,6 +1,6 @@
 // Where a run's output goes: the default output folder of a scene; for `clothsim run --resume
 // PATH` (resume_run(), run/run_scene.h), which run folder PATH names, where its output goes, and
-// which checkpoints it has (io/run_checkpoints.h); and, for a new run, the partial folders earlier
+// which checkpoints it has (run/run_checkpoints.h); and, for a new run, the partial folders earlier
 // runs into the same output folder left behind.
 //
 // PATH may name

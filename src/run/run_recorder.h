@@ -17,9 +17,9 @@
 #include <string>
 
 #include "core/vec3.h"
-#include "io/run_writer.h"
 #include "model/cloth_model.h"
 #include "run/render_plan.h"
+#include "run/run_writer.h"
 
 namespace clothsim {
 

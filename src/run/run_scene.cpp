@@ -15,9 +15,9 @@
 #include "integrators/stable_step.h"
 #include "io/checkpoint.h"
 #include "io/npy.h"
-#include "io/run_checkpoints.h"
-#include "io/run_memory.h"
+#include "run/run_checkpoints.h"
 #include "run/run_folders.h"
+#include "run/run_memory.h"
 #include "run/run_recorder.h"
 #include "scene/parameters.h"
 #include "scene/scene_simulation.h"
@@ -30,7 +30,6 @@ std::uint64_t last_frame(const OutputSettings& output) {
   return static_cast<std::uint64_t>(std::llround(output.duration * output.fps));
 }
 
-void RunObserver::check_memory(const SceneSpec& /*spec*/, const RenderPlan& /*plan*/) {}
 void RunObserver::notice(const std::string& /*message*/) {}
 void RunObserver::warning(const std::string& /*message*/) {}
 void RunObserver::frames_begin(double /*end_time*/) {}
@@ -77,7 +76,7 @@ void remove_leftovers(const std::vector<LeftoverRun>& leftovers, RunObserver& ob
   }
 }
 
-// The frame loop's checkpoints (io/run_checkpoints.h): after the first frame at least
+// The frame loop's checkpoints (run/run_checkpoints.h): after the first frame at least
 // output.checkpoint_every after the previous one (or the run's start), and after the last frame of
 // an interrupted run, so that it resumes where it stopped.
 class Checkpointer {
@@ -183,6 +182,13 @@ RunResult finish_run(const SceneSpec& spec, const RenderPlan& plan, std::unique_
   return result;
 }
 
+// The scene fits the memory the run may use (run/run_memory.h): checked from its shape, before
+// its model is built. Throws InputError.
+void check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const RunOptions& options) {
+  check_memory(estimate_run_memory(spec, plan), memory_limit(options.max_memory, options.max_memory_source),
+               "the scene", options.max_memory_source);
+}
+
 // The scene's backend has its device, with the memory for the scene (sim/backend.h): checked from
 // the lattice's shape, before its model is built. Throws BackendError.
 void check_backend_fits(const SceneSpec& spec) {
@@ -198,8 +204,8 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   // 1. Input: pictures, memory, model, output folder. Bad input throws InputError here, before
   //    anything exists on disk.
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
-  observer.check_memory(spec, *render_plan);  // a scene too large is refused before its model is built
-  check_backend_fits(spec);                   // so is one without its device, or too large for it
+  check_run_memory(spec, *render_plan, options);  // a scene too large is refused before its model is built
+  check_backend_fits(spec);                       // so is one without its device, or too large for it
   ClothModel model = build_model(spec);
   RunWriter writer(options.out.empty() ? std::filesystem::path(default_output_folder(spec)) : options.out, options.info,
                    options.out_source);
@@ -238,7 +244,7 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   //    refusal comes before anything on disk changes.
   const ResumeTarget target = find_resume_target(path);
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
-  observer.check_memory(spec, *parse_render_flags(options.render));
+  check_run_memory(spec, *parse_render_flags(options.render), options);
   check_backend_fits(spec);
   const Stopwatch wall;
   std::unique_ptr<Simulation> simulation = make_unique_simulation(spec);

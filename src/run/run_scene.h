@@ -3,12 +3,12 @@
 //
 // run_scene(spec, options), in order (everything that can be wrong with the input is refused
 // before anything is created):
-//   1. the picture settings (run/render_plan.h) and the observer's memory check, then the model
+//   1. the picture settings (run/render_plan.h) and the memory check (run/run_memory.h), then the model
 //      (build_model: InputError when it cannot be built), the output folder (RunWriter's
 //      constructor: InputError) and the pictures' OpenGL context and ffmpeg (OutputError);
 //   2. frame 0 (the initial state), then frame k = 1 .. last_frame(spec.output), each the state at
-//      frame_time(k, fps), written as it comes (io/run_writer.h, the pictures of
-//      run/run_recorder.h), with checkpoints every output.checkpoint_every (io/run_checkpoints.h);
+//      frame_time(k, fps), written as it comes (run/run_writer.h, the pictures of
+//      run/run_recorder.h), with checkpoints every output.checkpoint_every (run/run_checkpoints.h);
 //      until_rest stops early once the sheet is at rest, the observer's interrupted() after any
 //      complete frame, a failed simulation at its last good frame;
 //   3. the pictures finished, summary.json written and the folder renamed into place, whatever
@@ -32,10 +32,11 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 
-#include "io/run_writer.h"
 #include "run/render_plan.h"
+#include "run/run_writer.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"
 
@@ -52,9 +53,6 @@ std::uint64_t last_frame(const OutputSettings& output);
 class RunObserver {
  public:
   virtual ~RunObserver() = default;
-  // Before the model is built: throws InputError to refuse a scene too large for the machine
-  // (the command's --max-memory check). `plan` is the run's pictures.
-  virtual void check_memory(const SceneSpec& spec, const RenderPlan& plan);
   // A message for the user, one line without the program's name or a newline: "warning: ...",
   // "note: ...", "deleted ...". `notice` is informational (the command's --quiet hides it),
   // `warning` is always shown.
@@ -77,6 +75,10 @@ struct RunOptions {
   RunInfo info;                      // the version and the command line, for summary.json
   RenderFlags render;                // the pictures (run/render_plan.h)
   RunObserver* observer = nullptr;   // none: nothing reported, never interrupted
+  // The most memory the run may use (run/run_memory.h): a scene whose estimate is above it is
+  // refused before its model is built. Unset: 90 % of the memory available.
+  std::optional<std::uint64_t> max_memory;
+  std::string max_memory_source = "--max-memory";  // what gave max_memory, in messages
   // resume_run(): the picture settings from the ones the run began with (kept in its
   // checkpoints); unset: those, unchanged.
   std::function<RenderFlags(const RenderFlags& stored)> resumed_render;

@@ -58,7 +58,7 @@ struct ColliderSpec {
   Vec3 mesh_translate;      // mesh: m, added after scaling
 };
 
-// Files a run writes besides its own (io/run_exports.h, docs/exports.md), for other tools:
+// Files a run writes besides its own (run/run_exports.h, docs/exports.md), for other tools:
 // "pc2" (animation.pc2 + rest.obj), "obj-sequence" (frames/frame_NNNNNN.obj) and "gltf" (final.glb).
 enum class ExportFormat : std::uint8_t {
   pc2,           // a PC2 point cache of the particles, every saved frame, and its rest.obj
@@ -79,7 +79,7 @@ struct OutputSettings {
   // single frame is not enough: a sheet bouncing as a whole passes through zero kinetic energy at
   // every turning point (paper-fig4 does, every 3 s, with hundreds of joules in the bounce).
   double rest_duration = 1.0;
-  // Checkpoints (io/run_checkpoints.h): one after the first frame at least this much simulated
+  // Checkpoints (run/run_checkpoints.h): one after the first frame at least this much simulated
   // time after the previous one, s; 0: none.
   double checkpoint_every = 0.0;
   // Extra files for other tools ("output.export"), each format at most once, in the order given.

@@ -53,10 +53,10 @@ bool vulkan_backend_built();
 // before its model is built (validate_scene).
 struct BackendFeatures {
   IntegratorSettings integrator;  // the method, and for `auto` its tolerances
-  SpringLimits limits;          // tearing, permanent stretching, creasing
-  bool colliders = false;       // any obstacle
-  bool self_collision = false;  // collision.self
-  bool lattice = true;          // the lattice layout of build_lattice (every scene's)
+  SpringLimits limits;            // tearing, permanent stretching, creasing
+  bool colliders = false;         // any obstacle
+  bool self_collision = false;    // collision.self
+  bool lattice = true;            // the lattice layout of build_lattice (every scene's)
 };
 BackendFeatures features_of(const ClothModel& model, const IntegratorSettings& integrator);
 // A plain sheet integrated with `kind`: the features of the benchmark's cases.

@@ -5,21 +5,36 @@
 
 namespace clothsim {
 
-std::vector<ProfileRow> profile_rows(const Simulation& simulation, double output_seconds, double wall_seconds) {
-  const StepProfile& profile = simulation.profile();
+std::vector<ProfileRow> simulation_profile_rows(const Simulation& simulation) {
+  const StepProfile profile = simulation.profile();
   std::vector<ProfileRow> rows;
-  rows.push_back({"forces", profile.forces, 0});
-  rows.push_back({"integration", profile.integration, 0});
-  double timed_phases = 0.0;
-  for (const PhaseTime& phase : simulation.integration_phases()) {
-    rows.push_back({std::string(phase.name), phase.seconds, 1});
-    timed_phases += phase.seconds;
+  for (const StepStageInfo& info : kStepStages) {
+    const bool part = !is_step_stage(info.stage);
+    if (part && !profile.timed(info.stage)) continue;
+    rows.push_back({std::string(info.name), profile.seconds(info.stage), part ? 1 : 0});
   }
-  if (timed_phases > 0.0) rows.push_back({"rest of step", std::max(0.0, profile.integration - timed_phases), 1});
-  rows.push_back({"collisions", profile.collisions, 0});
-  rows.push_back({"events", profile.events, 0});
-  rows.push_back({"checks", profile.checks, 0});
-  double measured = profile.forces + profile.integration + profile.collisions + profile.events + profile.checks;
+  return rows;
+}
+
+std::vector<ProfileRow> profile_rows(const Simulation& simulation, double output_seconds, double wall_seconds) {
+  std::vector<ProfileRow> rows;
+  double measured = 0.0;
+  double integration = 0.0;
+  double parts = 0.0;
+  for (const ProfileRow& row : simulation_profile_rows(simulation)) {
+    const bool ends_parts = row.depth == 0 && parts > 0.0;
+    if (ends_parts) {
+      rows.push_back({"rest of step", std::max(0.0, integration - parts), 1});
+      parts = 0.0;
+    }
+    if (row.depth == 0) {
+      measured += row.seconds;
+      if (row.name == to_string(StepStage::integration)) integration = row.seconds;
+    } else {
+      parts += row.seconds;
+    }
+    rows.push_back(row);
+  }
   if (output_seconds >= 0.0) {
     rows.push_back({"output", output_seconds, 0});
     measured += output_seconds;
@@ -34,7 +49,7 @@ std::string format_profile(const std::vector<ProfileRow>& rows, std::uint64_t fo
   for (const ProfileRow& row : rows) {
     if (row.name == "total") total = row.seconds;
   }
-  std::string text = "phase                  seconds    share\n";
+  std::string text = "stage                  seconds    share\n";
   char line[160];
   for (const ProfileRow& row : rows) {
     const std::string name = std::string(static_cast<std::size_t>(2 * row.depth), ' ') + row.name;

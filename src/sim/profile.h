@@ -1,11 +1,10 @@
-// The run profile: where the wall time of a run went, phase by phase.
+// The run profile: where the wall time of a run went, stage by stage.
 //
-// The phases are the ones the code has, each timed where it runs: force evaluation and the
-// integrator's own work (Simulation::profile(), with the integrator's sub-phases such as stage
-// sums and the solution and error pass), the events between steps (anchors, tearing, plasticity, creasing),
-// the checks between steps, and what the caller measures around the
-// simulation (writing output). "other" is the rest of the wall time (setup, the frame loop, the
-// progress bar), so the rows add up to the total. Phases that a run does not have are not listed.
+// The rows are the stages of the step (core/step_profile.h) in their order, each timed where it
+// runs: the stages of the step always, and the parts of integration an integrator has (stage
+// sums, solution and error, ...), with "rest of step" for what the parts leave of it; then what
+// the caller measures around the simulation (writing output), and "other", the rest of the wall
+// time (setup, the frame loop, the progress bar), so the rows add up to the total.
 #pragma once
 
 #include <cstdint>
@@ -22,8 +21,13 @@ struct ProfileRow {
   int depth = 0;  // 0: a phase of the run; 1: a sub-phase of the row above
 };
 
-// Rows for `simulation`, plus "output" (if `output_seconds` >= 0), "other" and "total" from
-// `wall_seconds`, the wall time of the whole run.
+// The stages' rows for `simulation` alone: the stages of the step (depth 0) and the parts of
+// integration that were timed (depth 1), by their StepStage names.
+std::vector<ProfileRow> simulation_profile_rows(const Simulation& simulation);
+
+// The rows of a run: the stages' rows with "rest of step" after the parts of integration, plus
+// "output" (if `output_seconds` >= 0), "other" and "total" from `wall_seconds`, the wall time of
+// the whole run.
 std::vector<ProfileRow> profile_rows(const Simulation& simulation, double output_seconds, double wall_seconds);
 
 // The rows as an aligned text table with seconds, share of the total and, for the force

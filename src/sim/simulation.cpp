@@ -7,8 +7,8 @@
 
 #include "core/assert.h"
 #include "core/parallel.h"
-#include "core/timer.h"
-#include "model/model_edits.h"
+#include "core/step_profile.h"
+#include "sim/anchor_events.h"
 
 namespace clothsim {
 namespace {
@@ -57,15 +57,12 @@ bool Simulation::advance_to(double time) {
   if (failure_) return false;
   CLOTHSIM_ASSERT(time >= state_.time, "advance_to() cannot go back in time");
   while (state_.time < time) {
-    double step_end = time;
-    {
-      // The collision stage's swept tests start from the positions before the step, and an
-      // approaching impact limits the step (collision/obstacle_contacts.h).
-      ScopedTimer timer(profile_.collisions);
-      step_end = std::min(time, collision_stage_->begin_step(*model_, state_, threads_));
-    }
+    // The collision stage's swept tests start from the positions before the step, and an
+    // approaching impact limits the step (collision/obstacle_contacts.h).
+    const double step_end = std::min(time, begin_collisions());
     if (!integrate(step_end)) return false;
     collide();
+    move_anchors();
     apply_events();
     if (!check()) return false;
   }
@@ -73,7 +70,7 @@ bool Simulation::advance_to(double time) {
 }
 
 bool Simulation::check_energy_balance() {
-  ScopedTimer timer(profile_.checks);
+  StageTimer timer(profile_, StepStage::checks);
   // The energy scale: every energy the run has had to move, besides the error itself: the kinetic
   // and elastic energy it started with, the most gravitational energy it released or gained, and
   // the work of anchors, obstacles, edits and sheet changes, its changes between checks summed in
@@ -109,16 +106,18 @@ bool Simulation::check_energy_balance() {
   return false;
 }
 
+double Simulation::begin_collisions() {
+  StageTimer timer(profile_, StepStage::collisions);
+  return collision_stage_->begin_step(*model_, state_, threads_);
+}
+
 bool Simulation::integrate(double time) {
-  Stopwatch watch;
-  const double force_before = integrator_->force_seconds();
+  // The whole of the integrator's work; profile() takes its forces out of it.
+  StageTimer timer(profile_, StepStage::integration);
   // Anchor events (a driven anchor arriving, an anchor letting go) are never crossed by a step.
   // One step on the CPU; on a device, every step up to the limit (nothing the host does between
   // steps applies there: sim/backend.h keeps such features off it).
-  const StepOutcome outcome = integrator_->advance(state_, std::min(time, next_anchor_event()));
-  const double force = integrator_->force_seconds() - force_before;
-  profile_.forces += force;
-  profile_.integration += watch.seconds() - force;
+  const StepOutcome outcome = integrator_->advance(state_, std::min(time, next_anchor_event(*model_, state_.time)));
 
   if (outcome.status == StepStatus::step_underflow) {
     const std::string where = model_->describe_particle(outcome.particle);
@@ -139,25 +138,27 @@ bool Simulation::integrate(double time) {
 }
 
 void Simulation::collide() {
-  ScopedTimer timer(profile_.collisions);
+  StageTimer timer(profile_, StepStage::collisions);
   const CollisionCounts counts = collision_stage_->apply(*model_, state_, settings_.terms, threads_);
   ContactStatistics& statistics = contact_statistics_;
-  statistics.last_step = counts.obstacles.contacts;
-  statistics.total += counts.obstacles.contacts;
+  statistics.contacts = counts.obstacles.contacts;
+  statistics.contact_steps += counts.obstacles.contacts;
   statistics.max_in_a_step = std::max(statistics.max_in_a_step, counts.obstacles.contacts);
-  statistics.self_last_step = counts.self.contacts;
-  statistics.self_total += counts.self.contacts;
+  statistics.self_contacts = counts.self.contacts;
+  statistics.self_contact_steps += counts.self.contacts;
   statistics.self_max_in_a_step = std::max(statistics.self_max_in_a_step, counts.self.contacts);
   statistics.self_impacts += counts.self.impacts;
-  statistics.self_zones += counts.self.zones;
+  statistics.self_impact_zones += counts.self.zones;
   statistics.self_unresolved += counts.self.unresolved;
 }
 
+void Simulation::move_anchors() {
+  StageTimer timer(profile_, StepStage::anchors);
+  apply_anchor_events(*model_, state_);
+}
+
 void Simulation::apply_events() {
-  ScopedTimer timer(profile_.events);
-  stop_arrived_anchors();
-  book_anchor_keys();
-  release_due_anchors();
+  StageTimer timer(profile_, StepStage::events);
   // A device integrator applied the laws after each of its steps (sim/backend.h).
   if (integrator_->runs_spring_events()) {
     const IntegratorEvents counts = integrator_->take_spring_events(*model_);
@@ -173,7 +174,7 @@ void Simulation::apply_events() {
 }
 
 bool Simulation::check() {
-  ScopedTimer timer(profile_.checks);
+  StageTimer timer(profile_, StepStage::checks);
   check_state();
   return !failure_;
 }
@@ -284,186 +285,16 @@ ModelChanges Simulation::model_changes() const {
   return changes;
 }
 
-IntegratorStats Simulation::integrator_stats() const {
-  IntegratorStats total = integrator_->stats();
-  total.accepted_steps += retired_stats_.accepted_steps;
-  total.rejected_steps += retired_stats_.rejected_steps;
-  total.force_evaluations += retired_stats_.force_evaluations;
-  total.smallest_step = std::min(total.smallest_step, retired_stats_.smallest_step);
-  total.largest_step = std::max(total.largest_step, retired_stats_.largest_step);
-  return total;
-}
+IntegratorStats Simulation::integrator_stats() const { return combine(retired_stats_, integrator_->stats()); }
 
-// ---------------------------------------------------------------------------------------------
-// Live editing.
-
-void Simulation::set_spring_parameters(SpringFamily family, const SpringParameters& parameters) {
-  const double before = energy().total();
-  set_spring_family(*model_, family, parameters);
-  edit_work_ += energy().total() - before;
-}
-
-void Simulation::set_environment(const Environment& environment) {
-  const double before = energy().total();
-  clothsim::set_environment(*model_, environment);
-  edit_work_ += energy().total() - before;
-}
-
-void Simulation::require_backend_runs(const BackendFeatures& features) const {
-  const std::string unsupported = unsupported_by_backend(features, settings_.backend);
-  if (!unsupported.empty()) throw BackendError(backend_refusal(unsupported, settings_.backend));
-}
-
-void Simulation::set_spring_limits(const SpringLimits& limits) {
-  BackendFeatures features = features_of(*model_, settings_.integrator);
-  features.limits = limits;
-  require_backend_runs(features);
-  apply_spring_limits(*model_, limits);
-}
-
-std::size_t Simulation::cut_connectors(std::span<const std::uint32_t> connectors) {
-  std::size_t cut = 0;
-  for (std::uint32_t e : connectors) cut += tear_connector(*model_, state_, e) ? 1 : 0;
-  return cut;
-}
-
-void Simulation::set_particle_mass(double mass) {
-  const double before = energy().total();
-  clothsim::set_particle_mass(*model_, mass);
-  edit_work_ += energy().total() - before;
-}
-
-void Simulation::set_integrator(const IntegratorSettings& settings) {
-  const IntegratorSettings before = settings_.integrator;
-  settings_.integrator = settings;
-  try {
-    restart_integrator();
-  } catch (const BackendError&) {
-    settings_.integrator = before;
-    throw;
-  }
-}
-
-void Simulation::restart_integrator() {
-  std::unique_ptr<Integrator> next = make_backend_integrator(
-      *model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel}, settings_.backend);
-  retired_stats_ = integrator_stats();
-  integrator_ = std::move(next);
-  integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
-}
-
-void Simulation::hold_on_path(std::uint32_t particle, const AnchorPath& path) {
-  const Vec3 before = state_.velocity[particle];
-  set_anchor(*model_, particle, path);
-  state_.position[particle] = path.position(state_.time);
-  state_.velocity[particle] = path.velocity_at(state_.time);
-  state_.anchor_work +=
-      0.5 * model_->particle_mass[particle] * (squared_norm(state_.velocity[particle]) - squared_norm(before));
-}
-
-void Simulation::pin_particle(std::uint32_t particle) {
-  CLOTHSIM_ASSERT(particle < model_->particle_count(), "pinned particle is in the lattice");
-  hold_on_path(particle, AnchorPath::fixed_at(state_.position[particle]));
-}
-
-void Simulation::drive_particle(std::uint32_t particle, const Vec3& target, double arrival_time) {
-  CLOTHSIM_ASSERT(particle < model_->particle_count(), "driven particle is in the lattice");
-  CLOTHSIM_ASSERT(arrival_time > state_.time, "a driven particle arrives after the current time");
-  AnchorPath path;
-  path.kind = AnchorPathKind::driven;
-  path.origin = state_.position[particle];
-  path.start_time = state_.time;
-  path.end_time = arrival_time;
-  path.velocity = (target - path.origin) / (arrival_time - state_.time);
-  hold_on_path(particle, path);
-}
-
-void Simulation::place_particle(std::uint32_t particle, const Vec3& position) {
-  CLOTHSIM_ASSERT(particle < model_->particle_count() && model_->is_anchored(particle),
-                  "only an anchored particle is placed");
-  const double before = energy().total();
-  AnchorPath path;
-  path.kind = AnchorPathKind::driven;
-  path.origin = position;
-  path.start_time = state_.time;
-  set_anchor(*model_, particle, path);
-  state_.position[particle] = position;
-  state_.velocity[particle] = Vec3{};
-  edit_work_ += energy().total() - before;
-}
-
-bool Simulation::release_particle(std::uint32_t particle) {
-  CLOTHSIM_ASSERT(particle < model_->particle_count(), "released particle is in the lattice");
-  return remove_anchor(*model_, particle);
-}
-
-void Simulation::set_self_collision(bool on) {
-  BackendFeatures features = features_of(*model_, settings_.integrator);
-  features.self_collision = on;
-  require_backend_runs(features);
-  clothsim::set_self_collision(*model_, on);
-}
-
-std::size_t Simulation::add_collider(const Collider& collider) {
-  BackendFeatures features = features_of(*model_, settings_.integrator);
-  features.colliders = true;
-  require_backend_runs(features);
-  return clothsim::add_collider(*model_, collider);
-}
-
-void Simulation::drive_collider(std::size_t collider, const Vec3& displacement, double arrival_time) {
-  clothsim::drive_collider(*model_, collider, displacement, state_.time, arrival_time);
-}
-
-void Simulation::place_collider(std::size_t collider, const Vec3& displacement) {
-  clothsim::place_collider(*model_, collider, displacement, state_.time);
-}
-
-double Simulation::next_anchor_event() const {
-  double next = std::numeric_limits<double>::infinity();
-  for (const Anchor& anchor : model_->anchors) {
-    const AnchorPath& path = anchor.path;
-    if (path.kind == AnchorPathKind::driven && path.velocity != Vec3{} && path.end_time > state_.time) {
-      next = std::min(next, path.end_time);
-    }
-    if (anchor.release_time > state_.time) next = std::min(next, anchor.release_time);
-    // A keyframed path's keys are velocity discontinuities (+inf for other kinds).
-    next = std::min(next, path.next_key_after(state_.time));
-  }
-  return next;
-}
-
-void Simulation::book_anchor_keys() {
-  for (const Anchor& anchor : model_->anchors) {
-    const Vec3 before = anchor.path.velocity_before(state_.time);
-    const Vec3 after = anchor.path.velocity_at(state_.time);
-    if (before == after) continue;
-    // The step that ended here left the particle on the new segment's velocity (its path's
-    // velocity at this time); the jump is the anchor's impulse.
-    state_.anchor_work += 0.5 * model_->particle_mass[anchor.particle] * (squared_norm(after) - squared_norm(before));
-  }
-}
-
-void Simulation::release_due_anchors() {
-  // remove_anchor() moves the last anchor into the freed slot, so scan from the back.
-  for (std::size_t i = model_->anchors.size(); i-- > 0;) {
-    if (i < model_->anchors.size() && model_->anchors[i].release_time <= state_.time) {
-      remove_anchor(*model_, model_->anchors[i].particle);
-    }
-  }
-}
-
-void Simulation::stop_arrived_anchors() {
-  for (const Anchor& anchor : model_->anchors) {
-    const AnchorPath& path = anchor.path;
-    if (path.kind != AnchorPathKind::driven || path.velocity == Vec3{} || path.end_time > state_.time) continue;
-    AnchorPath held;
-    held.kind = AnchorPathKind::driven;
-    held.origin = path.position(path.end_time);
-    held.start_time = path.end_time;
-    // hold_on_path() only rewrites this anchor's path, so the loop's iteration stays valid.
-    hold_on_path(anchor.particle, held);
-  }
+StepProfile Simulation::profile() const {
+  StepProfile integrator = retired_profile_;
+  integrator += integrator_->profile();
+  StepProfile profile = profile_;
+  profile += integrator;
+  // The integrator's forces are inside the integration stage's time: the rest is integration.
+  profile.set(StepStage::integration, profile_.seconds(StepStage::integration) - integrator.seconds(StepStage::forces));
+  return profile;
 }
 
 }  // namespace clothsim

@@ -1,17 +1,21 @@
 // Simulation: owns a model, its state and an integrator, and advances to requested times.
 //
-// advance_to(t) reads like the algorithm it runs, one named stage after another, each with its
-// entry in StepProfile:
+// advance_to(t) reads like the algorithm it runs, one named stage after another, each timed as
+// its StepStage (core/step_profile.h):
 //   while the state is before t:
-//     integrate: one accepted step (adaptive, never past t or an anchor event) -> integration, forces
-//     collide:   between steps, on the accepted state: particles out of the      -> collisions
+//     integrate: one accepted step (adaptive, never past t, an anchor event  -> forces, integration
+//                or an approaching impact)
+//     collide:   between steps, on the accepted state: particles out of the   -> collisions
 //                obstacles, then the sheet out of itself, velocities corrected
 //                (collision/collision_stage.h)
-//     events:    between steps, on the accepted state: anchors arriving or     -> events
-//                released, then tearing, permanent stretching and creasing
-//                (events/), each change through model/model_edits.h
-//     checks:    the state is finite and not exploding                         -> checks
-// sim/profile.h turns the profile into the table `clothsim run --profile` prints.
+//     anchors:   anchors arriving, at a keyframe, or let go (sim/anchor_events.h) -> anchors
+//     events:    tearing, permanent stretching and creasing (events/), each    -> events
+//                change through model/model_edits.h
+//     checks:    the state is finite and not exploding                      -> checks
+//   then, once per call, the blow-up check on the energy balance             -> checks
+// sim/profile.h turns the profile into the table `clothsim run --profile` prints. The records it
+// reports (the energy balance, contacts, changes, a failure's diagnosis) are in sim/statistics.h;
+// the live edits below are defined in sim/live_edits.cpp.
 // A failed check or integrator stops the simulation with a Diagnosis (time, step, element), and
 // the state stays at the last good step, so a caller can still write what it has.
 //
@@ -43,12 +47,14 @@
 #include <vector>
 
 #include "collision/collision_stage.h"
+#include "core/step_profile.h"
 #include "events/spring_events.h"
 #include "forces/forces.h"
 #include "integrators/integrator.h"
 #include "model/cloth_model.h"
 #include "model/spring_limits.h"
 #include "sim/backend.h"
+#include "sim/statistics.h"
 
 namespace clothsim {
 
@@ -62,66 +68,6 @@ struct SimulationSettings {
   // Where the steps run (sim/backend.h): the CPU, or a Vulkan device, which takes all the steps
   // up to the next frame or event without the host (the checks then run once per advance_to()).
   BackendSettings backend;
-};
-
-// Wall time per phase, s. The integrator's own sub-phases (stage sums, solution and error, ...) are
-// in Simulation::integration_phases().
-struct StepProfile {
-  double forces = 0.0;       // force evaluation (inside the integrator)
-  double integration = 0.0;  // the rest of the integrator: stage sums, solution and error
-  double collisions = 0.0;   // between steps: obstacle and self contacts (with keeping the step's start positions)
-  double events = 0.0;       // between steps: anchors, tearing, plasticity, creasing
-  double checks = 0.0;       // finiteness and explosion checks
-};
-
-struct Diagnosis {
-  double time = 0.0;       // s, of the last good state
-  std::uint64_t step = 0;  // accepted steps before the failure
-  std::string element;     // "particle 37 (row 1, col 16)", "connector 12 between ..."
-  std::string message;     // the whole explanation, naming time, step and element
-};
-
-// Energies and the work done on the sheet; `error()` is how far the run is from the energy
-// balance E(t) = E(0) + W_damping + W_drag + W_anchor + W_edit + W_plastic + W_fracture + W_contact,
-// which the exact flow satisfies.
-struct EnergyBalance {
-  EnergyReport energy;
-  double initial_total = 0.0;
-  double damping_work = 0.0;
-  double drag_work = 0.0;
-  double anchor_work = 0.0;
-  double edit_work = 0.0;      // energy added by live parameter edits between steps (Simulation::set_*), J
-  double plastic_work = 0.0;   // elastic energy released by yielding and creasing, J (never positive)
-  double fracture_work = 0.0;  // elastic energy released by breaking springs, J (never positive)
-  double contact_work = 0.0;   // energy changed by the collision stage, J (never positive against static obstacles)
-  double error() const {
-    return energy.total() - (initial_total + damping_work + drag_work + anchor_work + edit_work + plastic_work +
-                             fracture_work + contact_work);
-  }
-};
-
-// Particles in contact with obstacles and pairs in self-contact (collision/): after the last
-// step, and summed over steps.
-struct ContactStatistics {
-  std::size_t last_step = 0;      // particles in contact after the last accepted step
-  std::uint64_t total = 0;        // sum over accepted steps of the particles in contact (contact-steps)
-  std::size_t max_in_a_step = 0;  // the most particles in contact after one step
-  // Self-collision (collision/self_contacts.h), in pairs of elements.
-  std::size_t self_last_step = 0;      // pairs pushed apart after the last accepted step
-  std::uint64_t self_total = 0;        // summed over accepted steps
-  std::size_t self_max_in_a_step = 0;  // the most after one step
-  std::uint64_t self_impacts = 0;      // pairs whose motion touched, stopped (summed over steps)
-  std::uint64_t self_zones = 0;        // impact zones moved as one (summed over steps)
-  std::uint64_t self_unresolved = 0;   // pairs left touching after the zones (summed; 0 expected)
-};
-
-// How far the sheet has changed from its built model: the statistics of events/ that
-// energy.csv and summary.json report.
-struct ModelChanges {
-  std::size_t broken_connectors = 0;   // so far
-  std::size_t broken_radials = 0;      // so far (each broken connector takes 1 to 3 with it)
-  double max_plastic_strain = 0.0;     // max over intact connectors of |L / L_original - 1|
-  double max_rest_angle_change = 0.0;  // max over intact radial springs of |theta0 - theta0_original|, rad
 };
 
 class Simulation {
@@ -143,9 +89,9 @@ class Simulation {
   int threads() const { return threads_; }
   // Totals over the run, across set_integrator() switches (last_step is the current integrator's).
   IntegratorStats integrator_stats() const;
-  const StepProfile& profile() const { return profile_; }
-  // The timed sub-phases of profile().integration, as the integrator reports them.
-  std::vector<PhaseTime> integration_phases() const { return integrator_->phase_times(); }
+  // Wall time per stage of the step (core/step_profile.h), the integrator's parts included, over
+  // the run and across set_integrator() switches.
+  StepProfile profile() const;
   // Bytes held by the model's arrays, the state and the integrator's workspace (capacity, not
   // just size): the simulation's own memory, without the process around it.
   std::size_t memory_bytes() const;
@@ -231,17 +177,6 @@ class Simulation {
   // The blow-up check on the energy balance, after advance_to()'s steps; false once failed.
   bool check_energy_balance();
   void fail(std::string element, std::string message);
-  // The next anchor event after the current time (a moving driven anchor arriving, an anchor's
-  // release time), or +infinity.
-  double next_anchor_event() const;
-  // Frees the anchors whose release time has come.
-  void release_due_anchors();
-  // Books the kinetic energy of keyframed anchors' velocity jumps at a key (anchor work).
-  void book_anchor_keys();
-  // Stops driven anchors that have arrived (their impulse goes into anchor_work).
-  void stop_arrived_anchors();
-  // Sets particle's anchor path and its velocity to the path's, booking the velocity jump.
-  void hold_on_path(std::uint32_t particle, const AnchorPath& path);
   // Replaces the integrator with a new one for the current model and settings_.integrator,
   // keeping the statistics of the old one.
   void restart_integrator();
@@ -249,9 +184,13 @@ class Simulation {
   // the model's features with the edit's change).
   void require_backend_runs(const BackendFeatures& features) const;
 
-  // The stages of advance_to(), in order. Each returns false when the simulation failed.
+  // The stages of advance_to(), in order. Those that can fail return false when the simulation
+  // failed. begin_collisions() keeps the step's start for the swept tests and returns the time of
+  // the nearest approaching impact (or +infinity), which the step does not cross.
+  double begin_collisions();
   bool integrate(double time);
   void collide();
+  void move_anchors();
   void apply_events();
   bool check();
 
@@ -261,6 +200,7 @@ class Simulation {
   int threads_ = 1;
   std::unique_ptr<Integrator> integrator_;
   IntegratorStats retired_stats_;  // summed over integrators replaced by set_integrator()
+  StepProfile retired_profile_;    // their stages' times
   double initial_energy_ = 0.0;
   // The blow-up check: the energies at the start, and the largest energy scale seen (J).
   EnergyReport initial_report_;

@@ -3,41 +3,11 @@
 #include <stdexcept>
 #include <string>
 
+#include "core/record_fields.h"
 #include "model/model_state.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
-namespace {
-
-void transfer(StateArchive& archive, const std::string& name, EnergyReport& report) {
-  archive.value(name + ".kinetic", report.kinetic);
-  archive.value(name + ".gravitational", report.gravitational);
-  archive.value(name + ".connector", report.connector);
-  archive.value(name + ".radial_adjacent", report.radial_adjacent);
-  archive.value(name + ".radial_opposite", report.radial_opposite);
-}
-
-void transfer(StateArchive& archive, IntegratorStats& stats) {
-  archive.value("retired.accepted_steps", stats.accepted_steps);
-  archive.value("retired.rejected_steps", stats.rejected_steps);
-  archive.value("retired.force_evaluations", stats.force_evaluations);
-  archive.value("retired.smallest_step", stats.smallest_step);
-  archive.value("retired.largest_step", stats.largest_step);
-}
-
-void transfer(StateArchive& archive, ContactStatistics& contacts) {
-  archive.value("contacts.last_step", contacts.last_step);
-  archive.value("contacts.total", contacts.total);
-  archive.value("contacts.max_in_a_step", contacts.max_in_a_step);
-  archive.value("contacts.self_last_step", contacts.self_last_step);
-  archive.value("contacts.self_total", contacts.self_total);
-  archive.value("contacts.self_max_in_a_step", contacts.self_max_in_a_step);
-  archive.value("contacts.self_impacts", contacts.self_impacts);
-  archive.value("contacts.self_zones", contacts.self_zones);
-  archive.value("contacts.self_unresolved", contacts.self_unresolved);
-}
-
-}  // namespace
 
 void Simulation::transfer_state(StateArchive& archive) {
   if (!archive.loading() && failure_) {
@@ -64,21 +34,19 @@ void Simulation::transfer_state(StateArchive& archive) {
     integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
   }
   integrator_->transfer_state(archive);
-  transfer(archive, retired_stats_);
+  transfer_fields(archive, "retired", retired_stats_);
 
   // The energy balance's reference and the blow-up check's scale.
   archive.value("initial_energy", initial_energy_);
-  transfer(archive, "initial_report", initial_report_);
+  transfer_fields(archive, "initial_report", initial_report_);
   archive.value("energy_scale", energy_scale_);
   archive.value("released", released_);
   archive.value("moved_work", moved_work_);
   archive.array("last_works", last_works_);
 
   // Counts over the run.
-  archive.value("events.breaks", event_totals_.breaks);
-  archive.value("events.yields", event_totals_.yields);
-  archive.value("events.creases", event_totals_.creases);
-  transfer(archive, contact_statistics_);
+  transfer_fields(archive, "events", event_totals_);
+  transfer_fields(archive, "contacts", contact_statistics_);
 
   if (archive.loading()) {
     // The stages' scratch and caches start afresh from the restored model: both rebuild what

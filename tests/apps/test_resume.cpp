@@ -19,7 +19,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_harness.h"
-#include "io/run_exports.h"
+#include "run/run_exports.h"
 #include "test_checks.h"
 
 namespace clothsim {

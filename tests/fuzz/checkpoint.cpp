@@ -1,5 +1,5 @@
 // Fuzz target: checkpoint files (src/io/checkpoint.h), read the way `clothsim run --resume` reads
-// them (load_run_checkpoint into a simulation of the built-in paper-fig5 scene, io/run_checkpoints.h).
+// them (load_run_checkpoint into a simulation of the built-in paper-fig5 scene, run/run_checkpoints.h).
 // A CheckpointError is the expected outcome of a bad file; after a file is accepted, the restored
 // simulation must hold a state of the right size.
 //
@@ -18,7 +18,7 @@
 #include "core/crc32.h"
 #include "fuzz_target.h"
 #include "io/checkpoint.h"
-#include "io/run_checkpoints.h"
+#include "run/run_checkpoints.h"
 #include "scene/scene.h"
 
 namespace {

@@ -116,8 +116,8 @@ TEST(ImplicitEuler, StiffCottonIsStableAtTheFrameStepWhereRk4BlowsUp) {
     // sideways stiffness yet (docs/materials.md). Bounded, and damped out within a few frames.
     EXPECT_LT(energy.connector + energy.radial_adjacent + energy.radial_opposite, 10 * scale) << "frame " << frame;
   }
-  EXPECT_EQ(implicit.integrator_stats().unconverged_solves, 0u);
-  EXPECT_GT(implicit.integrator_stats().linear_iterations, 0u);
+  EXPECT_EQ(implicit.integrator_stats().cg_unconverged_solves, 0u);
+  EXPECT_GT(implicit.integrator_stats().cg_iterations, 0u);
   // Nearly at rest after 3 s.
   EXPECT_LT(implicit.energy().kinetic, 1e-3 * scale);
 
@@ -185,9 +185,9 @@ TEST(ImplicitEuler, CountsConjugateGradientIterationsAndUnconvergedSolves) {
   ImplicitEuler capped(model, settings, ForceOptions{});
   ClothState state = make_rest_state(model);
   for (int step = 0; step < 5; ++step) ASSERT_EQ(capped.step(state, 10.0).status, StepStatus::ok);
-  EXPECT_EQ(capped.stats().linear_iterations, 10u);
-  EXPECT_EQ(capped.stats().max_linear_iterations, 2u);
-  EXPECT_EQ(capped.stats().unconverged_solves, 5u);
+  EXPECT_EQ(capped.stats().cg_iterations, 10u);
+  EXPECT_EQ(capped.stats().cg_max_iterations_in_a_step, 2u);
+  EXPECT_EQ(capped.stats().cg_unconverged_solves, 5u);
   EXPECT_EQ(capped.stats().accepted_steps, 5u);
   // Two force evaluations per step (start and end), the start one reused from the previous end.
   EXPECT_EQ(capped.stats().force_evaluations, 6u);
@@ -252,7 +252,7 @@ TEST(ImplicitEuler, AggregatesPreconditionerSolvesTheSameSystemInFewerIterations
       settings.cg_multigrid = false;  // the 4 x 4 aggregates
       ImplicitEuler integrator(model, settings, ForceOptions{});
       for (int step = 0; step < 10; ++step) EXPECT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
-      return integrator.stats().linear_iterations;
+      return integrator.stats().cg_iterations;
     };
     ClothState jacobi = build_initial_state(model, spec);
     ClothState two_level = jacobi;
@@ -302,8 +302,8 @@ TEST(ImplicitEuler, MultigridPreconditionerSolvesTheSameSystemInFewerIterations)
       settings.cg_max_iterations = 100000;
       ImplicitEuler integrator(model, settings, ForceOptions{});
       for (int step = 0; step < 10; ++step) EXPECT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
-      EXPECT_EQ(integrator.stats().unconverged_solves, 0u);
-      return integrator.stats().linear_iterations;
+      EXPECT_EQ(integrator.stats().cg_unconverged_solves, 0u);
+      return integrator.stats().cg_iterations;
     };
     ClothState jacobi = build_initial_state(model, spec);
     ClothState multigrid = jacobi;
@@ -340,9 +340,9 @@ TEST(ImplicitEuler, MultigridTakesFewIterationsPerStepOn128By128Cotton) {
   constexpr int kSteps = 30;
   for (int step = 0; step < kSteps; ++step) ASSERT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
   const IntegratorStats& stats = integrator.stats();
-  EXPECT_EQ(stats.unconverged_solves, 0u);
-  EXPECT_LE(stats.max_linear_iterations, 25u);
-  EXPECT_LE(stats.linear_iterations, 20u * kSteps);
+  EXPECT_EQ(stats.cg_unconverged_solves, 0u);
+  EXPECT_LE(stats.cg_max_iterations_in_a_step, 25u);
+  EXPECT_LE(stats.cg_iterations, 20u * kSteps);
 }
 
 // The V-cycle's loops (Galerkin products, Gauss-Seidel bands, transfers) run in parallel on the
@@ -360,7 +360,7 @@ TEST(ImplicitEuler, MultigridResultsAreBitIdenticalForAnyThreadCount) {
     ImplicitEuler integrator(model, spec.integrator, ForceOptions{kAllForceTerms, threads});
     ClothState state = build_initial_state(model, spec);
     for (int step = 0; step < 6; ++step) EXPECT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
-    EXPECT_GT(integrator.stats().linear_iterations, 6u);
+    EXPECT_GT(integrator.stats().cg_iterations, 6u);
     return state;
   };
   const ClothState one = run(1);

@@ -121,17 +121,23 @@ TEST(RunScene, BadInputThrowsBeforeAnythingIsWritten) {
   RunOptions options = data_only(folder / "run");
   options.render.render = "sometimes";
   EXPECT_THROW(run_scene(short_scene(0.1), options), InputError);
-  // Memory refused by the observer: nothing either.
-  class Refuse final : public RunObserver {
-   public:
-    void check_memory(const SceneSpec& /*spec*/, const RenderPlan& /*plan*/) override {
-      throw InputError("", "", "too large");
-    }
-  } refuse;
+  // A scene above the memory the run may use: refused by the library, with the estimate in the
+  // message, and nothing written either.
   options = data_only(folder / "run");
-  options.observer = &refuse;
-  EXPECT_THROW(run_scene(short_scene(0.1), options), InputError);
+  options.max_memory = 1000;
+  options.max_memory_source = "max_memory";
+  try {
+    run_scene(short_scene(0.1), options);
+    ADD_FAILURE() << "a run allowed 1000 bytes went ahead";
+  } catch (const InputError& error) {
+    EXPECT_NE(std::string(error.what()).find("needs an estimated"), std::string::npos) << error.what();
+    EXPECT_NE(std::string(error.what()).find("max_memory allows 1000 bytes"), std::string::npos) << error.what();
+  }
   EXPECT_FALSE(fs::exists(folder / "run"));
+  // The same scene within a limit it fits runs.
+  options.max_memory = std::uint64_t{1} << 34;
+  EXPECT_EQ(run_scene(short_scene(0.1), options).status, RunStatus::completed);
+  fs::remove_all(folder / "run");
   EXPECT_TRUE(fs::is_empty(folder));
 }
 

@@ -333,7 +333,7 @@ void collisions_section(PanelState& state, Session& session) {
   ImGui::SliderScalar("radius", ImGuiDataType_Double, &state.sphere_radius, &low, &high, "%.3g m",
                       ImGuiSliderFlags_AlwaysClamp | ImGuiSliderFlags_Logarithmic);
   ImGui::TextDisabled("%zu obstacles, %zu spheres; %zu particles in contact", simulation.model().colliders.size(),
-                      session.spheres().size(), simulation.contact_statistics().last_step);
+                      session.spheres().size(), simulation.contact_statistics().contacts);
   ImGui::TextDisabled("left drag on a sphere (alt: behind the sheet) moves it");
 }
 

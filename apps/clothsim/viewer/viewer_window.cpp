@@ -20,9 +20,9 @@
 
 #include "core/timer.h"
 #include "io/npy.h"
-#include "io/run_writer.h"
 #include "render/image.h"
 #include "render/renderer.h"
+#include "run/run_writer.h"
 #include "viewer/frame_pacer.h"
 #include "viewer/gl_window.h"
 #include "viewer/interaction.h"

@@ -3,7 +3,7 @@
 // Every failure to write becomes an OutputError carrying the system's message (which names the
 // path), so the tools can tell "cannot write" (exit 3) from bad input (exit 2) and from a failed
 // simulation (exit 1).
-#include "io/run_writer.h"
+#include "run/run_writer.h"
 
 #include <fcntl.h>
 #include <unistd.h>
@@ -23,6 +23,8 @@
 #include "core/timer.h"
 #include "io/obj.h"
 #include "model/sheet_mesh.h"
+#include "run/energy_table.h"
+#include "run/run_summary.h"
 
 namespace clothsim {
 namespace {
@@ -72,38 +74,7 @@ void write_text_file(const fs::path& path, const std::string& text) {
   }
 }
 
-ordered_json energy_json(const EnergyBalance& balance, double time) {
-  const EnergyReport& e = balance.energy;
-  return ordered_json{{"time", time},
-                      {"kinetic", e.kinetic},
-                      {"gravitational", e.gravitational},
-                      {"connector", e.connector},
-                      {"radial_adjacent", e.radial_adjacent},
-                      {"radial_opposite", e.radial_opposite},
-                      {"total", e.total()},
-                      {"damping_work", balance.damping_work},
-                      {"drag_work", balance.drag_work},
-                      {"anchor_work", balance.anchor_work},
-                      {"balance_error", balance.error()},
-                      {"plastic_work", balance.plastic_work},
-                      {"fracture_work", balance.fracture_work},
-                      {"contact_work", balance.contact_work}};
-}
-
-// A finite number, or null (JSON has no infinity; nlohmann would write null anyway, this says so).
-ordered_json number_or_null(double value) { return std::isfinite(value) ? ordered_json(value) : ordered_json(nullptr); }
-
 }  // namespace
-
-std::string_view to_string(RunStatus status) {
-  switch (status) {
-    case RunStatus::completed: return "completed";
-    case RunStatus::at_rest: return "at_rest";
-    case RunStatus::failed: return "failed";
-    case RunStatus::interrupted: return "interrupted";
-  }
-  return "unknown";
-}
 
 RunWriter::RunWriter(fs::path out, RunInfo info, const std::string& source) : info_(std::move(info)) {
   // "runs/a/" names the folder "runs/a"; ".", ".." and "/" name no new folder.
@@ -195,7 +166,7 @@ void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
       message += std::strerror(errno);
       throw OutputError(message);
     }
-    std::fprintf(energy_file_, "%.*s\n", static_cast<int>(kEnergyColumns.size()), kEnergyColumns.data());
+    std::fprintf(energy_file_, "%s\n", energy_table_header().c_str());
 
     // The connector table, once: connector e's particles, in index order (int32, which NumPy
     // indexes with directly).
@@ -229,10 +200,7 @@ void RunWriter::write_frame(const Simulation& simulation) {
   CLOTHSIM_ASSERT(begun_ && !finished_, "write_frame() between begin() and finish()");
   ScopedTimer timer(output_seconds_);
   const ClothState& state = simulation.state();
-  const EnergyBalance balance = simulation.energy_balance();
-  const EnergyReport& e = balance.energy;
-  const IntegratorStats& stats = simulation.integrator_stats();
-  const ModelChanges changes = simulation.model_changes();
+  const EnergyRow row = EnergyRow::of(frames_, simulation);
   try {
     positions_->append(state.position);
     velocities_->append(state.velocity);
@@ -240,24 +208,15 @@ void RunWriter::write_frame(const Simulation& simulation) {
   } catch (...) {
     rethrow_as_output_error("cannot write a frame");
   }
-  const int written = std::fprintf(
-      energy_file_,
-      "%zu,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%llu,%llu,%zu,%.17g,%.17g,%.17g,%.17g,"
-      "%.17g,%zu,%zu\n",
-      frames_, state.time, e.kinetic, e.gravitational, e.connector, e.radial_adjacent, e.radial_opposite, e.total(),
-      balance.damping_work, balance.drag_work, balance.anchor_work, balance.error(),
-      static_cast<unsigned long long>(stats.accepted_steps), static_cast<unsigned long long>(stats.rejected_steps),
-      changes.broken_connectors, changes.max_plastic_strain, changes.max_rest_angle_change, balance.plastic_work,
-      balance.fracture_work, balance.contact_work, simulation.contact_statistics().last_step,
-      simulation.contact_statistics().self_last_step);
-  if (written < 0) {
+  const std::string line = energy_table_row(row);
+  if (std::fprintf(energy_file_, "%s\n", line.c_str()) < 0) {
     std::string message = (partial_ / kEnergyFile).string();
     message += ": cannot write file: ";
     message += std::strerror(errno);
     throw OutputError(message);
   }
   last_position_.assign(state.position.begin(), state.position.end());
-  last_energy_ = balance;
+  last_energy_ = row.balance;
   last_time_ = state.time;
   ++frames_;
 }
@@ -361,99 +320,22 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
   }
 
   const ClothModel& model = simulation.model();
-  const IntegratorStats& stats = simulation.integrator_stats();
-  const StepProfile& profile = simulation.profile();
-  ordered_json summary;
-  summary["clothsim_version"] = info_.version;
-  summary["command_line"] = info_.command_line;
-  if (!resumed_by_.empty()) {
-    summary["resumed"] = ordered_json{{"command_line", resumed_by_}, {"from_time", resumed_at_}};
-  }
-  summary["status"] = std::string(to_string(status));
-  if (status == RunStatus::failed && simulation.failure()) {
-    const Diagnosis& diagnosis = *simulation.failure();
-    summary["diagnosis"] = ordered_json{{"time", diagnosis.time},
-                                        {"step", diagnosis.step},
-                                        {"element", diagnosis.element},
-                                        {"message", diagnosis.message}};
-  }
-  summary["scene"] = ordered_json(scene_to_json(scene_));
-  summary["lattice"] = ordered_json{{"rows", model.rows},
-                                    {"cols", model.cols},
-                                    {"particles", model.particle_count()},
-                                    {"connectors", model.connector_count()},
-                                    {"radial_springs", model.radial_count()},
-                                    {"anchors", model.anchor_count()}};
-  summary["frames"] = frames_;
-  summary["fps"] = scene_.output.fps;
-  summary["simulated_time"] = last_time_;
-  const IntegratorSettings& settings = simulation.settings().integrator;
-  summary["integrator"] = ordered_json{
-      {"method", std::string(to_string(settings.kind))},
-      // The precision of the forces, `auto` resolved (sim/backend.h).
-      {"precision", to_string(simulation.settings().backend.resolved_precision(settings))},
-      {"relative_tolerance", settings.relative_tolerance},
-      {"absolute_tolerance", settings.absolute_tolerance},
-      {"time_step", settings.time_step},
-      {"accepted_steps", stats.accepted_steps},
-      {"rejected_steps", stats.rejected_steps},
-      {"force_evaluations", stats.force_evaluations},
-      {"cg_tolerance", settings.cg_tolerance},
-      {"cg_max_iterations", settings.cg_max_iterations},
-      {"cg_iterations", stats.linear_iterations},
-      {"cg_iterations_per_step",
-       stats.accepted_steps > 0
-           ? number_or_null(static_cast<double>(stats.linear_iterations) / static_cast<double>(stats.accepted_steps))
-           : ordered_json(nullptr)},
-      {"cg_max_iterations_in_a_step", stats.max_linear_iterations},
-      {"cg_unconverged_solves", stats.unconverged_solves},
-      {"smallest_step", stats.accepted_steps > 0 ? number_or_null(stats.smallest_step) : ordered_json(nullptr)},
-      {"largest_step", stats.accepted_steps > 0 ? number_or_null(stats.largest_step) : ordered_json(nullptr)},
-      {"steps_per_simulated_second", last_time_ > 0.0
-                                         ? number_or_null(static_cast<double>(stats.accepted_steps) / last_time_)
-                                         : ordered_json(nullptr)}};
-  summary["energy"] =
-      ordered_json{{"initial", energy_json(initial_energy_, 0.0)}, {"final", energy_json(last_energy_, last_time_)}};
-  // Tearing, permanent stretching and creasing (DESIGN.md section 3), over the whole run.
-  const ModelChanges changes = simulation.model_changes();
-  const SpringEventCounts& events = simulation.event_totals();
-  summary["sheet_changes"] = ordered_json{{"breaks", events.breaks},
-                                          {"yields", events.yields},
-                                          {"creases", events.creases},
-                                          {"broken_connectors", changes.broken_connectors},
-                                          {"broken_radials", changes.broken_radials},
-                                          {"pieces", count_pieces(model)},
-                                          {"max_plastic_strain", changes.max_plastic_strain},
-                                          {"max_rest_angle_change", changes.max_rest_angle_change},
-                                          {"plastic_work", last_energy_.plastic_work},
-                                          {"fracture_work", last_energy_.fracture_work}};
-  // Contacts (collision/): obstacle contacts (particles) and self-contacts (pairs of elements)
-  // summed over accepted steps and the most after one step, the self pass's impacts, impact zones
-  // and pairs it left touching, and the energy the collision stage changed.
-  const ContactStatistics& contacts = simulation.contact_statistics();
-  summary["contacts"] =
-      ordered_json{{"colliders", model.colliders.size()},         {"contact_steps", contacts.total},
-                   {"max_in_a_step", contacts.max_in_a_step},     {"self_collision", model.collision.self},
-                   {"self_contact_steps", contacts.self_total},   {"self_max_in_a_step", contacts.self_max_in_a_step},
-                   {"self_impacts", contacts.self_impacts},       {"self_impact_zones", contacts.self_zones},
-                   {"self_unresolved", contacts.self_unresolved}, {"contact_work", last_energy_.contact_work}};
-  summary["timings"] = ordered_json{
-      {"wall_seconds", wall_seconds},
-      {"forces", profile.forces},
-      {"integration", profile.integration},
-      {"events", profile.events},
-      {"checks", profile.checks},
-      {"collisions", profile.collisions},
-      {"output", output_seconds_},
-      {"realtime_factor", wall_seconds > 0.0 ? number_or_null(last_time_ / wall_seconds) : ordered_json(nullptr)}};
-  ordered_json phases = ordered_json::object();
-  for (const PhaseTime& phase : simulation.integration_phases()) phases[std::string(phase.name)] = phase.seconds;
-  summary["timings"]["integration_phases"] = phases;
-  summary["threads"] = simulation.threads();
-  summary["memory_bytes"] = simulation.memory_bytes();
   const std::size_t particles = model.particle_count();
   const ordered_json shape = ordered_json::array({frames_, particles, 3});
-  summary["files"] = ordered_json{
+  RunRecord run;
+  run.version = info_.version;
+  run.command_line = info_.command_line;
+  run.resumed_by = resumed_by_;
+  run.resumed_at = resumed_at_;
+  run.status = status;
+  run.scene = &scene_;
+  run.frames = frames_;
+  run.last_time = last_time_;
+  run.initial_energy = initial_energy_;
+  run.last_energy = last_energy_;
+  run.wall_seconds = wall_seconds;
+  run.output_seconds = output_seconds_;
+  run.files = ordered_json{
       {std::string(kPositionsFile), ordered_json{{"shape", shape}, {"dtype", "float64"}, {"unit", "m"}}},
       {std::string(kVelocitiesFile), ordered_json{{"shape", shape}, {"dtype", "float64"}, {"unit", "m/s"}}},
       {std::string(kEnergyFile), ordered_json{{"rows", frames_}}},
@@ -465,9 +347,10 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       {std::string(kBreakTimeFile),
        ordered_json{{"shape", ordered_json::array({model.connector_count()})}, {"dtype", "float64"}, {"unit", "s"}}}};
   if (exports_) {
-    for (const auto& [name, details] : exports_->summary_files()) summary["files"][name] = details;
+    for (const auto& [name, details] : exports_->summary_files()) run.files[name] = details;
   }
-  for (const auto& [name, details] : extra_files_) summary["files"][name] = details;
+  for (const auto& [name, details] : extra_files_) run.files[name] = details;
+  const ordered_json summary = run_summary(run, simulation);
 
   ScopedTimer timer(output_seconds_);
   try {

@@ -1,4 +1,4 @@
-// Tests of io/run_writer for a torn sheet, built through the library (Simulation::cut_connectors):
+// Tests of run/run_writer for a torn sheet, built through the library (Simulation::cut_connectors):
 // the tearing columns of energy.csv, the sheet_changes of summary.json, connectors.npy and
 // connector_break_time.npy (enough to rebuild each frame's live connectors), and a split
 // final.obj; and for a sheet on a floor, the contact columns and keys (collision/). The files of an
@@ -15,7 +15,7 @@
 #include <vector>
 
 #include "io/npy.h"
-#include "io/run_writer.h"
+#include "run/run_writer.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
 #include "test_checks.h"
@@ -79,14 +79,14 @@ TEST(RunWriter, ContactRunRecordsContacts) {
   const std::size_t contacts = column(energy, "contacts");
   const std::size_t work = column(energy, "contact_work");
   EXPECT_EQ(energy.rows[0][contacts], 0.0);
-  EXPECT_EQ(energy.rows[1][contacts], static_cast<double>(simulation.contact_statistics().last_step));
+  EXPECT_EQ(energy.rows[1][contacts], static_cast<double>(simulation.contact_statistics().contacts));
   EXPECT_GT(energy.rows[1][contacts], 0.0) << "the sheet lies on the floor";
   EXPECT_LT(energy.rows[1][work], 0.0);
 
   std::ifstream summary_file(out / RunWriter::kSummaryFile);
   const nlohmann::json summary = nlohmann::json::parse(summary_file);
   EXPECT_EQ(summary["contacts"]["colliders"], 1);
-  EXPECT_EQ(summary["contacts"]["contact_steps"].get<std::uint64_t>(), simulation.contact_statistics().total);
+  EXPECT_EQ(summary["contacts"]["contact_steps"].get<std::uint64_t>(), simulation.contact_statistics().contact_steps);
   EXPECT_GE(summary["contacts"]["contact_steps"].get<double>(), energy.rows[1][contacts]);
   EXPECT_EQ(summary["contacts"]["contact_work"].get<double>(), energy.rows[1][work]);
   EXPECT_EQ(summary["energy"]["final"]["contact_work"].get<double>(), energy.rows[1][work]);

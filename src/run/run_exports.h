@@ -54,7 +54,7 @@ class RunExports {
   RunExports(std::filesystem::path folder, std::span<const ExportFormat> formats, const ClothModel& model,
              std::string scene_name);
   // Takes over the files of `formats` in `folder`, written up to `frames` frames by a run resumed
-  // from a checkpoint (io/run_checkpoints.h): cuts off what came after them and goes on from
+  // from a checkpoint (run/run_checkpoints.h): cuts off what came after them and goes on from
   // frame `frames`. `first_position` is frame 0 (rest.obj's vertices). Throws std::runtime_error.
   RunExports(std::filesystem::path folder, std::span<const ExportFormat> formats, const ClothModel& model,
              std::string scene_name, std::size_t frames, std::span<const Vec3> first_position);
@@ -79,7 +79,7 @@ class RunExports {
 
   // Memory for the lattice of `counts` writing `formats`: held from the first frame to the end
   // (the cache's frame buffer and frame 0's positions), and the most held for a moment (a frame's
-  // mesh, rest.obj's mesh) (io/run_memory.h).
+  // mesh, rest.obj's mesh) (run/run_memory.h).
   struct Memory {
     std::size_t held = 0;
     std::size_t peak = 0;

@@ -1,5 +1,5 @@
 // The exports of a run; what they hold and the rule for torn sheets are in run_exports.h.
-#include "io/run_exports.h"
+#include "run/run_exports.h"
 
 #include <algorithm>
 #include <array>

@@ -27,7 +27,7 @@
 #include <vector>
 
 #include "core/state_archive.h"
-#include "io/run_writer.h"
+#include "run/run_writer.h"
 #include "sim/simulation.h"
 
 namespace clothsim {

@@ -3,8 +3,9 @@
 // A run's folder holds (docs/cli.md has the columns and keys):
 //   positions.npy    float64 [frames, particles, 3], m; frame 0 is the initial state
 //   velocities.npy   float64 [frames, particles, 3], m/s
-//   energy.csv       one row per frame: energies, works, balance error, step counts (%.17g)
+//   energy.csv       one row per frame: energies, works, balance error, step counts (run/energy_table.h)
 //   summary.json     version, command line, status, diagnosis, scene, counts, statistics, timings
+//                    (run/run_summary.h)
 //   final.obj        the sheet at the last frame written, split along its tears (model/sheet_mesh.h)
 //   scene.json       the scene as run; `clothsim run <folder>/scene.json` reproduces the run
 //   connectors.npy            int32 [connectors, 2]: the particles of each connector, in index order
@@ -12,7 +13,7 @@
 //                             broke (the end of the step after which it broke), +inf if it never did
 // The last two let a reader rebuild any frame's live connectors (and so its torn mesh) without
 // storing the mask per frame: connector e is intact at frame k iff break_time[e] > time[k].
-// With the scene's output.export, also the files for other tools of io/run_exports.h
+// With the scene's output.export, also the files for other tools of run/run_exports.h
 // (animation.pc2 and rest.obj, frames/frame_NNNNNN.obj, streamed frame by frame like the arrays;
 // final.glb, written at the end like final.obj).
 //
@@ -39,7 +40,6 @@
 #include <filesystem>
 #include <optional>
 #include <span>
-#include <stdexcept>
 #include <string>
 #include <string_view>
 #include <utility>
@@ -47,30 +47,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "core/error.h"
 #include "core/vec3.h"
 #include "io/npy.h"
-#include "io/run_exports.h"
+#include "run/run_exports.h"
+#include "run/run_status.h"
 #include "scene/scene.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
-
-// How a run ended, written to summary.json as "completed", "at_rest", "failed", "interrupted".
-enum class RunStatus : std::uint8_t {
-  completed,    // every frame up to the duration was written
-  at_rest,      // stopped early: the kinetic energy stayed below output.rest_kinetic_energy for output.rest_duration
-  failed,       // the simulation stopped with a diagnosis; frames up to the last good one are kept
-  interrupted,  // stopped by the user (SIGINT) after a complete frame
-};
-
-std::string_view to_string(RunStatus status);
-
-// The output could not be written (disk full, permission denied, a path component that is a
-// file). The tools map it to their "output error" exit code, distinct from bad input.
-class OutputError : public std::runtime_error {
- public:
-  using std::runtime_error::runtime_error;
-};
 
 // What the writer records about the program that made the run.
 struct RunInfo {
@@ -89,12 +74,6 @@ class RunWriter {
   static constexpr std::string_view kSceneFile = "scene.json";
   static constexpr std::string_view kConnectorsFile = "connectors.npy";
   static constexpr std::string_view kBreakTimeFile = "connector_break_time.npy";
-
-  // The header line of energy.csv.
-  static constexpr std::string_view kEnergyColumns =
-      "frame,time,kinetic,gravitational,connector,radial_adjacent,radial_opposite,total,damping_work,drag_work,"
-      "anchor_work,balance_error,accepted_steps,rejected_steps,broken_connectors,max_plastic_strain,"
-      "max_rest_angle_change,plastic_work,fracture_work,contact_work,contacts,self_contacts";
 
   // Checks that `out` may receive the run and creates nothing: `out` must not exist, or be a
   // folder holding a summary.json with a "clothsim_version" key (a previous run, which finish()
@@ -116,7 +95,7 @@ class RunWriter {
   // Throws OutputError.
   void write_frame(const Simulation& simulation);
 
-  // Where the streamed files stand, for a checkpoint (io/run_checkpoints.h): a resumed run cuts
+  // Where the streamed files stand, for a checkpoint (run/run_checkpoints.h): a resumed run cuts
   // them back to this and goes on.
   struct Progress {
     std::uint64_t frames = 0;        // frames written, frame 0 included
@@ -159,7 +138,7 @@ class RunWriter {
   bool replaces_previous_run() const { return replace_existing_; }
 
   // The most memory the writer holds at once for a run of the lattice of `counts` writing
-  // `exports` (io/run_memory.h): the last frame's positions throughout, and at the end the mesh
+  // `exports` (run/run_memory.h): the last frame's positions throughout, and at the end the mesh
   // of final.obj (the connector table at the start is smaller), with the exports' own.
   static std::size_t bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> exports);
 

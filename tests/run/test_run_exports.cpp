@@ -1,4 +1,4 @@
-// Tests of io/run_exports (and io/pc2, io/gltf) through io/run_writer: the PC2 cache read back by
+// Tests of run/run_exports (and io/pc2, io/gltf) through run/run_writer: the PC2 cache read back by
 // a reader written here from the format's description (plain bytes, no code of the writer) equals
 // positions.npy rounded to float32, bit for bit; rest.obj has the particles as its vertices; the
 // OBJ sequence has one file per frame with the right counts; a torn sheet keeps the particles as
@@ -22,7 +22,7 @@
 
 #include "glb_reader.h"
 #include "io/npy.h"
-#include "io/run_writer.h"
+#include "run/run_writer.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
 

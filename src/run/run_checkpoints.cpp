@@ -1,4 +1,4 @@
-#include "io/run_checkpoints.h"
+#include "run/run_checkpoints.h"
 
 #include <algorithm>
 #include <array>
@@ -6,6 +6,7 @@
 #include <optional>
 #include <system_error>
 
+#include "core/record_fields.h"
 #include "io/checkpoint.h"
 
 namespace clothsim {
@@ -28,28 +29,12 @@ bool parse_checkpoint_name(const std::string& name, std::uint64_t& frame) {
   return true;
 }
 
-void transfer_energy(StateArchive& archive, EnergyBalance& balance) {
-  archive.value("run.initial.kinetic", balance.energy.kinetic);
-  archive.value("run.initial.gravitational", balance.energy.gravitational);
-  archive.value("run.initial.connector", balance.energy.connector);
-  archive.value("run.initial.radial_adjacent", balance.energy.radial_adjacent);
-  archive.value("run.initial.radial_opposite", balance.energy.radial_opposite);
-  archive.value("run.initial.initial_total", balance.initial_total);
-  archive.value("run.initial.damping_work", balance.damping_work);
-  archive.value("run.initial.drag_work", balance.drag_work);
-  archive.value("run.initial.anchor_work", balance.anchor_work);
-  archive.value("run.initial.edit_work", balance.edit_work);
-  archive.value("run.initial.plastic_work", balance.plastic_work);
-  archive.value("run.initial.fracture_work", balance.fracture_work);
-  archive.value("run.initial.contact_work", balance.contact_work);
-}
-
 }  // namespace
 
 void transfer_run_checkpoint(StateArchive& archive, RunCheckpoint& run) {
   archive.value("run.frames", run.writer.frames);
   archive.value("run.energy_bytes", run.writer.energy_bytes);
-  transfer_energy(archive, run.writer.initial);
+  transfer_fields(archive, "run.initial", run.writer.initial);
   archive.value("run.quiet_frames", run.quiet_frames);
   archive.value("run.wall_seconds", run.wall_seconds);
   archive.text("run.command_line", run.command_line);
