@@ -47,10 +47,10 @@ void main() {
     const Vec3 x = load_position(p);
     fracture = event_energy[2u * p];
     plastic = event_energy[2u * p + 1u];
-    for (uint k = 0u; k < 6u; ++k) {
+    for (uint k = 0u; k < uint(kRadialsPerParticle); ++k) {
       const uint r = p * kLatticeParams + 8u + 4u * k;  // rest angle, stiffness, damping, active
-      const uint b = kArmB[k];
-      const uint c = kArmC[k];
+      const uint b = uint(kRadialArmB[k]);
+      const uint c = uint(kRadialArmC[k]);
       if (!cell.has[b] || !cell.has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
       const Vec3 xb = load_position(cell.neighbour[b]);
       const Vec3 xc = load_position(cell.neighbour[c]);
