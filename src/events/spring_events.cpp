@@ -6,6 +6,7 @@
 
 #include "core/assert.h"
 #include "core/parallel.h"
+#include "events/spring_laws.h"
 #include "forces/element.h"
 #include "forces/forces.h"
 #include "model/model_edits.h"
@@ -75,8 +76,12 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
     if (creasing) connector_unit_[e] = length > 0.0 ? edge / length : Vec3{};
     std::uint8_t flag = 0;
     if (model.connector_live[e] != 0) {
-      if (length / model.connector_original_length[e] - 1.0 > model.connector_break_strain[e]) flag |= kBreaks;
-      if (std::abs(length / model.connector_rest_length[e] - 1.0) > model.connector_yield_strain[e]) flag |= kYields;
+      if (spring_laws::connector_breaks(length, model.connector_original_length[e], model.connector_break_strain[e])) {
+        flag |= kBreaks;
+      }
+      if (spring_laws::connector_yields(length, model.connector_rest_length[e], model.connector_yield_strain[e])) {
+        flag |= kYields;
+      }
     }
     connector_flag_[e] = flag;
   });
@@ -95,21 +100,16 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
     for (std::size_t e = 0; e < connectors; ++e) {
       if ((connector_flag_[e] & kYields) == 0 || model.connector_live[e] == 0) continue;
       const auto [a, b] = model.connector_particles[e];
-      const double length = norm(x[b] - x[a]);
       const double rest = model.connector_rest_length[e];
-      const double strain = length / rest - 1.0;
-      const double yield = model.connector_yield_strain[e];
-      // In compression the mapping needs 1 - y_e > 0 (a rest length, not a negative one).
-      if (strain < 0.0 && yield >= 1.0) continue;
-      const double new_rest = length / (1.0 + std::copysign(yield, strain));
+      const spring_laws::ReturnMapping mapping =
+          spring_laws::return_mapping(norm(x[b] - x[a]), rest, model.connector_yield_strain[e], limits.hardening);
+      if (!mapping.yields) continue;
       const double stiffness = model.connector_stiffness[e];
-      state.plastic_work += element::connector_energy(x[a], x[b], new_rest, stiffness) -
+      state.plastic_work += element::connector_energy(x[a], x[b], mapping.rest_length, stiffness) -
                             element::connector_energy(x[a], x[b], rest, stiffness);
       const auto connector = static_cast<std::uint32_t>(e);
-      set_connector_rest_length(model, connector, new_rest);
-      if (limits.hardening != 0.0) {
-        set_connector_yield_strain(model, connector, yield + limits.hardening * (std::abs(strain) - yield));
-      }
+      set_connector_rest_length(model, connector, mapping.rest_length);
+      if (limits.hardening != 0.0) set_connector_yield_strain(model, connector, mapping.yield_strain);
       ++counts.yields;
     }
   }
@@ -130,11 +130,9 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
     for (std::size_t r = 0; r < radials; ++r) {
       if (radial_flag_[r] == 0) continue;
       const auto [centre, b, c] = model.radial_particles[r];
-      const double yield = model.radial_yield_angle[r];
-      const double angle = element::radial_angle(x[centre], x[b], x[c]);
       const double rest = model.radial_rest_angle[r];
-      if (std::abs(angle - rest) <= yield) continue;
-      const double new_rest = std::clamp(angle - std::copysign(yield, angle - rest), 0.0, std::numbers::pi);
+      const double new_rest = spring_laws::creased_rest_angle(element::radial_angle(x[centre], x[b], x[c]), rest,
+                                                              model.radial_yield_angle[r]);
       if (new_rest == rest) continue;
       const double stiffness = model.radial_stiffness[r];
       state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness) -

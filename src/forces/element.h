@@ -3,8 +3,8 @@
 // finite differences of its energy (tests/forces/test_element.cpp). The functions themselves are
 // in element_math.inc, written in the subset of C++ and GLSL the two share, which the Vulkan
 // compute shaders include as well (src/gpu/shaders/element_math.glsl): one source of truth for
-// the CPU and the GPU, held together by tests/gpu/test_element_forces.cpp. This header defines
-// the C++ spelling of what that file leaves to its includer and includes it in double precision.
+// the CPU and the GPU, held together by tests/gpu/test_element_forces.cpp. This header includes
+// it in double precision, spelled by core/shared_text.h.
 //
 // Connector spring between particles a and b (rest length L, stiffness k, damping c):
 //   e = x_b - x_a, l = |e|, u = e / l
@@ -42,30 +42,18 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/shared_text.h"
 #include "core/vec3.h"
 
 namespace clothsim::element {
 
 using Real = double;
+// The general element path keeps libm's atan2 rather than the shared arctangent of
+// forces/arctangent.inc that the lattice kernel and the shaders use: every run's energy.csv sums
+// radial_energy over all springs, and the crease law measures angles with radial_angle, so a
+// switch would move those outputs in their last bits (docs/architecture.md, "Shared laws").
 using std::atan2;
 
-// The C++ spelling of what element_math.inc leaves open (its file comment lists them).
-#define CLOTHSIM_INLINE inline
-#define CLOTHSIM_CONSTANT inline constexpr
-#define CLOTHSIM_IN(T) const T&
-#define CLOTHSIM_INOUT(T) T&
-#define CLOTHSIM_DEFAULT(value) = value
-#define CLOTHSIM_REAL(literal) literal
-#define CLOTHSIM_ZERO_VECTOR Vec3()
-
 #include "forces/element_math.inc"
-
-#undef CLOTHSIM_INLINE
-#undef CLOTHSIM_CONSTANT
-#undef CLOTHSIM_IN
-#undef CLOTHSIM_INOUT
-#undef CLOTHSIM_DEFAULT
-#undef CLOTHSIM_REAL
-#undef CLOTHSIM_ZERO_VECTOR
 
 }  // namespace clothsim::element

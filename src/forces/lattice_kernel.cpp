@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <type_traits>
+#include <utility>
 
 #if defined(__SSE2__)
 #include <xmmintrin.h>
@@ -228,26 +229,16 @@ template <typename Real, int kDirection>
   return out;
 }
 
-// Index of the pair (kB, kC) in kPairs.
-template <int kB, int kC>
-constexpr std::size_t pair_index() {
-  for (std::size_t i = 0; i < kPairs.size(); ++i) {
-    if (kPairs[i][0] == kB && kPairs[i][1] == kC) return i;
-  }
-  return kPairs.size();
-}
-
-// The spring between arms kB and kC of particle p, with its own stiffness, damping and rest angle
+// Radial spring kPair of particle p (model/lattice_springs.inc), between its arms
+// kRadialArmB[kPair] and kRadialArmC[kPair], with its own stiffness, damping and rest angle
 // (kUniform: its family's). On a uniform sheet a spring that does not exist (at a border) has the
 // family's values, not zeros, and contributes nothing all the same: one of its arms has 1/length 0.
-template <typename Real, bool kUniform, bool kResolveSingular, int kB, int kC>
+template <typename Real, bool kUniform, bool kResolveSingular, std::size_t kPair>
 [[gnu::always_inline]] inline RadialResult<Real> spring_at(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                            std::size_t p, std::size_t cols) {
-  constexpr bool kOpposite = (kB + 2) % 4 == kC;
-  constexpr std::size_t kPair = pair_index<kB, kC>();
-  static_assert(kPair < kPairs.size());
-  const Arm<Real> b = arm<Real, kB>(s, p, cols);
-  const Arm<Real> c = arm<Real, kC>(s, p, cols);
+  constexpr bool kOpposite = radial_pair_is_opposite(kPair);
+  const Arm<Real> b = arm<Real, kRadialArmB[kPair]>(s, p, cols);
+  const Arm<Real> c = arm<Real, kRadialArmC[kPair]>(s, p, cols);
   const Real elastic = kOpposite ? k.opposite_elastic : k.adjacent_elastic;
   const Real damped = kOpposite ? k.opposite_damped : k.adjacent_damped;
   Real stiffness = 0;
@@ -267,26 +258,52 @@ template <typename Real, bool kUniform, bool kResolveSingular, int kB, int kC>
                                                                elastic * stiffness, damped * damping, rest_angle);
 }
 
-// The to_<direction> x array of each direction.
-constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, kToNorthX};
+// The force the radial springs centred at a particle exert on the neighbour along an arm is the
+// sum of the ends of the springs there, in the springs' order: three terms (each arm is an end of
+// two adjacent springs and one opposite spring), each spring `pair`'s b end (b) or c end.
+struct ArmTerm {
+  std::size_t pair = 0;
+  bool b = false;
+};
+constexpr std::array<ArmTerm, 3> arm_terms(int arm) {
+  std::array<ArmTerm, 3> terms{};
+  std::size_t count = 0;
+  for (std::size_t pair = 0; pair < static_cast<std::size_t>(kRadialsPerParticle); ++pair) {
+    if (kRadialArmB[pair] == arm || kRadialArmC[pair] == arm) terms.at(count++) = {pair, kRadialArmB[pair] == arm};
+  }
+  return terms;
+}
 
-// The six radial springs centred at particle p, in the order (E,S), (S,W), (W,N), (N,E), (E,W),
-// (S,N), written as forces on its four neighbours; each neighbour's sum and the power are
-// accumulated in that order (resolve_spring_row repeats exactly these sums). Returns a positive
-// number if one of the springs is singular.
+template <typename Real>
+using ParticleSprings = std::array<RadialResult<Real>, static_cast<std::size_t>(kRadialsPerParticle)>;
+
+template <typename Real, int kArm>
+[[gnu::always_inline]] inline Vector<Real> force_on_arm(const ParticleSprings<Real>& springs) {
+  constexpr std::array<ArmTerm, 3> kTerms = arm_terms(kArm);
+  static_assert(kTerms[0].pair < kTerms[1].pair && kTerms[1].pair < kTerms[2].pair, "three springs end on each arm");
+  const auto end = [&](const ArmTerm& term) { return term.b ? springs[term.pair].on_b : springs[term.pair].on_c; };
+  return end(kTerms[0]) + end(kTerms[1]) + end(kTerms[2]);
+}
+
+template <typename Real, bool kUniform, std::size_t... kPair>
+[[gnu::always_inline]] inline ParticleSprings<Real> springs_at(const Arrays<Real>& s, const Coefficients<Real>& k,
+                                                               std::size_t p, std::size_t cols,
+                                                               std::index_sequence<kPair...>) {
+  return {spring_at<Real, kUniform, false, kPair>(s, k, p, cols)...};
+}
+
+// The six radial springs centred at particle p, written as forces on its four neighbours; each
+// neighbour's sum and the power are accumulated in the springs' order (resolve_spring_row repeats
+// exactly these sums). Returns a positive number if one of the springs is singular.
 template <typename Real, bool kUniform>
 [[gnu::always_inline]] inline Real radial_particle(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t p,
                                                    std::size_t cols) {
-  const RadialResult<Real> es = spring_at<Real, kUniform, false, 0, 1>(s, k, p, cols);
-  const RadialResult<Real> sw = spring_at<Real, kUniform, false, 1, 2>(s, k, p, cols);
-  const RadialResult<Real> wn = spring_at<Real, kUniform, false, 2, 3>(s, k, p, cols);
-  const RadialResult<Real> ne = spring_at<Real, kUniform, false, 3, 0>(s, k, p, cols);
-  const RadialResult<Real> ew = spring_at<Real, kUniform, false, 0, 2>(s, k, p, cols);
-  const RadialResult<Real> sn = spring_at<Real, kUniform, false, 1, 3>(s, k, p, cols);
-  const Vector<Real> to_east = es.on_b + ne.on_c + ew.on_b;
-  const Vector<Real> to_south = es.on_c + sw.on_b + sn.on_b;
-  const Vector<Real> to_west = sw.on_c + wn.on_b + ew.on_c;
-  const Vector<Real> to_north = wn.on_c + ne.on_b + sn.on_c;
+  const ParticleSprings<Real> r = springs_at<Real, kUniform>(
+      s, k, p, cols, std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
+  const Vector<Real> to_east = force_on_arm<Real, 0>(r);
+  const Vector<Real> to_south = force_on_arm<Real, 1>(r);
+  const Vector<Real> to_west = force_on_arm<Real, 2>(r);
+  const Vector<Real> to_north = force_on_arm<Real, 3>(r);
   s[kToEastX][p] = to_east.x;
   s[kToEastY][p] = to_east.y;
   s[kToEastZ][p] = to_east.z;
@@ -299,18 +316,25 @@ template <typename Real, bool kUniform>
   s[kToNorthX][p] = to_north.x;
   s[kToNorthY][p] = to_north.y;
   s[kToNorthZ][p] = to_north.z;
-  s[kPower][p] = s[kConnectorPower][p] + es.power + sw.power + wn.power + ne.power + ew.power + sn.power;
-  return std::max(std::max(std::max(es.singular, sw.singular), std::max(wn.singular, ne.singular)),
-                  std::max(ew.singular, sn.singular));
+  s[kPower][p] = s[kConnectorPower][p] + r[0].power + r[1].power + r[2].power + r[3].power + r[4].power + r[5].power;
+  return std::max(std::max(std::max(r[0].singular, r[1].singular), std::max(r[2].singular, r[3].singular)),
+                  std::max(r[4].singular, r[5].singular));
 }
 
-// Recomputes one of the six springs for a band with singular springs resolved, adding its forces
-// into the neighbours' sums in the order of radial_particle (`first_b`/`first_c`: the spring is
-// the first term of that neighbour's sum). One spring per loop keeps the body small enough for
-// GCC to if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
-template <typename Real, bool kUniform, int kB, int kC, bool kFirstB, bool kFirstC>
+// The to_<direction> x array of each direction.
+constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, kToNorthX};
+
+// Recomputes spring kPair of every particle of a band with singular springs resolved, adding its
+// forces into the neighbours' sums in the order of radial_particle (a spring that is the first
+// term of a neighbour's sum starts it). One spring per loop keeps the body small enough for GCC to
+// if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
+template <typename Real, bool kUniform, std::size_t kPair>
 [[gnu::always_inline]] inline void resolve_spring_row(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                       std::size_t begin, std::size_t end, std::size_t cols) {
+  constexpr int kB = kRadialArmB[kPair];
+  constexpr int kC = kRadialArmC[kPair];
+  constexpr bool kFirstB = arm_terms(kB)[0].pair == kPair;
+  constexpr bool kFirstC = arm_terms(kC)[0].pair == kPair;
   Real* __restrict bx = s[kToArray[kB]];
   Real* __restrict by = s[kToArray[kB] + 1];
   Real* __restrict bz = s[kToArray[kB] + 2];
@@ -321,7 +345,7 @@ template <typename Real, bool kUniform, int kB, int kC, bool kFirstB, bool kFirs
   const Real zero = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    const RadialResult<Real> r = spring_at<Real, kUniform, true, kB, kC>(s, k, p, cols);
+    const RadialResult<Real> r = spring_at<Real, kUniform, true, kPair>(s, k, p, cols);
     bx[p] = (kFirstB ? zero : bx[p]) + r.on_b.x;
     by[p] = (kFirstB ? zero : by[p]) + r.on_b.y;
     bz[p] = (kFirstB ? zero : bz[p]) + r.on_b.z;
@@ -330,6 +354,13 @@ template <typename Real, bool kUniform, int kB, int kC, bool kFirstB, bool kFirs
     cz[p] = (kFirstC ? zero : cz[p]) + r.on_c.z;
     power[p] += r.power;
   }
+}
+
+template <typename Real, bool kUniform, std::size_t... kPair>
+[[gnu::always_inline]] inline void resolve_springs(const Arrays<Real>& s, const Coefficients<Real>& k,
+                                                   std::size_t begin, std::size_t end, std::size_t cols,
+                                                   std::index_sequence<kPair...>) {
+  (resolve_spring_row<Real, kUniform, kPair>(s, k, begin, end, cols), ...);
 }
 
 template <typename Real, bool kUniform>
@@ -351,12 +382,8 @@ template <typename Real, bool kUniform>
     // where it is undefined. Particles without a singular spring get the same values again.
     Real* __restrict power = s[kPower];
     for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
-    resolve_spring_row<Real, kUniform, 0, 1, true, true>(s, k, begin, end, cols);    // (E,S): first into east, south
-    resolve_spring_row<Real, kUniform, 1, 2, false, true>(s, k, begin, end, cols);   // (S,W): first into west
-    resolve_spring_row<Real, kUniform, 2, 3, false, true>(s, k, begin, end, cols);   // (W,N): first into north
-    resolve_spring_row<Real, kUniform, 3, 0, false, false>(s, k, begin, end, cols);  // (N,E)
-    resolve_spring_row<Real, kUniform, 0, 2, false, false>(s, k, begin, end, cols);  // (E,W)
-    resolve_spring_row<Real, kUniform, 1, 3, false, false>(s, k, begin, end, cols);  // (S,N)
+    resolve_springs<Real, kUniform>(s, k, begin, end, cols,
+                                    std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
   }
 }
 

@@ -1,14 +1,13 @@
-// The lattice kernel's own layout, shared by its two source files: the scratch arrays and the
-// order of a particle's radial springs (lattice_kernel.cpp, the vector loops), and the walk over
-// the lattice's springs in the model's order (lattice_kernel_parameters.cpp, which prepares the
-// scratch and copies the parameters), and the Vulkan backend's lattice path, which lays out the
-// springs' parameters by particle the same way (gpu/device_integrator.cpp). The design is in
-// lattice_kernel.h.
+// The lattice kernel's own layout, shared by its two source files (lattice_kernel.cpp, the vector
+// loops, and lattice_kernel_parameters.cpp, which prepares the scratch and copies the
+// parameters): the scratch arrays. The order of a particle's springs, and the walk over the
+// lattice's springs in the model's order, are the model's (model/lattice_springs.h). The design
+// is in lattice_kernel.h.
 #pragma once
 
-#include <array>
 #include <cstddef>
-#include <cstdint>
+
+#include "model/lattice_springs.h"
 
 namespace clothsim::lattice_layout {
 
@@ -34,8 +33,9 @@ enum Array : std::size_t {
   kSingular,  // > 0 where one of the particle's radial springs is singular
   // Per-spring parameters, copied from the model by refresh() whenever its revision moves.
   // East and south connector: stiffness, damping, rest length, and 1 if intact (0 if broken or
-  // missing). Radial spring i of the particle (i in the order of kPairs: (E,S), (S,W), (W,N),
-  // (N,E), (E,W), (S,N)): stiffness, damping, rest angle; 0, 0 where it is broken or missing.
+  // missing). Radial spring i of the particle (i in the order of model/lattice_springs.inc: (E,S),
+  // (S,W), (W,N), (N,E), (E,W), (S,N)): stiffness, damping, rest angle; 0, 0 where it is broken or
+  // missing.
   kEastStiffness, kEastDamping, kEastRestLength, kEastLive,
   kSouthStiffness, kSouthDamping, kSouthRestLength, kSouthLive,
   kRadialStiffness, kRadialDamping = kRadialStiffness + 6, kRadialRestAngle = kRadialDamping + 6,
@@ -44,41 +44,5 @@ enum Array : std::size_t {
 // clang-format on
 // A uniform sheet (LatticeKernel::uniform()) keeps only the arrays before the parameters.
 inline constexpr std::size_t kUniformArrayCount = kEastStiffness;
-
-// The radial springs of a particle as pairs of its connectors: directions 0 east, 1 south,
-// 2 west, 3 north; the four adjacent pairs, then the two opposite ones (build_lattice's order).
-inline constexpr std::array<std::array<int, 2>, 6> kPairs = {{{0, 1}, {1, 2}, {2, 3}, {3, 0}, {0, 2}, {1, 3}}};
-
-// Visits the springs of a rows x cols lattice in build_lattice()'s order, which is the order of
-// the model's element arrays: connector(e, p, south) for connector e from particle p east (south
-// false) or south, and radial(r, p, pair) for radial spring r centred at p between the arms of
-// kPairs[pair]. Stops at the first visit that returns false; returns whether every visit
-// returned true. Walking the lattice like this needs no table of where each spring goes (8 bytes
-// per connector and radial spring, 32 bytes per particle).
-template <typename Connector, typename Radial>
-bool for_each_lattice_spring(std::size_t rows, std::size_t cols, Connector&& connector, Radial&& radial) {
-  std::uint32_t e = 0;
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t j = 0; j < cols; ++j) {
-      const auto p = static_cast<std::uint32_t>(i * cols + j);
-      if (j + 1 < cols && !connector(e++, p, false)) return false;
-      if (i + 1 < rows && !connector(e++, p, true)) return false;
-    }
-  }
-  std::uint32_t r = 0;
-  for (std::size_t i = 0; i < rows; ++i) {
-    for (std::size_t j = 0; j < cols; ++j) {
-      const auto p = static_cast<std::uint32_t>(i * cols + j);
-      // Arms 0 east, 1 south, 2 west, 3 north.
-      const std::array<bool, 4> arm{j + 1 < cols, i + 1 < rows, j > 0, i > 0};
-      for (std::size_t pair = 0; pair < kPairs.size(); ++pair) {
-        const auto [b, c] = kPairs[pair];
-        if (!arm[static_cast<std::size_t>(b)] || !arm[static_cast<std::size_t>(c)]) continue;
-        if (!radial(r++, p, pair)) return false;
-      }
-    }
-  }
-  return true;
-}
 
 }  // namespace clothsim::lattice_layout

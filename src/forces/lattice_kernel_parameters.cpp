@@ -29,18 +29,15 @@ bool LatticeKernel::prepare(const ClothModel& model, Precision precision) {
   // off the kernel. refresh() then finds each spring's place by walking the lattice again.
   const LatticeCounts counts = lattice_counts(rows, cols);
   if (model.connector_count() != counts.connectors || model.radial_count() != counts.radials) return false;
-  const auto step = [cols](std::uint32_t p, int arm) -> std::uint32_t {
-    const auto c = static_cast<std::uint32_t>(cols);
-    return arm == 0 ? p + 1 : arm == 1 ? p + c : arm == 2 ? p - 1 : p - c;
-  };
   const bool matches = for_each_lattice_spring(
       rows, cols,
       [&](std::uint32_t e, std::uint32_t p, bool south) {
-        const std::array<std::uint32_t, 2> expected{p, step(p, south ? 1 : 0)};
+        const std::array<std::uint32_t, 2> expected{p, lattice_neighbour(p, south ? 1 : 0, cols)};
         return model.connector_particles[e] == expected;
       },
       [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
-        const std::array<std::uint32_t, 3> expected{p, step(p, kPairs[pair][0]), step(p, kPairs[pair][1])};
+        const std::array<std::uint32_t, 3> expected{p, lattice_neighbour(p, kRadialArmB[pair], cols),
+                                                    lattice_neighbour(p, kRadialArmC[pair], cols)};
         return model.radial_particles[r] == expected;
       });
   if (!matches) return false;

@@ -113,8 +113,9 @@ template <typename Real, bool kResolveSingular>
   // theta (acute) or pi - theta (obtuse), and (that angle) / sin(theta) without cancellation.
   const Real angle = vector_math::atan2_first_quadrant(sine, std::abs(cosine));
   const Real angle2 = angle * angle;
-  const Real series = one + angle2 * (Real(1.0 / 6.0) + angle2 * Real(7.0 / 360.0));
-  const Real ratio = angle < Real(1e-4) ? series : angle * inverse_sine;
+  // element::x_over_sin's series and its end, as a select.
+  const Real series = one + angle2 * (Real(element::kXOverSinSecond) + angle2 * Real(element::kXOverSinFourth));
+  const Real ratio = angle < Real(element::kXOverSinSeriesEnd) ? series : angle * inverse_sine;
   const Real smooth = obtuse ? -ratio : ratio;
   const Real constant = obtuse ? std::numbers::pi_v<Real> - rest_angle : -rest_angle;
   const Real kb = stiffness * inverse_b;

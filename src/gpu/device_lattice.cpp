@@ -7,10 +7,10 @@
 #include <vector>
 
 #include "core/assert.h"
-#include "forces/lattice_kernel_layout.h"
 #include "gpu/device_integrator.h"
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/device_step.h"
+#include "model/lattice_springs.h"
 #include "model/model_edits.h"
 
 namespace clothsim::gpu {
@@ -22,7 +22,7 @@ void DeviceIntegrator::upload_lattice_params() {
   constexpr double kNever = std::numeric_limits<double>::infinity();
   std::vector<double> params(std::size_t{particles_} * kLatticeParams, 0.0);
   std::vector<double> events(std::size_t{particles_} * kEventParams, kNever);
-  lattice_layout::for_each_lattice_spring(
+  for_each_lattice_spring(
       static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols),
       [&](std::uint32_t e, std::uint32_t p, bool south) {
         double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];
@@ -84,7 +84,7 @@ IntegratorEvents DeviceIntegrator::take_spring_events(ClothModel& model) {
   const auto on_device = [this](double value) {
     return precision_ == Precision::float64 ? value : static_cast<double>(static_cast<float>(value));
   };
-  lattice_layout::for_each_lattice_spring(
+  for_each_lattice_spring(
       static_cast<std::size_t>(model.rows), static_cast<std::size_t>(model.cols),
       [&](std::uint32_t e, std::uint32_t p, bool south) {
         const double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];

@@ -2,6 +2,7 @@
 
 #include "core/parallel.h"
 #include "core/timer.h"
+#include "integrators/step_control.h"
 
 namespace clothsim {
 
@@ -46,11 +47,9 @@ void ClothDynamics::evaluate(double time, std::span<const Vec3> position, std::s
 }
 
 double clip_step(double time, double step, double t_limit, bool& clipped) {
-  // A step that would leave less than a millionth of itself before t_limit is stretched to end
-  // there: otherwise the next step would be a sliver decided by rounding.
-  const double remaining = t_limit - time;
-  clipped = step >= remaining * (1.0 - 1e-6);
-  return clipped ? remaining : step;
+  const step_control::ClippedStep result = step_control::clip_step(time, step, t_limit);
+  clipped = result.clipped;
+  return result.step;
 }
 
 }  // namespace clothsim

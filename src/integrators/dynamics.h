@@ -57,7 +57,8 @@ class ClothDynamics {
 };
 
 // Shortens a step so that it lands exactly on t_limit instead of stopping a rounding error short
-// of it. Returns the step; sets `clipped` when the step ends at t_limit.
+// of it (step_control::clip_step, integrators/step_control.inc). Returns the step; sets `clipped`
+// when the step ends at t_limit.
 double clip_step(double time, double step, double t_limit, bool& clipped);
 
 }  // namespace clothsim

@@ -152,12 +152,6 @@ CLOTHSIM_MULTIVERSION std::uint64_t largest_error_bits(const Vec3* error_x, cons
   return worst;
 }
 
-// Exponents of the PI step-size controller for an error estimate of order 5 (the embedded
-// 4th-order solution's local error): Hairer, Norsett and Wanner's DOPRI5 values, beta = 0.04,
-// alpha = 1/5 - 0.75 beta.
-constexpr double kControllerBeta = 0.04;
-constexpr double kControllerAlpha = 0.2 - 0.75 * kControllerBeta;
-
 }  // namespace
 
 ExplicitRungeKutta::ExplicitRungeKutta(const ClothModel& model, const IntegratorSettings& settings,
@@ -314,7 +308,7 @@ StepOutcome FixedStepRungeKutta::step(ClothState& state, double t_limit) {
 
 AdaptiveRungeKutta::AdaptiveRungeKutta(const ClothModel& model, const IntegratorSettings& settings,
                                        const ForceOptions& options, const ButcherTableau& tableau)
-    : ExplicitRungeKutta(model, settings, options, tableau) {
+    : ExplicitRungeKutta(model, settings, options, tableau), controller_(step_control::make_step_controller(settings)) {
   CLOTHSIM_ASSERT(tableau.embedded_order > 0, "an adaptive method needs an embedded error estimate");
   std::array<double, kMaxStages> difference{};
   for (std::size_t i = 0; i < difference.size(); ++i) difference[i] = tableau.weights[i] - tableau.embedded_weights[i];
@@ -393,43 +387,27 @@ double AdaptiveRungeKutta::initial_step(const ClothState& state, double t_limit)
 
 StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
   CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
-  if (proposed_step_ <= 0.0) proposed_step_ = initial_step(state, t_limit);
-  bool rejected_before = false;
+  if (controller_.proposed_step <= 0.0) controller_.proposed_step = initial_step(state, t_limit);
+  controller_.rejected_before = false;
   for (;;) {
     bool clipped = false;
-    const double h = clip_step(state.time, std::min(proposed_step_, settings_.max_step), t_limit, clipped);
+    const double h = clip_step(state.time, std::min(controller_.proposed_step, settings_.max_step), t_limit, clipped);
     if (h < settings_.min_step && !clipped) {
       return {StepStatus::step_underflow, h, 0, false};
     }
     compute_stages(state, h);
     const ErrorNorm error = solution_and_error(state, h);
 
-    if (std::isnan(error.value) || error.value > 1.0) {
-      // Reject: shrink by the optimal factor for this error, never by more than max_shrink.
+    const bool non_finite = std::isnan(error.value);
+    if (non_finite || error.value > 1.0) {
       ++stats_.rejected_steps;
-      const double factor = std::isnan(error.value)
-                                ? settings_.max_shrink
-                                : std::max(settings_.max_shrink, settings_.safety * std::pow(error.value, -0.2));
-      proposed_step_ = h * std::min(1.0, factor);
-      rejected_before = true;
-      if (proposed_step_ < settings_.min_step) {
-        return {StepStatus::step_underflow, proposed_step_, error.particle, std::isnan(error.value)};
+      step_control::reject_step(controller_, h, error.value, non_finite);
+      if (controller_.proposed_step < settings_.min_step) {
+        return {StepStatus::step_underflow, controller_.proposed_step, error.particle, non_finite};
       }
       continue;
     }
-
-    // Accept, and propose the next step with the PI controller. After a rejection the step may
-    // not grow (Hairer's rule), which stops a rejection cycle at the stability limit.
-    const double bounded_error = std::max(error.value, 1e-10);
-    double factor =
-        settings_.safety * std::pow(bounded_error, -kControllerAlpha) * std::pow(previous_error_, kControllerBeta);
-    factor = std::clamp(factor, settings_.max_shrink, settings_.max_growth);
-    if (rejected_before) factor = std::min(factor, 1.0);
-    previous_error_ = std::max(error.value, 1e-4);
-    const double next = h * factor;
-    // A step clipped to land on t_limit says little about the step the dynamics allow: keep the
-    // larger of the old proposal and the new one.
-    proposed_step_ = clipped ? std::max(next, proposed_step_) : next;
+    step_control::accept_step(controller_, h, error.value, clipped);
     accept(state, h, clipped ? t_limit : state.time + h);
     return {StepStatus::ok, h, 0, false};
   }
@@ -437,8 +415,8 @@ StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
 
 void AdaptiveRungeKutta::transfer_state(StateArchive& archive) {
   Integrator::transfer_state(archive);
-  archive.value("rkf45.proposed_step", proposed_step_);
-  archive.value("rkf45.previous_error", previous_error_);
+  archive.value("rkf45.proposed_step", controller_.proposed_step);
+  archive.value("rkf45.previous_error", controller_.previous_error);
 }
 
 }  // namespace clothsim

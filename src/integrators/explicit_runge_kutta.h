@@ -33,6 +33,7 @@
 
 #include "integrators/dynamics.h"
 #include "integrators/integrator.h"
+#include "integrators/step_control.h"
 #include "integrators/tableau.h"
 
 namespace clothsim {
@@ -105,9 +106,8 @@ class FixedStepRungeKutta final : public ExplicitRungeKutta {
 // RKF45 with error control in the max norm over free particles: a step is accepted when
 // max_i |e_i| / (atol + rtol max(|y_i|, |y_new,i|)) <= 1. The max norm, rather than an RMS
 // average, keeps a large error at one particle from hiding in a large lattice, so the accepted
-// accuracy does not depend on the lattice size. The next step comes from a PI controller
-// (Gustafsson; Hairer and Wanner's DOPRI5 settings), which avoids the step-size oscillation a
-// plain controller shows on stiff problems such as the paper's heavily damped springs.
+// accuracy does not depend on the lattice size. The next step comes from the PI controller of
+// integrators/step_control.inc, which the device's RKF45 runs as well.
 class AdaptiveRungeKutta final : public ExplicitRungeKutta {
  public:
   AdaptiveRungeKutta(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options,
@@ -115,7 +115,7 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
   IntegratorKind kind() const override { return IntegratorKind::rkf45; }
   StepOutcome step(ClothState& state, double t_limit) override;
   // The step the controller will try next, s.
-  double proposed_step() const { return proposed_step_; }
+  double proposed_step() const { return controller_.proposed_step; }
   // The statistics, the next step and the controller's error history.
   void transfer_state(StateArchive& archive) override;
 
@@ -136,10 +136,9 @@ class AdaptiveRungeKutta final : public ExplicitRungeKutta {
   // The first trial step: time_step, or initial_adaptive_step() where it is 0.
   double initial_step(const ClothState& state, double t_limit);
 
-  NystromRow error_row_;        // the row b - b^
-  double proposed_step_ = 0.0;  // 0 until the first step
-  double previous_error_ = 1e-4;
-  std::vector<double> block_error_;  // [blocks of 1024 particles]: per-block maxima of the error norm
+  NystromRow error_row_;                     // the row b - b^
+  step_control::StepController controller_;  // its proposed step is 0 until the first step
+  std::vector<double> block_error_;          // [blocks of 1024 particles]: per-block maxima of the error norm
   ErrorNorm last_error_;
 };
 

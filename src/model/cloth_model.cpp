@@ -8,15 +8,12 @@
 
 #include "core/assert.h"
 #include "core/error.h"
+#include "model/lattice_springs.h"
 
 namespace clothsim {
 namespace {
 
 constexpr std::uint32_t kNoConnector = std::numeric_limits<std::uint32_t>::max();
-
-// Directions around a particle in the lattice plane, counter-clockwise seen from +y:
-// east (+x, col+1), south (+z, row+1), west, north.
-constexpr std::array<std::array<int, 2>, 4> kDirections = {{{0, 1}, {1, 0}, {0, -1}, {-1, 0}}};
 
 void build_connector_radial_table(ClothModel& model) {
   const std::size_t connectors = model.connector_count();
@@ -185,54 +182,39 @@ ClothModel build_lattice(const LatticeDef& lattice, const Environment& environme
   model.radial_stiffness.reserve(counts.radials);
   model.radial_damping.reserve(counts.radials);
 
-  // Connectors, particle by particle: east then south neighbour. neighbour_connector[p][d] is the
-  // connector from p in direction d, or kNoConnector at the border.
+  // The springs in the lattice's order (model/lattice_springs.h): every connector, then every
+  // radial spring between two of a particle's connectors. neighbour_connector[p][arm] is the
+  // connector from p along arm, or kNoConnector at the border.
   std::vector<std::array<std::uint32_t, 4>> neighbour_connector(
       n, {kNoConnector, kNoConnector, kNoConnector, kNoConnector});
-  const auto add_connector = [&](std::uint32_t a, std::uint32_t b, int direction_from_a) {
-    const auto index = static_cast<std::uint32_t>(model.connector_particles.size());
-    model.connector_particles.push_back({a, b});
-    model.connector_rest_length.push_back(lattice.spacing);
-    model.connector_stiffness.push_back(lattice.connector.stiffness);
-    model.connector_damping.push_back(lattice.connector.damping);
-    neighbour_connector[a][static_cast<std::size_t>(direction_from_a)] = index;
-    neighbour_connector[b][static_cast<std::size_t>((direction_from_a + 2) % 4)] = index;
-  };
-  for (int i = 0; i < rows; ++i) {
-    for (int j = 0; j < cols; ++j) {
-      const std::uint32_t p = lattice_index(cols, i, j);
-      if (j + 1 < cols) add_connector(p, lattice_index(cols, i, j + 1), 0);
-      if (i + 1 < rows) add_connector(p, lattice_index(cols, i + 1, j), 1);
-    }
-  }
-
-  // Radial springs at each particle: the 4 adjacent pairs (E,S), (S,W), (W,N), (N,E), then the
-  // 2 opposite pairs (E,W), (S,N), each where both connectors exist. An interior particle has
-  // 4 + 2, an edge particle 2 + 1, a corner 1 + 0, as in the paper.
-  const auto add_radial = [&](std::uint32_t centre, int d1, int d2, int row, int col, RadialKind kind) {
-    const std::uint32_t c1 = neighbour_connector[centre][static_cast<std::size_t>(d1)];
-    const std::uint32_t c2 = neighbour_connector[centre][static_cast<std::size_t>(d2)];
-    if (c1 == kNoConnector || c2 == kNoConnector) return;
-    const std::uint32_t b = lattice_index(cols, row + kDirections[static_cast<std::size_t>(d1)][0],
-                                          col + kDirections[static_cast<std::size_t>(d1)][1]);
-    const std::uint32_t c = lattice_index(cols, row + kDirections[static_cast<std::size_t>(d2)][0],
-                                          col + kDirections[static_cast<std::size_t>(d2)][1]);
-    const bool adjacent = kind == RadialKind::adjacent;
-    model.radial_particles.push_back({centre, b, c});
-    model.radial_connectors.push_back({c1, c2});
-    model.radial_kind.push_back(kind);
-    model.radial_rest_angle.push_back(adjacent ? lattice.adjacent_rest_angle : lattice.opposite_rest_angle);
-    model.radial_stiffness.push_back(adjacent ? lattice.adjacent.stiffness : lattice.opposite.stiffness);
-    model.radial_damping.push_back(adjacent ? lattice.adjacent.damping : lattice.opposite.damping);
-  };
-  for (int i = 0; i < rows; ++i) {
-    for (int j = 0; j < cols; ++j) {
-      const std::uint32_t p = lattice_index(cols, i, j);
-      for (int d = 0; d < 4; ++d) add_radial(p, d, (d + 1) % 4, i, j, RadialKind::adjacent);
-      add_radial(p, 0, 2, i, j, RadialKind::opposite);
-      add_radial(p, 1, 3, i, j, RadialKind::opposite);
-    }
-  }
+  const auto grid_cols = static_cast<std::size_t>(cols);
+  for_each_lattice_spring(
+      static_cast<std::size_t>(rows), grid_cols,
+      [&](std::uint32_t e, std::uint32_t p, bool south) {
+        const int arm = south ? 1 : 0;
+        const std::uint32_t b = lattice_neighbour(p, arm, grid_cols);
+        model.connector_particles.push_back({p, b});
+        model.connector_rest_length.push_back(lattice.spacing);
+        model.connector_stiffness.push_back(lattice.connector.stiffness);
+        model.connector_damping.push_back(lattice.connector.damping);
+        neighbour_connector[p][static_cast<std::size_t>(arm)] = e;
+        neighbour_connector[b][static_cast<std::size_t>(arm + 2)] = e;
+        return true;
+      },
+      [&](std::uint32_t, std::uint32_t p, std::size_t pair) {
+        const int arm_b = kRadialArmB[pair];
+        const int arm_c = kRadialArmC[pair];
+        const bool adjacent = !radial_pair_is_opposite(pair);
+        model.radial_particles.push_back(
+            {p, lattice_neighbour(p, arm_b, grid_cols), lattice_neighbour(p, arm_c, grid_cols)});
+        model.radial_connectors.push_back({neighbour_connector[p][static_cast<std::size_t>(arm_b)],
+                                           neighbour_connector[p][static_cast<std::size_t>(arm_c)]});
+        model.radial_kind.push_back(adjacent ? RadialKind::adjacent : RadialKind::opposite);
+        model.radial_rest_angle.push_back(adjacent ? lattice.adjacent_rest_angle : lattice.opposite_rest_angle);
+        model.radial_stiffness.push_back(adjacent ? lattice.adjacent.stiffness : lattice.opposite.stiffness);
+        model.radial_damping.push_back(adjacent ? lattice.adjacent.damping : lattice.opposite.damping);
+        return true;
+      });
 
   model.anchors.reserve(anchors.size());
   for (const Anchor& anchor : anchors) {

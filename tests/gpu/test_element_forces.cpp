@@ -2,7 +2,7 @@
 // configurations, straight (theta = pi) and folded (theta = 0) radial springs exactly and nearly,
 // across the singular sine (kSingularSine = 1e-12), with and without damping, and zero-length
 // connectors. Both sides evaluate the same text (forces/element_math.inc), so the differences are
-// rounding: the device's atan2 (fdlibm's, src/gpu/shaders/real_math.glsl) against glibc's, and
+// rounding: the device's atan2 (the shared arctangent, forces/arctangent.inc) against glibc's, and
 // whatever contraction or division the driver's compiler does differently.
 //
 // The bounds, per element, on the largest difference of any force slot (and of the damping
@@ -18,8 +18,8 @@
 // (sin below kSingularSine: both sides take the plane from the motion).
 // float64: |f_gpu - f_cpu| <= 16 eps K S (eps = 2^-52). Measured on lavapipe: connectors and all
 //   straight, folded, nearly straight and nearly folded radial springs bit for bit equal; the
-//   others within 1.8 eps S (without K), the two atan2s (fdlibm's on the device, glibc's on the
-//   CPU) differing by an ulp.
+//   others within 1.8 eps S (without K), the two atan2s (the shared one on the device, glibc's on
+//   the CPU) differing by an ulp.
 // float32: the inputs are rounded to float first and the CPU evaluates the rounded inputs in
 //   double, so the difference is the float arithmetic alone. Connectors: <= 32 eps_f S (eps_f =
 //   2^-23; measured 2.5). Radial springs: <= 2^-16 K S (128 eps_f; measured 32 eps_f, on exactly

@@ -1,26 +1,6 @@
-// The GLSL spelling of what src/forces/element_math.inc leaves to its includer (that file's
-// comment lists them), then the element formulas themselves: the same text the CPU compiles in
-// forces/element.h. CLOTHSIM_FLOAT64 (1 or 0, set by the build for each of a shader's two
-// variants) chooses double or float.
-#if CLOTHSIM_FLOAT64
-#define Real double
-#define Vec3 dvec3
-#else
-#define Real float
-#define Vec3 vec3
-#endif
-// A literal in Real precision. GLSL's own way for doubles is the lf suffix, which a macro cannot
-// paste (glslang refuses ## on numbers); Real(literal) is a constant conversion that glslang
-// folds from the literal's full double value (double(0.1) becomes the double nearest 0.1, as
-// the SPIR-V shows). tests/gpu holds the result against the CPU's, which would see a float-rounded
-// pi or atan coefficient at the 1e-7 level.
-#define CLOTHSIM_REAL(literal) Real(literal)
-#define CLOTHSIM_INLINE
-#define CLOTHSIM_CONSTANT const
-#define CLOTHSIM_IN(T) const T
-#define CLOTHSIM_INOUT(T) inout T
-#define CLOTHSIM_DEFAULT(value)
-#define CLOTHSIM_ZERO_VECTOR Vec3(0.0)
-
+// The element formulas in GLSL: the shared text's spelling (shared_text.glsl), the helpers they
+// need (real_math.glsl), then the formulas themselves, forces/element_math.inc, the same text the
+// CPU compiles in forces/element.h.
+#include "gpu/shaders/shared_text.glsl"
 #include "gpu/shaders/real_math.glsl"
 #include "forces/element_math.inc"

@@ -15,7 +15,6 @@ LatticeCell lattice_cell(uint p, uint rows, uint cols) {
   return cell;
 }
 
-// The arms of a particle's six radial springs, in build_lattice's order: (E,S), (S,W), (W,N),
-// (N,E), (E,W), (S,N) (forces/lattice_kernel_layout.h, kPairs).
-const uint kArmB[6] = uint[6](0u, 1u, 2u, 3u, 0u, 1u);
-const uint kArmC[6] = uint[6](1u, 2u, 3u, 0u, 2u, 3u);
+// The arms of a particle's radial springs, kRadialArmB and kRadialArmC, in build_lattice's order:
+// the model's table.
+#include "model/lattice_springs.inc"

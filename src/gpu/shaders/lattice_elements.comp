@@ -60,10 +60,10 @@ void main() {
     power += f.damping_power;
   }
   // The six radial springs: rest angle, stiffness, damping, active.
-  for (uint k = 0u; k < 6u; ++k) {
+  for (uint k = 0u; k < uint(kRadialsPerParticle); ++k) {
     const uint r = base + 8u + 4u * k;
-    const uint b = kArmB[k];
-    const uint c = kArmC[k];
+    const uint b = uint(kRadialArmB[k]);
+    const uint c = uint(kRadialArmC[k]);
     if (!has[b] || !has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
     const RadialForce f = radial_force(x, arm_x[b], arm_x[c], v, arm_v[b], arm_v[c], lattice_params[r],
                                        lattice_params[r + 1u], damped * lattice_params[r + 2u]);

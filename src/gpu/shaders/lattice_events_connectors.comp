@@ -2,13 +2,13 @@
 #extension GL_GOOGLE_include_directive : require
 // Tearing and permanent stretching on the lattice path, after an accepted step
 // (events/spring_events.h, laws 1 and 2, on the accepted state): each particle takes its east
-// and south connectors. A live connector whose strain against its original length exceeds its
-// break strain breaks (active 0, the time noted, its elastic energy released as fracture work;
-// lattice_events_radial then breaks the radial springs that use it); otherwise one whose elastic
-// strain against its rest length exceeds its yield strain yields by the return mapping (rest
-// length l / (1 + sign(eps) y), y grown by hardening, the elastic energy's change as plastic
-// work). Each particle writes only its own connectors: no two invocations touch one spring.
+// and south connectors. A live connector past its break strain breaks (active 0, the time noted,
+// its elastic energy released as fracture work; lattice_events_radial then breaks the radial
+// springs that use it); otherwise one past its yield strain yields by the return mapping (the
+// elastic energy's change as plastic work). The laws are the CPU's, events/spring_laws.inc. Each
+// particle writes only its own connectors: no two invocations touch one spring.
 #include "gpu/shaders/element_math.glsl"
+#include "events/spring_laws.inc"
 #include "gpu/shaders/device_step.h"
 
 layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
@@ -45,7 +45,7 @@ void main() {
     const Real length = norm(xb - x);
     const Real rest = lattice_params[c];
     const Real stiffness = lattice_params[c + 1u];
-    if ((constants.laws & 1u) != 0u && length / event_params[e] - Real(1.0) > event_params[e + 1u]) {
+    if ((constants.laws & 1u) != 0u && connector_breaks(length, event_params[e], event_params[e + 1u])) {
       fracture -= connector_energy(x, xb, rest, stiffness);
       lattice_params[c + 3u] = Real(0.0);
       event_params[e + 3u] = control_real[kElapsed];
@@ -53,15 +53,13 @@ void main() {
       atomicAdd(control_uint[kBreaks], 1u);
       continue;
     }
-    const Real strain = length / rest - Real(1.0);
-    const Real yield_strain = event_params[e + 2u];
-    if ((constants.laws & 2u) == 0u || !(abs(strain) > yield_strain)) continue;
-    if (strain < Real(0.0) && yield_strain >= Real(1.0)) continue;  // no negative rest length
-    const Real new_rest = length / (Real(1.0) + (strain < Real(0.0) ? -yield_strain : yield_strain));
-    plastic += connector_energy(x, xb, new_rest, stiffness) - connector_energy(x, xb, rest, stiffness);
-    lattice_params[c] = new_rest;
+    if ((constants.laws & 2u) == 0u) continue;
     const Real hardening = control_real[kHardening];
-    if (hardening != Real(0.0)) event_params[e + 2u] = yield_strain + hardening * (abs(strain) - yield_strain);
+    const ReturnMapping mapping = return_mapping(length, rest, event_params[e + 2u], hardening);
+    if (!mapping.yields) continue;
+    plastic += connector_energy(x, xb, mapping.rest_length, stiffness) - connector_energy(x, xb, rest, stiffness);
+    lattice_params[c] = mapping.rest_length;
+    if (hardening != Real(0.0)) event_params[e + 2u] = mapping.yield_strain;
     atomicAdd(control_uint[kYields], 1u);
   }
   event_energy[2u * p] = fracture;

@@ -3,10 +3,11 @@
 // The radial springs' side of the events on the lattice path, after lattice_events_connectors
 // (events/spring_events.h): each particle takes its six radial springs. One whose arm connector
 // broke in this step breaks with it (its elastic energy released as fracture work); a live one
-// whose angle is further than its yield angle from its rest angle creases (rest angle theta -
-// sign(theta - theta0) a, kept in [0, pi]; the elastic energy's change as plastic work). Each
-// workgroup then sums its particles' fracture and plastic work for rk_control's phase 2.
+// whose angle is further than its yield angle from its rest angle creases by the CPU's law,
+// events/spring_laws.inc (the elastic energy's change as plastic work). Each workgroup then sums
+// its particles' fracture and plastic work for rk_control's phase 2.
 #include "gpu/shaders/element_math.glsl"
+#include "events/spring_laws.inc"
 #include "gpu/shaders/device_step.h"
 
 const uint kWorkgroupSize = kReduceWorkgroup;
@@ -46,10 +47,10 @@ void main() {
     const Vec3 x = load_position(p);
     fracture = event_energy[2u * p];
     plastic = event_energy[2u * p + 1u];
-    for (uint k = 0u; k < 6u; ++k) {
+    for (uint k = 0u; k < uint(kRadialsPerParticle); ++k) {
       const uint r = p * kLatticeParams + 8u + 4u * k;  // rest angle, stiffness, damping, active
-      const uint b = kArmB[k];
-      const uint c = kArmC[k];
+      const uint b = uint(kRadialArmB[k]);
+      const uint c = uint(kRadialArmC[k]);
       if (!cell.has[b] || !cell.has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
       const Vec3 xb = load_position(cell.neighbour[b]);
       const Vec3 xc = load_position(cell.neighbour[c]);
@@ -62,10 +63,7 @@ void main() {
       }
       const Real yield_angle = event_params[p * kEventParams + 8u + k];
       if ((constants.laws & 4u) == 0u) continue;
-      const Real angle = radial_angle(x, xb, xc);
-      if (!(abs(angle - rest) > yield_angle)) continue;
-      const Real new_rest =
-          clamp(angle - (angle - rest < Real(0.0) ? -yield_angle : yield_angle), Real(0.0), CLOTHSIM_REAL(3.141592653589793));
+      const Real new_rest = creased_rest_angle(radial_angle(x, xb, xc), rest, yield_angle);
       if (new_rest == rest) continue;
       plastic += radial_energy(x, xb, xc, new_rest, stiffness) - radial_energy(x, xb, xc, rest, stiffness);
       lattice_params[r] = new_rest;

@@ -4,16 +4,19 @@
 //
 // Phase 0, after rk_solution: the largest error over rk_solution's workgroups, then
 // AdaptiveRungeKutta::step's decision: reject and shrink (a step underflow below min_step ends
-// the advance as failed), or accept, with the PI controller's next step (Gustafsson; Hairer and
-// Wanner's DOPRI5 settings) and the time advanced; a fixed-step method accepts every finite
-// step. Then the next attempt's step, clipped to land on the target (clip_step). The factors are
-// computed in float: GLSL's pow exists for float only, and a step-size factor needs no more.
+// the advance as failed), or accept, with the PI controller's next step and the time advanced; a
+// fixed-step method accepts every finite step. Then the next attempt's step, clipped to land on
+// the target. The controller and the clipping are the CPU's, integrators/step_control.inc; its
+// factors are computed in float here: GLSL's pow exists for float only, and a step-size factor
+// needs no more.
 //
 // Phase 1, after rk_accept: the accepted step's work (damping, drag, anchor), summed over
 // rk_accept's workgroups in a fixed order, added to the advance's compensated sums. Phase 2,
 // after lattice_events_radial: the events' fracture and plastic work, the same way.
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
+#define StepFactor float
+#include "integrators/step_control.inc"
 
 const uint kWorkgroupSize = kReduceWorkgroup;
 layout(local_size_x = kWorkgroupSize) in;
@@ -30,16 +33,30 @@ layout(push_constant) uniform Constants { ReducePassConstants constants; };
 
 #include "gpu/shaders/error_reduction.glsl"
 
-// The PI controller's exponents for an error estimate of order 5 (explicit_runge_kutta.cpp).
-const float kControllerBeta = 0.04;
-const float kControllerAlpha = 0.2 - 0.75 * kControllerBeta;
-
 // Ends the advance as failed.
 void fail(uint status, uint particle, bool non_finite) {
   control_uint[kStatus] = status;
   control_uint[kFailedParticle] = particle;
   control_uint[kNonFiniteError] = non_finite ? 1u : 0u;
   control_uint[kActive] = 0u;
+}
+
+// The controller as the control arrays keep it.
+StepController load_controller() {
+  StepController controller;
+  controller.safety = StepFactor(control_real[kSafety]);
+  controller.max_growth = StepFactor(control_real[kMaxGrowth]);
+  controller.max_shrink = StepFactor(control_real[kMaxShrink]);
+  controller.proposed_step = control_real[kProposedStep];
+  controller.previous_error = control_real[kPreviousError];
+  controller.rejected_before = control_uint[kRejectedBefore] != 0u;
+  return controller;
+}
+
+void store_controller(StepController controller) {
+  control_real[kProposedStep] = controller.proposed_step;
+  control_real[kPreviousError] = controller.previous_error;
+  control_uint[kRejectedBefore] = controller.rejected_before ? 1u : 0u;
 }
 
 void decide(Real error, uint worst) {
@@ -52,29 +69,18 @@ void decide(Real error, uint worst) {
   const bool non_finite = error >= kHugeError;
   control_uint[kAccepted] = 0u;
   if (adaptive && error > Real(1.0)) {
-    // Reject: shrink by the optimal factor for this error, never by more than max_shrink.
     control_uint[kRejectedSteps] += 1u;
-    const float max_shrink = float(control_real[kMaxShrink]);
-    const float factor =
-        non_finite ? max_shrink : max(max_shrink, float(control_real[kSafety]) * pow(float(error), -0.2));
-    const Real proposed = h * Real(min(1.0, factor));
-    control_real[kProposedStep] = proposed;
-    control_uint[kRejectedBefore] = 1u;
-    if (proposed < control_real[kMinStep]) fail(1u, worst, non_finite);
+    StepController controller = load_controller();
+    reject_step(controller, h, error, non_finite);
+    store_controller(controller);
+    if (controller.proposed_step < control_real[kMinStep]) fail(1u, worst, non_finite);
   } else if (!adaptive && non_finite) {
     fail(2u, worst, true);
   } else {
     if (adaptive) {
-      // Accept, and propose the next step; after a rejection the step may not grow.
-      const float bounded = max(float(error), 1e-10);
-      float factor = float(control_real[kSafety]) * pow(bounded, -kControllerAlpha) *
-                     pow(float(control_real[kPreviousError]), kControllerBeta);
-      factor = clamp(factor, float(control_real[kMaxShrink]), float(control_real[kMaxGrowth]));
-      if (control_uint[kRejectedBefore] != 0u) factor = min(factor, 1.0);
-      control_real[kPreviousError] = max(error, Real(1e-4));
-      const Real next = h * Real(factor);
-      // A step clipped to land on the target says little about the step the dynamics allow.
-      control_real[kProposedStep] = clipped ? max(next, control_real[kProposedStep]) : next;
+      StepController controller = load_controller();
+      accept_step(controller, h, error, clipped);
+      store_controller(controller);
     }
     control_real[kElapsed] = clipped ? control_real[kTarget] : control_real[kElapsed] + h;
     control_real[kTakenStep] = h;
@@ -89,12 +95,10 @@ void decide(Real error, uint worst) {
   if (control_uint[kActive] == 0u) return;
   // The next attempt's step, stretched to end on the target when it would stop just short of it.
   const Real step = adaptive ? min(control_real[kProposedStep], control_real[kMaxStep]) : control_real[kFixedStep];
-  const Real remaining = control_real[kTarget] - control_real[kElapsed];
-  const bool clip = step >= remaining * Real(1.0 - 1e-6);
-  const Real next_step = clip ? remaining : step;
-  control_real[kStep] = next_step;
-  control_uint[kClipped] = clip ? 1u : 0u;
-  if (adaptive && next_step < control_real[kMinStep] && !clip) fail(1u, 0u, false);
+  const ClippedStep next = clip_step(control_real[kElapsed], step, control_real[kTarget]);
+  control_real[kStep] = next.step;
+  control_uint[kClipped] = next.clipped ? 1u : 0u;
+  if (adaptive && next.step < control_real[kMinStep] && !next.clipped) fail(1u, 0u, false);
 }
 
 // sum + value as a compensated (Kahan) sum kept in control_real[slot] and [slot + 1].
