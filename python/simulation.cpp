@@ -12,8 +12,10 @@
 #include "core/error.h"
 #include "io/run_writer.h"
 #include "run/run_scene.h"
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
 #include "scene/scene_simulation.h"
+#include "scene/validate_scene.h"
 
 #if CLOTHSIM_HAVE_RENDER
 #include "render/image.h"

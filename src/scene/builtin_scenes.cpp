@@ -1,9 +1,9 @@
-// The built-in scene library, shared by tests, benchmarks and the tools (STYLE.md rule 15), so
-// that the scene benchmarked is the scene tested.
-//
-// The paper's figures are built from its own 10-number argument vectors through
-// scene_from_paper_args(), the same path a user's `paper_args` takes. The "paper material" of the
-// other scenes is LatticeDef's defaults, which are the constants of those figures.
+// The built-in scenes (builtin_scenes.h). The paper's figures are built from its own 10-number
+// argument vectors through scene_from_paper_args(), the same path a user's `paper_args` takes.
+// The "paper material" of the other scenes is LatticeDef's defaults, which are the constants of
+// those figures.
+#include "scene/builtin_scenes.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "model/material.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 
 namespace clothsim {
 namespace {
