@@ -103,7 +103,7 @@
 namespace clothsim {
 
 // Floating-point operations per particle of one evaluation, for the achieved rate that
-// `clothsim bench` reports against the machine's peak (bench/suite.h). Counted in
+// `clothsim bench` reports against the machine's peak (perf/suite.h). Counted in
 // lattice_kernel.cpp for an interior particle, on the vector path (both sides of every select
 // are computed, and counted); negations, absolute values, comparisons and selects not counted,
 // compile-time constants folded:
