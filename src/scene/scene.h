@@ -100,7 +100,7 @@ struct SceneSpec {
   Environment environment;
   std::vector<AnchorSpec> anchors;
   std::vector<CutSpec> cuts;            // notches cut before the run
-  std::vector<ColliderSpec> colliders;  // obstacles (issue 8)
+  std::vector<ColliderSpec> colliders;  // obstacles
   CollisionSettings collision;
   InitialConditions initial;
   IntegratorSettings integrator;
