@@ -23,7 +23,9 @@
 
 #include "core/error.h"
 #include "core/timer.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "sim/simulation.h"
 
 namespace {

@@ -10,6 +10,7 @@
 #include "core/error.h"
 #include "run/run_scene.h"
 #include "run/run_writer.h"
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
 
 namespace clothsim::python {

@@ -7,6 +7,7 @@
 
 #include "bindings.h"
 #include "run/run_scene.h"
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
 
 namespace clothsim::python {

@@ -9,7 +9,9 @@
 #include "bindings.h"
 #include "core/error.h"
 #include "run/run_scene.h"
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
+#include "scene/validate_scene.h"
 
 namespace clothsim::python {
 namespace {

@@ -14,8 +14,10 @@
 #include "core/record_fields.h"
 #include "run/run_scene.h"
 #include "run/run_writer.h"
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
 #include "scene/scene_simulation.h"
+#include "scene/validate_scene.h"
 
 #if CLOTHSIM_HAVE_RENDER
 #include "render/image.h"

@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "scene/scene_simulation.h"
 #include "sim/simulation.h"
 

@@ -1,4 +1,4 @@
-// `clothsim bench`: the fixed benchmark suite of src/bench/suite.h: the paper's material on
+// `clothsim bench`: the fixed benchmark suite of src/perf/suite.h: the paper's material on
 // square lattices (25^2 .. 400^2) with every integrator, each case bounded by wall time; prints a
 // table as it goes and optionally writes CSV. All flags are checked before anything runs; the
 // CSV file is written at the end through a temporary file and a rename, so it is complete or
@@ -11,12 +11,12 @@
 #include <string>
 #include <vector>
 
-#include "bench/suite.h"
 #include "commands.h"
 #include "core/error.h"
 #include "memory_check.h"
 #include "run/run_memory.h"
 #include "run/run_writer.h"
+#include "perf/suite.h"
 #include "sim/backend.h"
 
 namespace clothsim::cli {

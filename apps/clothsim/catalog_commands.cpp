@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
 
 namespace clothsim::cli {

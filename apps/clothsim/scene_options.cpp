@@ -1,7 +1,9 @@
 #include "scene_options.h"
 
 #include "core/error.h"
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
+#include "scene/validate_scene.h"
 
 namespace clothsim::cli {
 namespace {

@@ -35,6 +35,7 @@
 #include "memory_check.h"
 #include "run/run_writer.h"
 #include "run_render.h"
+#include "scene/validate_scene.h"
 #include "scene_options.h"
 #include "sweep_plan.h"
 

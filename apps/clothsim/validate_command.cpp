@@ -8,6 +8,9 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "scene/builtin_scenes.h"
+#include "scene/scene_model.h"
+#include "scene/validate_scene.h"
 
 namespace clothsim::cli {
 namespace {

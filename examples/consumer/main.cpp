@@ -9,7 +9,9 @@
 #include <utility>
 
 #include "core/error.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "sim/simulation.h"
 
 int main(int argc, char** argv) {

@@ -1,5 +1,5 @@
-// The collision stage (issue 8): between accepted steps, the sheet out of the obstacles, then
-// out of itself (docs/collisions.md).
+// The collision stage: between accepted steps, the sheet out of the obstacles, then out of itself
+// (docs/collisions.md).
 //
 //   begin_step  keeps the positions at the step's start, from which both passes sweep, and
 //               returns the time the step may not pass (an impact on an obstacle ahead)

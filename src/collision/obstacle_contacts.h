@@ -1,56 +1,35 @@
-// The collision stage's obstacle pass (issue 8): particles against the model's colliders,
-// between accepted steps (docs/collisions.md).
+// The collision stage's obstacle pass: particles against the model's colliders, between
+// accepted steps. docs/collisions.md has each step's details, the energy bookkeeping, the step
+// limit and the limits measured.
 //
 // Design: a projection plus a velocity correction on the accepted state, after the step and
 // before the events, instead of a contact force inside the derivative. The explicit integrators
 // never see a contact, so every one of them (RKF45's error control included) integrates smooth
 // stages, and a contact is resolved exactly to the thickness at every step end; implicit Euler
-// also holds resting particles on their surface within its step (below). Rejected: penalty
-// forces, whose stiffness would set RKF45's step size everywhere near an obstacle, and which
-// leave particles inside by an amount that depends on the load.
+// also holds resting particles on their surface within its step. Rejected: penalty forces, whose
+// stiffness would set RKF45's step size everywhere near an obstacle, and which leave particles
+// inside by an amount that depends on the load.
 //
 // For each free particle and each collider, in collider index order, with the collider at the
 // step's end time t1:
-//   1. sweep     the segment from the particle's position before the step, x0 (moved with the
-//                collider's translation over the step: the sweep runs in the collider's frame, so
-//                a fast collider cannot pass through a particle either), to its position after
-//                it, x1, is marched by conservative advancement on the signed distance d
-//                (each move is d - thickness long, which cannot cross the thickness shell because
-//                d is an exact distance): the first point within the shell is the entry point.
-//                A particle that was in contact at x0 (d(x0) within the shell) is not swept: it
-//                rests or slides, and x1 is resolved where it is.
-//   2. place     the contact point is x1 if it is inside the shell and its nearest surface point
-//                is on the side the particle entered through (its normal agrees with the entry
-//                point's); otherwise (it passed through, or deeper than the shape's middle) the
-//                entry point. A motion that ends outside the shell on the side it came from only
-//                grazed it (a particle beside a collider moving along its own surface, a long
-//                motion parallel to it in the collider's frame): no contact. The particle moves
-//                along the normal to exactly the thickness.
-//   3. velocity  relative to the shape's velocity u: the approaching normal part
-//                dv_n = -min(0, (v - u).n) is removed (inelastic), and the tangential part's
-//                length is reduced by mu dv_n, never below zero (Coulomb; mu is the collider's
-//                friction, or the scene's collision.friction when the collider's is negative).
-//   4. slide     for a particle in contact at x0, the friction acted through the whole step:
-//                its position moves by h/2 times the velocity change friction made (exact for a
-//                constant deceleration), so a particle that friction holds does not creep down a
-//                slope (at rest it is back where it was, exactly). Implicit Euler holds such a
-//                particle in place within its step instead (sticking, below).
-// Energy: the stage changes positions and velocities, so it changes the sheet's energy by
-// E_after - E_before, booked as ClothState::contact_work. Only the moved particles' kinetic and
-// gravitational energy and the springs touching them change; those are summed (in particle and
-// gather-slot order, so the sum is the same for any thread count), not the whole sheet.
-// Step size: contacts are resolved at step ends, so an impact found late has let the particle's
-// neighbours move on while it is pushed back, storing energy in the springs between them. The
-// stage therefore limits the next step so that an approaching particle reaches at most a tenth of
-// the thickness inside the shell (begin_step()); the integrator's own step control does the rest.
-// Resting particles: begin_step() also lists the particles within a collider's shell at the step's
-// start (model/surface_contacts.h). Implicit Euler holds them on the surface within its step
-// and hands back the normal impulse that took, which step 3 adds to the speed it removed when it
-// sizes the friction (Coulomb on the whole normal impulse of the step).
-// Limit: with the explicit integrators, a particle pressed onto an obstacle by a load dips into it
-// within every step and is put back at the step's end; whatever the integrator dissipates during
-// that dip (spring damping, its own numerical damping) the projection books back as positive
-// contact work (docs/collisions.md).
+//   1. sweep     in the collider's frame, the segment x0 -> x1 is marched by conservative
+//                advancement on the exact signed distance; the first point within the thickness
+//                shell is the entry point (a particle in contact at x0 is not swept);
+//   2. place     the contact point is x1 if it is inside the shell on the side the particle
+//                entered through, otherwise the entry point; a motion that ends outside on the
+//                side it came from only grazed it. The particle moves along the normal to exactly
+//                the thickness;
+//   3. velocity  relative to the shape's velocity: the approaching normal part is removed
+//                (inelastic) and the tangential part reduced by Coulomb friction;
+//   4. slide     for a particle in contact at x0, the position moves by the share of the velocity
+//                change friction made over the step, so that friction holds a sheet on a slope
+//                without creep.
+// Energy: the stage's change of the sheet's energy, E_after - E_before, is booked as
+// ClothState::contact_work, summed over the moved particles only (in particle and gather-slot
+// order). begin_step() limits the next step so that an approaching particle reaches at most a
+// tenth of the thickness inside the shell, and lists the particles resting on a collider
+// (model/surface_contacts.h) for implicit Euler, whose normal impulses step 3 then uses to size
+// the friction.
 // Determinism: particles are resolved in parallel, each writing only its own scratch entries;
 // the bookkeeping that follows runs in particle index order.
 //

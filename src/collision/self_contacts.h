@@ -1,5 +1,6 @@
-// The collision stage's self-collision pass (issue 8): the sheet against itself, between
-// accepted steps, after the obstacle pass (docs/collisions.md).
+// The collision stage's self-collision pass: the sheet against itself, between accepted steps,
+// after the obstacle pass. docs/collisions.md ("Self-collision") has the stages in full, the
+// guarantee's tests and the choices with their reasons.
 //
 // The sheet is its lattice triangles and their edges (collision/sheet_elements.h). Two kinds of
 // pairs can meet: a particle and a triangle it is no corner of, and two edges that share no
@@ -14,47 +15,20 @@
 //
 // With the step's start positions x0 (a state where the sheet does not cross itself) and the
 // accepted step's end positions x1, the pass runs four stages:
-//   1. candidates  a hashed grid (collision/box_grid.h) finds the pairs whose boxes overlap; each
-//                  element's box holds its positions at x0 and x1, grown by the thickness h plus a
-//                  reach r (at least h, and 4 times the step's largest motion). The cost grows
-//                  linearly with the sheet. The candidates are kept over the next steps while no
-//                  particle moves further than r from where they were found (each
-//                  motion's boxes grown by h then lie within the boxes they were found with), and
-//                  those that cannot come within h meanwhile (most: a lattice's neighbouring
-//                  cells are L / sqrt(2) apart) are dropped once, when found. Each step tests
-//                  only the pairs whose boxes over the step, grown by h / 2, overlap.
-//   2. proximity   pairs nearer than h at x0 or at x1 are held on the side they were on at x0, h
-//                  apart: with the nearest points and their direction n at x0, the same points'
-//                  separation along n at x1 is made at least h (Gauss-Seidel sweeps, in candidate
-//                  order; Bridson et al. measure their repulsions at the step's start too). Their
-//                  closing relative velocity along n is removed (inelastic), and friction reduces
-//                  their sliding relative velocity by at most mu times that (Coulomb, mu =
-//                  collision.friction); a pair that was in contact at x0 also has its position
-//                  corrected for the friction of the whole step, as the obstacle pass does (no
-//                  creep of a fold at rest). Rejected: the direction at x1, which for a pair that
-//                  passed through within the step points the wrong way and pushes it further
-//                  through.
-//   3. impacts     continuous detection: along the straight motion x0 -> x1, conservative
-//                  advancement on the pair's distance (which can change no faster than its
-//                  particles move) finds whether it comes within a touching distance (a tenth of
-//                  h, and at most half its distance at x0). Such a pair would have passed
-//                  through, or nearly: its relative motion along the normal there is removed for
-//                  the step (positions, and the end velocities by the same change over the step).
-//                  Repeated until no pair touches, at most kImpactRounds times.
-//   4. zones       the fail-safe for what the rounds leave: the particles of the pairs still
-//                  touching are grouped (union-find) into impact zones, and each zone moves as one
-//                  for the step (the mass-weighted mean motion and velocity, or its anchor's), so
-//                  nothing inside it moves relative to anything else; zones that still touch merge
-//                  and move again (Provot, "Collision and self-collision handling in cloth model
-//                  dedicated to design garments", 1997; Bridson et al. 2002, section 7.4, whose
-//                  zones also rotate: these only translate).
-// Guarantee: a crossing means a distance of zero at some point of the motion, so stage 3 sees
-// every crossing of the straight motion; stage 4 removes what stage 3 could not. A pair's distance
-// never reaches zero along x0 -> x1, so a sheet that did not cross itself at the step's start
-// does not cross itself at its end. Anchored particles have no inverse mass: the pass does not
-// move them. Particles on an obstacle move like any other (collision/collision_stage.h puts them
-// back out): holding them fixed made a sheet folded under a rod, both layers held, impossible to
-// separate.
+//   1. candidates  pairs whose boxes over the step, grown by the thickness h plus a reach r,
+//                  overlap (a hashed grid, collision/box_grid.h), kept over the next steps while
+//                  no particle moves further than r;
+//   2. proximity   pairs nearer than h at x0 or x1 are held on the side they were on at x0, h
+//                  apart (the direction measured at x0), with inelastic contact and Coulomb
+//                  friction;
+//   3. impacts     continuous detection along x0 -> x1 by conservative advancement; a pair that
+//                  comes within touching distance has its closing motion removed for the step,
+//                  for at most kImpactRounds rounds;
+//   4. zones       the fail-safe: the particles of pairs still touching move as rigid groups
+//                  (impact zones; Provot 1997, Bridson et al. 2002 section 7.4, translating only).
+// So a sheet that did not cross itself at the step's start does not cross itself at its end.
+// Anchored particles have no inverse mass: the pass does not move them; particles on an obstacle
+// move like any other (collision/collision_stage.h puts them back out).
 //
 // Determinism: the candidates are found in fixed blocks and concatenated in block order, the
 // tests of stages 2 to 4 run in parallel but only write flags, and every change is made serially

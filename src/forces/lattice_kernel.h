@@ -11,82 +11,31 @@
 // tests/forces/test_lattice_kernel.cpp checks that both paths agree on random configurations of
 // intact, torn and plastic sheets.
 //
-// Sheets that change (DESIGN.md section 3) stay on this path. Every spring's parameters are
-// copied into particle-indexed arrays (east and south connector of each particle: stiffness,
-// damping, rest length, 1 if intact; each of its six radial springs: stiffness, damping, rest
-// angle), read by the vector loops like the positions. A broken connector is stored like a
-// missing one at the border (1/length 0, no tension), so the radial springs that use it drop out
-// with no extra test. The copy is refreshed when ClothModel::revision moves: O(springs) between
-// steps, nothing per evaluation. Rejected: keeping uniform constants and falling back to the
-// general path on the first change (what this kernel did first: a torn sheet then ran about 14
-// times slower), and per-family constants with a mask only (plasticity and creasing make every
-// rest value different).
+// Every spring's parameters are copied into particle-indexed arrays (refresh(), when
+// ClothModel::revision moves), a broken connector stored like a missing one at the border; on a
+// uniform sheet the kernel keeps no arrays and reads each family's value (uniform()), with the
+// same bits. prepare() allocates what tearing, stretching and creasing can need, so that they
+// never allocate inside a step.
 //
-// Uniform sheets. The 26 parameter arrays are 208 bytes per particle in float64, 45 % of the
-// kernel's scratch, and on an intact sheet whose springs all have their family's values (the
-// paper's sheets, and a material's) they hold three values per family. There the kernel keeps no parameter arrays
-// and reads the family's value instead (uniform(); a second instantiation of the connector and
-// radial loops); both forms compute the same products, so they give the same bits. The kernel
-// reads the arrays whenever it holds them. prepare() allocates them when the sheet is not
-// uniform, or when a law can make it so (SpringLimits::changes_sheet), so that tearing,
-// stretching and creasing never allocate inside a step; a uniform sheet that a live edit makes
-// non-uniform (a cut in the viewer, a test setting one rest length) gets them when refresh()
-// sees the edit, at its next evaluation: the one allocation this kernel makes after prepare().
+// Passes, each a vectorised loop over particles (row by row for the connectors, over bands of
+// whole rows for the others):
+//   1. connectors the east and south connector of each particle: unit vector, 1/length, tension
+//                 and relative velocity, into SoA arrays the radial springs reuse;
+//   2. radials    the six radial springs centred at each particle, written as forces on its four
+//                 neighbours;
+//   3. gather     each particle sums, in a fixed order, gravity, drag, its connectors' tensions and
+//                 the radial forces on it.
+// Every value comes from one formula whichever thread computes it and every sum has a fixed
+// order, so the result is bit-for-bit the same for any thread count. Borders need no special
+// code: the arrays are zero-padded, and a missing or broken connector has 1/length = 0.
 //
-// Passes, each a vectorised loop over particles: row by row for the connectors, over bands of
-// whole rows (at least 256 particles, so that short rows still make long vector loops) for the
-// other two:
-//   1. connectors the east and south connector of each particle, read from the Vec3 position and
-//                 velocity arrays: unit vector, 1/length, tension, and the neighbour's relative
-//                 velocity, into x/y/z arrays (SoA) for the later passes. The radial springs reuse
-//                 them: each connector's square root, division and velocity difference are done
-//                 once, not once per spring that uses it;
-//   2. radials    the six radial springs centred at each particle; each writes its forces on the
-//                 four neighbours into to_east/to_south/to_west/to_north of the centre;
-//   3. gather     each particle sums, in a fixed order, gravity, drag, its four connectors'
-//                 tensions, minus its own springs' forces on the neighbours, and the forces the
-//                 four neighbours' springs put on it.
-// Every value is computed by one formula from the same inputs whichever thread computes it, and
-// every sum has a fixed order, so the result is bit-for-bit the same for any thread count; the
-// passes run in one OpenMP region, rows (bands) split statically between threads, with a barrier
-// between passes. Borders need no special code: the arrays have cols + 8 zero entries of padding at
-// both ends, a missing or broken connector is stored with 1/length = 0 and tension 0, and a radial
-// spring with a missing, broken (or zero-length) connector contributes nothing, exactly like a
-// dead or degenerate element of the general path.
+// Precision. In float64 (the default) the kernel differs from the general path only by rounding,
+// a few ulps per force. In float32 (ForceBuffers::precision) the same loops run on floats while
+// the state's differences, the gather and the powers stay float64, so the forces' error is
+// relative to the forces, never to the coordinates.
 //
-// Vectorisation. GCC 12 -O3 vectorises the column loops of all three passes (checked with
-// -fopt-info-vec: "loop vectorized using 64 byte vectors" in the AVX-512 clone of each, 32 byte
-// ones in the AVX2 clone; lattice_kernel.cpp explains the multiversioning) because their bodies
-// are straight-line arithmetic with selects: the arctangent is the inline
-// vector_math::atan2_first_quadrant instead of std::atan2, and the singular case (a straight or
-// folded spring, whose bending plane comes from the motion, element::resolve_singular_directions)
-// only marks the particle in the vector loop; marked particles are then recomputed by a scalar
-// loop that resolves them. -fno-math-errno and -fno-trapping-math (this file only) let GCC
-// if-convert the square roots and divisions; neither changes a value. -ffp-contract=off stays:
-// no fused multiply-adds are introduced, and vector lanes round exactly like scalar code.
-//
-// Precision. In float64 (the default) the kernel differs from the general path only by rounding
-// (1/l multiplied instead of dividing by l, the polynomial arctangent instead of libm's), a few
-// ulps per force. In float32 (ForceBuffers::precision; `precision float32` or `auto`, sim/backend.h)
-// the same loops run on floats, twice the SIMD lanes, while everything that decides accuracy
-// stays float64:
-//   * the state: each connector's position and velocity differences are taken in double from the
-//     float64 state and only then rounded (kEastVelocityX...: the relative velocities are stored
-//     per connector), so a sheet 100 m from the origin or falling at 30 m/s loses nothing that a
-//     sheet at rest at the origin keeps: the forces' error is relative to the forces, never to the
-//     coordinates (the Vulkan backend's float32, whose state is float too, lacks this);
-//   * the gather: each particle's force is summed in double, gravity and drag first;
-//   * the powers are summed in double, and the integrator's stage sums and error norm are float64.
-// What rounds in float is each spring's own force: a few float ulps of it, about 1e-6 of the
-// largest force on the sheet (tests/forces/test_float32_forces.cpp, bound 2e-5). RKF45's error
-// estimate is then accurate to about h * 1e-6 of the accelerations, which the default tolerances
-// of 1e-6 absorb and tighter ones do not (docs/performance.md, "Mixed precision"; `auto`'s rule).
-// Two details are float's own: subnormal floats are flushed to zero while the kernel runs (a
-// nearly flat sheet makes products of 1e-40, each a microcode assist of ~100 cycles: the float
-// kernel ran no faster than the double one before this), and a radial spring counts as straight
-// or folded below sin(theta) = 1e-6 instead of 1e-12 (lattice_spring.h, SingularLimits), where
-// float's unit vectors stop defining its bending plane. The float64 results are unchanged by a bit
-// by all of this.
+// docs/performance.md ("The lattice kernel in detail") has the parameter arrays and uniform
+// sheets, the passes, what makes them vectorise, float32's details and what was rejected.
 #pragma once
 
 #include <array>
@@ -103,7 +52,7 @@
 namespace clothsim {
 
 // Floating-point operations per particle of one evaluation, for the achieved rate that
-// `clothsim bench` reports against the machine's peak (bench/suite.h). Counted in
+// `clothsim bench` reports against the machine's peak (perf/suite.h). Counted in
 // lattice_kernel.cpp for an interior particle, on the vector path (both sides of every select
 // are computed, and counted); negations, absolute values, comparisons and selects not counted,
 // compile-time constants folded:
@@ -120,9 +69,8 @@ namespace clothsim {
 //     neighbours' spring forces 24), the damping power's sum 1.
 // 56 + 636 + 88 = 780 additions and multiplications, 20 divisions and 8 square roots: 808
 // operations, each division and square root counted as one (as LINPACK counts them; they take
-// many cycles each, so the peak of additions and multiplications is out of reach). (820 until
-// issue 12: the arms' four relative velocities, 12, were differences in the radial pass; they are
-// now the connectors' own, stored, and the west and north arms negate them.) The same count in
+// many cycles each, so the peak of additions and multiplications is out of reach). The west and
+// north arms' relative velocities are the connectors' own, stored, negated. The same count in
 // float32; the float32 kernel's conversions to and from double are not counted.
 inline constexpr double kLatticeKernelFlopsPerParticle = 808.0;
 

@@ -1,10 +1,8 @@
 // Implicit (backward) Euler with one Newton step solved by conjugate gradients, after Baraff and
-// Witkin, "Large Steps in Cloth Simulation" (SIGGRAPH 1998), sec. 3 and 5.
-//
-// Why. A real fabric is far stiffer in stretch than it is heavy: cotton at 128 x 128 particles
-// has connector frequencies near 1e5 rad/s, so an explicit method needs steps of about 1e-5 s.
-// Backward Euler is stable for any step on such stiff, damped problems, and takes the frame time
-// 1/60 s as its step.
+// Witkin, "Large Steps in Cloth Simulation" (SIGGRAPH 1998), sec. 3 and 5. A real fabric is far
+// stiffer in stretch than it is heavy (cotton at 128 x 128 has connector frequencies near 1e5
+// rad/s, so an explicit method needs steps of about 1e-5 s); backward Euler is stable for any
+// step on such stiff, damped problems, and takes the frame time 1/60 s as its step.
 //
 // The step. With h the step, M the masses, f0 = f(x0, v0), K = -df/dx and C = -df/dv at the start
 // of the step (forces/element_jacobian.h), one Newton step of backward Euler,
@@ -12,87 +10,28 @@
 // is the linear system
 //   (M + h C + h^2 K) dv = h (f0 - h K v0)                              (Baraff-Witkin eq. 16)
 // Anchored particles are constraints: their dv is known (the path's velocity at t + h minus v0),
-// and their position change in the K term is the path's exact displacement, not h v1. Their rows
-// are dropped and their columns moved to the right-hand side; conjugate gradients then runs on
-// the free particles only, which is Baraff and Witkin's filtered PCG (sec. 5.3) with the filter
-// S = 0 on anchored particles and I elsewhere. (Their partially constrained directions, S = I -
-// p p^T, are not needed: an anchor fixes all three coordinates.)
+// their rows are dropped and their columns moved to the right-hand side (Baraff and Witkin's
+// filtered PCG, sec. 5.3, with S = 0 on anchored particles). Particles resting on an obstacle
+// (model/surface_contacts.h) are held the same way, along their contact normal when sliding and
+// in all three directions when static friction holds them (implicit_euler_contacts.cpp); the
+// surface's impulses go back to the obstacle pass for Coulomb friction.
 //
-// Particles resting on an obstacle (model/surface_contacts.h, filled by the collision
-// stage) are held on its surface the same way (Baraff and Witkin's constrained particles, sec.
-// 5.3; implicit_euler_contacts.cpp). One whose predicted end velocity v0 + h f0 / m moves into the
-// surface is held:
-//   sliding   along its contact normal n only: the normal part of its dv is fixed, so that it ends
-//             moving with the surface along n, and the filter S = I - n n^T removes that direction
-//             from the solve; the tangential directions stay free;
-//   stuck     in all three directions (S = 0, it ends moving with the surface), when friction can
-//             stop its slide and hold it against the tangential force within the step:
-//             |m v_t / h + f_t| <= mu |f_n| (Coulomb's static friction).
-// Its neighbours respond to it being held within the same solve. After the solve, the surface's
-// impulse on it is A dv - b: a surface cannot pull, so particles with a negative normal impulse
-// are let go and the system is solved once more (the preconditioner keeps the first set: its
-// Jacobi blocks and its coarse matrix, P^T S A S P, are those of the system with the first set
-// held); a stuck particle that needed more than mu times its normal impulse slides from the next
-// step on (solving again for it took a second solve in most steps of a sheet on a table). The
-// normal impulses are handed back to the obstacle pass, which turns them into Coulomb friction for
-// the sliding particles. Without this, a particle pressed onto an obstacle moves into it within
-// each step and is pushed back by the projection after it, which stretches its springs (cotton at
-// 1 ms steps stored up to 66 J of connector energy that way in `pile`; docs/collisions.md).
+// The matrix A = M + h C + h^2 K is block-sparse (CSR of 3x3 blocks, 13 per interior row),
+// assembled once per step in two deterministic passes (every element's Jacobian into its own
+// slot, then each particle's row in the gather table's order). CG starts from the previous step's
+// dv and stops at |r| <= cg_tolerance |b| or after cg_max_iterations (counted in
+// IntegratorStats::cg_unconverged_solves); its dot products are summed over fixed blocks, so the
+// result is the same bit for bit for any thread count. The preconditioner is a multigrid V-cycle
+// on the lattice (integrators/multigrid.h; cg_multigrid), or block Jacobi plus an exact
+// coarse-grid correction on 4 x 4 aggregates (banded_cholesky.h; cg_two_level without
+// cg_multigrid), or block Jacobi alone.
 //
-// The matrix. A = M + h C + h^2 K is stored as a block-sparse matrix (CSR of 3x3 blocks) following
-// the lattice's particle adjacency: particle p couples to itself, its 4 connector neighbours, the
-// 4 diagonal neighbours through adjacent radial springs and the 4 particles two away through
-// opposite ones, 13 blocks in the interior. It is assembled once per step and multiplied 10 to
-// 300 times by CG. Rejected: matrix-free products, which re-evaluate every element per CG
-// iteration (about 30 doubles of element data per radial spring, each read by 3 particles) and
-// need a scatter-then-gather per product to stay deterministic; the assembled row costs 117
-// doubles read once per product and no scatter.
+// The work integrals take the powers at the end of the step, (x1, v1), times h: first order like
+// the method. Backward Euler dissipates energy numerically, so the energy balance is not an
+// accuracy check for this method: it is the numerical dissipation, and it is negative.
 //
-// Assembly is deterministic: a first pass computes every element's Jacobian into its own slot
-// (in parallel over elements), a second pass builds each particle's block row by visiting the
-// particle's elements in the fixed order of the force gather table (in parallel over rows; a row
-// is written by one thread only). The right-hand side and the block-diagonal (Jacobi)
-// preconditioner come out of the same row pass.
-//
-// Conjugate gradients: started from the previous step's dv (Baraff and Witkin's warm start),
-// stopped when |r| <= cg_tolerance |b| over the free coordinates or after cg_max_iterations (the
-// step is then taken with the last iterate and counted in IntegratorStats::cg_unconverged_solves).
-// Dot products are sums over fixed blocks of particles added in block order, so the result is
-// bit-for-bit the same for any thread count.
-//
-// Preconditioner. The base is block Jacobi, the inverses of the 3x3 diagonal blocks. On a stiff
-// fabric it is not enough: the in-plane stretch part of A is a stiff lattice Laplacian, whose
-// condition number grows with the square of the lattice size, and Jacobi-preconditioned CG took
-// about 420 iterations per step on 32 x 32 cotton and 480 on 64 x 64 (docs/performance.md). With
-// cg_two_level (the default) a coarse-grid correction is added, and with cg_multigrid (the
-// default too) it is a multigrid V-cycle (integrators/multigrid.h): bilinear interpolation
-// between lattice levels halved in each direction, Galerkin coarse matrices P^T A P down to 8 x 8
-// nodes solved exactly, block Gauss-Seidel smoothing in fixed bands of rows, symmetric; the whole
-// preconditioner is the V-cycle (block Jacobi is its smoother's diagonal). On cotton at the frame
-// step it takes 14 iterations per step at 64 x 64 and 128 x 128 (most 18 and 19) against 89 for
-// the aggregates below; per step it costs about as much on one thread and 20 % less on two at
-// 128 x 128 (its loops are all parallel), and more at 1 ms steps on small sheets, where few
-// iterations are needed anyway (docs/performance.md). Without
-// cg_multigrid, the free particles are grouped into aggregates of 4 x 4, P sums a vector over
-// each aggregate, and the preconditioner is the additive two-level one
-//   M^-1 = D^-1 + P (P^T A P)^-1 P^T
-// (unsmoothed aggregation; see Tamstorf, Jones and McCormick, "Smoothed aggregation multigrid for
-// cloth simulation", SIGGRAPH Asia 2015). The coarse matrix P^T A P is banded (aggregates couple
-// to their 8 neighbours) and is factored by a banded Cholesky (integrators/banded_cholesky.h)
-// once per step; applying it costs two band solves, serial. It brings the iterations to about 89
-// per step at 128 x 128, independent of the lattice size; its factor grows as particles x cols.
-// Both are symmetric positive definite, so CG still applies; at very tight tolerances (1e-10) on
-// small lattices the aggregates can need more iterations than Jacobi alone, since
-// piecewise-constant aggregates give coarse functions with stiff jumps at their borders (which
-// interpolation avoids).
-//
-// Energy bookkeeping. The work integrals of ClothState take the powers at the end of the step,
-// (x1, v1), times h: a backward-Euler quadrature of the work, first order like the method. The
-// forces evaluated there for the powers are reused as f0 of the next step when the state has
-// not been changed in between. Backward Euler also dissipates energy numerically (about
-// h omega^2 per unit time in a mode of frequency omega, much more in the stiff modes), so the
-// energy balance E(t) - (E(0) + W) is not a check of accuracy for this method: it is the
-// numerical dissipation, and it is negative.
+// docs/model.md ("Implicit Euler") has the contacts, the matrix, the preconditioners and what was
+// rejected in full; docs/performance.md the measurements.
 #pragma once
 
 #include <array>

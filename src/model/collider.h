@@ -1,4 +1,4 @@
-// Obstacles the sheet collides with (issue 8): shapes, their motion, and their signed distance.
+// Obstacles the sheet collides with (docs/collisions.md): shapes, their motion, and their signed distance.
 //
 // A collider is a rigid shape that may move along a path of the kinds anchors have (fixed,
 // linear, sinusoid, keyframes; model/anchor.h): at time t the shape is translated by

@@ -11,67 +11,29 @@
 //        |   /       |
 //     (i+1,j) --- (i+1,j+1)       triangles (i,j)(i+1,j)(i,j+1) and (i,j+1)(i+1,j)(i+1,j+1)
 //
-// Every quad is cut along the same diagonal. Alternating diagonals would make the mesh symmetric
-// under mirroring, but the mesh is used only for output and rendering (the physics has no
-// triangles), where a uniform cut is simpler and indistinguishable.
-//
 // Two ways to place the mesh's vertices (SheetMeshMode):
 //   particles     one vertex per particle, at the particle: the default. Anchors and edges are
 //                 where the physics has them.
 //   cell_centres  the paper's rendering: one vertex per lattice cell, at the mean of its 4
-//                 corner particles, so a rows x cols lattice shows (rows-1) x (cols-1) vertices
-//                 (the paper, section 3). The sheet looks half a cell smaller on every side and
-//                 an anchored particle is no vertex of it; kept to reproduce the paper's figures.
-// Cell (i, j) of the cell-centre mesh plays the role of particle (i, j) of a (rows-1) x (cols-1)
-// lattice, so both modes share the triangulation code.
+//                 corner particles ((rows-1) x (cols-1) vertices; the paper, section 3). Cell
+//                 (i, j) plays the role of particle (i, j) of a (rows-1) x (cols-1) lattice, so
+//                 both modes share the triangulation code.
 //
-// Torn sheets (DESIGN.md section 3): the mesh splits along broken connectors, so that no face
-// spans a broken spring and, where springs remain, no cloth disappears. The particles are never
-// split (model/model_edits.h); the mesh duplicates vertices instead, which is what NVIDIA FleX's
-// cloth tearing does with its particles. Every connector is crossed by its dual edge, from the
-// centre of one lattice quad through the connector's midpoint to the centre of the other; a
-// broken connector cuts its dual edge. So in particle mode:
-//   - an intact sheet (broken_connector_count == 0) keeps the mesh above exactly;
-//   - on a torn sheet, a quad whose 4 edges are intact is still 2 triangles of particle
-//     vertices, and a quad with a broken edge is drawn as 4 quarter cells, one per corner
-//     particle p: the quadrilateral (p, m1, c, m2) of p, the midpoints m1 and m2 of p's two edges
-//     of the quad and the quad's centre c, as 2 triangles (p, m1, c), (p, c, m2);
-//   - the midpoint of an intact connector is one vertex, at (x_a + x_b) / 2, shared by the faces
-//     on both sides; a broken connector has one vertex per end, at x_a + 1/2 min(l, L) u from its
-//     own end (u the unit vector to the other end, L its rest length), so a gap opens between
-//     the two halves as the ends separate and closes up as they come together;
-//   - the quad's centre is one vertex per connected component of its corners (connected
-//     through the quad's intact edges), at the mean over the component's corners p of
-//     m1 + m2 - x_p (the fourth corner of the parallelogram on p, m1, m2). With one broken edge
-//     the quad stays one piece with a slit from the edge to the centre; with two broken opposite
-//     edges it falls into two halves.
-// At rest every quarter cell is an L/2 x L/2 square, so the faces always cover the sheet's area
-// (rows-1) (cols-1) L^2, and the particle vertices keep their indices: vertex p is particle p,
-// the split vertices follow (SheetMesh::vertex_source says what each one is). An intact quad next
-// to a quartered one has a T-junction at the shared edge's midpoint, which lies on that edge, so
-// no crack opens. Normals do not average across a tear, because the faces on its two sides share
-// no vertex there; a particle that the tear leaves attached on both sides of a slit is one point
-// of the cloth, and its one vertex is right. Rejected: splitting every quad into quarter cells
-// once the sheet is torn (4 times the faces for a single cut), and splitting particle vertices
-// (a particle's faces are all attached to it: the tear runs along dual edges, between particles).
+// Torn sheets: the mesh splits along broken connectors, so that no face spans a broken spring
+// and, where springs remain, no cloth disappears. The particles are never split
+// (model/model_edits.h); the mesh duplicates vertices instead. In particle mode a quad with a
+// broken edge is drawn as 4 quarter cells, one per corner particle, from the connectors'
+// midpoints (one per intact connector, one per end of a broken one) and one centre vertex per
+// connected component of the quad's corners; an intact sheet keeps the mesh above exactly.
+// Vertex p is particle p in particle mode, the split vertices follow (SheetMesh::vertex_source).
+// docs/rendering.md ("Torn sheets") has the construction, its cell-centre form and what was
+// rejected.
 //
-// The cell-centre mode of a torn sheet keeps the paper's picture, one face per interior particle
-// P spanning the 4 cells around it, but a cell's vertex is split like the quad centre above: one
-// copy per component of its corners, at the same place, and P's face uses, in each of its 4
-// cells, the copy of the component that holds P. Two faces share a vertex exactly when their
-// particles are joined within that cell, so the faces of particles that a tear separates part.
-// A cell with 4 intact edges keeps its vertex at the mean of its corners, as for an intact sheet.
-// The first (rows-1) (cols-1) vertices are the cells (the copy holding the cell's top-left
-// corner), the other copies follow. The mode still shows half a cell less on every side.
-//
-// The topology (which vertices, which triangles) is rebuilt only when the set of broken
-// connectors, the mode or the lattice changes (build_sheet_mesh compares the live mask it was
-// built for); the positions and normals of every frame reuse the arrays, so a viewer or a video
-// allocates nothing per frame until the next break.
-//
-// Vertex normals are area-weighted means of the face normals (the unnormalised cross product of
-// a triangle is twice its area times its normal), which weights large faces more and needs no
-// angle computations.
+// The topology is rebuilt only when the set of broken connectors, the mode or the lattice changes
+// (build_sheet_mesh compares the live mask it was built for); the positions and normals of every
+// frame reuse the arrays, so a viewer or a video allocates nothing per frame until the next
+// break. Vertex normals are area-weighted means of the face normals (unnormalised cross
+// products: no angles needed).
 #pragma once
 
 #include <array>

@@ -1,5 +1,5 @@
 // Particles resting on an obstacle at a step's start, which an integrator may hold on the surface
-// during the step instead of letting them move into it (issue 8, docs/collisions.md).
+// during the step instead of letting them move into it (docs/collisions.md).
 //
 // The collision stage's obstacle pass fills it before each step (collision/obstacle_contacts.h);
 // implicit Euler reads it (integrators/implicit_euler.h): it removes the normal direction of the

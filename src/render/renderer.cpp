@@ -1,4 +1,6 @@
-// The OpenGL 3.3 core renderer; what it draws and why is in docs/rendering.md.
+// The OpenGL 3.3 core renderer; what it draws and why is in docs/rendering.md. Its GLSL sources
+// are in shaders.h, its programs and buffers in gl_objects.h, the triangles of the colliders and
+// the marker sphere in tessellation.h.
 //
 // Passes, in order, into the bound framebuffer:
 //   1. clear to the background colour;
@@ -37,356 +39,21 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
 #include "model/collider.h"
 #include "model/sheet_mesh.h"
+#include "render/gl_objects.h"
+#include "render/shaders.h"
+#include "render/tessellation.h"
 
 namespace clothsim::render {
 namespace {
 
 constexpr int kArcSegments = 6;
-constexpr double kPi = 3.14159265358979323846;
-
-// --- Shaders ---
-
-// Shared by the sheet and the spheres: world position and normal in, two-sided shading out.
-constexpr const char* kLitFragmentShader = R"(#version 330 core
-in vec3 world_position;
-in vec3 world_normal;
-out vec4 colour;
-uniform vec3 front_colour;   // sRGB
-uniform vec3 back_colour;    // sRGB
-uniform vec3 eye;
-uniform vec3 key_direction;  // unit, towards the light
-uniform vec3 fill_direction;
-uniform float opacity;
-
-vec3 to_linear(vec3 c) { return pow(c, vec3(2.2)); }
-vec3 to_srgb(vec3 c) { return pow(clamp(c, 0.0, 1.0), vec3(1.0 / 2.2)); }
-
-void main() {
-  vec3 n = normalize(world_normal);
-  vec3 base = to_linear(front_colour);
-  if (!gl_FrontFacing) {
-    n = -n;
-    base = to_linear(back_colour);
-  }
-  vec3 v = normalize(eye - world_position);
-  // Hemisphere ambient: a little more from the sky than from the ground.
-  float ambient = mix(0.06, 0.14, 0.5 + 0.5 * n.y);
-  float key = max(dot(n, key_direction), 0.0);
-  float fill = 0.35 * max(dot(n, fill_direction), 0.0);
-  vec3 h = normalize(key_direction + v);
-  float specular = key > 0.0 ? 0.25 * pow(max(dot(n, h), 0.0), 48.0) : 0.0;
-  vec3 lit = base * (ambient + 0.9 * key + fill) + vec3(specular);
-  colour = vec4(to_srgb(lit), opacity);
-}
-)";
-
-constexpr const char* kSheetVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 position;
-layout(location = 1) in vec3 normal;
-out vec3 world_position;
-out vec3 world_normal;
-uniform mat4 view_projection;
-void main() {
-  world_position = position;
-  world_normal = normal;
-  gl_Position = view_projection * vec4(position, 1.0);
-}
-)";
-
-constexpr const char* kSphereVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 unit_position;  // on the unit sphere; also the normal
-layout(location = 1) in vec3 centre;         // per instance
-out vec3 world_position;
-out vec3 world_normal;
-uniform mat4 view_projection;
-uniform float radius;
-void main() {
-  world_position = centre + radius * unit_position;
-  world_normal = unit_position;
-  gl_Position = view_projection * vec4(world_position, 1.0);
-}
-)";
-
-constexpr const char* kLineVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 position;
-uniform mat4 view_projection;
-void main() { gl_Position = view_projection * vec4(position, 1.0); }
-)";
-
-constexpr const char* kLineFragmentShader = R"(#version 330 core
-out vec4 colour;
-uniform vec3 line_colour;  // sRGB
-void main() { colour = vec4(line_colour, 1.0); }
-)";
-
-constexpr const char* kGroundVertexShader = R"(#version 330 core
-layout(location = 0) in vec3 position;
-out vec3 world_position;
-uniform mat4 view_projection;
-void main() {
-  world_position = position;
-  gl_Position = view_projection * vec4(position, 1.0);
-}
-)";
-
-constexpr const char* kGroundFragmentShader = R"(#version 330 core
-in vec3 world_position;
-out vec4 colour;
-uniform vec3 ground_colour;      // sRGB
-uniform vec3 centre;             // grid centre on the plane
-uniform float cell;              // grid cell size, m
-uniform float extent;            // fade-out radius, m
-void main() {
-  vec2 p = (world_position.xz - centre.xz) / cell;
-  // Distance to the nearest grid line in pixels, from the screen-space rate of change of p.
-  vec2 width = fwidth(p);
-  vec2 to_line = abs(fract(p - 0.5) - 0.5) / max(width, vec2(1e-6));
-  float line = 1.0 - min(min(to_line.x, to_line.y), 1.0);
-  // Every fifth line is a major line.
-  vec2 p5 = p / 5.0;
-  vec2 to_major = abs(fract(p5 - 0.5) - 0.5) / max(fwidth(p5), vec2(1e-6));
-  float major = 1.0 - min(min(to_major.x, to_major.y), 1.0);
-  float fade = 1.0 - smoothstep(0.55 * extent, extent, length(world_position.xz - centre.xz));
-  float alpha = (0.08 + 0.22 * line + 0.25 * major) * fade;
-  colour = vec4(ground_colour * (1.0 - 0.35 * max(line, major)), alpha);
-}
-)";
-
-GLuint compile(GLenum stage, const char* source, const char* name) {
-  const GLuint shader = glCreateShader(stage);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = 0;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetShaderInfoLog(shader, sizeof log, nullptr, log);
-    glDeleteShader(shader);
-    throw RenderError(std::string("the ") + name + " shader does not compile on this OpenGL driver: " + log);
-  }
-  return shader;
-}
-
-GLuint link(const char* vertex, const char* fragment, const char* name) {
-  const GLuint vertex_shader = compile(GL_VERTEX_SHADER, vertex, name);
-  GLuint fragment_shader = 0;
-  try {
-    fragment_shader = compile(GL_FRAGMENT_SHADER, fragment, name);
-  } catch (...) {
-    glDeleteShader(vertex_shader);
-    throw;
-  }
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vertex_shader);
-  glAttachShader(program, fragment_shader);
-  glLinkProgram(program);
-  glDeleteShader(vertex_shader);
-  glDeleteShader(fragment_shader);
-  GLint ok = 0;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (!ok) {
-    char log[4096] = {};
-    glGetProgramInfoLog(program, sizeof log, nullptr, log);
-    glDeleteProgram(program);
-    throw RenderError(std::string("the ") + name + " shader program does not link on this OpenGL driver: " + log);
-  }
-  return program;
-}
-
-void set_colour(GLuint program, const char* name, const Colour& colour) {
-  glUniform3f(glGetUniformLocation(program, name), colour.r, colour.g, colour.b);
-}
-
-void set_vec3(GLuint program, const char* name, const Vec3& v) {
-  glUniform3f(glGetUniformLocation(program, name), static_cast<float>(v.x), static_cast<float>(v.y),
-              static_cast<float>(v.z));
-}
-
-void set_matrix(GLuint program, const char* name, const Mat4& matrix) {
-  const std::array<float, 16> values = matrix.to_float();
-  glUniformMatrix4fv(glGetUniformLocation(program, name), 1, GL_FALSE, values.data());
-}
-
-void push(std::vector<float>& out, const Vec3& v) {
-  out.push_back(static_cast<float>(v.x));
-  out.push_back(static_cast<float>(v.y));
-  out.push_back(static_cast<float>(v.z));
-}
-
-Vec3 unit_or(const Vec3& v, const Vec3& fallback) {
-  const double length = norm(v);
-  return length > 1e-12 && std::isfinite(length) ? v / length : fallback;
-}
-
-// A vertex array with one float buffer of `components`-float attributes at locations 0.. and an
-// optional element buffer.
-struct Buffers {
-  GLuint array = 0;
-  GLuint vertices = 0;
-  GLuint elements = 0;
-
-  void create() {
-    glGenVertexArrays(1, &array);
-    glGenBuffers(1, &vertices);
-    glGenBuffers(1, &elements);
-  }
-  void destroy() {
-    glDeleteBuffers(1, &elements);
-    glDeleteBuffers(1, &vertices);
-    glDeleteVertexArrays(1, &array);
-  }
-  // Uploads `data` (orphaning the old storage) and declares vec3 attributes at the given offsets.
-  void upload(const std::vector<float>& data, std::initializer_list<int> attribute_offsets, int stride_floats) {
-    glBindVertexArray(array);
-    glBindBuffer(GL_ARRAY_BUFFER, vertices);
-    // glBufferData with new contents gives the buffer new storage (orphaning): the driver need
-    // not wait for draws still reading the previous frame's data.
-    glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(data.size() * sizeof(float)), data.data(), GL_STREAM_DRAW);
-    GLuint location = 0;
-    for (const int offset : attribute_offsets) {
-      glEnableVertexAttribArray(location);
-      glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, stride_floats * static_cast<GLsizei>(sizeof(float)),
-                            reinterpret_cast<const void*>(static_cast<std::uintptr_t>(offset) * sizeof(float)));
-      ++location;
-    }
-  }
-  void upload_elements(const void* data, std::size_t bytes) {
-    glBindVertexArray(array);
-    glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, elements);
-    glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(bytes), data, GL_STATIC_DRAW);
-  }
-};
-
-// A UV sphere of unit radius: positions (= normals) and triangle indices.
-void make_sphere(int slices, int stacks, std::vector<float>& vertices, std::vector<std::uint32_t>& indices) {
-  for (int i = 0; i <= stacks; ++i) {
-    const double polar = kPi * i / stacks;
-    for (int j = 0; j <= slices; ++j) {
-      const double around = 2.0 * kPi * j / slices;
-      push(vertices, Vec3{std::sin(polar) * std::cos(around), std::cos(polar), std::sin(polar) * std::sin(around)});
-    }
-  }
-  const auto index = [slices](int i, int j) { return static_cast<std::uint32_t>(i * (slices + 1) + j); };
-  for (int i = 0; i < stacks; ++i) {
-    for (int j = 0; j < slices; ++j) {
-      // Counter-clockwise seen from outside, so gl_FrontFacing holds on the visible side.
-      indices.insert(indices.end(), {index(i, j), index(i, j + 1), index(i + 1, j)});
-      indices.insert(indices.end(), {index(i, j + 1), index(i + 1, j + 1), index(i + 1, j)});
-    }
-  }
-}
-
-// Collider triangles: position and normal per vertex (6 floats), three vertices per triangle,
-// counter-clockwise seen from outside. Shapes are tessellated finely enough that a sphere of a
-// third of the picture looks round (48 x 24); this runs per frame, but for a few colliders it is
-// far below the sheet's cost.
-struct ColliderTriangles {
-  std::vector<float>& out;
-  void vertex(const Vec3& position, const Vec3& normal) {
-    push(out, position);
-    push(out, normal);
-  }
-  void flat(const Vec3& a, const Vec3& b, const Vec3& c) {
-    const Vec3 normal = unit_or(cross(b - a, c - a), {0, 1, 0});
-    vertex(a, normal);
-    vertex(b, normal);
-    vertex(c, normal);
-  }
-  // A sphere of `radius` around the segment from `bottom` to `top` along the unit `axis`, with
-  // `side` and `front` completing a right-handed frame (side x front = axis; perpendicular_frame()),
-  // which makes the triangles below counter-clockwise from outside: the upper hemisphere at `top`, the lower at
-  // `bottom`, and the cylinder between them (a sphere when top == bottom).
-  void capsule(const Vec3& bottom, const Vec3& top, double radius, const Vec3& axis, const Vec3& side,
-               const Vec3& front) {
-    constexpr int kSlices = 48;
-    constexpr int kStacks = 24;  // even: the equator is a ring, drawn once at each end
-    const auto point = [&](int ring, int slice) {
-      // Rings 0..kStacks/2 on the top hemisphere, kStacks/2 + 1..kStacks + 1 on the bottom one
-      // (ring kStacks/2 + 1 is the equator again, at the bottom end).
-      const int stack = ring <= kStacks / 2 ? ring : ring - 1;
-      const double polar = kPi * stack / kStacks;
-      const double around = 2.0 * kPi * slice / kSlices;
-      const Vec3 normal =
-          std::cos(polar) * axis + std::sin(polar) * (std::cos(around) * side + std::sin(around) * front);
-      return std::pair{(ring <= kStacks / 2 ? top : bottom) + radius * normal, normal};
-    };
-    for (int ring = 0; ring <= kStacks; ++ring) {
-      for (int slice = 0; slice < kSlices; ++slice) {
-        const auto p00 = point(ring, slice), p01 = point(ring, slice + 1);
-        const auto p10 = point(ring + 1, slice), p11 = point(ring + 1, slice + 1);
-        for (const auto& [position, normal] : {p00, p10, p01, p01, p10, p11}) vertex(position, normal);
-      }
-    }
-  }
-};
-
-// The frame of a unit axis: two unit vectors perpendicular to it and to each other.
-std::pair<Vec3, Vec3> perpendicular_frame(const Vec3& axis) {
-  const Vec3 helper = std::abs(axis.y) < 0.9 ? Vec3{0, 1, 0} : Vec3{1, 0, 0};
-  const Vec3 side = unit_or(cross(helper, axis), {1, 0, 0});
-  return {side, cross(axis, side)};
-}
-
-// Appends the triangles of `collider` translated by `shift`. Planes become a square of half-width
-// `plane_extent` centred on the point of the plane nearest `focus` (the sheet's centre).
-void append_collider(const Collider& collider, const Vec3& shift, const Vec3& focus, double plane_extent,
-                     std::vector<float>& out) {
-  ColliderTriangles triangles{out};
-  switch (collider.shape) {
-    case ColliderShape::plane: {
-      const Vec3 normal = unit_or(collider.normal, {0, 1, 0});
-      const Vec3 point = collider.point + shift;
-      const Vec3 centre = focus - dot(focus - point, normal) * normal;
-      const auto [u, v] = perpendicular_frame(normal);
-      const Vec3 a = centre + plane_extent * (-u - v), b = centre + plane_extent * (u - v);
-      const Vec3 c = centre + plane_extent * (u + v), d = centre + plane_extent * (-u + v);
-      for (const Vec3& p : {a, b, c, a, c, d}) triangles.vertex(p, normal);
-      break;
-    }
-    case ColliderShape::sphere: {
-      const Vec3 centre = collider.center + shift;
-      const auto [side, front] = perpendicular_frame({0, 1, 0});
-      triangles.capsule(centre, centre, collider.radius, {0, 1, 0}, side, front);
-      break;
-    }
-    case ColliderShape::capsule: {
-      const Vec3 axis = unit_or(collider.b - collider.a, {0, 1, 0});
-      const auto [side, front] = perpendicular_frame(axis);
-      triangles.capsule(collider.a + shift, collider.b + shift, collider.radius, axis, side, front);
-      break;
-    }
-    case ColliderShape::box: {
-      const Vec3 centre = collider.center + shift;
-      const Vec3& h = collider.half_extents;
-      const auto corner = [&](int i) {
-        return centre + Vec3{(i & 1 ? 1 : -1) * h.x, (i & 2 ? 1 : -1) * h.y, (i & 4 ? 1 : -1) * h.z};
-      };
-      // Each face's corners counter-clockwise seen from outside (bit 0: +x, bit 1: +y, bit 2: +z).
-      constexpr std::array<std::array<int, 4>, 6> kFaces = {
-          {{1, 3, 7, 5}, {0, 4, 6, 2}, {2, 6, 7, 3}, {0, 1, 5, 4}, {4, 5, 7, 6}, {0, 2, 3, 1}}};
-      for (const auto& face : kFaces) {
-        triangles.flat(corner(face[0]), corner(face[1]), corner(face[2]));
-        triangles.flat(corner(face[0]), corner(face[2]), corner(face[3]));
-      }
-      break;
-    }
-    case ColliderShape::mesh:
-      if (collider.mesh == nullptr) break;
-      for (const auto& [a, b, c] : collider.mesh->triangle) {
-        triangles.flat(collider.mesh->vertex[a] + shift, collider.mesh->vertex[b] + shift,
-                       collider.mesh->vertex[c] + shift);
-      }
-      break;
-  }
-}
-
-// An upward horizontal plane: the floor, drawn instead of the ground grid.
-bool is_floor(const Collider& collider) { return collider.shape == ColliderShape::plane && collider.normal.y > 0.999; }
+constexpr double kPi = std::numbers::pi;
 
 }  // namespace
 
@@ -433,10 +100,10 @@ Renderer::Renderer() : impl_(std::make_unique<Impl>()) {
                       std::to_string(epoxy_gl_version() / 10) + "." + std::to_string(epoxy_gl_version() % 10));
   }
   Impl& impl = *impl_;
-  impl.lit_sheet = link(kSheetVertexShader, kLitFragmentShader, "sheet");
-  impl.lit_sphere = link(kSphereVertexShader, kLitFragmentShader, "marker");
-  impl.flat_line = link(kLineVertexShader, kLineFragmentShader, "line");
-  impl.ground = link(kGroundVertexShader, kGroundFragmentShader, "ground");
+  impl.lit_sheet = link_program(kSheetVertexShader, kLitFragmentShader, "sheet");
+  impl.lit_sphere = link_program(kSphereVertexShader, kLitFragmentShader, "marker");
+  impl.flat_line = link_program(kLineVertexShader, kLineFragmentShader, "line");
+  impl.ground = link_program(kGroundVertexShader, kGroundFragmentShader, "ground");
   impl.sheet.create();
   impl.sphere.create();
   impl.lines.create();
@@ -538,7 +205,7 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
     const double cell = raw / decade < 1.5 ? decade : (raw / decade < 3.5 ? 2.0 * decade : 5.0 * decade);
     impl.vertex_data.clear();
     for (const auto& corner : {std::array<double, 2>{-1, -1}, {1, -1}, {-1, 1}, {1, 1}}) {
-      push(impl.vertex_data, centre + Vec3{corner[0] * extent, 0.0, corner[1] * extent});
+      push_vec3(impl.vertex_data, centre + Vec3{corner[0] * extent, 0.0, corner[1] * extent});
     }
     glUseProgram(impl.ground);
     set_matrix(impl.ground, "view_projection", view_projection);
@@ -594,8 +261,8 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
     impl.vertex_data.clear();
     impl.vertex_data.reserve(mesh.vertex_position.size() * 6);
     for (std::size_t v = 0; v < mesh.vertex_position.size(); ++v) {
-      push(impl.vertex_data, mesh.vertex_position[v]);
-      push(impl.vertex_data, mesh.vertex_normal[v]);
+      push_vec3(impl.vertex_data, mesh.vertex_position[v]);
+      push_vec3(impl.vertex_data, mesh.vertex_normal[v]);
     }
     impl.sheet.upload(impl.vertex_data, {0, 3}, 6);
     if (mesh.topology_version != impl.uploaded_topology) {
@@ -636,8 +303,8 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
     for (std::size_t e = 0; e < model.connector_count(); ++e) {
       if (model.connector_live[e] == 0) continue;
       const auto [a, b] = model.connector_particles[e];
-      push(impl.line_data, position[a]);
-      push(impl.line_data, position[b]);
+      push_vec3(impl.line_data, position[a]);
+      push_vec3(impl.line_data, position[b]);
     }
     impl.draw_lines(impl.line_data, options.connector_colour, view_projection);
   }
@@ -670,8 +337,8 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
       for (int s = 1; s <= kArcSegments; ++s) {
         const double angle = sweep * s / kArcSegments;
         const Vec3 next = centre + radius * (std::cos(angle) * to_b + std::sin(angle) * side);
-        push(impl.line_data, previous);
-        push(impl.line_data, next);
+        push_vec3(impl.line_data, previous);
+        push_vec3(impl.line_data, next);
         previous = next;
       }
     }
@@ -714,13 +381,13 @@ void Renderer::draw(const ClothModel& model, std::span<const Vec3> position, con
   if (options.show_anchors) {
     impl.instance_data.clear();
     for (const Anchor& anchor : model.anchors) {
-      if (anchor.particle < position.size()) push(impl.instance_data, position[anchor.particle]);
+      if (anchor.particle < position.size()) push_vec3(impl.instance_data, position[anchor.particle]);
     }
     draw_spheres(impl.instance_data, options.anchor_colour, radius);
   }
   if (options.highlighted_particle >= 0 && static_cast<std::size_t>(options.highlighted_particle) < position.size()) {
     impl.instance_data.clear();
-    push(impl.instance_data, position[static_cast<std::size_t>(options.highlighted_particle)]);
+    push_vec3(impl.instance_data, position[static_cast<std::size_t>(options.highlighted_particle)]);
     draw_spheres(impl.instance_data, options.highlight_colour, 1.2 * radius);
   }
 

@@ -20,6 +20,7 @@
 #include "run/run_memory.h"
 #include "run/run_recorder.h"
 #include "scene/parameters.h"
+#include "scene/scene_model.h"
 #include "scene/scene_simulation.h"
 
 namespace clothsim {

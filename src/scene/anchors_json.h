@@ -3,8 +3,8 @@
 // and writing an anchor back as JSON.
 //
 // Internal to src/scene: scene.cpp reads the document and hands these two keys here, and the
-// values are read through json_fields.h. The presets themselves (parse_anchor_preset()) and the
-// anchors resolved on the lattice (resolve_anchors()) are public, in scene.h.
+// values are read through json_fields.h. The presets themselves (parse_anchor_preset(), scene.h)
+// and the anchors resolved on the lattice (resolve_anchors(), scene_model.h) are public.
 #pragma once
 
 #include <string>

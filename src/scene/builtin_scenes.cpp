@@ -1,9 +1,9 @@
-// The built-in scene library, shared by tests, benchmarks and the tools (STYLE.md rule 15), so
-// that the scene benchmarked is the scene tested.
-//
-// The paper's figures are built from its own 10-number argument vectors through
-// scene_from_paper_args(), the same path a user's `paper_args` takes. The "paper material" of the
-// other scenes is LatticeDef's defaults, which are the constants of those figures.
+// The built-in scenes (builtin_scenes.h). The paper's figures are built from its own 10-number
+// argument vectors through scene_from_paper_args(), the same path a user's `paper_args` takes.
+// The "paper material" of the other scenes is LatticeDef's defaults, which are the constants of
+// those figures.
+#include "scene/builtin_scenes.h"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -15,6 +15,7 @@
 #include "core/error.h"
 #include "model/material.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 
 namespace clothsim {
 namespace {
@@ -26,7 +27,7 @@ SceneSpec paper_scene(std::string_view name, std::string_view arguments, std::st
   return spec;
 }
 
-// Figure 4 with self-collision on (issue 8): the paper had none and says its results hold only
+// Figure 4 with self-collision on: the paper had none and says its results hold only
 // while the sheet does not pass through itself. The folds of this sheet never come within the
 // thickness of each other, so the run is the paper's, bit for bit, with the check that it is.
 SceneSpec paper_fig4() {
@@ -95,7 +96,7 @@ SceneSpec cotton_drape() {
   return spec;
 }
 
-// The scenes of issue 7 (sheets that change): small lattices of a physical material, driven by
+// Sheets that change (tearing, permanent stretching, creasing): small lattices of a physical material, driven by
 // keyframed anchors, integrated by implicit Euler at a step of 1 ms (paper and film are far too
 // stiff for an explicit method at these spacings: a connector's k/m is near 5e10 s^-2 for paper).
 
@@ -210,9 +211,7 @@ SceneSpec cloth_shake() {
   return spec;
 }
 
-// The scenes of issue 8 (obstacles): cotton dropped onto a shape, with a floor below. Until the
-// collision stage is merged they fall through; the step and duration are first choices, tuned
-// once it is.
+// Obstacles: cotton dropped onto a shape, with a floor below.
 
 ColliderSpec collider_spec(const Collider& collider) {
   ColliderSpec spec;
@@ -279,7 +278,7 @@ SceneSpec tablecloth() {
 }
 
 // pile: the sheet folds onto itself on the ground, the scene that self-collision is measured on
-// (issue 8). A built-in scene cannot start the sheet hanging (the lattice starts flat, and
+// (docs/performance.md, "Collisions"). A built-in scene cannot start the sheet hanging (the lattice starts flat, and
 // anchors name particles by row and column, so they would not follow `--set lattice.rows=...`).
 // Instead the flat sheet falls across a thin frictionless rod that lies off its middle: the longer
 // side pulls it off the rod, and it falls 0.7 m onto the floor, where it lands as a column and

@@ -71,19 +71,4 @@ std::array<double, 10> read_text_paper_arguments(std::string_view text, const st
 }
 
 }  // namespace scene_json
-
-using namespace scene_json;
-
-SceneSpec scene_from_paper_args(std::string_view text, const std::string& source) {
-  const std::array<double, 10> values = read_text_paper_arguments(text, source);
-  SceneSpec spec;
-  apply_paper_arguments(spec, values);
-  std::vector<std::string> numbers;
-  for (double value : values) numbers.push_back(format_number(value));
-  spec.name = "paper-args";
-  spec.description = "The paper's argument vector [" + join_names(numbers) + "], centre particle anchored.";
-  validate_scene(spec, source);
-  return spec;
-}
-
 }  // namespace clothsim

@@ -198,7 +198,7 @@ constexpr std::array kScalarParameters = {
                     "(0: none)",
                     [](const SceneSpec& s) { return s.output.checkpoint_every; },
                     [](SceneSpec& s, double v) { s.output.checkpoint_every = v; }},
-    // Collisions (issue 8; the obstacles themselves are the "colliders" list).
+    // Collisions (the obstacles themselves are the "colliders" list).
     ScalarParameter{"collision.thickness", ParameterType::real, "m", left_open_range(0.0, 1.0),
                     "particles are kept this far outside every collider, and (with self) the sheet from itself",
                     [](const SceneSpec& s) { return s.collision.thickness; },

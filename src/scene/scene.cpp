@@ -21,9 +21,9 @@
 // The parts: json_fields.h reads and checks single values (from JSON and from --set text) and
 // parses JSON text; anchors_json.h reads, checks and writes anchors and cuts; colliders_json.h the
 // obstacles; material_json.h the material object; paper_args.h the paper's argument vector;
-// validate_scene.cpp the checks of a whole scene; scene_model.cpp builds the model and the initial
-// state from a scene. This file keeps the reader of the whole document, the single-field setter
-// (--set) and the writer back to JSON.
+// validate_scene.h the checks of a whole scene; scene_model.h builds the model and the initial
+// state from a scene. This file keeps the reader of the whole document and of the paper's
+// argument vector, the single-field setter (--set) and the writer back to JSON.
 #include "scene/scene.h"
 
 #include <algorithm>
@@ -41,6 +41,7 @@
 #include "scene/material_json.h"
 #include "scene/paper_args.h"
 #include "scene/parameters.h"
+#include "scene/validate_scene.h"
 
 namespace clothsim {
 
@@ -246,6 +247,18 @@ SceneSpec parse_scene(std::string_view json_text, const std::string& source, con
 
 SceneSpec load_scene_file(const std::string& path) {
   return parse_scene(read_input_file(path), path, std::filesystem::path(path).parent_path().string());
+}
+
+SceneSpec scene_from_paper_args(std::string_view text, const std::string& source) {
+  const std::array<double, 10> values = read_text_paper_arguments(text, source);
+  SceneSpec spec;
+  apply_paper_arguments(spec, values);
+  std::vector<std::string> numbers;
+  for (double value : values) numbers.push_back(format_number(value));
+  spec.name = "paper-args";
+  spec.description = "The paper's argument vector [" + join_names(numbers) + "], centre particle anchored.";
+  validate_scene(spec, source);
+  return spec;
 }
 
 bool parse_anchor_preset(std::string_view text, const LatticeDef& lattice, std::vector<AnchorSpec>& anchors) {

@@ -1,10 +1,12 @@
 // Scenes: everything needed to reproduce a run, read from a JSON file, from the paper's
 // 10-number argument vector, or from the built-in library.
 //
-// SceneSpec is plain data with in-class defaults. It is turned into a ClothModel and an initial
-// ClothState by build_model() and build_initial_state(). Parsing and validation report bad input
-// as InputError naming the file, the dotted field and the allowed range, and happen before any
-// output is created. docs/scene-format.md documents the format.
+// SceneSpec is plain data with in-class defaults. This header declares it and its readers and
+// writer (scene.cpp); the built-in library is builtin_scenes.h, the cross-field checks
+// validate_scene.h, and the ClothModel and initial ClothState a scene builds scene_model.h.
+// Parsing and validation report bad input as InputError naming the file, the dotted field and
+// the allowed range, and happen before any output is created. docs/scene-format.md documents the
+// format.
 #pragma once
 
 #include <array>
@@ -98,7 +100,7 @@ struct SceneSpec {
   Environment environment;
   std::vector<AnchorSpec> anchors;
   std::vector<CutSpec> cuts;            // notches cut before the run
-  std::vector<ColliderSpec> colliders;  // obstacles (issue 8)
+  std::vector<ColliderSpec> colliders;  // obstacles
   CollisionSettings collision;
   InitialConditions initial;
   IntegratorSettings integrator;
@@ -118,17 +120,6 @@ SceneSpec parse_scene(std::string_view json_text, const std::string& source, con
 // The paper's argument vector "rows,cols,mass,k_adj,c_adj,k_opp,c_opp,k_conn,c_conn,length"
 // with the centre particle anchored at the origin (as in all the paper's runs).
 SceneSpec scene_from_paper_args(std::string_view text, const std::string& source);
-
-// Built-in scenes, looked up by name ("paper-fig4", ...).
-struct BuiltinScene {
-  std::string name;
-  std::string description;
-};
-std::vector<BuiltinScene> builtin_scenes();
-bool is_builtin_scene(std::string_view name);
-SceneSpec builtin_scene(std::string_view name);
-// A file path or a built-in name.
-SceneSpec load_scene(const std::string& file_or_name);
 
 // Named anchor sets: "center", "corners", "none"; also "edge-corners" ((0, 0) and (0, cols-1)).
 // Replaces `anchors` and returns true, or returns false for an unknown name.
@@ -150,20 +141,6 @@ void set_scene_field(SceneSpec& spec, std::string_view key, std::string_view val
 // spec.material. Throws InputError naming `source` for an invalid material.
 void set_scene_material(SceneSpec& spec, const MaterialDef& material, const std::string& source);
 
-// Checks cross-field constraints (anchors inside the lattice, ...). Throws InputError.
-void validate_scene(const SceneSpec& spec, const std::string& source);
-
 // The complete scene as JSON in the file format; parse_scene(scene_to_json(s)) == s.
 nlohmann::json scene_to_json(const SceneSpec& spec);
-
-// Rest position of particle (row, col) in the flat lattice, m: ((col - (cols-1)/2) L, 0,
-// (row - (rows-1)/2) L), the same value build_lattice() gives it.
-Vec3 lattice_rest_position(const LatticeDef& lattice, int row, int col);
-// The scene's anchors as the model takes them: particle index row*cols + col, and the path's
-// origin set to the rest position where the scene did not give one.
-std::vector<Anchor> resolve_anchors(const SceneSpec& spec);
-
-ClothModel build_model(const SceneSpec& spec);
-ClothState build_initial_state(const ClothModel& model, const SceneSpec& spec);
-
 }  // namespace clothsim

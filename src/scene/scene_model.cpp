@@ -1,5 +1,6 @@
-// From a scene to what the simulation runs: the model (lattice, anchors, limits, notches,
-// colliders) and the initial state (scene.h).
+// From a scene to its model and initial state (scene_model.h).
+#include "scene/scene_model.h"
+
 #include <cstdint>
 #include <vector>
 

@@ -4,6 +4,8 @@
 #include <type_traits>
 #include <utility>
 
+#include "scene/scene_model.h"
+
 namespace clothsim {
 
 static_assert(std::is_nothrow_move_constructible_v<Simulation>, "make_simulation() returns a Simulation by value");

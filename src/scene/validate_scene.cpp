@@ -1,6 +1,7 @@
-// validate_scene(): the checks of a whole scene, after every field was read (scene.h). Each field
-// is checked again against the registry, so that scenes built in code get the same protection as
-// files, then the rules that involve several fields.
+// validate_scene() (validate_scene.h): each field against the registry, then the rules that
+// involve several fields.
+#include "scene/validate_scene.h"
+
 #include <string>
 
 #include "model/collider.h"

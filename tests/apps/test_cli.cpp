@@ -42,6 +42,7 @@
 #include "forces/lattice_kernel.h"
 #include "glb_reader.h"
 #include "io/npy.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "test_checks.h"
 

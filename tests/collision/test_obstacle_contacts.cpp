@@ -14,6 +14,7 @@
 #include "model/cloth_model.h"
 #include "model/collider.h"
 #include "model/mesh_fixtures.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
 #include "sim/simulation.h"

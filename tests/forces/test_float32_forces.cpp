@@ -18,6 +18,7 @@
 #include "forces/forces.h"
 #include "forces/lattice_cases.h"
 #include "forces/vector_math.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
 

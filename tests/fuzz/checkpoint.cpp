@@ -19,7 +19,9 @@
 #include "fuzz_target.h"
 #include "io/checkpoint.h"
 #include "run/run_checkpoints.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 
 namespace {
 

@@ -13,6 +13,7 @@
 
 #include "fuzz_target.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 
 namespace {
 

@@ -11,7 +11,10 @@
 #include <string>
 
 #include "fuzz_target.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
+#include "scene/validate_scene.h"
 
 namespace {
 

@@ -12,7 +12,9 @@
 #include "forces/forces.h"
 #include "integrators/integrator.h"
 #include "model/material.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "sim/simulation.h"
 
 namespace clothsim {

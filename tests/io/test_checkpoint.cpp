@@ -15,6 +15,7 @@
 
 #include "core/crc32.h"
 #include "io/checkpoint.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
 #include "test_checks.h"

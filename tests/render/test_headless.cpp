@@ -19,7 +19,9 @@
 #include "render/headless.h"
 #include "render/image.h"
 #include "render/renderer.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "sim/simulation.h"
 
 namespace clothsim::render {

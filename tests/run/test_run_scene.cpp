@@ -12,6 +12,7 @@
 #include "io/npy.h"
 #include "run/run_folders.h"
 #include "run/run_scene.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene/scene_simulation.h"
 #include "test_checks.h"

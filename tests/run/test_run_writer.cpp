@@ -17,6 +17,7 @@
 #include "io/npy.h"
 #include "run/run_writer.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "scene_simulation.h"
 #include "test_checks.h"
 

@@ -6,7 +6,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
+#include "scene/validate_scene.h"
 #include "test_helpers.h"
 
 namespace clothsim {

@@ -12,7 +12,10 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "scene/builtin_scenes.h"
 #include "scene/colliders_json.h"
+#include "scene/scene_model.h"
+#include "scene/validate_scene.h"
 #include "test_helpers.h"
 
 namespace clothsim {

@@ -6,6 +6,7 @@
 
 #include "core/error.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "test_checks.h"
 
 namespace clothsim {

@@ -1,6 +1,9 @@
 // Scene files: parsing, the paper's argument vector, round trips, error messages, --set, and the
 // model and state built from a scene. Small scenes are inline JSON strings (MuJoCo style).
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
+#include "scene/validate_scene.h"
 
 #include <gtest/gtest.h>
 

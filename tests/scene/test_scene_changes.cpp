@@ -9,7 +9,10 @@
 #include <string>
 
 #include "model/material.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
+#include "scene/validate_scene.h"
 #include "test_helpers.h"
 
 namespace clothsim {

@@ -7,8 +7,10 @@
 #include <utility>
 #include <vector>
 
+#include "scene/builtin_scenes.h"
 #include "scene/parameters.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "scene/scene_simulation.h"
 
 namespace clothsim {

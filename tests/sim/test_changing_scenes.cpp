@@ -12,7 +12,10 @@
 
 #include "model/collider.h"
 #include "model/material.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
+#include "scene/validate_scene.h"
 #include "sim/simulation.h"
 
 namespace clothsim {

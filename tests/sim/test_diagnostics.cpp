@@ -7,6 +7,7 @@
 
 #include "integrators/stable_step.h"
 #include "scene/scene.h"
+#include "scene/scene_model.h"
 #include "scene_simulation.h"
 #include "sim/simulation.h"
 

@@ -14,6 +14,7 @@
 #include <cmath>
 #include <cstdio>
 
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
 #include "sim/backend.h"

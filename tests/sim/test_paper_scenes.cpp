@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
 #include "sim/simulation.h"

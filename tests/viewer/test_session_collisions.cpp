@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "model/model_edits.h"
+#include "scene/builtin_scenes.h"
 #include "session_fixtures.h"
 #include "viewer/session.h"
 

@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "scene/parameters.h"
+#include "scene/validate_scene.h"
 
 namespace clothsim::viewer {
 namespace {

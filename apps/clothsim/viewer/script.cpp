@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "core/input_file.h"
 #include "scene/parameters.h"
+#include "scene/validate_scene.h"
 
 namespace clothsim::viewer {
 namespace {

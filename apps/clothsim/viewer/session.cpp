@@ -9,6 +9,7 @@
 #include "core/timer.h"
 #include "scene/parameters.h"
 #include "scene/scene_simulation.h"
+#include "scene/validate_scene.h"
 #include "viewer/interaction.h"
 
 namespace clothsim::viewer {

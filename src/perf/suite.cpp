@@ -1,4 +1,4 @@
-#include "bench/suite.h"
+#include "perf/suite.h"
 
 #include <sys/resource.h>
 
@@ -6,7 +6,7 @@
 #include <map>
 #include <utility>
 
-#include "bench/peak_flops.h"
+#include "perf/peak_flops.h"
 
 #include "core/parallel.h"
 #include "core/timer.h"

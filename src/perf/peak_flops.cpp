@@ -1,4 +1,4 @@
-#include "bench/peak_flops.h"
+#include "perf/peak_flops.h"
 
 #include <omp.h>
 

@@ -1,4 +1,4 @@
-// A floating-point peak probe for the roofline of `clothsim bench` (bench/suite.h), like the memory
+// A floating-point peak probe for the roofline of `clothsim bench` (perf/suite.h), like the memory
 // bandwidth probe bench/stream.cpp: the rate of independent multiply-add chains,
 // a[k] = a[k] s + t over 128 accumulators, vectorised (AVX-512, AVX2 or baseline SSE2, chosen at
 // load time like the lattice kernel: core/multiversion.h). 128 chains hide the latency of the

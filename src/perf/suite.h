@@ -14,7 +14,7 @@
 // kLatticeKernelFlopsPerParticle (forces/lattice_kernel.h: 808 operations per particle and
 // evaluation, counted from the code) times particles times evaluations over the wall time inside
 // force evaluation, and its share of the machine's peak on the case's thread count, in the
-// precision of its forces, measured by a multiply-add probe (bench/peak_flops.h) once per thread
+// precision of its forces, measured by a multiply-add probe (perf/peak_flops.h) once per thread
 // count and precision at the start.
 #pragma once
 
