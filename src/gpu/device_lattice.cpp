@@ -14,6 +14,20 @@
 #include "model/model_edits.h"
 
 namespace clothsim::gpu {
+namespace {
+
+// Where a spring's parameters start in `lattice_params` and `event_params` (shaders/device_step.h).
+std::size_t connector_params(std::uint32_t p, bool south) {
+  return std::size_t{p} * kLatticeParams + kConnectorParams + kSpringParams * (south ? 1u : 0u);
+}
+std::size_t radial_params(std::uint32_t p, std::size_t pair) {
+  return std::size_t{p} * kLatticeParams + kRadialParams + kSpringParams * pair;
+}
+std::size_t connector_events(std::uint32_t p, bool south) {
+  return std::size_t{p} * kEventParams + kEventsPerConnector * (south ? 1u : 0u);
+}
+
+}  // namespace
 
 void DeviceIntegrator::upload_lattice_params() {
   // Active: live and its term on (the CPU's condition, as DeviceForces' flags); missing springs
@@ -25,26 +39,26 @@ void DeviceIntegrator::upload_lattice_params() {
   for_each_lattice_spring(
       static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols),
       [&](std::uint32_t e, std::uint32_t p, bool south) {
-        double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];
-        c[0] = model_.connector_rest_length[e];
-        c[1] = model_.connector_stiffness[e];
-        c[2] = model_.connector_damping[e];
-        c[3] = (terms & kConnectorSprings) != 0 && model_.connector_live[e] != 0 ? 1.0 : 0.0;
-        double* t = &events[std::size_t{p} * kEventParams + (south ? 4 : 0)];
-        t[0] = model_.connector_original_length[e];
-        t[1] = model_.connector_break_strain[e];
-        t[2] = model_.connector_yield_strain[e];
+        double* c = &params[connector_params(p, south)];
+        c[kParamRest] = model_.connector_rest_length[e];
+        c[kParamStiffness] = model_.connector_stiffness[e];
+        c[kParamDamping] = model_.connector_damping[e];
+        c[kParamActive] = (terms & kConnectorSprings) != 0 && model_.connector_live[e] != 0 ? 1.0 : 0.0;
+        double* t = &events[connector_events(p, south)];
+        t[kEventOriginalLength] = model_.connector_original_length[e];
+        t[kEventBreakStrain] = model_.connector_break_strain[e];
+        t[kEventYieldStrain] = model_.connector_yield_strain[e];
         return true;
       },
       [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
-        double* c = &params[std::size_t{p} * kLatticeParams + 8 + 4 * pair];
+        double* c = &params[radial_params(p, pair)];
         const ForceTerms term =
             model_.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
-        c[0] = model_.radial_rest_angle[r];
-        c[1] = model_.radial_stiffness[r];
-        c[2] = model_.radial_damping[r];
-        c[3] = (terms & term) != 0 && model_.radial_live[r] != 0 ? 1.0 : 0.0;
-        events[std::size_t{p} * kEventParams + 8 + pair] = model_.radial_yield_angle[r];
+        c[kParamRest] = model_.radial_rest_angle[r];
+        c[kParamStiffness] = model_.radial_stiffness[r];
+        c[kParamDamping] = model_.radial_damping[r];
+        c[kParamActive] = (terms & term) != 0 && model_.radial_live[r] != 0 ? 1.0 : 0.0;
+        events[std::size_t{p} * kEventParams + kRadialYieldAngles + pair] = model_.radial_yield_angle[r];
         return true;
       });
   upload(device_, arrays_[lattice_params], real_bytes(params, precision_));
@@ -54,11 +68,11 @@ void DeviceIntegrator::upload_lattice_params() {
 void DeviceIntegrator::set_laws() {
   const SpringLimits& limits = model_.limits;
   std::uint32_t laws = 0;
-  if (lattice_ && limits.break_strain != SpringLimits::kNever) laws |= 1u;
-  if (lattice_ && limits.yield_strain != SpringLimits::kNever) laws |= 2u;
+  if (lattice_ && limits.break_strain != SpringLimits::kNever) laws |= kLawTearing;
+  if (lattice_ && limits.yield_strain != SpringLimits::kNever) laws |= kLawPlasticity;
   if (lattice_ &&
       (limits.adjacent_yield_angle != SpringLimits::kNever || limits.opposite_yield_angle != SpringLimits::kNever)) {
-    laws |= 4u;
+    laws |= kLawCreasing;
   }
   if (laws == laws_) return;
   // The laws are in the recorded attempts' push constants: record them again.
@@ -87,20 +101,24 @@ IntegratorEvents DeviceIntegrator::take_spring_events(ClothModel& model) {
   for_each_lattice_spring(
       static_cast<std::size_t>(model.rows), static_cast<std::size_t>(model.cols),
       [&](std::uint32_t e, std::uint32_t p, bool south) {
-        const double* c = &params[std::size_t{p} * kLatticeParams + (south ? 4 : 0)];
-        const double* t = &events[std::size_t{p} * kEventParams + (south ? 4 : 0)];
-        if (model.connector_live[e] != 0 && c[3] == 0.0) {
-          break_connector(model, e, t0 + t[3]);
+        const double* c = &params[connector_params(p, south)];
+        const double* t = &events[connector_events(p, south)];
+        if (model.connector_live[e] != 0 && c[kParamActive] == 0.0) {
+          break_connector(model, e, t0 + t[kEventBreakTime]);
         } else if (model.connector_live[e] != 0) {
-          if (c[0] != on_device(model.connector_rest_length[e])) set_connector_rest_length(model, e, c[0]);
-          if (t[2] != on_device(model.connector_yield_strain[e])) set_connector_yield_strain(model, e, t[2]);
+          if (c[kParamRest] != on_device(model.connector_rest_length[e])) {
+            set_connector_rest_length(model, e, c[kParamRest]);
+          }
+          if (t[kEventYieldStrain] != on_device(model.connector_yield_strain[e])) {
+            set_connector_yield_strain(model, e, t[kEventYieldStrain]);
+          }
         }
         return true;
       },
       [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {
-        const double* c = &params[std::size_t{p} * kLatticeParams + 8 + 4 * pair];
-        if (model.radial_live[r] != 0 && c[0] != on_device(model.radial_rest_angle[r])) {
-          set_radial_rest_angle(model, r, c[0]);
+        const double* c = &params[radial_params(p, pair)];
+        if (model.radial_live[r] != 0 && c[kParamRest] != on_device(model.radial_rest_angle[r])) {
+          set_radial_rest_angle(model, r, c[kParamRest]);
         }
         return true;
       });

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene/scene_simulation.h"
 #include "sim/profile.h"

@@ -70,16 +70,34 @@ CLOTHSIM_SLOT kRowReals = 1 + 2 * kMaxDeviceStages;
 // which covers every AnchorPath kind between anchor events (gpu/device_integrator.cpp).
 CLOTHSIM_SLOT kAnchorReals = 11;  // x0 (3), v (3), A (3), omega, theta0
 
-// The lattice path (lattice_elements.comp): per particle, its east and south connectors (rest
-// length, stiffness, damping, active) and its six radial springs (rest angle, stiffness, damping,
-// active) in `lattice_params`; its springs' force on itself (3), on its four neighbours (4 x 3)
-// in `lattice_forces`.
+// The lattice path (lattice_elements.comp): per particle, kLatticeParams Reals in
+// `lattice_params`, its east and south connectors (d 0, 1) and its six radial springs (pair k in
+// model/lattice_springs.inc's order), each spring's four parameters at the offsets below; its
+// springs' force on itself (3) and on its four neighbours (4 x 3) in `lattice_forces`.
 CLOTHSIM_SLOT kLatticeParams = 32;
 CLOTHSIM_SLOT kLatticeForces = 15;
-// The laws of events/spring_events.h on the lattice path, per particle in `event_params`: for the
-// east and south connector, the original length, the break strain, the yield strain and the time
-// it broke (elapsed in the advance); the six radial springs' yield angles.
+CLOTHSIM_SLOT kSpringParams = 4;       // Reals per spring
+CLOTHSIM_SLOT kConnectorParams = 0;    // connector d at kConnectorParams + kSpringParams * d
+CLOTHSIM_SLOT kRadialParams = 8;       // radial spring k at kRadialParams + kSpringParams * k
+CLOTHSIM_SLOT kParamRest = 0;          // m, the rest length; rad, the rest angle
+CLOTHSIM_SLOT kParamStiffness = 1;     // N/m; N m/rad
+CLOTHSIM_SLOT kParamDamping = 2;       // the damping coefficient
+CLOTHSIM_SLOT kParamActive = 3;        // 1: live and its force term on; 0: absent, broken or off
+// The laws of events/spring_laws.inc on the lattice path, per particle, kEventParams Reals in
+// `event_params`: the east and south connectors' four values at kEventsPerConnector * d, then the
+// six radial springs' yield angles at kRadialYieldAngles + k.
 CLOTHSIM_SLOT kEventParams = 16;
+CLOTHSIM_SLOT kEventsPerConnector = 4;
+CLOTHSIM_SLOT kEventOriginalLength = 0;  // m
+CLOTHSIM_SLOT kEventBreakStrain = 1;     // +inf: never breaks
+CLOTHSIM_SLOT kEventYieldStrain = 2;     // +inf: never yields; grows with hardening
+CLOTHSIM_SLOT kEventBreakTime = 3;       // s, elapsed in the advance when it broke
+CLOTHSIM_SLOT kRadialYieldAngles = 8;    // rad, +inf: never creases
+
+// The event passes' `laws` bits.
+CLOTHSIM_SLOT kLawTearing = 1;
+CLOTHSIM_SLOT kLawPlasticity = 2;  // permanent stretching
+CLOTHSIM_SLOT kLawCreasing = 4;
 
 // The passes' push constants.
 struct StagePassConstants {
@@ -102,7 +120,7 @@ struct EventPassConstants {
   uint particle_count;
   uint rows;
   uint cols;
-  uint laws;    // bits: 1 tearing, 2 permanent stretching, 4 creasing
+  uint laws;    // kLawTearing | kLawPlasticity | kLawCreasing: the laws that act
   uint blocks;  // lattice_events_radial: its workgroups
 };
 

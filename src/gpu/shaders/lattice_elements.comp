@@ -49,24 +49,26 @@ void main() {
   Vec3 own = Vec3(0.0);
   Vec3 to[4] = Vec3[4](Vec3(0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0));
   Real power = Real(0.0);
-  // East (d 0) and south (d 1) connectors: rest length, stiffness, damping, active.
+  // East (d 0) and south (d 1) connectors.
   for (uint d = 0u; d < 2u; ++d) {
-    const uint c = base + 4u * d;
-    if (!has[d] || lattice_params[c + 3u] == Real(0.0)) continue;
-    const ConnectorForce f = connector_force(x, arm_x[d], v, arm_v[d], lattice_params[c], lattice_params[c + 1u],
-                                             damped * lattice_params[c + 2u]);
+    const uint c = base + kConnectorParams + kSpringParams * d;
+    if (!has[d] || lattice_params[c + kParamActive] == Real(0.0)) continue;
+    const ConnectorForce f =
+        connector_force(x, arm_x[d], v, arm_v[d], lattice_params[c + kParamRest], lattice_params[c + kParamStiffness],
+                        damped * lattice_params[c + kParamDamping]);
     own += f.force_on_a;
     to[d] -= f.force_on_a;
     power += f.damping_power;
   }
-  // The six radial springs: rest angle, stiffness, damping, active.
+  // The six radial springs.
   for (uint k = 0u; k < uint(kRadialsPerParticle); ++k) {
-    const uint r = base + 8u + 4u * k;
+    const uint r = base + kRadialParams + kSpringParams * k;
     const uint b = uint(kRadialArmB[k]);
     const uint c = uint(kRadialArmC[k]);
-    if (!has[b] || !has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
-    const RadialForce f = radial_force(x, arm_x[b], arm_x[c], v, arm_v[b], arm_v[c], lattice_params[r],
-                                       lattice_params[r + 1u], damped * lattice_params[r + 2u]);
+    if (!has[b] || !has[c] || lattice_params[r + kParamActive] == Real(0.0)) continue;
+    const RadialForce f =
+        radial_force(x, arm_x[b], arm_x[c], v, arm_v[b], arm_v[c], lattice_params[r + kParamRest],
+                     lattice_params[r + kParamStiffness], damped * lattice_params[r + kParamDamping]);
     own -= f.force_on_b + f.force_on_c;
     to[b] += f.force_on_b;
     to[c] += f.force_on_c;

@@ -38,28 +38,29 @@ void main() {
   Real plastic = Real(0.0);
   uint broke = 0u;
   for (uint d = 0u; d < 2u; ++d) {
-    const uint c = p * kLatticeParams + 4u * d;  // rest length, stiffness, damping, active
-    const uint e = p * kEventParams + 4u * d;    // original length, break strain, yield strain, break time
-    if (!cell.has[d] || lattice_params[c + 3u] == Real(0.0)) continue;
+    const uint c = p * kLatticeParams + kConnectorParams + kSpringParams * d;
+    const uint e = p * kEventParams + kEventsPerConnector * d;
+    if (!cell.has[d] || lattice_params[c + kParamActive] == Real(0.0)) continue;
     const Vec3 xb = load_position(cell.neighbour[d]);
     const Real length = norm(xb - x);
-    const Real rest = lattice_params[c];
-    const Real stiffness = lattice_params[c + 1u];
-    if ((constants.laws & 1u) != 0u && connector_breaks(length, event_params[e], event_params[e + 1u])) {
+    const Real rest = lattice_params[c + kParamRest];
+    const Real stiffness = lattice_params[c + kParamStiffness];
+    if ((constants.laws & kLawTearing) != 0u &&
+        connector_breaks(length, event_params[e + kEventOriginalLength], event_params[e + kEventBreakStrain])) {
       fracture -= connector_energy(x, xb, rest, stiffness);
-      lattice_params[c + 3u] = Real(0.0);
-      event_params[e + 3u] = control_real[kElapsed];
+      lattice_params[c + kParamActive] = Real(0.0);
+      event_params[e + kEventBreakTime] = control_real[kElapsed];
       broke |= 1u << d;
       atomicAdd(control_uint[kBreaks], 1u);
       continue;
     }
-    if ((constants.laws & 2u) == 0u) continue;
+    if ((constants.laws & kLawPlasticity) == 0u) continue;
     const Real hardening = control_real[kHardening];
-    const ReturnMapping mapping = return_mapping(length, rest, event_params[e + 2u], hardening);
+    const ReturnMapping mapping = return_mapping(length, rest, event_params[e + kEventYieldStrain], hardening);
     if (!mapping.yields) continue;
     plastic += connector_energy(x, xb, mapping.rest_length, stiffness) - connector_energy(x, xb, rest, stiffness);
-    lattice_params[c] = mapping.rest_length;
-    if (hardening != Real(0.0)) event_params[e + 2u] = mapping.yield_strain;
+    lattice_params[c + kParamRest] = mapping.rest_length;
+    if (hardening != Real(0.0)) event_params[e + kEventYieldStrain] = mapping.yield_strain;
     atomicAdd(control_uint[kYields], 1u);
   }
   event_energy[2u * p] = fracture;

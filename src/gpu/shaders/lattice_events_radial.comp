@@ -48,25 +48,25 @@ void main() {
     fracture = event_energy[2u * p];
     plastic = event_energy[2u * p + 1u];
     for (uint k = 0u; k < uint(kRadialsPerParticle); ++k) {
-      const uint r = p * kLatticeParams + 8u + 4u * k;  // rest angle, stiffness, damping, active
+      const uint r = p * kLatticeParams + kRadialParams + kSpringParams * k;
       const uint b = uint(kRadialArmB[k]);
       const uint c = uint(kRadialArmC[k]);
-      if (!cell.has[b] || !cell.has[c] || lattice_params[r + 3u] == Real(0.0)) continue;
+      if (!cell.has[b] || !cell.has[c] || lattice_params[r + kParamActive] == Real(0.0)) continue;
       const Vec3 xb = load_position(cell.neighbour[b]);
       const Vec3 xc = load_position(cell.neighbour[c]);
-      const Real rest = lattice_params[r];
-      const Real stiffness = lattice_params[r + 1u];
+      const Real rest = lattice_params[r + kParamRest];
+      const Real stiffness = lattice_params[r + kParamStiffness];
       if (arm_broke(b, cell, p) || arm_broke(c, cell, p)) {
         fracture -= radial_energy(x, xb, xc, rest, stiffness);
-        lattice_params[r + 3u] = Real(0.0);
+        lattice_params[r + kParamActive] = Real(0.0);
         continue;
       }
-      const Real yield_angle = event_params[p * kEventParams + 8u + k];
-      if ((constants.laws & 4u) == 0u) continue;
+      const Real yield_angle = event_params[p * kEventParams + kRadialYieldAngles + k];
+      if ((constants.laws & kLawCreasing) == 0u) continue;
       const Real new_rest = creased_rest_angle(radial_angle(x, xb, xc), rest, yield_angle);
       if (new_rest == rest) continue;
       plastic += radial_energy(x, xb, xc, new_rest, stiffness) - radial_energy(x, xb, xc, rest, stiffness);
-      lattice_params[r] = new_rest;
+      lattice_params[r + kParamRest] = new_rest;
       atomicAdd(control_uint[kCreases], 1u);
     }
   }
