@@ -6,6 +6,7 @@
 // run.cpp          clothsim.run(): the library's run driver (run/run_scene.h), the command's folder
 //
 // Errors: the library's exceptions become Python ones with the same message text (module.cpp):
+// ResourceError -> clothsim.ResourceError (a MemoryError, with .estimate, .parts and .limit),
 // InputError -> clothsim.SceneError (a ValueError, with .source, .field and .reason),
 // OutputError -> clothsim.OutputError (an OSError), a failed simulation -> clothsim.SimulationError
 // (a RuntimeError).
@@ -15,8 +16,10 @@
 // holds up the others.
 #pragma once
 
+#include <cstdint>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -40,6 +43,10 @@ SceneSpec scene_from(py::handle source, py::handle set);
 // true/false, None as none, numbers as the shortest text that reads back exactly, a sequence as
 // x,y,z for a vector field and JSON otherwise, a dict as JSON.
 std::string field_text(std::string_view key, py::handle value);
+
+// The max_memory= argument: None (90 % of the memory available), a number of bytes, or a size as
+// the command's --max-memory takes it ("8G", "512M"). Throws InputError naming max_memory.
+std::optional<std::uint64_t> max_memory_from(py::handle value);
 
 // clothsim.Simulation: the scene it was made from (with live edits) and the simulation.
 struct SimulationHandle {

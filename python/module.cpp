@@ -4,10 +4,12 @@
 #include <pybind11/stl.h>
 
 #include <exception>
+#include <optional>
 #include <string>
 
 #include "bindings.h"
 #include "core/error.h"
+#include "core/memory_size.h"
 #include "run/run_scene.h"
 #include "run/run_writer.h"
 #include "scene/builtin_scenes.h"
@@ -18,6 +20,7 @@ namespace {
 
 // The exception types, created with the module and kept for its life (the interpreter's).
 py::handle g_scene_error;
+py::handle g_resource_error;
 py::handle g_output_error;
 py::handle g_simulation_error;
 
@@ -31,6 +34,14 @@ void set_error(py::handle type, const std::string& message, const py::dict& attr
 void translate(std::exception_ptr pointer) {
   try {
     if (pointer) std::rethrow_exception(pointer);
+  } catch (const ResourceError& error) {
+    py::dict parts;
+    for (const ResourceError::Part& part : error.parts()) parts[py::str(part.name)] = part.bytes;
+    py::dict attributes;
+    attributes["estimate"] = error.estimate_bytes();
+    attributes["parts"] = parts;
+    attributes["limit"] = error.limit_bytes();
+    set_error(g_resource_error, error.what(), attributes);
   } catch (const InputError& error) {
     py::dict attributes;
     attributes["source"] = error.source();
@@ -39,8 +50,6 @@ void translate(std::exception_ptr pointer) {
     set_error(g_scene_error, error.what(), attributes);
   } catch (const OutputError& error) {
     set_error(g_output_error, error.what());
-  } catch (const SimulationError& error) {
-    set_error(g_simulation_error, error.what());
   }
 }
 
@@ -83,6 +92,24 @@ py::dict parameter_table() {
 
 }  // namespace
 
+std::optional<std::uint64_t> max_memory_from(py::handle value) {
+  if (value.is_none()) return std::nullopt;
+  // The command's forms, and a plain int of bytes (not a bool, which Python counts as an int).
+  std::optional<std::uint64_t> bytes;
+  std::string text;
+  if (py::isinstance<py::int_>(value) && !py::isinstance<py::bool_>(value)) {
+    text = py::str(value).cast<std::string>();
+    if (value.cast<py::int_>() > py::int_(0)) bytes = parse_memory_size(text);
+  } else if (py::isinstance<py::str>(value)) {
+    text = value.cast<std::string>();
+    bytes = parse_memory_size(text);
+  } else {
+    text = py::repr(value).cast<std::string>();
+  }
+  if (!bytes) throw InputError("max_memory", "", "must be " + std::string(memory_size_forms()) + ", got " + text);
+  return bytes;
+}
+
 void raise_simulation_error(const std::string& message, py::handle result) {
   py::dict attributes;
   attributes["result"] = result;
@@ -116,6 +143,12 @@ PYBIND11_MODULE(clothsim, module) {
       "Bad input: a scene, a value of set= or an argument. The message is the command's; .source names where "
       "the value came from, .field the dotted scene key (may be empty), .reason what is allowed.",
       PyExc_ValueError, nullptr);
+  g_resource_error = PyErr_NewExceptionWithDoc(
+      "clothsim.ResourceError",
+      "A scene too large for the memory this process may use, refused before anything was allocated or written. "
+      "The message is the command's; .estimate is the estimated bytes, .parts their breakdown (a dict of bytes), "
+      ".limit the most the estimate could be (90 % of the memory available, or max_memory=).",
+      PyExc_MemoryError, nullptr);
   g_output_error = PyErr_NewExceptionWithDoc("clothsim.OutputError",
                                              "The output (a run's folder, a picture) could not be written or made.",
                                              PyExc_OSError, nullptr);
@@ -125,10 +158,12 @@ PYBIND11_MODULE(clothsim, module) {
       "message is the diagnosis. From clothsim.run(), .result is the RunResult (the folder is written, with "
       "status \"failed\").",
       PyExc_RuntimeError, nullptr);
-  if (g_scene_error.ptr() == nullptr || g_output_error.ptr() == nullptr || g_simulation_error.ptr() == nullptr) {
+  if (g_scene_error.ptr() == nullptr || g_resource_error.ptr() == nullptr || g_output_error.ptr() == nullptr ||
+      g_simulation_error.ptr() == nullptr) {
     throw py::error_already_set();
   }
   module.attr("SceneError") = g_scene_error;
+  module.attr("ResourceError") = g_resource_error;
   module.attr("OutputError") = g_output_error;
   module.attr("SimulationError") = g_simulation_error;
   py::register_exception_translator(translate);

@@ -181,18 +181,20 @@ void bind_simulation(py::module_& module) {
       "A scene's simulation, as `clothsim run` steps it (make_simulation). positions and velocities are copies, "
       "(particles, 3) float64; particle (i, j) has index i * cols + j. Stepping and rendering release the GIL; "
       "calls on one Simulation from several threads take turns.")
-      .def(py::init([](py::handle scene, py::handle set) {
+      .def(py::init([](py::handle scene, py::handle set, py::handle max_memory) {
              SceneSpec spec = scene_from(scene, set);
+             const MemoryAllowance memory{max_memory_from(max_memory), "max_memory", false};
              std::unique_ptr<Simulation> simulation;
              {
                py::gil_scoped_release release;
-               simulation = make_unique_simulation(spec);
+               simulation = make_unique_simulation(spec, memory);
              }
              return std::make_shared<SimulationHandle>(std::move(spec), std::move(simulation));
            }),
-           py::arg("scene"), py::kw_only(), py::arg("set") = py::none(),
+           py::arg("scene"), py::kw_only(), py::arg("set") = py::none(), py::arg("max_memory") = py::none(),
            "Builds the simulation of `scene` (a Scene, or anything load_scene() takes, with its set=) at its "
-           "initial state, t = 0.")
+           "initial state, t = 0. A scene whose estimated memory is above 90 % of what is available, or above "
+           "max_memory (bytes, or a size such as '8G'), raises ResourceError before anything is allocated.")
       .def("advance_to", &advance, py::arg("time"),
            "Advances to exactly `time`, s (>= time). Raises SimulationError if the simulation fails; it then "
            "stays at its last good state.")

@@ -12,9 +12,10 @@
 #     --scenes LIST   comma-separated built-in scenes (default: all of `AFTER scenes`)
 #     --backend B     cpu (default) or vulkan (where a device is at hand)
 #     --work DIR      where the runs go (default: a temporary folder, removed at the end)
-#     --new-fields    AFTER may add records: summary.json keys and checkpoint fields that only
-#                     AFTER writes are listed, not failed, and the checkpoints' format version
-#                     may differ; every key and field both write must still be the same
+#     --new-fields    AFTER may add records: summary.json keys that only AFTER writes, and
+#                     checkpoint fields that only one side writes (a new format that renames),
+#                     are listed, not failed, and the checkpoints' format version may differ;
+#                     every key and field both write must still be the same
 #   Anything after `--` is passed to every run of both binaries.
 #
 # Prints one line per scene and exits 1 if any file differs (naming it), 0 if all are the same.
@@ -23,7 +24,7 @@
 # and issue 26 changes what they draw.
 set -euo pipefail
 
-usage() { sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
+usage() { sed -n '2,24p' "$0" | sed 's/^# \{0,1\}//'; exit 2; }
 [ $# -ge 2 ] || usage
 before=$(realpath "$1")
 after=$(realpath "$2")
@@ -107,9 +108,14 @@ def records(path):
     return header, fields
 (header_a, a), (header_b, b) = records(sys.argv[1]), records(sys.argv[2])
 allow_new = sys.argv[3] == "1"
-added = sorted(set(b) - set(a))
-if allow_new and added:
-    print("  checkpoint: only after: " + ", ".join(n.decode() for n in added), file=sys.stderr)
+added, removed = sorted(set(b) - set(a)), sorted(set(a) - set(b))
+if allow_new:
+    # A new format may add fields and rename others: the fields both write must be the same.
+    if added:
+        print("  checkpoint: only after: " + ", ".join(n.decode() for n in added), file=sys.stderr)
+    if removed:
+        print("  checkpoint: only before: " + ", ".join(n.decode() for n in removed), file=sys.stderr)
+    a = {name: value for name, value in a.items() if name in b}
     b = {name: value for name, value in b.items() if name in a}
 same = a == b and (allow_new or header_a == header_b)
 sys.exit(0 if same else 1)

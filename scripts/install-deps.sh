@@ -33,6 +33,8 @@ packages=(
   # sanitizer runtimes (libclang-rt-14-dev, only recommended by clang-14, so named here), LLVM's
   # OpenMP for clang builds, and llvm-symbolizer (llvm-14) for readable stacks of findings.
   clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
+  # Static analysis (.clang-tidy, scripts/run-clang-tidy.sh, a phase of .ci/run).
+  clang-tidy
 )
 
 missing=()

@@ -36,6 +36,9 @@ mutations=(
   "src/collision/self_contacts.cpp@if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);@(void)counts;@SelfContacts|SelfCollision.CornersBroughtTogetherNeverCross@self-collision without its impact stages"
   "src/integrators/explicit_runge_kutta.cpp@  archive.value(\"rkf45.proposed_step\", proposed_step_);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without RKF45's next step"
   "src/integrators/implicit_euler.cpp@  archive.array(\"implicit_euler.dv\", dv_);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without implicit Euler's warm start"
+  "src/run/run_recorder.cpp@  if (impl.model->revision != model.revision) impl.model = std::make_shared<const ClothModel>(model);@  (void)model;@FrameModel@the pictures drawn with the model the run started from"
+  "src/scene/scene_memory.cpp@  if (allowance.checked) return;@  return;@SceneMemory@make_simulation without the memory check"
+  "src/sim/step_diagnosis.cpp@    if (std::abs(rest_angle - end) < kKinkWindow) continue;@    (void)rest_angle;@StepDiagnosis@a radial spring at rest on the kink taken for at it"
 )
 
 echo "scratch clone: $copy"

@@ -7,8 +7,12 @@
 #   scripts/run-clang-tidy.sh [BUILD_DIR] [FILE...]
 #     BUILD_DIR  a configured build with compile_commands.json (default: build/release)
 #     FILE...    only these sources (default: every .cpp under src/, apps/ and python/)
-#   CLOTHSIM_TIDY_CACHE  where results are remembered (default: ~/.cache/clothsim-tidy)
-#   CLOTHSIM_TIDY_JOBS   parallel runs (default: the CPUs)
+#   CLOTHSIM_TIDY_CACHE   where results are remembered (default: ~/.cache/clothsim-tidy)
+#   CLOTHSIM_TIDY_JOBS    parallel runs (default: the CPUs)
+#   CLOTHSIM_TIDY_BUDGET  seconds after which no new source is started (default: none); the ones
+#                         left are named and checked by the next run. CI sets it, so that a cold
+#                         cache (about 7 minutes of clang-tidy on 2 cores) costs CI a bounded
+#                         time, and the sources the last commit changed go first.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build=${1:-build/release}
@@ -22,7 +26,6 @@ mkdir -p "$cache"
 
 # The sources to check with the hash of each one's inputs, from the compile database.
 plan=$(mktemp)
-trap 'rm -f "$plan"' EXIT
 python3 - "$database" "$PWD" "$@" >"$plan" <<'PY'
 import hashlib, json, os, shlex, subprocess, sys
 database, root, only = sys.argv[1], sys.argv[2], {os.path.realpath(f) for f in sys.argv[3:]}
@@ -53,21 +56,39 @@ for entry in json.load(open(database)):
 PY
 
 total=$(wc -l <"$plan")
-todo=$(while read -r digest source; do [ -e "$cache/$digest" ] || echo "$digest $source"; done <"$plan")
+# What the last commit changed first, then the rest, each in the database's order.
+changed=$(git diff --name-only HEAD~1 HEAD 2>/dev/null || true)
+todo=$(while read -r digest source; do
+  [ -e "$cache/$digest" ] && continue
+  if grep -qxF "$source" <<<"$changed"; then echo "0 $digest $source"; else echo "1 $digest $source"; fi
+done <"$plan" | sort -s -k1,1 | cut -d' ' -f2-)
 count=$(printf '%s' "$todo" | grep -c . || true)
 echo "run-clang-tidy: $total sources, $count to check ($((total - count)) unchanged since a clean run)"
 [ "$count" -eq 0 ] && exit 0
 
-export build cache
+deadline=0
+[ -n "${CLOTHSIM_TIDY_BUDGET:-}" ] && deadline=$(($(date +%s) + CLOTHSIM_TIDY_BUDGET))
+skipped=$(mktemp)
+trap 'rm -f "$plan" "$skipped"' EXIT
+export build cache deadline skipped
 check_one() {
   local digest=$1 source=$2 log
-  log=$(clang-tidy -p "$build" --quiet "$source" 2>&1) && { touch "$cache/$digest"; return 0; }
+  if [ "$deadline" -gt 0 ] && [ "$(date +%s)" -ge "$deadline" ]; then
+    echo "$source" >>"$skipped"
+    return 0
+  fi
+  log=$(clang-tidy -p "$build" --quiet --extra-arg=-Wno-unknown-warning-option "$source" 2>&1) && { touch "$cache/$digest"; return 0; }
   printf '%s\n' "$log" | grep -v "warnings generated\|Suppressed\|Use -header-filter\|^Error while processing" >&2
   return 1
 }
 export -f check_one
 if printf '%s\n' "$todo" | xargs -P "$jobs" -L 1 bash -c 'check_one "$0" "$1"'; then
-  echo "run-clang-tidy: clean"
+  left=$(wc -l <"$skipped")
+  if [ "$left" -gt 0 ]; then
+    echo "run-clang-tidy: clean; $left sources left for the next run (CLOTHSIM_TIDY_BUDGET):" $(sort "$skipped")
+  else
+    echo "run-clang-tidy: clean"
+  fi
 else
   echo "run-clang-tidy: findings above (.clang-tidy lists the checks)" >&2
   exit 1

@@ -107,7 +107,7 @@ int view(const ViewOptions& options) {
   viewer_options.vsync = !options.no_vsync;
   viewer_options.show_panel = !options.hide_panel;
   check_view_memory(spec, viewer_options.width, viewer_options.height, options.memory);
-  viewer::Session session(spec);
+  viewer::Session session(spec, MemoryAllowance{max_memory(options.memory), "--max-memory", true});
 
   // 2. The window.
   try {

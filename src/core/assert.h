@@ -4,7 +4,8 @@
 // build (the checks are cheap and sit outside inner loops) and calls a replaceable handler, so an
 // embedding application can log and abort its own way. CLOTHSIM_VALIDATE_ONLY wraps heavier
 // checks that run only when the project is configured with -DCLOTHSIM_VALIDATE=ON.
-// Bad input (tier 2) is reported with InputError; numerical trouble (tier 3) with SimulationError.
+// Bad input (tier 2) is reported with InputError (core/error.h); numerical trouble (tier 3) with
+// a failed status and its diagnosis (Simulation::failure()).
 #pragma once
 
 namespace clothsim {

@@ -5,18 +5,26 @@
 // message alone tells the user what to fix. Parsing and validation throw it before any output is
 // created.
 //
+// ResourceError: an InputError for input too large for the memory the process may use (a scene,
+// a bench case), refused before anything is allocated. Besides the message it carries the estimate,
+// its parts and the limit, so that a caller can report them or retry within its own budget.
+//
 // OutputError: the output could not be written (disk full, permission denied, a path component
 // that is a file). Its message carries the system's, which names the path. The tools map it to
 // their "output error" exit code (3), distinct from bad input (2) and a failed simulation (1).
 //
-// SimulationError: the numerical integration cannot go on (non-finite or exploding state, step
-// size underflow). It carries a diagnosis: simulated time, step number and the element involved.
-// The simulation core never throws from inside a step; Simulation::advance returns a status and
-// the tools turn a failed status into this exception or an exit code.
+// A failed simulation (non-finite or exploding state, a step-size underflow) is not an exception:
+// Simulation::advance_to returns false and Simulation::failure() holds the diagnosis (time, step,
+// the element), so a caller keeps the last good state; the command turns it into exit code 1, a
+// run into status "failed", the Python module into clothsim.SimulationError
+// (docs/architecture.md, "Errors").
 #pragma once
 
+#include <cstddef>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace clothsim {
 
@@ -49,12 +57,31 @@ class InputError : public std::runtime_error {
   std::string reason_;
 };
 
-class OutputError : public std::runtime_error {
+class ResourceError : public InputError {
  public:
-  using std::runtime_error::runtime_error;
+  struct Part {
+    std::string name;  // "model", "state", "rkf45 workspace", ...
+    std::size_t bytes = 0;
+  };
+
+  ResourceError(std::string reason, std::vector<Part> parts, std::size_t estimate_bytes, std::size_t limit_bytes)
+      : InputError("", "", std::move(reason)),
+        parts_(std::move(parts)),
+        estimate_bytes_(estimate_bytes),
+        limit_bytes_(limit_bytes) {}
+
+  const std::vector<Part>& parts() const { return parts_; }
+  std::size_t estimate_bytes() const { return estimate_bytes_; }
+  // The most the estimate could have been: the usable part of the memory available, or max_memory.
+  std::size_t limit_bytes() const { return limit_bytes_; }
+
+ private:
+  std::vector<Part> parts_;
+  std::size_t estimate_bytes_;
+  std::size_t limit_bytes_;
 };
 
-class SimulationError : public std::runtime_error {
+class OutputError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };

@@ -199,13 +199,16 @@ std::size_t picture_bytes(int width, int height, int samples, const LatticeCount
          counts.particles * (6 * sizeof(float) + kDriverBytesPerParticle);
 }
 
-std::size_t estimate_render_bytes(const RenderPlan& plan, const LatticeCounts& counts, std::size_t anchors) {
+std::size_t estimate_render_bytes(const RenderPlan& plan, const LatticeCounts& counts, std::size_t anchors,
+                                  bool model_changes) {
   if (!plan.image && !plan.video) return 0;
-  // Besides drawing: the model copied for the rendering thread, and the frames queued and
-  // recycled (RunRecorder's queue of 3, one being drawn, one spare; run/run_recorder.cpp).
+  // Besides drawing: the frames queued and recycled (RunRecorder's queue of 3, one being drawn,
+  // one spare; run/run_recorder.cpp), and the model copied for the rendering thread, once, or
+  // for each frame held when the model changes during the run.
   constexpr std::size_t kFramesHeld = 3 + 2;
-  return picture_bytes(plan.width, plan.height, plan.samples, counts) + lattice_model_bytes(counts, anchors) +
-         counts.particles * kFramesHeld * sizeof(Vec3);
+  const std::size_t models = model_changes ? kFramesHeld : 1;
+  return picture_bytes(plan.width, plan.height, plan.samples, counts) +
+         models * lattice_model_bytes(counts, anchors) + counts.particles * kFramesHeld * sizeof(Vec3);
 }
 
 std::string describe_render_outputs(const RenderPlan& plan) {

@@ -51,9 +51,11 @@ struct RenderPlan;
 std::shared_ptr<const RenderPlan> parse_render_flags(const RenderFlags& flags);
 
 // The memory the pictures of the plan take for the lattice of `counts` with `anchors` anchors
-// (0 for render "none"): the graphics stack, the framebuffers, the recorder's copy of the model
+// (0 for render "none"): the graphics stack, the framebuffers, the recorder's copies of the model
+// (one per frame held when `model_changes`: its springs tear, yield or crease, or anchors let go)
 // and its frames, the sheet mesh and the driver's buffers.
-std::size_t estimate_render_bytes(const RenderPlan& plan, const LatticeCounts& counts, std::size_t anchors);
+std::size_t estimate_render_bytes(const RenderPlan& plan, const LatticeCounts& counts, std::size_t anchors,
+                                  bool model_changes);
 
 // What drawing the sheet of `counts` at width x height pixels with `samples` MSAA samples takes,
 // headless or in a window: the graphics stack (EGL or GLX, Mesa; measured), the framebuffers, the

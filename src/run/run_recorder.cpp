@@ -30,16 +30,23 @@ namespace clothsim {
 // renderer falls behind, so memory stays bounded) and the worker, which owns the OpenGL context
 // while it runs, renders, reads back and pipes each frame to ffmpeg in order. A worker failure
 // (ffmpeg died, disk full) is rethrown on the main thread at its next frame() or finish().
+//
+// Each frame is drawn with the model as it was at that frame: the frame holds a shared copy of
+// the model, taken anew when the model's revision has moved since the last copy (a tear, a
+// release, a cut, a collider added), so a sheet that never changes is copied once.
 struct RunRecorder::Impl {
   static constexpr std::size_t kQueueDepth = 3;
 
   struct Frame {
+    std::shared_ptr<const ClothModel> model;
     std::vector<Vec3> position;
     double time = 0.0;
   };
 
   std::shared_ptr<const RenderPlan> plan;
-  ClothModel model;  // a copy: the worker must not depend on the caller's lifetimes
+  // The model as of the last frame queued: a copy, the worker must not depend on the caller's
+  // lifetimes or see a change the simulation makes while it draws.
+  std::shared_ptr<const ClothModel> model;
   std::optional<FrameRenderer> renderer;
   std::optional<render::VideoWriter> video;
   double seconds = 0.0;
@@ -58,7 +65,7 @@ struct RunRecorder::Impl {
 
   void render_frame(const Frame& frame) {
     const Stopwatch watch;
-    renderer->draw(model, frame.position, frame.time);
+    renderer->draw(*frame.model, frame.position, frame.time);
     if (video) video->write_frame(renderer->image());
     ++frames;
     seconds += watch.seconds();
@@ -77,6 +84,7 @@ struct RunRecorder::Impl {
         }
         changed.notify_all();
         render_frame(frame);
+        frame.model.reset();
         std::lock_guard lock(mutex);
         spare.push_back(std::move(frame));
       }
@@ -147,7 +155,7 @@ RunRecorder::RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothMode
   }
   impl.renderer.emplace(impl.plan);
   impl.description = impl.renderer->description();
-  impl.model = model;
+  impl.model = std::make_shared<const ClothModel>(model);
 }
 
 RunRecorder::~RunRecorder() = default;
@@ -167,9 +175,11 @@ void RunRecorder::begin(const std::filesystem::path& folder, int fps) {
   impl.worker = std::thread([&impl] { impl.run_worker(); });
 }
 
-void RunRecorder::frame(const ClothModel& /*model*/, std::span<const Vec3> position, double time) {
+void RunRecorder::frame(const ClothModel& model, std::span<const Vec3> position, double time) {
   Impl& impl = *impl_;
   if (!impl.renderer) return;
+  // Copied before waiting for room in the queue: the worker never reads `impl.model`.
+  if (impl.model->revision != model.revision) impl.model = std::make_shared<const ClothModel>(model);
   std::unique_lock lock(impl.mutex);
   impl.changed.wait(lock, [&impl] { return impl.queue.size() < Impl::kQueueDepth || impl.failure; });
   if (impl.failure) {
@@ -184,6 +194,7 @@ void RunRecorder::frame(const ClothModel& /*model*/, std::span<const Vec3> posit
     frame = std::move(impl.spare.back());
     impl.spare.pop_back();
   }
+  frame.model = impl.model;
   frame.position.assign(position.begin(), position.end());
   frame.time = time;
   impl.queue.push_back(std::move(frame));

@@ -26,9 +26,8 @@ namespace clothsim {
 class RunRecorder {
  public:
   // Creates the headless OpenGL context and checks that ffmpeg runs, as the plan needs. Throws
-  // OutputError when either is unavailable. With render "none" it does nothing. The model is
-  // copied for the rendering thread: its topology must not change during the run (the model
-  // argument of frame() is not read; it is there for when events change the sheet).
+  // OutputError when either is unavailable. With render "none" it does nothing. `model` is the
+  // model the run starts from.
   RunRecorder(std::shared_ptr<const RenderPlan> plan, const ClothModel& model);
   ~RunRecorder();
   RunRecorder(const RunRecorder&) = delete;
@@ -36,8 +35,10 @@ class RunRecorder {
 
   // Starts the video (ffmpeg writing `folder`/animation.mp4 at `fps`). Throws OutputError.
   void begin(const std::filesystem::path& folder, int fps);
-  // Queues one output frame (its positions are copied) for rendering and the video; waits while
-  // 3 frames are already queued. Throws OutputError if rendering or ffmpeg failed.
+  // Queues one output frame for rendering and the video, drawn as `model` is now (its topology,
+  // its anchors, its colliders): the positions are copied, and the model too when its revision
+  // has moved since the last frame. Waits while 3 frames are already queued. Throws OutputError
+  // if rendering or ffmpeg failed.
   void frame(const ClothModel& model, std::span<const Vec3> position, double time);
   // Writes final.png (the last frame) into the writer's partial folder, finishes the video, and
   // records both in summary.json "files". Throws OutputError.

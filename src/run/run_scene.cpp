@@ -184,10 +184,11 @@ RunResult finish_run(const SceneSpec& spec, const RenderPlan& plan, std::unique_
 }
 
 // The scene fits the memory the run may use (run/run_memory.h): checked from its shape, before
-// its model is built. Throws InputError.
-void check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const RunOptions& options) {
+// its model is built; make_simulation() then has nothing more to check. Throws ResourceError.
+MemoryAllowance check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const RunOptions& options) {
   check_memory(estimate_run_memory(spec, plan), memory_limit(options.max_memory, options.max_memory_source),
                "the scene", options.max_memory_source);
+  return MemoryAllowance{options.max_memory, options.max_memory_source, true};
 }
 
 // The scene's backend has its device, with the memory for the scene (sim/backend.h): checked from
@@ -205,8 +206,9 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   // 1. Input: pictures, memory, model, output folder. Bad input throws InputError here, before
   //    anything exists on disk.
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
-  check_run_memory(spec, *render_plan, options);  // a scene too large is refused before its model is built
-  check_backend_fits(spec);                       // so is one without its device, or too large for it
+  // A scene too large is refused before its model is built, and so is one without its device.
+  const MemoryAllowance memory = check_run_memory(spec, *render_plan, options);
+  check_backend_fits(spec);
   ClothModel model = build_model(spec);
   RunWriter writer(options.out.empty() ? std::filesystem::path(default_output_folder(spec)) : options.out, options.info,
                    options.out_source);
@@ -219,7 +221,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
 
   // 2. The run.
   const Stopwatch wall;
-  std::unique_ptr<Simulation> simulation = make_unique_simulation(spec, std::move(model));
+  std::unique_ptr<Simulation> simulation = make_unique_simulation(spec, std::move(model), memory);
   writer.begin(spec, *simulation);
   writer.write_frame(*simulation);
   // Pictures go into the partial folder too, so they appear (or not) with everything else.
@@ -245,10 +247,10 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   //    refusal comes before anything on disk changes.
   const ResumeTarget target = find_resume_target(path);
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
-  check_run_memory(spec, *parse_render_flags(options.render), options);
+  const MemoryAllowance memory = check_run_memory(spec, *parse_render_flags(options.render), options);
   check_backend_fits(spec);
   const Stopwatch wall;
-  std::unique_ptr<Simulation> simulation = make_unique_simulation(spec);
+  std::unique_ptr<Simulation> simulation = make_unique_simulation(spec, memory);
   RunCheckpoint run;
   std::filesystem::path used;
   try {

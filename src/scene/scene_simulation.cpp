@@ -18,19 +18,26 @@ SimulationSettings simulation_settings(const SceneSpec& spec) {
   return settings;
 }
 
-Simulation make_simulation(const SceneSpec& spec) { return make_simulation(spec, build_model(spec)); }
+Simulation make_simulation(const SceneSpec& spec, const MemoryAllowance& memory) {
+  check_scene_memory(spec, memory);
+  MemoryAllowance checked = memory;
+  checked.checked = true;
+  return make_simulation(spec, build_model(spec), checked);
+}
 
-Simulation make_simulation(const SceneSpec& spec, ClothModel model) {
+Simulation make_simulation(const SceneSpec& spec, ClothModel model, const MemoryAllowance& memory) {
+  check_scene_memory(spec, memory);
   ClothState initial = build_initial_state(model, spec);
   return Simulation(std::move(model), std::move(initial), simulation_settings(spec));
 }
 
-std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec) {
-  return std::make_unique<Simulation>(make_simulation(spec));
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, const MemoryAllowance& memory) {
+  return std::make_unique<Simulation>(make_simulation(spec, memory));
 }
 
-std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, ClothModel model) {
-  return std::make_unique<Simulation>(make_simulation(spec, std::move(model)));
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, ClothModel model,
+                                                   const MemoryAllowance& memory) {
+  return std::make_unique<Simulation>(make_simulation(spec, std::move(model), memory));
 }
 
 namespace {

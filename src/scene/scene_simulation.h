@@ -18,6 +18,7 @@
 #include <memory>
 
 #include "scene/scene.h"
+#include "scene/scene_memory.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
@@ -25,16 +26,18 @@ namespace clothsim {
 // The settings of the scene's simulation: its integrator and thread count.
 SimulationSettings simulation_settings(const SceneSpec& spec);
 
-// The scene's simulation at its initial state: build_model(spec), build_initial_state(),
-// simulation_settings(spec). `spec` must be valid (validate_scene); throws InputError when the
-// model cannot be built from it.
-Simulation make_simulation(const SceneSpec& spec);
+// The scene's simulation at its initial state: the memory check (scene/scene_memory.h), then
+// build_model(spec), build_initial_state(), simulation_settings(spec). `spec` must be valid
+// (validate_scene); throws ResourceError when the simulation will not fit in what `memory`
+// allows, before anything is allocated, and InputError when the model cannot be built.
+Simulation make_simulation(const SceneSpec& spec, const MemoryAllowance& memory = {});
 // The same with `model` instead of build_model(spec): a model built from `spec` and then edited
-// (a test adding a collider).
-Simulation make_simulation(const SceneSpec& spec, ClothModel model);
+// (a test adding a collider). The check is made for `spec`.
+Simulation make_simulation(const SceneSpec& spec, ClothModel model, const MemoryAllowance& memory = {});
 // The same, on the heap.
-std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec);
-std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, ClothModel model);
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, const MemoryAllowance& memory = {});
+std::unique_ptr<Simulation> make_unique_simulation(const SceneSpec& spec, ClothModel model,
+                                                   const MemoryAllowance& memory = {});
 
 // Applies the live fields in which `edited` differs from `current` to `simulation`, whose model
 // was built from `current` (with earlier live edits applied). Fields that are not live must be

@@ -1,8 +1,12 @@
 #include "sim/memory_estimate.h"
 
+#include <cmath>
+#include <fstream>
 #include <limits>
+#include <string>
 
 #include "collision/collision_stage.h"
+#include "core/error.h"
 #include "core/memory_size.h"
 #include "events/spring_events.h"
 #include "integrators/explicit_runge_kutta.h"
@@ -69,6 +73,55 @@ MemoryEstimate estimate_simulation_memory(const SimulationShape& shape) {
 std::size_t usable_memory(const AvailableMemory& available) {
   if (!available.known()) return std::numeric_limits<std::size_t>::max();
   return static_cast<std::size_t>(kUsableMemoryFraction * static_cast<double>(available.bytes));
+}
+
+MemoryLimit memory_limit(std::optional<std::uint64_t> max_memory, std::string_view source) {
+  MemoryLimit limit;
+  if (max_memory) {
+    limit.bytes = static_cast<std::size_t>(*max_memory);
+    limit.cap = limit.bytes;
+    limit.from_caller = true;
+    limit.description = std::string(source) + " allows " + format_memory_size(*max_memory);
+    return limit;
+  }
+  const AvailableMemory available = available_memory();
+  if (!available.known()) {
+    limit.unknown = true;
+    return limit;
+  }
+  limit.bytes = usable_memory(available);
+  limit.cap = available.bytes;
+  const auto percent = static_cast<int>(std::lround(100.0 * kUsableMemoryFraction));
+  limit.description = format_memory_size(available.bytes) + " is available (" + available.source +
+                      "), of which a run " + "may use " + std::to_string(percent) + "%, " +
+                      format_memory_size(limit.bytes);
+  return limit;
+}
+
+void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, std::string_view what,
+                  std::string_view source) {
+  if (limit.unknown || estimate.total() <= limit.bytes) return;
+  std::string reason(what);
+  reason += " needs an estimated " + estimate.describe() + " and " + limit.description;
+  // A flag takes its value after it ("--max-memory SIZE"); an argument is given a value (max_memory).
+  const bool flag = source.rfind("--", 0) == 0;
+  if (limit.from_caller) {
+    reason += "; use a smaller lattice or a larger " + std::string(source);
+  } else {
+    reason += "; use a smaller lattice, or " + std::string(source) + (flag ? " SIZE" : "=bytes") + " to override";
+  }
+  std::vector<ResourceError::Part> parts;
+  for (const MemoryItem& item : estimate.items) parts.push_back({item.name, item.bytes});
+  throw ResourceError(reason, std::move(parts), estimate.total(), limit.bytes);
+}
+
+std::size_t resident_memory() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return static_cast<std::size_t>(std::stoull(line.substr(6))) * 1024;
+  }
+  return 0;
 }
 
 }  // namespace clothsim

@@ -1,9 +1,10 @@
 // What a simulation will hold, estimated from its shape before anything is allocated.
 //
-// `clothsim run` and the other commands check a scene's estimate against the memory that is
-// available (core/available_memory.h) before they build its model, so that a scene too large for
-// the machine is refused with a message naming the estimate, instead of growing until the kernel
-// kills the process (docs/performance.md, "Memory").
+// Every way to start a simulation checks a scene's estimate against the memory that is available
+// (core/available_memory.h, memory_limit() and check_memory() below) before it builds the model:
+// make_simulation (scene/scene_memory.h), run_scene (run/run_memory.h), the commands. A scene too
+// large for the machine is then refused with a message naming the estimate, instead of growing
+// until the kernel kills the process (docs/performance.md, "Memory").
 //
 // The estimate is a sum of named items, each computed by the code that allocates it from the
 // element counts of the lattice (model/cloth_model.h, lattice_counts) and the sizes of the real
@@ -17,6 +18,8 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -70,5 +73,28 @@ inline constexpr double kUsableMemoryFraction = 0.9;
 
 // The bytes a run may plan to use out of `available`.
 std::size_t usable_memory(const AvailableMemory& available);
+
+// What a simulation or a run may use, and how to say it in a message.
+struct MemoryLimit {
+  std::size_t bytes = 0;     // the most the estimate may be
+  std::size_t cap = 0;       // the most the process may grow by: all of what was available, or of max_memory
+  std::string description;   // "22.8 GiB is available (MemAvailable), of which a run may use 90%, 20.5 GiB"
+  bool from_caller = false;  // max_memory was given
+  bool unknown = false;      // nothing could be read and no max_memory: no check
+};
+
+// `max_memory` bytes if given (`source` names it in messages: "--max-memory"), else the usable
+// part of the available memory.
+MemoryLimit memory_limit(std::optional<std::uint64_t> max_memory, std::string_view source = "--max-memory");
+
+// Throws ResourceError (core/error.h), with the estimate's parts, when `estimate` is above
+// `limit`; `what` names what needs it ("the scene", "the case 2000 x 2000 with implicit-euler"),
+// `source` what overrides the limit.
+void check_memory(const MemoryEstimate& estimate, const MemoryLimit& limit, std::string_view what,
+                  std::string_view source = "--max-memory");
+
+// The process's resident memory now (VmRSS), bytes; 0 where it cannot be read. Estimates add it
+// as "program": the limits of core/available_memory.h count the whole process.
+std::size_t resident_memory();
 
 }  // namespace clothsim

@@ -1,31 +1,19 @@
 #include "sim/simulation.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 
 #include "core/assert.h"
+#include "core/diagnostic_text.h"
 #include "core/parallel.h"
 #include "core/step_profile.h"
 #include "sim/anchor_events.h"
+#include "sim/step_diagnosis.h"
 
 namespace clothsim {
-namespace {
-
-std::string format_number(double value) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", value);
-  return buffer;
-}
-
-std::string format_vector(const Vec3& v) {
-  char buffer[96];
-  std::snprintf(buffer, sizeof buffer, "(%.6g, %.6g, %.6g)", v.x, v.y, v.z);
-  return buffer;
-}
-
-}  // namespace
 
 Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSettings& settings)
     : model_(std::make_unique<ClothModel>(std::move(model))), state_(std::move(initial)), settings_(settings) {
@@ -98,10 +86,10 @@ bool Simulation::check_energy_balance() {
     if (squared_norm(state_.velocity[p]) > squared_norm(state_.velocity[fastest])) fastest = p;
   }
   const std::string where = model_->describe_particle(fastest);
-  fail(where, "the integration has blown up: the energy balance is off by " + format_number(error) +
-                  " J, more than integrator.energy_error_limit = " + format_number(limit) +
-                  " times the run's energy scale of " + format_number(energy_scale_) + " J; the fastest particle is " +
-                  where + " at " + format_number(norm(state_.velocity[fastest])) + " m/s. Try a smaller --time-step, " +
+  fail(where, "the integration has blown up: the energy balance is off by " + diagnostic_number(error) +
+                  " J, more than integrator.energy_error_limit = " + diagnostic_number(limit) +
+                  " times the run's energy scale of " + diagnostic_number(energy_scale_) + " J; the fastest particle is " +
+                  where + " at " + diagnostic_number(norm(state_.velocity[fastest])) + " m/s. Try a smaller --time-step, " +
                   "or --integrator rkf45 (adaptive) or implicit-euler (stable for any step).");
   return false;
 }
@@ -121,16 +109,26 @@ bool Simulation::integrate(double time) {
 
   if (outcome.status == StepStatus::step_underflow) {
     const std::string where = model_->describe_particle(outcome.particle);
-    fail(where,
-         std::string(outcome.non_finite_error ? "forces became non-finite" : "step size underflow") + ": " +
-             std::string(to_string(settings_.integrator.kind)) + " needed a step of " + format_number(outcome.step) +
-             " s, below min_step = " + format_number(settings_.integrator.min_step) + " s; the largest error is at " +
-             where + ". The state is blowing up, or the problem is too stiff for this tolerance.");
+    // What the largest error comes from: the spring at that particle nearest a kink of its angle,
+    // or furthest from rest (sim/step_diagnosis.h).
+    const StepLimit limit = find_step_limit(*model_, state_.position, outcome.particle);
+    std::string cause = describe_step_limit(*model_, limit, state_.position);
+    if (!cause.empty()) cause[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(cause[0])));
+    const std::string advice = limit.at_kink
+                                   ? " The step control cannot follow a force that turns abruptly; a looser "
+                                     "tolerance or implicit-euler steps past it."
+                                   : " The state is blowing up, or the problem is too stiff for this tolerance "
+                                     "(try a looser rtol/atol, or implicit-euler).";
+    fail(where, std::string(outcome.non_finite_error ? "forces became non-finite" : "step size underflow") + ": " +
+                    std::string(to_string(settings_.integrator.kind)) + " needed a step of " +
+                    diagnostic_number(outcome.step) + " s, below min_step = " +
+                    diagnostic_number(settings_.integrator.min_step) + " s; the largest error is at " + where + "." +
+                    (cause.empty() ? "" : " " + cause + ".") + advice);
     return false;
   }
   if (outcome.status == StepStatus::non_finite) {
     const std::string where = model_->describe_particle(outcome.particle);
-    fail(where, "the state became non-finite at " + where + " during a step of " + format_number(outcome.step) +
+    fail(where, "the state became non-finite at " + where + " during a step of " + diagnostic_number(outcome.step) +
                     " s; the time step is too large for this material (try a smaller --time-step or rkf45).");
     return false;
   }
@@ -212,8 +210,8 @@ void Simulation::check_state() {
   });
   if (particle < model.particle_count()) {
     const std::string where = model.describe_particle(particle);
-    fail(where, "non-finite state at " + where + ": position " + format_vector(state_.position[particle]) +
-                    ", velocity " + format_vector(state_.velocity[particle]));
+    fail(where, "non-finite state at " + where + ": position " + diagnostic_vector(state_.position[particle]) +
+                    ", velocity " + diagnostic_vector(state_.velocity[particle]));
     return;
   }
   const auto stretch = [&](std::size_t e) {
@@ -228,8 +226,8 @@ void Simulation::check_state() {
     const auto [a, b] = model.connector_particles[e];
     const std::string where = "connector " + std::to_string(e) + " between " + model.describe_particle(a) + " and " +
                               model.describe_particle(b);
-    fail(where, "the simulation exploded: " + where + " is " + format_number(stretch(e)) +
-                    " times its rest length (limit " + format_number(settings_.explosion_stretch) + ")");
+    fail(where, "the simulation exploded: " + where + " is " + diagnostic_number(stretch(e)) +
+                    " times its rest length (limit " + diagnostic_number(settings_.explosion_stretch) + ")");
   }
 }
 
@@ -239,7 +237,7 @@ void Simulation::fail(std::string element, std::string message) {
   diagnosis.step = integrator_ ? integrator_->stats().accepted_steps : 0;
   diagnosis.element = std::move(element);
   diagnosis.message =
-      "at t = " + format_number(diagnosis.time) + " s (step " + std::to_string(diagnosis.step) + "): " + message;
+      "at t = " + diagnostic_number(diagnosis.time) + " s (step " + std::to_string(diagnosis.step) + "): " + message;
   failure_ = std::move(diagnosis);
 }
 

@@ -14,10 +14,12 @@
 
 namespace clothsim::viewer {
 
-Session::Session(SceneSpec scene) : scene_(std::move(scene)) { build(); }
+Session::Session(SceneSpec scene, MemoryAllowance memory) : scene_(std::move(scene)), memory_(std::move(memory)) {
+  build();
+}
 
 void Session::build() {
-  simulation_ = make_unique_simulation(scene_);
+  simulation_ = make_unique_simulation(scene_, memory_);
   if (edited_limits_) simulation_->set_spring_limits(*edited_limits_);
   if (edited_self_collision_) simulation_->set_self_collision(*edited_self_collision_);
   for (const Collider& sphere : added_spheres_) simulation_->add_collider(sphere);

@@ -40,6 +40,7 @@
 #include <vector>
 
 #include "scene/scene.h"
+#include "scene/scene_memory.h"
 #include "sim/simulation.h"
 #include "viewer/script.h"
 
@@ -54,9 +55,9 @@ struct EnergySample {
 
 class Session {
  public:
-  // Builds the simulation of `scene` (validated by the caller). Throws InputError if the model
-  // cannot be built.
-  explicit Session(SceneSpec scene);
+  // Builds the simulation of `scene` (validated by the caller), within `memory` (make_simulation;
+  // the command passes its own check's). Throws InputError if the model cannot be built.
+  explicit Session(SceneSpec scene, MemoryAllowance memory = {});
 
   // The scene with the live edits made so far (a reset starts from it).
   const SceneSpec& scene() const { return scene_; }
@@ -132,6 +133,7 @@ class Session {
   void build();
 
   SceneSpec scene_;
+  MemoryAllowance memory_;  // every build, resets included
   std::unique_ptr<Simulation> simulation_;
   bool playing_ = true;
   std::map<std::uint32_t, bool> held_;         // held particle -> whether it was pinned before the drag

@@ -1,0 +1,46 @@
+// What limits the step at a particle, for the diagnosis of a step-size underflow: the spring that
+// touches the particle with the largest error and is nearest a kink of the radial angle, else the
+// one furthest from its rest.
+//
+// The radial angle theta = atan2(|u x w|, u . w) of a spring's two arms u and w is not
+// differentiable where the arms become parallel (theta = 0) or opposite (theta = pi): its gradient
+// turns by 180 degrees there. A spring whose rest angle is away from that end (an adjacent spring,
+// rest 90 degrees, at 0 or 180; an opposite one, rest 180, folded shut at 0) pushes with a force
+// of k |theta0 - theta_kink| that flips direction as the angle passes the kink, which no step
+// size resolves (docs/model.md, "The kink of the radial angle"). An opposite spring at 180 degrees
+// is not at a kink: its energy (theta - pi)^2 is smooth there.
+#pragma once
+
+#include <cstddef>
+#include <span>
+#include <string>
+
+#include "core/vec3.h"
+#include "model/cloth_model.h"
+
+namespace clothsim {
+
+// How near a kink a radial spring counts as at it, rad (2 degrees).
+inline constexpr double kKinkWindow = 0.035;
+
+struct StepLimit {
+  enum class Kind { none, connector, radial };
+  Kind kind = Kind::none;
+  std::size_t element = 0;  // connector or radial spring index
+  bool at_kink = false;     // a radial spring within kKinkWindow of a kink
+  double kink_angle = 0.0;  // rad, 0 or pi, when at_kink
+  double angle = 0.0;       // rad, a radial spring's angle now
+  double strain = 0.0;      // a connector's l / L - 1
+};
+
+// The live spring touching `particle` (a connector at either end, a radial spring as centre or
+// arm) at a kink, the nearest first; else the one with the largest |strain| or |theta - theta0|.
+StepLimit find_step_limit(const ClothModel& model, std::span<const Vec3> position, std::size_t particle);
+
+// "the adjacent radial spring centred at particle 5 (row 1, col 1), arms to particle 6 (row 1,
+// col 2) and particle 9 (row 2, col 1), is at 179.6 degrees, 0.4 degrees from its kink at 180
+// degrees, where the angle is not differentiable and the spring's force turns abruptly"; "" when
+// no live spring touches the particle.
+std::string describe_step_limit(const ClothModel& model, const StepLimit& limit, std::span<const Vec3> position);
+
+}  // namespace clothsim
