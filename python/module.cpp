@@ -31,7 +31,8 @@ void set_error(py::handle type, const std::string& message, const py::dict& attr
   PyErr_SetObject(type.ptr(), error.ptr());
 }
 
-void translate(std::exception_ptr pointer) {
+// By value: the signature pybind11::register_exception_translator takes.
+void translate(std::exception_ptr pointer) {  // NOLINT(performance-unnecessary-value-param)
   try {
     if (pointer) std::rethrow_exception(pointer);
   } catch (const ResourceError& error) {

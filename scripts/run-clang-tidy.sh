@@ -77,7 +77,7 @@ check_one() {
     echo "$source" >>"$skipped"
     return 0
   fi
-  log=$(clang-tidy -p "$build" --quiet --extra-arg=-Wno-unknown-warning-option "$source" 2>&1) && { touch "$cache/$digest"; return 0; }
+  log=$(clang-tidy -p "$build" --quiet --extra-arg=-Wno-unknown-warning-option --extra-arg=-Wno-unknown-pragmas "$source" 2>&1) && { touch "$cache/$digest"; return 0; }
   printf '%s\n' "$log" | grep -v "warnings generated\|Suppressed\|Use -header-filter\|^Error while processing" >&2
   return 1
 }

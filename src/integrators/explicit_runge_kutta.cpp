@@ -213,7 +213,7 @@ void ExplicitRungeKutta::compute_stages(const ClothState& state, double h) {
     }
     dynamics_.evaluate(stage_time, stage_position_, stage_velocity_, stage_rate_[k]);
   }
-  stats_.force_evaluations = dynamics_.evaluations();
+  count_evaluations(dynamics_.evaluations());
   profile_.set(StepStage::forces, dynamics_.seconds());
 }
 
@@ -381,7 +381,7 @@ double AdaptiveRungeKutta::initial_step(const ClothState& state, double t_limit)
   if (settings_.time_step > 0.0) return settings_.time_step;
   StateDerivative& rate = stage_rate_[0];
   dynamics_.evaluate(state.time, state.position, state.velocity, rate);
-  stats_.force_evaluations = dynamics_.evaluations();
+  count_evaluations(dynamics_.evaluations());
   return initial_adaptive_step(model_, settings_, state, rate.velocity_rate, t_limit);
 }
 

@@ -547,6 +547,19 @@ void ImplicitEuler::transfer_state(StateArchive& archive) {
   Integrator::transfer_state(archive);
   archive.array("implicit_euler.dv", dv_);
   archive.array("implicit_euler.slipped", slipped_);
+  // The forces of the last step's end, which the next step reuses (advance): restored with what
+  // they were computed at, so that a resumed run evaluates exactly what the uninterrupted one does
+  // (summary.json's force_evaluations included).
+  archive.array("implicit_euler.evaluated_force", force_);
+  archive.array("implicit_euler.evaluated_position", evaluated_position_);
+  archive.array("implicit_euler.evaluated_velocity", evaluated_velocity_);
+  archive.value("implicit_euler.evaluated_time", evaluated_time_);
+  archive.value("implicit_euler.evaluated_valid", evaluated_valid_);
+  archive.value("implicit_euler.model_revision", revision_);
+  // Which particles are integrated follows the restored model (the next model change moves them again).
+  if (archive.loading()) {
+    for (std::size_t p = 0; p < free_.size(); ++p) free_[p] = model_.is_anchored(p) ? 0 : 1;
+  }
 }
 
 }  // namespace clothsim

@@ -171,7 +171,16 @@ class Integrator {
     stats_.last_step = h;
   }
 
+  // Adds to stats_.force_evaluations what a counter of the integrator's own (ClothDynamics::
+  // evaluations(), which starts at 0 with the integrator) has counted since the last call, so that
+  // a count restored from a checkpoint goes on from where it was.
+  void count_evaluations(std::uint64_t total) {
+    stats_.force_evaluations += total - evaluations_counted_;
+    evaluations_counted_ = total;
+  }
+
   IntegratorStats stats_;
+  std::uint64_t evaluations_counted_ = 0;
   StepProfile profile_;
   SurfaceContacts* surface_contacts_ = nullptr;
 };

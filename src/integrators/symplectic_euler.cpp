@@ -33,7 +33,7 @@ StepOutcome SymplecticEuler::step(ClothState& state, double t_limit) {
   state.time = clipped ? t_limit : state.time + h;
   dynamics_.constrain(state.time, state.position, state.velocity);
 
-  stats_.force_evaluations = dynamics_.evaluations();
+  count_evaluations(dynamics_.evaluations());
   profile_.set(StepStage::forces, dynamics_.seconds());
   for (std::size_t p = 0; p < model_.particle_count(); ++p) {
     if (!is_finite(state.position[p]) || !is_finite(state.velocity[p])) {

@@ -54,7 +54,7 @@ std::string checkpoint_file_name(std::uint64_t frame) {
 fs::path write_run_checkpoint(const fs::path& folder, RunCheckpoint run, Simulation& simulation) {
   const fs::path directory = folder / kCheckpointFolder;
   fs::create_directories(directory);
-  const fs::path path = directory / checkpoint_file_name(run.writer.frames - 1);
+  fs::path path = directory / checkpoint_file_name(run.writer.frames - 1);
   write_checkpoint(path, [&](StateArchive& archive) {
     transfer_run_checkpoint(archive, run);
     simulation.transfer_state(archive);

@@ -76,7 +76,7 @@ void write_text_file(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
-RunWriter::RunWriter(fs::path out, RunInfo info, const std::string& source) : info_(std::move(info)) {
+RunWriter::RunWriter(const fs::path& out, RunInfo info, const std::string& source) : info_(std::move(info)) {
   // "runs/a/" names the folder "runs/a"; ".", ".." and "/" name no new folder.
   fs::path path = out.lexically_normal();
   if (!path.empty() && !path.has_filename()) path = path.parent_path();

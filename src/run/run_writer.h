@@ -79,7 +79,7 @@ class RunWriter {
   // folder holding a summary.json with a "clothsim_version" key (a previous run, which finish()
   // replaces). Otherwise throws InputError naming `source` (the flag that gave the path). Call it
   // before the simulation starts, so that bad input never costs a run.
-  explicit RunWriter(std::filesystem::path out, RunInfo info, const std::string& source = "--out");
+  explicit RunWriter(const std::filesystem::path& out, RunInfo info, const std::string& source = "--out");
   // Removes the partial folder unless finish() ran; never throws.
   ~RunWriter();
 

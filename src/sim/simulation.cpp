@@ -231,7 +231,7 @@ void Simulation::check_state() {
   }
 }
 
-void Simulation::fail(std::string element, std::string message) {
+void Simulation::fail(std::string element, const std::string& message) {
   Diagnosis diagnosis;
   diagnosis.time = state_.time;
   diagnosis.step = integrator_ ? integrator_->stats().accepted_steps : 0;

@@ -176,7 +176,7 @@ class Simulation {
   void check_state();
   // The blow-up check on the energy balance, after advance_to()'s steps; false once failed.
   bool check_energy_balance();
-  void fail(std::string element, std::string message);
+  void fail(std::string element, const std::string& message);
   // Replaces the integrator with a new one for the current model and settings_.integrator,
   // keeping the statistics of the old one.
   void restart_integrator();

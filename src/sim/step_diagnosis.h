@@ -7,8 +7,9 @@
 // turns by 180 degrees there. A spring whose rest angle is away from that end (an adjacent spring,
 // rest 90 degrees, at 0 or 180; an opposite one, rest 180, folded shut at 0) pushes with a force
 // of k |theta0 - theta_kink| that flips direction as the angle passes the kink, which no step
-// size resolves (docs/model.md, "The kink of the radial angle"). An opposite spring at 180 degrees
-// is not at a kink: its energy (theta - pi)^2 is smooth there.
+// size resolves (docs/cli.md, "A failed simulation"). An opposite spring at 180 degrees
+// is not at a kink: its energy (theta - pi)^2 is smooth there. The bound on the stable step of a
+// whole model, per particle, is integrators/stable_step.h's.
 #pragma once
 
 #include <cstddef>
@@ -31,10 +32,15 @@ struct StepLimit {
   double kink_angle = 0.0;  // rad, 0 or pi, when at_kink
   double angle = 0.0;       // rad, a radial spring's angle now
   double strain = 0.0;      // a connector's l / L - 1
+  double rate = 0.0;        // 1/s, the larger of its damping rate and its elastic frequency
 };
 
 // The live spring touching `particle` (a connector at either end, a radial spring as centre or
-// arm) at a kink, the nearest first; else the one with the largest |strain| or |theta - theta0|.
+// arm) at a kink, the nearest first; else, where a spring is far from rest (kFarFromRest: a strain
+// or an angle from rest in rad), the one furthest; else the stiffest, whose rate (its damping
+// rate c / m, or c / (m L^2) for a radial spring, or its elastic frequency, the larger) bounds an
+// explicit method's stable step.
+inline constexpr double kFarFromRest = 0.05;
 StepLimit find_step_limit(const ClothModel& model, std::span<const Vec3> position, std::size_t particle);
 
 // "the adjacent radial spring centred at particle 5 (row 1, col 1), arms to particle 6 (row 1,

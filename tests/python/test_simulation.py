@@ -126,3 +126,34 @@ def test_positions_are_copies_and_other_threads_run_while_one_steps():
         stop.set()
         ticker.join()
     assert len(ticks) > 1
+
+
+@pytest.mark.parametrize("method", ["rkf45", "implicit-euler"])
+@pytest.mark.parametrize("self_collision", [False, True])
+def test_eight_simulations_on_eight_threads_give_the_bits_of_eight_in_a_row(method, self_collision):
+    def scene(k):
+        values = {"integrator.method": method, "collision.self": self_collision, "threads": 1,
+                  "springs.connector.stiffness": 1400 * (1 + 0.05 * k)}
+        if method == "implicit-euler":
+            values["integrator.time_step"] = 1 / 240
+        return short_scene("paper-fig5", 0.5, **values)
+
+    def run(k):
+        simulation = clothsim.Simulation(scene(k))
+        simulation.advance_to(0.5)
+        return simulation.positions, simulation.velocities
+
+    alone = [run(k) for k in range(8)]
+    together = [None] * 8
+
+    def work(k):
+        together[k] = run(k)
+
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(8)]
+    for thread in threads:
+        thread.start()
+    for thread in threads:
+        thread.join()
+    for k in range(8):
+        assert numpy.array_equal(alone[k][0], together[k][0]) and numpy.array_equal(alone[k][1], together[k][1]), k
+    assert not numpy.array_equal(alone[0][0], alone[1][0])

@@ -28,7 +28,14 @@ TEST(StepDiagnosis, AFlatSheetAtRestIsAtNoKink) {
   // The opposite springs of a flat sheet sit at 180 degrees, their rest: a smooth minimum there.
   const StepLimit limit = find_step_limit(model, model.particle_rest_position, 4);
   EXPECT_FALSE(limit.at_kink);
-  EXPECT_NE(limit.kind, StepLimit::Kind::none);
+  // The stiffest spring at the centre is a damped opposite one: on a flat sheet of spacing L the
+  // gradient of its angle has lengths 1/L at each arm and 2/L at the centre, so its damping rate
+  // is c (1 + 1 + 4) / (m L^2).
+  ASSERT_EQ(limit.kind, StepLimit::Kind::radial);
+  EXPECT_EQ(model.radial_kind[limit.element], RadialKind::opposite);
+  const double spacing = model.connector_rest_length[0];
+  EXPECT_NEAR(limit.rate, 6.0 * model.radial_damping[limit.element] / (model.particle_mass[4] * spacing * spacing),
+              1e-9 * limit.rate);
 }
 
 TEST(StepDiagnosis, AnAdjacentSpringFoldedFlatIsNamedAtItsKink) {
