@@ -39,6 +39,8 @@ mutations=(
   "src/run/run_recorder.cpp@  if (impl.model->revision != model.revision) impl.model = std::make_shared<const ClothModel>(model);@  (void)model;@FrameModel@the pictures drawn with the model the run started from"
   "src/scene/scene_memory.cpp@  if (allowance.checked) return;@  return;@SceneMemory@make_simulation without the memory check"
   "src/sim/step_diagnosis.cpp@    if (std::abs(rest_angle - end) < kKinkWindow) continue;@    (void)rest_angle;@StepDiagnosis@a radial spring at rest on the kink taken for at it"
+  "src/events/spring_events.cpp@      if (spring_laws::connector_breaks(length, model.connector_original_length[e], model.connector_break_strain[e])) {@      if (spring_laws::connector_breaks(length, model.connector_rest_length[e], model.connector_break_strain[e])) {@EventStageLaws@the break strain measured from the rest length a yield left"
+  "src/integrators/symplectic_euler.cpp@  count_evaluations(dynamics_.evaluations());@  stats_.force_evaluations = dynamics_.evaluations();@KilledRunTest@a resumed run's force evaluations counted from the checkpoint on"
 )
 
 echo "scratch clone: $copy"
