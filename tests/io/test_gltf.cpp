@@ -4,6 +4,7 @@
 // (glb_reader.h), not by the writer's code.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <string>
@@ -40,6 +41,41 @@ TEST(WriteGlb, SheetIsTrianglesWithNormalsAndBounds) {
   EXPECT_EQ(glb.position_max, (std::vector<double>{0.75, 0.0, 0.5}));
   ASSERT_EQ(glb.normal.size(), 36u);
   for (std::size_t v = 0; v < 12; ++v) EXPECT_EQ(glb.normal[3 * v + 1], 1.0f) << v;
+}
+
+// A sheet bent into an arc of a cylinder: the file's normals are the area-weighted normals of
+// its own triangles (recomputed here from its positions and indices, in double), unit length, and
+// within the triangulation's error of the cylinder's normal, facing out of it.
+TEST(WriteGlb, ABentSheetsNormalsAreItsTrianglesAreaWeightedNormals) {
+  const ClothModel model = make_sheet(7, 9);
+  constexpr double kRadius = 4.0;  // the 4 m sheet spans an arc of 1 rad
+  std::vector<Vec3> position = model.particle_rest_position;
+  for (Vec3& x : position) x = {kRadius * std::sin(x.x / kRadius), kRadius * std::cos(x.x / kRadius) - kRadius, x.z};
+  const std::string path = checks::scratch_path("io", "bent.glb");
+  write_glb(path, model, position, GlbFrame{"bent", 1, 0.0});
+  const testing::GlbMesh glb = testing::read_glb(path);
+  ASSERT_TRUE(glb.loaded) << glb.error;
+  const std::size_t vertices = glb.vertices();
+  ASSERT_EQ(glb.normal.size(), 3 * vertices);
+  const auto vertex = [&glb](std::uint32_t v) {
+    return Vec3{glb.position[3 * v], glb.position[3 * v + 1], glb.position[3 * v + 2]};
+  };
+  std::vector<Vec3> expected(vertices);
+  for (std::size_t t = 0; t + 2 < glb.index.size(); t += 3) {
+    const Vec3 a = vertex(glb.index[t]);
+    const Vec3 area_normal = cross(vertex(glb.index[t + 1]) - a, vertex(glb.index[t + 2]) - a);
+    for (int corner = 0; corner < 3; ++corner) expected[glb.index[t + corner]] += area_normal;
+  }
+  for (std::size_t v = 0; v < vertices; ++v) {
+    const Vec3 normal{glb.normal[3 * v], glb.normal[3 * v + 1], glb.normal[3 * v + 2]};
+    const Vec3 brute = (1.0 / norm(expected[v])) * expected[v];
+    EXPECT_NEAR(norm(normal), 1.0, 1e-6) << v;
+    EXPECT_LT(norm(normal - brute), 1e-5) << "vertex " << v;
+    // The cylinder's outward normal at the vertex: (x, y + R, 0) / R.
+    const Vec3 x = vertex(static_cast<std::uint32_t>(v));
+    const Vec3 cylinder{x.x / kRadius, (x.y + kRadius) / kRadius, 0.0};
+    EXPECT_GT(dot(normal, cylinder), 0.99) << "vertex " << v;
+  }
 }
 
 TEST(WriteGlb, OneWideLatticeIsLinesAlongItsConnectors) {
