@@ -6,6 +6,10 @@ void ContactEnergy::collect(const ClothModel& model, std::span<const std::uint8_
   const std::size_t connectors = model.connector_count();
   if (!gather_.built_for(model)) gather_.build(model);
   element_mark_.resize(connectors + model.radial_count(), 0);
+  // Room for every particle and element at once, so that collecting never reallocates between
+  // steps and holds what bytes_for() counts, not a vector's growth beyond it.
+  particles_.reserve(changed.size());
+  elements_.reserve(element_mark_.size());
   for (std::uint32_t element : elements_) element_mark_[element] = 0;
   particles_.clear();
   elements_.clear();

@@ -10,7 +10,10 @@
 #include <vector>
 
 #include "core/memory_size.h"
+#include "scene/builtin_scenes.h"
 #include "scene/scene.h"
+#include "scene/scene_memory.h"
+#include "scene/scene_simulation.h"
 #include "scene_simulation.h"
 #include "sim/memory_estimate.h"
 #include "sim/simulation.h"
@@ -116,6 +119,28 @@ TEST(MemoryEstimate, CollisionStageStaysWithinItsAllowanceOnAFlatSheet) {
   EXPECT_GT(item(estimate, "collisions"), 0u);
   EXPECT_LE(simulation.memory_bytes(), estimate.total()) << estimate.describe();
   EXPECT_GT(simulation.memory_bytes(), estimate.total() / 2) << estimate.describe();
+}
+
+// A sheet on obstacles holds the obstacle stage's arrays: the estimate counts them from the
+// scene's colliders (scene/scene_memory.h: simulation_shape) and bounds what the run holds once
+// the sheet lies on the table, closely.
+TEST(MemoryEstimate, CountsTheObstacleStageOfASheetOnATable) {
+  SceneSpec spec = builtin_scene("tablecloth");
+  spec.threads = 1;
+  ASSERT_FALSE(spec.colliders.empty());
+  const SimulationShape shape = simulation_shape(spec);
+  ASSERT_TRUE(shape.obstacles);
+  SimulationShape bare = shape;
+  bare.obstacles = false;
+  const MemoryEstimate estimate = estimate_simulation_memory(shape);
+  // Each particle's resolved position, velocity change, penetration and flag at least.
+  EXPECT_GE(item(estimate, "collisions") - item(estimate_simulation_memory(bare), "collisions"),
+            shape.counts.particles * (2 * sizeof(Vec3) + sizeof(double) + sizeof(std::uint8_t)));
+  Simulation simulation = make_simulation(spec);
+  ASSERT_TRUE(simulation.advance_to(0.3));  // on the table by now
+  ASSERT_GT(simulation.contact_statistics().contacts, 0u);
+  EXPECT_LE(simulation.memory_bytes(), estimate.total()) << estimate.describe();
+  EXPECT_GT(simulation.memory_bytes(), estimate.total() * 9 / 10) << estimate.describe();
 }
 
 TEST(MemoryEstimate, DescribesTheTotalAndEachItem) {
