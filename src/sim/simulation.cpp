@@ -114,7 +114,10 @@ bool Simulation::integrate(double time) {
     const StepLimit limit = find_step_limit(*model_, state_.position, outcome.particle);
     std::string cause = describe_step_limit(*model_, limit, state_.position);
     if (!cause.empty()) cause[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(cause[0])));
-    const std::string advice = limit.at_kink
+    const std::string advice = limit.collapsed
+                                   ? " Nothing in the model keeps a particle from passing through its "
+                                     "neighbour but self-collision (collision.self)."
+                               : limit.at_kink
                                    ? " The step control cannot follow a force that turns abruptly; a looser "
                                      "tolerance or implicit-euler steps past it."
                                    : " The state is blowing up, or the problem is too stiff for this tolerance "

@@ -56,6 +56,26 @@ std::string rate_text(double rate) {
 }  // namespace
 
 StepLimit find_step_limit(const ClothModel& model, std::span<const Vec3> position, std::size_t particle) {
+  // A collapsing connector first, wherever it is.
+  std::size_t shortest = model.connector_particles.size();
+  double shortest_ratio = kCollapsedLength;
+  for (std::size_t e = 0; e < model.connector_particles.size(); ++e) {
+    if (model.connector_live[e] == 0) continue;
+    const auto [a, b] = model.connector_particles[e];
+    const double ratio = norm(position[b] - position[a]) / model.connector_rest_length[e];
+    if (ratio < shortest_ratio) {
+      shortest = e;
+      shortest_ratio = ratio;
+    }
+  }
+  if (shortest < model.connector_particles.size()) {
+    StepLimit limit;
+    limit.kind = StepLimit::Kind::connector;
+    limit.element = shortest;
+    limit.collapsed = true;
+    limit.strain = shortest_ratio - 1.0;
+    return limit;
+  }
   // Every live spring touching the particle, with how far it is from rest and how fast it is.
   std::vector<std::pair<StepLimit, double>> springs;  // the spring, its departure from rest
   for (std::size_t r = 0; r < model.radial_particles.size(); ++r) {
@@ -101,6 +121,13 @@ std::string describe_step_limit(const ClothModel& model, const StepLimit& limit,
     case StepLimit::Kind::connector: {
       const auto [a, b] = model.connector_particles[limit.element];
       const double length = norm(position[b] - position[a]);
+      if (limit.collapsed) {
+        return "connector " + std::to_string(limit.element) + " between " + model.describe_particle(a) + " and " +
+               model.describe_particle(b) + " has collapsed to " + diagnostic_number(length) + " m, " +
+               diagnostic_number(100.0 * length / model.connector_rest_length[limit.element]) +
+               " % of its rest length: the radial springs on it lose their angle as it vanishes and their forces "
+               "grow as 1 / length (one particle is passing through the other)";
+      }
       return "connector " + std::to_string(limit.element) + " between " + model.describe_particle(a) + " and " +
              model.describe_particle(b) + " is at strain " + diagnostic_number(100.0 * limit.strain) + " % (" +
              diagnostic_number(length) + " m against its rest length of " +

@@ -23,6 +23,10 @@ namespace clothsim {
 
 // How near a kink a radial spring counts as at it, rad (2 degrees).
 inline constexpr double kKinkWindow = 0.035;
+// A connector shorter than this fraction of its rest length counts as collapsing: the radial
+// springs on it lose their angle as its length goes to 0, and their forces grow as 1 / length.
+// The paper's hanging sheets die of this (docs/performance.md, "Soak").
+inline constexpr double kCollapsedLength = 0.1;
 
 struct StepLimit {
   enum class Kind { none, connector, radial };
@@ -33,10 +37,13 @@ struct StepLimit {
   double angle = 0.0;       // rad, a radial spring's angle now
   double strain = 0.0;      // a connector's l / L - 1
   double rate = 0.0;        // 1/s, the larger of its damping rate and its elastic frequency
+  bool collapsed = false;   // a connector anywhere in the sheet below kCollapsedLength
 };
 
-// The live spring touching `particle` (a connector at either end, a radial spring as centre or
-// arm) at a kink, the nearest first; else, where a spring is far from rest (kFarFromRest: a strain
+// The shortest live connector anywhere in the sheet if it is collapsing (kCollapsedLength), which
+// limits every step whichever particle's error is largest; else the live spring touching
+// `particle` (a connector at either end, a radial spring as centre or arm) at a kink, the nearest
+// first; else, where a spring is far from rest (kFarFromRest: a strain
 // or an angle from rest in rad), the one furthest; else the stiffest, whose rate (its damping
 // rate c / m, or c / (m L^2) for a radial spring, or its elastic frequency, the larger) bounds an
 // explicit method's stable step.

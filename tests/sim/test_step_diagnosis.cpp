@@ -3,6 +3,7 @@
 // rest angle) first, else the spring furthest from its rest.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -72,6 +73,23 @@ TEST(StepDiagnosis, AStretchedConnectorIsNamedWithItsStrain) {
   const std::string text = describe_step_limit(model, limit, position);
   EXPECT_NE(text.find("connector 0 between particle 0 (row 0, col 0) and particle 1"), std::string::npos) << text;
   EXPECT_NE(text.find("strain 25 %"), std::string::npos) << text;
+}
+
+// A connector collapsing to a point (a particle passing through its neighbour, as the paper's
+// hanging sheets do after 28 s) is named wherever the largest error is.
+TEST(StepDiagnosis, ACollapsingConnectorIsNamedWhereverTheErrorIs) {
+  const ClothModel model = build_model(small_sheet());
+  std::vector<Vec3> position = model.particle_rest_position;
+  position[5] = position[4] + 0.003 * (position[5] - position[4]);
+  const StepLimit limit = find_step_limit(model, position, 0);
+  ASSERT_EQ(limit.kind, StepLimit::Kind::connector);
+  EXPECT_TRUE(limit.collapsed);
+  const auto [a, b] = model.connector_particles[limit.element];
+  EXPECT_EQ(std::min(a, b), 4u);
+  EXPECT_EQ(std::max(a, b), 5u);
+  const std::string text = describe_step_limit(model, limit, position);
+  EXPECT_NE(text.find("has collapsed to"), std::string::npos) << text;
+  EXPECT_NE(text.find("0.3 % of its rest length"), std::string::npos) << text;
 }
 
 // A scene made too stiff for its step floor: the run stops and its diagnosis names a spring.
