@@ -235,6 +235,7 @@ void BlockSystem::assemble(ForceTerms terms, double damping_scale, double stiffn
   const ClothModel& model = model_;
   const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
   const bool product = !displacement.empty();
+  const bool with_stiffness = stiffness_scale != 0.0 || product;
   const std::size_t radial_base = model.radial_slot_base();
   parallel_for(model.particle_count(), threads_, [&](std::size_t p) {
     const std::uint32_t begin = row_offset[p];
@@ -267,9 +268,14 @@ void BlockSystem::assemble(ForceTerms terms, double damping_scale, double stiffn
         const element::RadialJacobian& jacobian = radial_jacobian[r];
         const auto& particles = model.radial_particles[r];
         for (int j = 0; j < 3; ++j) {
+          Mat3& target = block[radial_block[local][static_cast<std::size_t>(j)]];
+          if (!with_stiffness) {
+            // The IMEX stages' D alone: 0 K would add nothing but its cost.
+            target += damping_scale * jacobian.damping_block(i, j);
+            continue;
+          }
           const Mat3 stiffness = jacobian.stiffness_block(i, j);
-          block[radial_block[local][static_cast<std::size_t>(j)]] +=
-              stiffness_scale * stiffness + damping_scale * jacobian.damping_block(i, j);
+          target += stiffness_scale * stiffness + damping_scale * jacobian.damping_block(i, j);
           if (product) stiffness_times_displacement += stiffness * displacement[particles[static_cast<std::size_t>(j)]];
         }
         diagonal = radial_block[local][static_cast<std::size_t>(i)];
