@@ -54,7 +54,7 @@ ParameterRow special_row(std::string_view key, const SceneSpec& defaults) {
   } else if (key == "description") {
     row = {row.key, "", "text", "\"\"", "free text describing the scene"};
   } else if (key == "integrator.method") {
-    row = {row.key, "", "rkf45|rk4|symplectic-euler|implicit-euler", std::string(to_string(defaults.integrator.kind)),
+    row = {row.key, "", "rkf45|rk4|symplectic-euler|implicit-euler|imex", std::string(to_string(defaults.integrator.kind)),
            "time integrator (--integrator)"};
   } else if (key == "anchors") {
     row = {row.key, "", "preset or JSON list", defaults.anchors.empty() ? "none" : "",

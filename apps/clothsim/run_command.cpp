@@ -125,7 +125,8 @@ void print_summary(const RunResult& result) {
     std::printf("; step %.3g .. %.3g s", stats.smallest_step, stats.largest_step);
   }
   std::printf("; %llu force evaluations", static_cast<unsigned long long>(stats.force_evaluations));
-  if (integrator.kind == IntegratorKind::implicit_euler && stats.accepted_steps > 0) {
+  if ((integrator.kind == IntegratorKind::implicit_euler || integrator.kind == IntegratorKind::imex) &&
+      stats.accepted_steps > 0) {
     std::printf("; CG iterations %.3g per step (most %llu, %llu solves at the cap)",
                 static_cast<double>(stats.cg_iterations) / static_cast<double>(stats.accepted_steps),
                 static_cast<unsigned long long>(stats.cg_max_iterations_in_a_step),

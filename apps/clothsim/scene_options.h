@@ -33,11 +33,11 @@ struct FieldFlag {
 inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
     {"--duration", "output.duration", "SECONDS", "simulated time to run"},
     {"--fps", "output.fps", "N", "frames written per simulated second"},
-    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler or implicit-euler"},
-    {"--rtol", "integrator.relative_tolerance", "X", "RKF45 relative error tolerance"},
-    {"--atol", "integrator.absolute_tolerance", "X", "RKF45 absolute error tolerance (m, m/s)"},
+    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler, implicit-euler or imex"},
+    {"--rtol", "integrator.relative_tolerance", "X", "RKF45 and imex relative error tolerance"},
+    {"--atol", "integrator.absolute_tolerance", "X", "RKF45 and imex absolute error tolerance (m, m/s)"},
     {"--time-step", "integrator.time_step", "SECONDS",
-     "step of rk4, symplectic-euler and implicit-euler; first trial step of rkf45"},
+     "step of rk4, symplectic-euler and implicit-euler; first trial step of rkf45 and imex"},
     {"--gravity", "environment.gravity", "X,Y,Z", "gravitational acceleration, m/s^2"},
     {"--anchor", "anchors", "PRESET", "anchored particles: center, corners, edge-corners or none"},
     {"--threads", "threads", "N", "worker threads; 0 chooses from the lattice size and the idle cores"},
@@ -52,7 +52,7 @@ inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
      "(final.glb); none"},
     {"--backend", "backend", "cpu|vulkan",
      "where the steps run: cpu (every feature), or vulkan (rkf45, rk4 and symplectic-euler on a Vulkan device, "
-     "tearing, plasticity and creasing included; implicit-euler and collisions run on the cpu only: docs/gpu.md)"},
+     "tearing, plasticity and creasing included; implicit-euler, imex and collisions run on the cpu only: docs/gpu.md)"},
     {"--device", "device", "N", "the Vulkan device of --backend vulkan, as 'clothsim devices' lists them"},
     {"--precision", "precision", "float64|float32|auto",
      "arithmetic of the forces: float64 (the cpu default), float32 (the vulkan default; on the cpu, float32 springs "

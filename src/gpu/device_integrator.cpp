@@ -30,9 +30,10 @@ const ButcherTableau& tableau_for(IntegratorKind kind) {
     case IntegratorKind::rkf45: return kFehlberg45;
     case IntegratorKind::rk4: return kClassicRk4;
     case IntegratorKind::symplectic_euler: return kSymplecticEuler;
-    case IntegratorKind::implicit_euler: break;
+    case IntegratorKind::implicit_euler:
+    case IntegratorKind::imex: break;
   }
-  throw GpuError("implicit-euler does not run on the Vulkan backend");
+  throw GpuError(std::string(to_string(kind)) + " does not run on the Vulkan backend");
 }
 
 // Attempts per submission: a batch large enough for a frame's steps in one or two submissions,

@@ -9,34 +9,15 @@
 
 namespace clothsim {
 
-void ImplicitEuler::set_hold(std::size_t p, Hold hold, const Vec3& normal) {
-  hold_[p] = hold;
-  held_normal_[p] = hold == Hold::none ? Vec3{} : normal;
-  const Mat3& diagonal = block_[diagonal_block(p)];
-  switch (hold) {
-    case Hold::none: preconditioner_[p] = inverse(diagonal); break;
-    case Hold::normal: {
-      // Block Jacobi on the two free directions: the inverse of S D S, completed by n n^T so that
-      // it is invertible (the filter removes n again). With D symmetric,
-      // S D S = D - n (D n)^T - (D n) n^T + (n . D n) n n^T.
-      const Vec3 dn = diagonal * normal;
-      preconditioner_[p] =
-          inverse(diagonal - outer(normal, dn) - outer(dn, normal) + (dot(normal, dn) + 1.0) * outer(normal, normal));
-      break;
-    }
-    case Hold::all: preconditioner_[p] = Mat3{}; break;
-  }
-}
-
 void ImplicitEuler::hold_on_surfaces(const ClothState& state, double h) {
-  holding_ = false;
+  system_.holding = false;
   const SurfaceContacts* contacts = surface_contacts_;
   if (contacts == nullptr || !contacts->any) return;
   const std::size_t n = model_.particle_count();
   for (std::size_t p = 0; p < n; ++p) {
-    hold_[p] = Hold::none;
-    held_normal_[p] = Vec3{};
-    if (!free_[p] || contacts->collider[p] == SurfaceContacts::kNone) continue;
+    system_.hold[p] = Hold::none;
+    system_.held_normal[p] = Vec3{};
+    if (!system_.free[p] || contacts->collider[p] == SurfaceContacts::kNone) continue;
     const Vec3& normal = contacts->normal[p];
     const Vec3& surface_velocity = contacts->velocity[p];
     const Vec3 relative = state.velocity[p] - surface_velocity;
@@ -52,30 +33,31 @@ void ImplicitEuler::hold_on_surfaces(const ClothState& state, double h) {
     // A particle the last step found needing more than that slides in this one.
     const bool stuck = !slipped_[p] && norm(tangential) <= contacts->friction[p] * std::max(0.0, pressing);
     slipped_[p] = 0;
-    set_hold(p, stuck ? Hold::all : Hold::normal, normal);
-    holding_ = true;
+    system_.set_hold(p, stuck ? Hold::all : Hold::normal, normal);
+    system_.holding = true;
     // The held part of dv is known: the step ends moving with the surface, along the normal or
     // altogether.
     const Vec3 to_surface = surface_velocity - state.velocity[p];
-    dv_[p] = stuck ? to_surface : dv_[p] - dot(dv_[p], normal) * normal + dot(to_surface, normal) * normal;
+    Vec3& dv = system_.solution[p];
+    dv = stuck ? to_surface : dv - dot(dv, normal) * normal + dot(to_surface, normal) * normal;
   }
 }
 
 bool ImplicitEuler::release_held_particles() {
-  if (!holding_) return false;
+  if (!system_.holding) return false;
   bool changed = false;
   const std::size_t n = model_.particle_count();
   for (std::size_t p = 0; p < n; ++p) {
-    if (hold_[p] == Hold::none) continue;
-    const Vec3 normal = held_normal_[p];
+    if (system_.hold[p] == Hold::none) continue;
+    const Vec3 normal = system_.held_normal[p];
     // The impulse the surface exerts, A dv - b: a surface cannot pull, and friction cannot exceed
     // mu times the normal impulse (Coulomb): then the particle slides.
-    const Vec3 impulse = row_product(p, dv_) - rhs_[p];
+    const Vec3 impulse = system_.row_product(p, system_.solution) - system_.rhs[p];
     const double pressing = dot(normal, impulse);
     if (pressing < 0.0) {
-      set_hold(p, Hold::none, normal);
+      system_.set_hold(p, Hold::none, normal);
       changed = true;
-    } else if (hold_[p] == Hold::all && norm(impulse - pressing * normal) > surface_contacts_->friction[p] * pressing) {
+    } else if (system_.hold[p] == Hold::all && norm(impulse - pressing * normal) > surface_contacts_->friction[p] * pressing) {
       // Held by more than Coulomb's friction: it slides from the next step on. (Solving again for
       // it, as for a pulling surface, took a second solve in most steps of a sheet on a table.)
       slipped_[p] = 1;
@@ -85,15 +67,15 @@ bool ImplicitEuler::release_held_particles() {
 }
 
 void ImplicitEuler::book_surface_impulses(ClothState& state) {
-  if (!holding_) return;
+  if (!system_.holding) return;
   SurfaceContacts& contacts = *surface_contacts_;
   const std::size_t n = model_.particle_count();
   double work = 0.0;
   for (std::size_t p = 0; p < n; ++p) {
-    if (hold_[p] == Hold::none) continue;
-    const Vec3 normal = held_normal_[p];
-    Vec3 impulse = row_product(p, dv_) - rhs_[p];  // N s
-    if (hold_[p] == Hold::normal) impulse = dot(normal, impulse) * normal;
+    if (system_.hold[p] == Hold::none) continue;
+    const Vec3 normal = system_.held_normal[p];
+    Vec3 impulse = system_.row_product(p, system_.solution) - system_.rhs[p];  // N s
+    if (system_.hold[p] == Hold::normal) impulse = dot(normal, impulse) * normal;
     contacts.impulse[p] = std::max(0.0, dot(normal, impulse));
     // Its work, with the end-of-step velocity like the other work integrals: zero on a surface at
     // rest, where the particle ends with no normal velocity (and, stuck, no velocity at all).

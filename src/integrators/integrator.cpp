@@ -8,6 +8,7 @@
 
 #include "core/assert.h"
 #include "integrators/explicit_runge_kutta.h"
+#include "integrators/imex.h"
 #include "integrators/implicit_euler.h"
 #include "integrators/symplectic_euler.h"
 
@@ -19,6 +20,7 @@ std::string_view to_string(IntegratorKind kind) {
     case IntegratorKind::rk4: return "rk4";
     case IntegratorKind::symplectic_euler: return "symplectic-euler";
     case IntegratorKind::implicit_euler: return "implicit-euler";
+    case IntegratorKind::imex: return "imex";
   }
   return "unknown";
 }
@@ -75,6 +77,7 @@ std::unique_ptr<Integrator> make_integrator(const ClothModel& model, const Integ
     case IntegratorKind::rk4: return std::make_unique<FixedStepRungeKutta>(model, settings, force_options, kClassicRk4);
     case IntegratorKind::symplectic_euler: return std::make_unique<SymplecticEuler>(model, settings, force_options);
     case IntegratorKind::implicit_euler: return std::make_unique<ImplicitEuler>(model, settings, force_options);
+    case IntegratorKind::imex: return std::make_unique<AdditiveRungeKutta>(model, settings, force_options);
   }
   return nullptr;
 }

@@ -23,7 +23,8 @@ StableStep estimate_stable_step(const ClothModel& model, IntegratorKind kind) {
       decay_limit = 2.0;
       break;
     case IntegratorKind::rkf45:
-    case IntegratorKind::implicit_euler: return result;
+    case IntegratorKind::implicit_euler:
+    case IntegratorKind::imex: return result;
   }
   const std::size_t n = model.particle_count();
   // Gershgorin row sums of the stiffness and damping matrices (N/m, N s/m): sum_j |A_ij|.

@@ -1,5 +1,6 @@
 // Butcher tableaus of explicit Runge-Kutta methods, held as data (STYLE.md rule 8): one driver
-// (explicit_runge_kutta.cpp) serves every method, adaptive or fixed-step.
+// (explicit_runge_kutta.cpp) serves every method, adaptive or fixed-step. Below them the additive
+// (IMEX) pairs of the imex integrator (imex.h).
 #pragma once
 
 #include <array>
@@ -64,6 +65,68 @@ inline constexpr ButcherTableau kClassicRk4{
 // solution. Used by the convergence tests to measure the order of each row.
 constexpr ButcherTableau embedded_as_propagated(const ButcherTableau& t) {
   ButcherTableau swapped = t;
+  swapped.weights = t.embedded_weights;
+  swapped.embedded_weights = t.weights;
+  swapped.order = t.embedded_order;
+  swapped.embedded_order = t.order;
+  return swapped;
+}
+
+// An additive Runge-Kutta pair: an explicit tableau for the non-stiff part of y' = f_E(y) + f_I(y)
+// and a diagonally implicit one for the stiff part, with shared nodes and weights (b^E = b^I and
+// the same embedded row), so that the solution and its error estimate are sums of whole stage
+// rates f_E + f_I. The implicit tableau is ESDIRK: a_11 = 0 (the first stage is the step's start)
+// and a_ii = gamma for i >= 2.
+struct AdditiveTableau {
+  const char* name;
+  int stages;
+  int order;           // of the solution
+  int embedded_order;  // of the embedded solution of the error estimate
+  std::array<double, kMaxStages> nodes;                                         // c_i
+  std::array<std::array<double, kMaxStages>, kMaxStages> explicit_coefficients;  // a^E_ij, j < i
+  std::array<std::array<double, kMaxStages>, kMaxStages> implicit_coefficients;  // a^I_ij, j <= i
+  std::array<double, kMaxStages> weights;                                       // b_i
+  std::array<double, kMaxStages> embedded_weights;                              // b^_i
+  double gamma() const { return implicit_coefficients[1][1]; }
+};
+
+// Kennedy and Carpenter's ARK3(2)4L[2]SA (C. A. Kennedy and M. H. Carpenter, "Additive Runge-Kutta
+// schemes for convection-diffusion-reaction equations", Applied Numerical Mathematics 44 (2003)
+// 139-181, Appendix C, the rational coefficients): third order with a second-order embedded
+// solution; its ESDIRK part is L-stable and stiffly accurate (a^I_4j = b_j) with stage order 2.
+// (Checked against SUNDIALS ARKODE's ARK324L2SA_ERK_4_2_3 and ARK324L2SA_DIRK_4_2_3 to 16
+// digits; tests/integrators/test_tableau.cpp checks the order conditions.)
+inline constexpr double kArk324Gamma = 1767732205903.0 / 4055673282236.0;
+inline constexpr AdditiveTableau kArk324L2SA{
+    "ark3(2)4l[2]sa",
+    4,
+    3,
+    2,
+    {0.0, 1767732205903.0 / 2027836641118.0, 3.0 / 5.0, 1.0},
+    {{
+        {},
+        {1767732205903.0 / 2027836641118.0},
+        {5535828885825.0 / 10492691773637.0, 788022342437.0 / 10882634858940.0},
+        {6485989280629.0 / 16251701735622.0, -4246266847089.0 / 9704473918619.0,
+         10755448449292.0 / 10357097424841.0},
+    }},
+    {{
+        {},
+        {kArk324Gamma, kArk324Gamma},
+        {2746238789719.0 / 10658868560708.0, -640167445237.0 / 6845629431997.0, kArk324Gamma},
+        {1471266399579.0 / 7840856788654.0, -4482444167858.0 / 7529755066697.0, 11266239266428.0 / 11593286722821.0,
+         kArk324Gamma},
+    }},
+    {1471266399579.0 / 7840856788654.0, -4482444167858.0 / 7529755066697.0, 11266239266428.0 / 11593286722821.0,
+     kArk324Gamma},
+    {2756255671327.0 / 12835298489170.0, -10771552573575.0 / 22201958757719.0, 9247589265047.0 / 10645013368117.0,
+     2193209047091.0 / 5459859503100.0},
+};
+
+// The same pair propagating its embedded solution, for the convergence tests (as
+// embedded_as_propagated does for explicit tableaus).
+constexpr AdditiveTableau embedded_as_propagated(const AdditiveTableau& t) {
+  AdditiveTableau swapped = t;
   swapped.weights = t.embedded_weights;
   swapped.embedded_weights = t.weights;
   swapped.order = t.embedded_order;

@@ -56,7 +56,8 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
   result.size = size;
   result.particles = simulation.model().particle_count();
   result.integrator = integrator;
-  result.time_step = integrator == IntegratorKind::rkf45 ? 0.0 : spec.integrator.time_step;
+  const bool adaptive = integrator == IntegratorKind::rkf45 || integrator == IntegratorKind::imex;
+  result.time_step = adaptive ? 0.0 : spec.integrator.time_step;
 
   if (options.backend.kind == Backend::vulkan) {
     // The device's rate is not the CPU kernel's: no FLOP count, no share of the CPU's peak.

@@ -51,7 +51,8 @@ namespace {
 
 std::string method_choices() {
   return join_names(std::array{to_string(IntegratorKind::rkf45), to_string(IntegratorKind::rk4),
-                               to_string(IntegratorKind::symplectic_euler), to_string(IntegratorKind::implicit_euler)});
+                               to_string(IntegratorKind::symplectic_euler), to_string(IntegratorKind::implicit_euler),
+                               to_string(IntegratorKind::imex)});
 }
 
 // backend and precision: names.

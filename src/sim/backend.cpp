@@ -75,6 +75,7 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
     return "";
   }
   if (features.integrator.kind == IntegratorKind::implicit_euler) return "implicit-euler (integrator.method)";
+  if (features.integrator.kind == IntegratorKind::imex) return "imex (integrator.method)";
   // The laws run on the device's lattice path only (gpu/device_lattice.cpp).
   if (!features.lattice && features.limits.changes_sheet()) {
     return "tearing, permanent stretching or creasing of a sheet that is not a lattice (springs.*)";

@@ -10,6 +10,7 @@
 #include "core/memory_size.h"
 #include "events/spring_events.h"
 #include "integrators/explicit_runge_kutta.h"
+#include "integrators/imex.h"
 #include "integrators/implicit_euler.h"
 #include "integrators/symplectic_euler.h"
 #include "integrators/tableau.h"
@@ -63,6 +64,7 @@ MemoryEstimate estimate_simulation_memory(const SimulationShape& shape) {
     case IntegratorKind::implicit_euler:
       workspace = ImplicitEuler::workspace_bytes_for(counts, shape.integrator);
       break;
+    case IntegratorKind::imex: workspace = AdditiveRungeKutta::workspace_bytes_for(counts, shape.integrator); break;
   }
   estimate.add(std::string(to_string(shape.integrator.kind)) + " workspace", workspace);
   if (shape.sheet_changes) estimate.add("tearing and plasticity", SpringEvents::bytes_for(counts));

@@ -95,6 +95,8 @@ TEST_F(BackendTest, ARunOnTheDeviceWritesTheCpusFolder) {
 TEST_F(BackendTest, WhatTheDeviceDoesNotRunIsRefused) {
   expect_refused(clothsim({"run", "tear-pull", "--backend", "vulkan", "--render", "none"}),
                  "field 'backend': the vulkan backend does not run implicit-euler (integrator.method) yet");
+  expect_refused(clothsim({"run", "paper-fig5", "--backend", "vulkan", "--integrator", "imex", "--render", "none"}),
+                 "field 'backend': the vulkan backend does not run imex (integrator.method) yet");
   expect_refused(clothsim({"run", "paper-fig4", "--backend", "vulkan", "--render", "none"}),
                  "does not run self-collision (collision.self) yet");
   expect_refused(clothsim({"run", "tear-pull", "--precision", "float32", "--render", "none"}),

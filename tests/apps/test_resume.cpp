@@ -58,6 +58,7 @@ const std::vector<ResumeCase> kResumeCases = {
     {"ImplicitEulerTearing", {"tear-pull"}, "0.1"},
     {"ImplicitEulerCreasing", {"paper-crease", "--duration", "1.2"}, "0.1"},
     {"ImplicitEulerResting", {"tablecloth", "--duration", "0.6"}, "0.05"},
+    {"Imex", {"paper-fig5", "--integrator", "imex", "--duration", "4"}, "0.1"},
 };
 
 class ResumeTest : public ::testing::Test {

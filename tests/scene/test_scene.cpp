@@ -329,7 +329,7 @@ const MalformedScene kMalformedScenes[] = {
     {"group not an object", R"({"lattice": 5})", {"field 'lattice'", "must be an object", "got 5"}},
     {"bad method",
      R"({"integrator": {"method": "euler"}})",
-     {"scene.json: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, implicit-euler, got "
+     {"scene.json: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, implicit-euler, imex, got "
       "\"euler\""}},
     {"method not a string", R"({"integrator": {"method": 4}})", {"integrator.method", "rkf45, rk4", "got 4"}},
     {"fps 0", R"({"output": {"fps": 0}})", {"field 'output.fps'", "an integer in [1, 10000]", "got 0"}},
@@ -548,7 +548,7 @@ TEST(SetSceneField, Errors) {
   EXPECT_EQ(spec.name, "caf\xC3\xA9 \xF0\x9F\xA7\xB5");
   expect_input_error(set("integrator.method", "euler", "--method"),
                      {"--method: field 'integrator.method': must be one of rkf45, rk4, symplectic-euler, "
-                      "implicit-euler, got \"euler\""});
+                      "implicit-euler, imex, got \"euler\""});
   expect_input_error(set("anchors", "middle", "--anchors"),
                      {"--anchors: field 'anchors'", "center, corners, edge-corners, none"});
   expect_input_error(set("anchors", "[{\"row\": 99}]", "--anchors"), {"--anchors: field 'anchors[0].row'", "[0, 20]"});
