@@ -28,14 +28,14 @@ mutations=(
   "src/integrators/tableau.h@{1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0},@{1.0 / 6.0, 1.0 / 3.0, 1.0 / 6.0, 1.0 / 3.0},@Integrators|AdaptiveRungeKutta|Convergence|Tableau|Conservation|PaperScenes@RK4 weights of the last two stages swapped"
   "src/integrators/explicit_runge_kutta.cpp@    for (int l = 0; l < i; ++l) {@    for (int l = 0; l + 1 < i; ++l) {@Integrators|AdaptiveRungeKutta|Convergence|Tableau|Conservation|PaperScenes@Runge-Kutta stage sums (the Nystrom position rows) one term short (off by one)"
   "src/integrators/symplectic_euler.cpp@state.position[p] += h * state.velocity[p];@state.position[p] += 0.5 * h * state.velocity[p];@Integrators|AdaptiveRungeKutta|Convergence|Tableau|Conservation|PaperScenes@symplectic Euler moves half the step"
-  "src/integrators/implicit_euler.cpp@const Mat3 a = h2 * jacobian.stiffness + h * jacobian.damping;@const Mat3 a = h * jacobian.damping;@ImplicitEuler@implicit Euler's matrix without the connectors' stiffness"
+  "src/integrators/block_system.cpp@const Mat3 a = stiffness_scale * jacobian.stiffness + damping_scale * jacobian.damping;@const Mat3 a = damping_scale * jacobian.damping;@ImplicitEuler@implicit Euler's matrix without the connectors' stiffness"
   "src/integrators/dynamics.cpp@position[anchor.particle] = anchor.path.position(time);@(void)anchor;@AnchorPath|KeyframedAnchors|RuntimeAnchors|Conservation|PaperScenes@anchored particles not put on their path"
   "src/events/spring_events.cpp@  break_connector(model, connector, state.time);@  (void)connector;@Tearing|ChangingScenes|EventRuns@a connector past its limit not broken"
   "src/events/spring_events.cpp@      set_connector_rest_length(model, connector, new_rest);@      (void)new_rest;@PermanentStretching|ChangingScenes|EventRuns@a yielded connector keeps its rest length"
   "src/collision/obstacle_contacts.cpp@Vec3 position = contact_point + std::max(0.0, thickness - contact.distance) * n;@Vec3 position = contact_point;@ObstacleContacts@obstacle contacts not pushed out to the thickness"
   "src/collision/self_contacts.cpp@if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);@(void)counts;@SelfContacts|SelfCollision.CornersBroughtTogetherNeverCross@self-collision without its impact stages"
   "src/integrators/explicit_runge_kutta.cpp@  archive.value(\"rkf45.proposed_step\", proposed_step_);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without RKF45's next step"
-  "src/integrators/implicit_euler.cpp@  archive.array(\"implicit_euler.dv\", dv_);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without implicit Euler's warm start"
+  "src/integrators/implicit_euler.cpp@  archive.array(\"implicit_euler.dv\", system_.solution);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without implicit Euler's warm start"
 )
 
 echo "scratch clone: $copy"
