@@ -36,6 +36,8 @@ mutations=(
   "src/collision/self_contacts.cpp@if (!resolve_impacts(model, state, start, counts, threads)) move_zones(model, state, start, counts, threads);@(void)counts;@SelfContacts|SelfCollision.CornersBroughtTogetherNeverCross@self-collision without its impact stages"
   "src/integrators/explicit_runge_kutta.cpp@  archive.value(\"rkf45.proposed_step\", proposed_step_);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without RKF45's next step"
   "src/integrators/implicit_euler.cpp@  archive.array(\"implicit_euler.dv\", system_.solution);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without implicit Euler's warm start"
+  "src/integrators/imex.cpp@  archive.value(\"imex.proposed_step\", controller_.proposed_step);@  (void)archive;@SimulationCheckpoint|KilledRunTest@a checkpoint without imex's next step"
+  "src/integrators/imex.cpp@    trial_damping_work_ += weight[j] * stage_rate_[j].damping_power;@    trial_damping_work_ += (j == 0 ? h : 0.0) * stage_rate_[j].damping_power;@ImexPaperScene|ImexEvents@imex's damping work booked from the first stage only"
 )
 
 echo "scratch clone: $copy"
