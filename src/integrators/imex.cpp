@@ -4,6 +4,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <span>
 
 #include "core/assert.h"
 #include "core/parallel.h"
@@ -248,9 +249,11 @@ StepOutcome AdditiveRungeKutta::step(ClothState& state, double t_limit) {
     return {StepStatus::ok, h, 0, false};
   }
   if (controller_.proposed_step <= 0.0) {
-    controller_.proposed_step = settings_.time_step > 0.0 ? settings_.time_step
-                                                          : initial_adaptive_step(model_, settings_, state,
-                                                                                  stage_rate_[0].velocity_rate, t_limit);
+    // The first trial step: time_step, or RKF45's automatic one where it is 0.
+    const std::span<const Vec3> acceleration = stage_rate_[0].velocity_rate;
+    controller_.proposed_step = settings_.time_step > 0.0
+                                    ? settings_.time_step
+                                    : initial_adaptive_step(model_, settings_, state, acceleration, t_limit);
   }
   controller_.rejected_before = false;
   for (;;) {
