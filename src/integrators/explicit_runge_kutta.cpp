@@ -397,8 +397,7 @@ StepOutcome AdaptiveRungeKutta::step(ClothState& state, double t_limit) {
 
 void AdaptiveRungeKutta::transfer_state(StateArchive& archive) {
   Integrator::transfer_state(archive);
-  archive.value("rkf45.proposed_step", controller_.proposed_step);
-  archive.value("rkf45.previous_error", controller_.previous_error);
+  step_control::transfer_controller(archive, "rkf45", controller_);
 }
 
 }  // namespace clothsim

@@ -281,8 +281,7 @@ StepOutcome AdditiveRungeKutta::step(ClothState& state, double t_limit) {
 
 void AdditiveRungeKutta::transfer_state(StateArchive& archive) {
   Integrator::transfer_state(archive);
-  archive.value("imex.proposed_step", controller_.proposed_step);
-  archive.value("imex.previous_error", controller_.previous_error);
+  step_control::transfer_controller(archive, "imex", controller_);
 }
 
 }  // namespace clothsim
