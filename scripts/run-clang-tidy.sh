@@ -51,7 +51,9 @@ for entry in json.load(open(database)):
             continue
         keep.append(word)
     text = subprocess.run(keep + ["-E", "-P", "-w"], cwd=entry["directory"], capture_output=True).stdout
-    digest = hashlib.sha256(config + b"\0" + " ".join(keep).encode() + b"\0" + text).hexdigest()
+    # The clone's path left out, as ccache's CCACHE_BASEDIR does, so a clone elsewhere finds the cache.
+    command = " ".join(keep).replace(root, "<root>")
+    digest = hashlib.sha256(config + b"\0" + command.encode() + b"\0" + text.replace(root.encode(), b"<root>")).hexdigest()
     print(digest, relative)
 PY
 
