@@ -30,7 +30,7 @@ std::optional<std::uint64_t> max_memory(const MemoryFlags& flags) {
 MemoryLimit memory_limit(const MemoryFlags& flags) { return clothsim::memory_limit(max_memory(flags)); }
 
 void cap_run_growth(const MemoryLimit& limit) {
-  if (!limit.unknown) cap_data_growth(limit.cap);
+  if (!limit.unknown) cap_data_growth(limit.cap, limit.source);
 }
 
 void check_view_memory(const SceneSpec& spec, int width, int height, const MemoryFlags& flags) {

@@ -175,6 +175,8 @@ class CommandObserver final : public RunObserver {
     if (!options_.quiet) warning(message);
   }
   void warning(const std::string& message) override { std::fprintf(stderr, "clothsim: %s\n", message.c_str()); }
+  // The library refused a scene above the limit; what passed may still grow past it.
+  void memory_checked(const MemoryLimit& limit) override { cap_run_growth(limit); }
   void frames_begin(double end_time) override {
     interrupt_.emplace();
     progress_.emplace(!options_.quiet && !options_.no_progress, end_time);
@@ -202,8 +204,6 @@ RunOptions run_options(const RunFlags& options, const Invocation& invocation, Ru
   run.render = options.render;
   run.observer = &observer;
   run.max_memory = max_memory(options.memory);
-  // The library refuses a scene above the limit; the command also caps the process's growth.
-  cap_run_growth(clothsim::memory_limit(run.max_memory));
   // A resumed run keeps the picture flags it began with, but for those given again.
   run.resumed_render = [&options](const RenderFlags& stored) {
     RenderFlags flags = stored;

@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <mutex>
 #include <sstream>
 
 namespace clothsim {
@@ -105,10 +106,29 @@ void consider_cgroups(AvailableMemory& least) {
   }
 }
 
-void consider_rlimit(AvailableMemory& least, int resource, std::string_view status, std::string_view used_key,
-                     std::string source) {
+// The RLIMIT_DATA soft limit cap_data_growth set, and the name of the limit it restates.
+struct OwnDataCap {
+  std::mutex mutex;
+  rlim_t value = RLIM_INFINITY;
+  std::string source;
+};
+
+OwnDataCap& own_data_cap() {
+  static OwnDataCap cap;
+  return cap;
+}
+
+// What a limit of `value` on RLIMIT_DATA is called: its own name, unless this process set it.
+std::string data_limit_name(rlim_t value) {
+  OwnDataCap& own = own_data_cap();
+  const std::lock_guard lock(own.mutex);
+  return value == own.value ? own.source : "RLIMIT_DATA";
+}
+
+void consider_rlimit(AvailableMemory& least, int resource, std::string_view status, std::string_view used_key) {
   rlimit limit{};
   if (getrlimit(resource, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return;
+  std::string source = resource == RLIMIT_AS ? "RLIMIT_AS" : data_limit_name(limit.rlim_cur);
   const auto cap = static_cast<std::size_t>(limit.rlim_cur);
   const std::size_t used = status_field_bytes(status, used_key);
   consider(least, cap > used ? cap - used : 0, std::move(source));
@@ -130,20 +150,25 @@ AvailableMemory available_memory() {
   if (meminfo > 0) consider(least, meminfo, "MemAvailable");
   consider_cgroups(least);
   const std::string status = read_text("/proc/self/status");
-  consider_rlimit(least, RLIMIT_AS, status, "VmSize", "RLIMIT_AS");
-  consider_rlimit(least, RLIMIT_DATA, status, "VmData", "RLIMIT_DATA");
+  consider_rlimit(least, RLIMIT_AS, status, "VmSize");
+  consider_rlimit(least, RLIMIT_DATA, status, "VmData");
   if (!least.known()) least.bytes = std::numeric_limits<std::size_t>::max();
   return least;
 }
 
-bool cap_data_growth(std::size_t bytes) {
+bool cap_data_growth(std::size_t bytes, std::string source) {
   rlimit limit{};
   if (getrlimit(RLIMIT_DATA, &limit) != 0) return false;
   const std::size_t used = status_field_bytes(read_text("/proc/self/status"), "VmData");
   const std::size_t cap = used + std::min(bytes, std::numeric_limits<std::size_t>::max() - used);
   if (limit.rlim_cur != RLIM_INFINITY && static_cast<std::size_t>(limit.rlim_cur) <= cap) return true;
   limit.rlim_cur = static_cast<rlim_t>(cap);
-  return setrlimit(RLIMIT_DATA, &limit) == 0;
+  if (setrlimit(RLIMIT_DATA, &limit) != 0) return false;
+  OwnDataCap& own = own_data_cap();
+  const std::lock_guard lock(own.mutex);
+  own.value = limit.rlim_cur;
+  own.source = std::move(source);
+  return true;
 }
 
 }  // namespace clothsim

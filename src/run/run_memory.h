@@ -12,9 +12,11 @@
 // RLIMIT_DATA). A scene above it is refused (ResourceError, core/error.h) before anything is
 // allocated or written, with a message naming the estimate, its parts and what is available.
 // make_simulation() makes the same check with the simulation's part alone (scene/scene_memory.h)
-// for callers that step a scene without a run. The running cap on the
-// process's growth (RLIMIT_DATA) is process-wide, so it belongs to the command
-// (apps/clothsim/memory_check.h), not to the library.
+// for callers that step a scene without a run. The running cap on the process's growth
+// (RLIMIT_DATA) is process-wide, so it belongs to the command (apps/clothsim/memory_check.h), not
+// to the library: the command sets it when the check has passed (RunObserver::memory_checked), as
+// a cap set before would hold the check's own message to it (--max-memory 1 left the refusal no
+// room to be printed under AddressSanitizer).
 #pragma once
 
 #include "run/render_plan.h"

@@ -33,6 +33,7 @@ std::uint64_t last_frame(const OutputSettings& output) {
 
 void RunObserver::notice(const std::string& /*message*/) {}
 void RunObserver::warning(const std::string& /*message*/) {}
+void RunObserver::memory_checked(const MemoryLimit& /*limit*/) {}
 void RunObserver::frames_begin(double /*end_time*/) {}
 void RunObserver::frame_done(double /*time*/, std::uint64_t /*accepted_steps*/) {}
 void RunObserver::frames_end() {}
@@ -185,9 +186,11 @@ RunResult finish_run(const SceneSpec& spec, const RenderPlan& plan, std::unique_
 
 // The scene fits the memory the run may use (run/run_memory.h): checked from its shape, before
 // its model is built; make_simulation() then has nothing more to check. Throws ResourceError.
-MemoryAllowance check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const RunOptions& options) {
-  check_memory(estimate_run_memory(spec, plan), memory_limit(options.max_memory, options.max_memory_source),
-               "the scene", options.max_memory_source);
+MemoryAllowance check_run_memory(const SceneSpec& spec, const RenderPlan& plan, const RunOptions& options,
+                                 RunObserver& observer) {
+  const MemoryLimit limit = memory_limit(options.max_memory, options.max_memory_source);
+  check_memory(estimate_run_memory(spec, plan), limit, "the scene", options.max_memory_source);
+  observer.memory_checked(limit);
   return MemoryAllowance{options.max_memory, options.max_memory_source, true};
 }
 
@@ -207,7 +210,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   //    anything exists on disk.
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
   // A scene too large is refused before its model is built, and so is one without its device.
-  const MemoryAllowance memory = check_run_memory(spec, *render_plan, options);
+  const MemoryAllowance memory = check_run_memory(spec, *render_plan, options, observer);
   check_backend_fits(spec);
   ClothModel model = build_model(spec);
   RunWriter writer(options.out.empty() ? std::filesystem::path(default_output_folder(spec)) : options.out, options.info,
@@ -247,7 +250,7 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   //    refusal comes before anything on disk changes.
   const ResumeTarget target = find_resume_target(path);
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
-  const MemoryAllowance memory = check_run_memory(spec, *parse_render_flags(options.render), options);
+  const MemoryAllowance memory = check_run_memory(spec, *parse_render_flags(options.render), options, observer);
   check_backend_fits(spec);
   const Stopwatch wall;
   std::unique_ptr<Simulation> simulation = make_unique_simulation(spec, memory);

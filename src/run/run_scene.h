@@ -38,6 +38,7 @@
 #include "run/render_plan.h"
 #include "run/run_writer.h"
 #include "scene/scene.h"
+#include "sim/memory_estimate.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
@@ -58,6 +59,9 @@ class RunObserver {
   // `warning` is always shown.
   virtual void notice(const std::string& message);
   virtual void warning(const std::string& message);
+  // The scene fits `limit` (run/run_memory.h), checked before anything is built: the command caps
+  // the process's growth here (apps/clothsim/memory_check.h), a limit a library leaves alone.
+  virtual void memory_checked(const MemoryLimit& limit);
   // Before the first frame is simulated: the run ends at simulated time `end_time`, s, at the latest.
   virtual void frames_begin(double end_time);
   // After each frame written: the simulated time and the accepted steps so far.

@@ -83,6 +83,7 @@ MemoryLimit memory_limit(std::optional<std::uint64_t> max_memory, std::string_vi
     limit.bytes = static_cast<std::size_t>(*max_memory);
     limit.cap = limit.bytes;
     limit.from_caller = true;
+    limit.source = source;
     limit.description = std::string(source) + " allows " + format_memory_size(*max_memory);
     return limit;
   }
@@ -93,6 +94,7 @@ MemoryLimit memory_limit(std::optional<std::uint64_t> max_memory, std::string_vi
   }
   limit.bytes = usable_memory(available);
   limit.cap = available.bytes;
+  limit.source = available.source;
   const auto percent = static_cast<int>(std::lround(100.0 * kUsableMemoryFraction));
   limit.description = format_memory_size(available.bytes) + " is available (" + available.source +
                       "), of which a run " + "may use " + std::to_string(percent) + "%, " +

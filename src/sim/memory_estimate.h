@@ -79,6 +79,7 @@ struct MemoryLimit {
   std::size_t bytes = 0;     // the most the estimate may be
   std::size_t cap = 0;       // the most the process may grow by: all of what was available, or of max_memory
   std::string description;   // "22.8 GiB is available (MemAvailable), of which a run may use 90%, 20.5 GiB"
+  std::string source;        // what sets it: the caller's name for max_memory, or AvailableMemory::source
   bool from_caller = false;  // max_memory was given
   bool unknown = false;      // nothing could be read and no max_memory: no check
 };

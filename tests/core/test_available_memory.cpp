@@ -1,6 +1,6 @@
 // What the system leaves this process (core/available_memory.h): /proc/meminfo and cgroup values
-// parsed, the least of the sources found with its name, an address-space limit seen, and the cap
-// on growth turning an allocation past it into std::bad_alloc (in child processes, so the test's
+// parsed, the least of the sources found with its name, an address-space limit seen, a cap this
+// process set named by the limit it came from, and the cap on growth turning an allocation past it into std::bad_alloc (in child processes, so the test's
 // own limits stay as they are). Under AddressSanitizer, whose operator new ends the process
 // instead of throwing, the cap is seen to hold by that end.
 #include <sys/resource.h>
@@ -47,6 +47,31 @@ TEST(AvailableMemory, NamesTheLeastSourceAndSeesAnAddressSpaceLimit) {
     if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(2);
     const AvailableMemory limited = available_memory();
     ::_exit(limited.source == "RLIMIT_AS" && limited.bytes <= kGiB && limited.bytes > kGiB / 2 ? 0 : 1);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(pid, &status, 0), pid);
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << "status " << status;
+}
+
+// The cap the command sets from the least limit restates that limit: a later check, which finds
+// the cap the least (here by 16 MiB, as allocations between the two can make it), names the limit
+// it came from. A data-segment limit set by anyone else keeps its own name.
+TEST(AvailableMemory, ADataCapThisProcessSetCarriesTheNameOfItsLimit) {
+  const rlim_t cap = checks::mapped_address_space() + kGiB;
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    rlimit limit{cap, cap};
+    if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(2);
+    const AvailableMemory before = available_memory();
+    if (before.source != "RLIMIT_AS") ::_exit(3);
+    if (!cap_data_growth(before.bytes - 16 * kMiB, before.source)) ::_exit(4);
+    const AvailableMemory after = available_memory();
+    if (after.source != "RLIMIT_AS" || after.bytes > before.bytes - 16 * kMiB) ::_exit(5);
+    rlimit data{};
+    if (::getrlimit(RLIMIT_DATA, &data) != 0) ::_exit(6);
+    data.rlim_cur -= 32 * kMiB;  // lower still, and not by cap_data_growth
+    if (::setrlimit(RLIMIT_DATA, &data) != 0) ::_exit(7);
+    ::_exit(available_memory().source == "RLIMIT_DATA" ? 0 : 8);
   }
   int status = 0;
   ASSERT_EQ(::waitpid(pid, &status, 0), pid);
