@@ -106,29 +106,32 @@ void consider_cgroups(AvailableMemory& least) {
   }
 }
 
-// The RLIMIT_DATA soft limit cap_data_growth set, and the name of the limit it restates.
-struct OwnDataCap {
+// The soft limit this process set itself (cap_data_growth), and the name of the limit it restates.
+struct OwnLimit {
   std::mutex mutex;
+  int resource = -1;
   rlim_t value = RLIM_INFINITY;
   std::string source;
 };
 
-OwnDataCap& own_data_cap() {
-  static OwnDataCap cap;
-  return cap;
+OwnLimit& own_limit() {
+  static OwnLimit own;
+  return own;
 }
 
-// What a limit of `value` on RLIMIT_DATA is called: its own name, unless this process set it.
-std::string data_limit_name(rlim_t value) {
-  OwnDataCap& own = own_data_cap();
+// What a limit of `value` on `resource` is called: `name`, unless this process set it.
+std::string limit_name(int resource, rlim_t value, std::string name) {
+  OwnLimit& own = own_limit();
   const std::lock_guard lock(own.mutex);
-  return value == own.value ? own.source : "RLIMIT_DATA";
+  if (resource == own.resource && value == own.value) return own.source;
+  return name;
 }
 
-void consider_rlimit(AvailableMemory& least, int resource, std::string_view status, std::string_view used_key) {
+void consider_rlimit(AvailableMemory& least, int resource, std::string_view status, std::string_view used_key,
+                     std::string name) {
   rlimit limit{};
   if (getrlimit(resource, &limit) != 0 || limit.rlim_cur == RLIM_INFINITY) return;
-  std::string source = resource == RLIMIT_AS ? "RLIMIT_AS" : data_limit_name(limit.rlim_cur);
+  std::string source = limit_name(resource, limit.rlim_cur, std::move(name));
   const auto cap = static_cast<std::size_t>(limit.rlim_cur);
   const std::size_t used = status_field_bytes(status, used_key);
   consider(least, cap > used ? cap - used : 0, std::move(source));
@@ -150,8 +153,8 @@ AvailableMemory available_memory() {
   if (meminfo > 0) consider(least, meminfo, "MemAvailable");
   consider_cgroups(least);
   const std::string status = read_text("/proc/self/status");
-  consider_rlimit(least, RLIMIT_AS, status, "VmSize");
-  consider_rlimit(least, RLIMIT_DATA, status, "VmData");
+  consider_rlimit(least, RLIMIT_AS, status, "VmSize", "RLIMIT_AS");
+  consider_rlimit(least, RLIMIT_DATA, status, "VmData", "RLIMIT_DATA");
   if (!least.known()) least.bytes = std::numeric_limits<std::size_t>::max();
   return least;
 }
@@ -164,8 +167,9 @@ bool cap_data_growth(std::size_t bytes, std::string source) {
   if (limit.rlim_cur != RLIM_INFINITY && static_cast<std::size_t>(limit.rlim_cur) <= cap) return true;
   limit.rlim_cur = static_cast<rlim_t>(cap);
   if (setrlimit(RLIMIT_DATA, &limit) != 0) return false;
-  OwnDataCap& own = own_data_cap();
+  OwnLimit& own = own_limit();
   const std::lock_guard lock(own.mutex);
+  own.resource = RLIMIT_DATA;
   own.value = limit.rlim_cur;
   own.source = std::move(source);
   return true;
