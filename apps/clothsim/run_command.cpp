@@ -96,7 +96,7 @@ void print_summary(const RunResult& result) {
   const RunStatus status = result.status;
   const double wall_seconds = result.wall_seconds;
   const IntegratorStats& stats = simulation.integrator_stats();
-  const IntegratorSettings& integrator = spec.integrator;
+  const IntegratorSettings& integrator = simulation.settings().integrator;
   const double simulated = result.last_time;
 
   std::printf("scene        %s\n", spec.name.c_str());

@@ -32,6 +32,10 @@ std::vector<IntegratorKind> all_integrator_kinds();
 // Parses "rkf45", "rk4", "symplectic-euler", "implicit-euler", "imex"; returns false for anything else.
 bool parse_integrator_kind(std::string_view text, IntegratorKind& kind);
 
+// The step of the explicit fixed-step methods and RKF45's and imex's first trial step where a scene
+// sets none (scene_integrator() in scene/scene.h; implicit Euler's is the frame step).
+inline constexpr double kDefaultTimeStep = 1e-3;  // s
+
 struct IntegratorSettings {
   IntegratorKind kind = IntegratorKind::rkf45;
   // RKF45 and imex error control: a step is accepted when every free coordinate's error estimate e_i
@@ -39,7 +43,7 @@ struct IntegratorSettings {
   double relative_tolerance = 1e-6;  // dimensionless
   double absolute_tolerance = 1e-6;  // m for positions, m/s for velocities
   // Fixed-step methods: the step. RKF45, imex: the first trial step (0 picks one automatically).
-  double time_step = 1e-3;  // s
+  double time_step = kDefaultTimeStep;  // s
   double min_step = 1e-10;  // s; RKF45 and imex stop with a diagnosis if they need a smaller step
   double max_step = 0.1;    // s; upper bound on RKF45 and imex steps
   // Step-size controller (Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4).

@@ -218,7 +218,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   // The OpenGL context and ffmpeg are checked now, before the run: a machine that cannot make
   // pictures fails at once (OutputError, suggesting --render none), not after a long simulation.
   RunRecorder recorder(render_plan, model);
-  warn_about_stability(model, spec.integrator, observer);
+  warn_about_stability(model, scene_integrator(spec), observer);
   const std::vector<LeftoverRun> leftovers = find_leftover_runs(writer.out());
   report_leftovers(leftovers, observer);
 

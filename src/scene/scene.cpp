@@ -250,6 +250,13 @@ SceneSpec load_scene_file(const std::string& path) {
   return parse_scene(read_input_file(path), path, std::filesystem::path(path).parent_path().string());
 }
 
+IntegratorSettings scene_integrator(const SceneSpec& spec) {
+  IntegratorSettings integrator = spec.integrator;
+  if (integrator.time_step > 0.0) return integrator;
+  integrator.time_step = integrator.kind == IntegratorKind::implicit_euler ? 1.0 / spec.output.fps : kDefaultTimeStep;
+  return integrator;
+}
+
 SceneSpec scene_from_paper_args(std::string_view text, const std::string& source) {
   const std::array<double, 10> values = read_text_paper_arguments(text, source);
   SceneSpec spec;

@@ -103,13 +103,20 @@ struct SceneSpec {
   std::vector<ColliderSpec> colliders;  // obstacles
   CollisionSettings collision;
   InitialConditions initial;
-  IntegratorSettings integrator;
+  // time_step 0: none set, the method's own (scene_integrator()).
+  IntegratorSettings integrator{.time_step = 0.0};
   OutputSettings output;
   int threads = 0;  // 0: choose from the lattice size (core/parallel.h)
   // Where the steps run: "backend" ("cpu" or "vulkan"), "device" (the Vulkan device) and
   // "precision" ("float64", "float32" or "auto"; absent: the backend's own) (sim/backend.h).
   BackendSettings backend;
 };
+
+// The scene's integrator settings as its simulation runs them: a time step left at 0 becomes the
+// method's own, the frame step 1 / output.fps for implicit Euler (a method made for frame-sized
+// steps; the collision stage still ends a step at an approaching impact) and kDefaultTimeStep for
+// the others (explicit methods' step, RKF45's and imex's first trial step).
+IntegratorSettings scene_integrator(const SceneSpec& spec);
 
 // Reads and validates a scene file. Throws InputError naming `path`. Mesh files of colliders are
 // found relative to the scene file's folder.

@@ -12,7 +12,7 @@ static_assert(std::is_nothrow_move_constructible_v<Simulation>, "make_simulation
 
 SimulationSettings simulation_settings(const SceneSpec& spec) {
   SimulationSettings settings;
-  settings.integrator = spec.integrator;
+  settings.integrator = scene_integrator(spec);
   settings.threads = spec.threads;
   settings.backend = spec.backend;
   return settings;
@@ -66,7 +66,8 @@ void apply_live_parameters(const SceneSpec& current, const SceneSpec& edited, Si
       current.environment.air_drag != edited.environment.air_drag) {
     simulation.set_environment(edited.environment);
   }
-  if (!same(current.integrator, edited.integrator)) simulation.set_integrator(edited.integrator);
+  const IntegratorSettings integrator = scene_integrator(edited);
+  if (!same(scene_integrator(current), integrator)) simulation.set_integrator(integrator);
 }
 
 }  // namespace clothsim

@@ -74,7 +74,7 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     }
     check_material(*spec.material, source, "material");
   }
-  const IntegratorSettings& integrator = spec.integrator;
+  const IntegratorSettings integrator = scene_integrator(spec);
   if (integrator.min_step > integrator.max_step) {
     fail(source, "integrator.min_step",
          "must be <= integrator.max_step (" + format_number(integrator.max_step) + "), got " +

@@ -155,7 +155,7 @@ const std::vector<BadInputCase> kBadInputCases = {
      ""},
     {"RtolZero", small({"--rtol", "0"}), {"--rtol", "integrator.relative_tolerance", "[1e-14, 1]"}, ""},
     {"AtolZero", small({"--atol", "0"}), {"--atol", "integrator.absolute_tolerance", "(0, 1000]"}, ""},
-    {"TimeStepTooLarge", small({"--time-step", "100"}), {"--time-step", "integrator.time_step", "(0, 10]"}, ""},
+    {"TimeStepTooLarge", small({"--time-step", "100"}), {"--time-step", "integrator.time_step", "[0, 10]"}, ""},
     {"GravityTwoComponents", small({"--gravity", "1,2"}), {"--gravity", "environment.gravity", "3 numbers"}, ""},
     {"ThreadsNegative", small({"--threads", "-3"}), {"--threads", "threads", "[0, 1024]"}, ""},
     {"AnchorUnknown", small({"--anchor", "top"}), {"--anchor", "center", "edge-corners", "top"}, ""},

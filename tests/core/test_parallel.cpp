@@ -1,7 +1,10 @@
 // Thread-count resolution and parallel_for: every index visited exactly once for any thread count.
 #include <gtest/gtest.h>
 
+#include <sched.h>
+
 #include <atomic>
+#include <string>
 #include <vector>
 
 #include "core/parallel.h"
@@ -32,6 +35,42 @@ TEST(Parallel, GivenAvailableThreadsReplaceTheLoadSample) {
   EXPECT_EQ(resolve_thread_count(0, 5000, kParallelThreshold, 3), 3);
   EXPECT_EQ(resolve_thread_count(0, 100, kParallelThreshold, 3), 1);
   EXPECT_EQ(resolve_thread_count(2, 5000, kParallelThreshold, 3), 2);
+}
+
+// The automatic choice counts what runs now: /proc/stat's procs_running (which counts the
+// caller), read from the text as the kernel writes it, less the caller, taken from the CPUs the
+// process may use.
+TEST(Parallel, IdleThreadsAreTheAllowedCpusLessWhatRunsNow) {
+  const std::string stat =
+      "cpu  10 0 5 100 0 0 0 0 0 0\ncpu0 5 0 2 50 0 0 0 0 0 0\nctxt 42\nbtime 1796225986\nprocesses 7438\n"
+      "procs_running 3\nprocs_blocked 0\n";
+  EXPECT_EQ(parse_procs_running(stat), 3);
+  EXPECT_EQ(parse_procs_running("cpu  1 2 3\nprocs_blocked 0\n"), -1);
+  EXPECT_EQ(parse_procs_running("cpu  1 2 3\nprocs_running x\n"), -1);
+  EXPECT_EQ(idle_threads(16, 0), 16);  // an idle machine: every allowed CPU
+  EXPECT_EQ(idle_threads(16, 5), 11);
+  EXPECT_EQ(idle_threads(2, 1), 1);
+  EXPECT_EQ(idle_threads(2, 7), 1);  // never below one thread
+  EXPECT_EQ(idle_threads(4, -1), 4);
+}
+
+// The CPUs counted are the affinity mask's, not the machine's: a process pinned to one CPU
+// (taskset, a container's cpuset) gets one thread.
+TEST(Parallel, TheHardwareIsTheAffinityMask) {
+  cpu_set_t saved;
+  ASSERT_EQ(sched_getaffinity(0, sizeof(saved), &saved), 0);
+  EXPECT_EQ(hardware_thread_count(), CPU_COUNT(&saved));
+  int first = 0;
+  while (!CPU_ISSET(first, &saved)) ++first;
+  cpu_set_t one;
+  CPU_ZERO(&one);
+  CPU_SET(first, &one);
+  ASSERT_EQ(sched_setaffinity(0, sizeof(one), &one), 0);
+  const int pinned = hardware_thread_count();
+  const int idle = idle_hardware_threads();
+  ASSERT_EQ(sched_setaffinity(0, sizeof(saved), &saved), 0);
+  EXPECT_EQ(pinned, 1);
+  EXPECT_EQ(idle, 1);
 }
 
 TEST(Parallel, ParallelForVisitsEveryIndexOnce) {

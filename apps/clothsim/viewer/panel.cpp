@@ -12,6 +12,7 @@
 
 #include "core/error.h"
 #include "scene/parameters.h"
+#include "scene/scene.h"
 #include "scene/validate_scene.h"
 
 namespace clothsim::viewer {
@@ -69,6 +70,9 @@ bool gravity_editor(SceneSpec& edited) {
 
 bool integrator_editor(SceneSpec& edited) {
   bool changed = false;
+  // A scene that sets no step (0) shows the step it runs with; the simulation's settings stay the
+  // same (scene_integrator() resolves both alike).
+  if (edited.integrator.time_step == 0.0) edited.integrator.time_step = scene_integrator(edited).time_step;
   constexpr std::array<IntegratorKind, 3> kKinds = {IntegratorKind::rkf45, IntegratorKind::rk4,
                                                     IntegratorKind::symplectic_euler};
   const std::string current(to_string(edited.integrator.kind));
