@@ -4,6 +4,8 @@
 // scene.cpp        clothsim.Scene (a SceneSpec) and load_scene(): built-in names, files, dicts, set=
 // simulation.cpp   clothsim.Simulation: make_simulation(), advance_to, positions, energy, render
 // run.cpp          clothsim.run(): the library's run driver (run/run_scene.h), the command's folder
+// sweep.cpp        clothsim.sweep(): the command's sweep plan (run/sweep_plan.h), its runs as tasks,
+//                  here or on a Dask cluster
 //
 // Errors: the library's exceptions become Python ones with the same message text (module.cpp):
 // ResourceError -> clothsim.ResourceError (a MemoryError, with .estimate, .parts and .limit),
@@ -70,5 +72,6 @@ struct SimulationHandle {
 void bind_scene(py::module_& module);
 void bind_simulation(py::module_& module);
 void bind_run(py::module_& module);
+void bind_sweep(py::module_& module);
 
 }  // namespace clothsim::python

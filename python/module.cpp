@@ -185,4 +185,5 @@ PYBIND11_MODULE(clothsim, module) {
   bind_scene(module);
   bind_simulation(module);
   bind_run(module);
+  bind_sweep(module);
 }

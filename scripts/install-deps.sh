@@ -15,6 +15,7 @@ packages=(
   # The Python module clothsim (python/, docs/python.md): pybind11 and the headers of the system
   # Python it is built for, and pytest for its tests (tests/python).
   pybind11-dev python3-dev python3-pytest
+  python3-distributed  # clothsim.sweep(client=...) on a Dask cluster; its tests run a LocalCluster
   # Rendering (src/render, docs/rendering.md): OpenGL 3.3 core through libepoxy, headless EGL
   # on Mesa (llvmpipe where there is no GPU), PNG images, H.264 video through the ffmpeg program.
   libepoxy-dev libegl-dev libgl-dev libegl-mesa0 libgl1-mesa-dri

@@ -37,7 +37,7 @@
 #include "run_render.h"
 #include "scene/validate_scene.h"
 #include "scene_options.h"
-#include "sweep_plan.h"
+#include "run/sweep_plan.h"
 
 namespace clothsim::cli {
 namespace {
@@ -191,7 +191,7 @@ class Scheduler {
     return !signals.stopped();
   }
 
-  std::size_t count(RunState state) const { return counts_.count(state) ? counts_.at(state) : 0; }
+  std::size_t count(SweepRunState state) const { return counts_.count(state) ? counts_.at(state) : 0; }
 
  private:
   struct Started {
@@ -201,7 +201,7 @@ class Scheduler {
   };
 
   void start(const SweepRun& run) {
-    const RunStatus status = read_run_status(out_, run);
+    const SweepRunStatus status = read_run_status(out_, run);
     std::vector<std::string> arguments = {executable_.string(), "run"};
     const bool resumed = !status.resume_from.empty();
     if (resumed) {
@@ -239,16 +239,16 @@ class Scheduler {
     const Started started = found->second;
     running_.erase(found);
     const SweepRun& run = *started.run;
-    const RunState state = read_run_status(out_, run).state;
+    const SweepRunState state = read_run_status(out_, run).state;
     ++counts_[state];
     ++done_;
     write_sweep_index(out_, parameters_, runs_);
-    if (options_.quiet && state == RunState::completed) return;
+    if (options_.quiet && state == SweepRunState::completed) return;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started.start).count();
     std::string line = "[" + std::to_string(done_) + "/" + std::to_string(total_) + "] " + run.folder + " (" +
                        describe_assignments(run) + "): " + std::string(to_string(state)) +
                        (started.resumed ? " (resumed)" : "") + " in " + format_duration(seconds);
-    if (state != RunState::completed) {
+    if (state != SweepRunState::completed) {
       line += "; the run " + describe_exit_status(exit_status) + ": " + log_diagnosis(sweep_log_path(out_, run)) +
               " (log: " + sweep_log_path(out_, run).string() + ")";
     }
@@ -270,7 +270,7 @@ class Scheduler {
   const std::vector<SweepParameter>& parameters_;
   const std::vector<SweepRun>& runs_;
   std::map<pid_t, Started> running_;
-  std::map<RunState, std::size_t> counts_;
+  std::map<SweepRunState, std::size_t> counts_;
   std::size_t done_ = 0;
   std::size_t total_ = 0;
 };
@@ -314,12 +314,12 @@ int sweep(const SweepOptions& options, const CLI::App& app) {
   for (const SweepRun& run : runs) {
     if (!shard.takes(run.index)) continue;
     ++mine;
-    const RunState state = read_run_status(out, run).state;
-    if (state == RunState::completed) {
+    const SweepRunState state = read_run_status(out, run).state;
+    if (state == SweepRunState::completed) {
       ++done;
-    } else if (state == RunState::failed && !options.retry_failed) {
+    } else if (state == SweepRunState::failed && !options.retry_failed) {
       ++failed_before;
-    } else if (state == RunState::running) {
+    } else if (state == SweepRunState::running) {
       ++elsewhere;
     } else {
       todo.push_back(&run);
@@ -343,11 +343,11 @@ int sweep(const SweepOptions& options, const CLI::App& app) {
 
   // 4. Index (written after each run) and the outcome.
   write_sweep_index(out, parameters, runs);
-  const std::size_t failed = failed_before + scheduler.count(RunState::failed) + scheduler.count(RunState::error) +
-                             (whole ? scheduler.count(RunState::interrupted) : 0);
+  const std::size_t failed = failed_before + scheduler.count(SweepRunState::failed) + scheduler.count(SweepRunState::error) +
+                             (whole ? scheduler.count(SweepRunState::interrupted) : 0);
   if (!options.quiet) {
     std::printf("sweep: %zu of %zu runs of this %s complete, %zu failed%s; index: %s\n",
-                done + scheduler.count(RunState::completed), mine, shard.count > 1 ? "shard" : "sweep", failed,
+                done + scheduler.count(SweepRunState::completed), mine, shard.count > 1 ? "shard" : "sweep", failed,
                 whole ? "" : " (interrupted: run the same command again to go on)",
                 (out / "index.csv").string().c_str());
   }

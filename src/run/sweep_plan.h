@@ -1,6 +1,6 @@
-// The plan of `clothsim sweep` (docs/batch.md): the grid of --param values and its runs, which of
-// them a shard takes, where each run's output goes, and the two files the sweep keeps in its
-// folder: sweep.json, the record that ties the folder to one sweep, and index.csv, one row per run.
+// The plan of a sweep, `clothsim sweep` and the Python module's clothsim.sweep() (docs/batch.md): the grid of --param
+// values and its runs, which of them a shard takes, where each run's output goes, and the two files the sweep keeps in
+// its folder: sweep.json, the record that ties the folder to one sweep, and index.csv, one row per run.
 //
 // The grid is the Cartesian product of the --param lists, the first --param varying slowest (as
 // nested loops written in the order given). Run i of N writes `<out>/run-<i>`, i zero-padded to
@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-namespace clothsim::cli {
+namespace clothsim {
 
 // One --param KEY=V1,V2,...: a scene field (any key --set takes) and its values, as text for
 // --set. Values are split at commas outside brackets and braces, so that a vector or a list is
@@ -49,12 +49,13 @@ struct SweepRun {
   std::vector<std::pair<std::string, std::string>> assignments;  // key and value, in --param order
 };
 
-// The grid's runs in order. Throws InputError when a key repeats or the grid exceeds kMaxSweepRuns.
+// The grid's runs in order. Throws InputError naming `source` (the argument that gave the
+// parameters) when a key repeats, a key has no values or the grid exceeds kMaxSweepRuns.
 inline constexpr std::size_t kMaxSweepRuns = 1'000'000;
-std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters);
+std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters, std::string_view source = "--param");
 
 // Where a run stands, read from the sweep's folder.
-enum class RunState {
+enum class SweepRunState {
   pending,      // not started (or its output was removed)
   running,      // a partial folder whose process is alive
   interrupted,  // stopped early: a partial folder whose process died, or status "interrupted"
@@ -62,10 +63,10 @@ enum class RunState {
   failed,       // summary.json says "failed": the simulation stopped with a diagnosis
   error,        // it ended without an output folder (bad input, output error); see its log
 };
-std::string_view to_string(RunState state);
+std::string_view to_string(SweepRunState state);
 
-struct RunStatus {
-  RunState state = RunState::pending;
+struct SweepRunStatus {
+  SweepRunState state = SweepRunState::pending;
   nlohmann::json summary;             // summary.json, when the run has one
   std::filesystem::path resume_from;  // for an interrupted run with a checkpoint: --resume PATH
 };
@@ -73,7 +74,7 @@ struct RunStatus {
 // The log of a run's attempts: <out>/logs/<run folder>.log.
 std::filesystem::path sweep_log_path(const std::filesystem::path& out, const SweepRun& run);
 
-RunStatus read_run_status(const std::filesystem::path& out, const SweepRun& run);
+SweepRunStatus read_run_status(const std::filesystem::path& out, const SweepRun& run);
 
 // The record of a sweep: what every run was made from. Shards and reruns of the same sweep write
 // the same record; claim_sweep_folder refuses a folder that holds another sweep's.
@@ -81,12 +82,14 @@ nlohmann::json sweep_record(const std::vector<std::string>& scene_arguments,
                             const std::vector<SweepParameter>& parameters, std::size_t runs);
 
 // Creates `out` and writes its sweep.json, or checks that the one there is `record`. Throws
-// InputError naming --out when `out` holds another sweep, or other files and no sweep.json.
-void claim_sweep_folder(const std::filesystem::path& out, const nlohmann::json& record);
+// InputError naming `source` (the argument that gave `out`) when `out` holds another sweep, or
+// other files and no sweep.json.
+void claim_sweep_folder(const std::filesystem::path& out, const nlohmann::json& record,
+                        std::string_view source = "--out");
 
 // Rewrites <out>/index.csv (atomically) from the runs' folders: one row per run of the whole grid
 // with its parameters, status, wall time and final energies. Throws OutputError.
 void write_sweep_index(const std::filesystem::path& out, const std::vector<SweepParameter>& parameters,
                        const std::vector<SweepRun>& runs);
 
-}  // namespace clothsim::cli
+}  // namespace clothsim

@@ -1,4 +1,4 @@
-#include "sweep_plan.h"
+#include "run/sweep_plan.h"
 
 #include <unistd.h>
 
@@ -16,7 +16,7 @@
 #include "scene/json_fields.h"
 #include "sim/statistics.h"
 
-namespace clothsim::cli {
+namespace clothsim {
 namespace {
 
 namespace fs = std::filesystem;
@@ -26,8 +26,8 @@ using scene_json::trim;
 constexpr std::string_view kRecordFile = "sweep.json";
 constexpr std::string_view kIndexFile = "index.csv";
 
-[[noreturn]] void bad_param(const std::string& field, const std::string& reason) {
-  throw InputError("--param", field, reason);
+[[noreturn]] void bad_param(const std::string& field, const std::string& reason, std::string_view source = "--param") {
+  throw InputError(std::string(source), field, reason);
 }
 
 // Splits at commas outside [] and {}.
@@ -162,15 +162,17 @@ Shard parse_shard(std::string_view text) {
   return shard;
 }
 
-std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters) {
+std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters, std::string_view source) {
   std::size_t total = 1;
   for (std::size_t p = 0; p < parameters.size(); ++p) {
     for (std::size_t q = 0; q < p; ++q) {
-      if (parameters[q].key == parameters[p].key) bad_param(parameters[p].key, "is swept by two --param options");
+      if (parameters[q].key == parameters[p].key)
+        bad_param(parameters[p].key, "is swept by two " + std::string(source) + " options", source);
     }
+    if (parameters[p].values.empty()) bad_param(parameters[p].key, "has no values", source);
     total *= parameters[p].values.size();
     if (total > kMaxSweepRuns) {
-      bad_param(parameters[p].key, "the grid has more than " + std::to_string(kMaxSweepRuns) + " runs");
+      bad_param(parameters[p].key, "the grid has more than " + std::to_string(kMaxSweepRuns) + " runs", source);
     }
   }
   const std::size_t width = std::max<std::size_t>(4, std::to_string(total - 1).size());
@@ -192,45 +194,47 @@ std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters) 
   return runs;
 }
 
-std::string_view to_string(RunState state) {
+std::string_view to_string(SweepRunState state) {
   switch (state) {
-    case RunState::pending: return "pending";
-    case RunState::running: return "running";
-    case RunState::interrupted: return "interrupted";
-    case RunState::completed: return "completed";
-    case RunState::failed: return "failed";
-    case RunState::error: return "error";
+    case SweepRunState::pending: return "pending";
+    case SweepRunState::running: return "running";
+    case SweepRunState::interrupted: return "interrupted";
+    case SweepRunState::completed: return "completed";
+    case SweepRunState::failed: return "failed";
+    case SweepRunState::error: return "error";
   }
   return "unknown";
 }
 
 fs::path sweep_log_path(const fs::path& out, const SweepRun& run) { return out / "logs" / (run.folder + ".log"); }
 
-RunStatus read_run_status(const fs::path& out, const SweepRun& run) {
-  RunStatus status;
+SweepRunStatus read_run_status(const fs::path& out, const SweepRun& run) {
+  SweepRunStatus status;
   const fs::path folder = out / run.folder;
   status.summary = read_json(folder / RunWriter::kSummaryFile);
   const json& state = at_path(status.summary, {"status"});
   if (state.is_string()) {
     const std::string text = state.get<std::string>();
     if (text == "completed" || text == "at_rest") {
-      status.state = RunState::completed;
+      status.state = SweepRunState::completed;
       return status;
     }
-    status.state = text == "failed" ? RunState::failed : RunState::interrupted;
-    if (status.state == RunState::interrupted && !list_run_checkpoints(folder).empty()) status.resume_from = folder;
+    status.state = text == "failed" ? SweepRunState::failed : SweepRunState::interrupted;
+    if (status.state == SweepRunState::interrupted && !list_run_checkpoints(folder).empty())
+      status.resume_from = folder;
   }
   // A partial folder beside it: a run still going, or one that died (resumable from a checkpoint).
   for (const LeftoverRun& partial : find_partial_runs(folder)) {
     if (partial.alive) {
-      status.state = RunState::running;
+      status.state = SweepRunState::running;
       return status;
     }
-    if (status.state == RunState::pending) status.state = RunState::interrupted;
+    if (status.state == SweepRunState::pending) status.state = SweepRunState::interrupted;
     if (status.resume_from.empty() && partial.has_checkpoint) status.resume_from = partial.folder;
   }
   std::error_code error;
-  if (status.state == RunState::pending && fs::exists(sweep_log_path(out, run), error)) status.state = RunState::error;
+  if (status.state == SweepRunState::pending && fs::exists(sweep_log_path(out, run), error))
+    status.state = SweepRunState::error;
   return status;
 }
 
@@ -242,19 +246,19 @@ json sweep_record(const std::vector<std::string>& scene_arguments, const std::ve
   return {{"run_arguments", scene_arguments}, {"parameters", grid}, {"runs", runs}};
 }
 
-void claim_sweep_folder(const fs::path& out, const json& record) {
+void claim_sweep_folder(const fs::path& out, const json& record, std::string_view source) {
   std::error_code error;
   const fs::path record_path = out / kRecordFile;
   if (fs::exists(record_path, error)) {
     const json existing = read_json(record_path);
     if (existing == record) return;
-    throw InputError("--out", "",
+    throw InputError(std::string(source), "",
                      out.string() + " holds another sweep (its " + std::string(kRecordFile) +
-                         " has other parameters or run arguments): give a new --out, or the same arguments as "
+                         " has other parameters or run arguments): give another folder, or the same arguments as "
                          "before to continue that sweep");
   }
   if (fs::exists(out, error) && !fs::is_empty(out, error)) {
-    throw InputError("--out", "",
+    throw InputError(std::string(source), "",
                      out.string() + " exists and is not a sweep's folder (no " + std::string(kRecordFile) +
                          "): give a new or empty folder");
   }
@@ -273,7 +277,7 @@ void write_sweep_index(const fs::path& out, const std::vector<SweepParameter>& p
   for (std::string_view term : terms) csv << ",final_" << term;
   csv << '\n';
   for (const SweepRun& run : runs) {
-    const RunStatus status = read_run_status(out, run);
+    const SweepRunStatus status = read_run_status(out, run);
     csv << run.index << ',' << run.folder;
     for (const auto& [key, value] : run.assignments) csv << ',' << csv_cell(value);
     const json& summary = status.summary;
@@ -286,4 +290,4 @@ void write_sweep_index(const fs::path& out, const std::vector<SweepParameter>& p
   write_text_atomically(out / kIndexFile, csv.str());
 }
 
-}  // namespace clothsim::cli
+}  // namespace clothsim
