@@ -20,7 +20,6 @@
 #include "core/error.h"
 #include "run/sweep_plan.h"
 #include "scene/scene.h"
-#include "scene/validate_scene.h"
 
 namespace clothsim::python {
 namespace {
@@ -114,20 +113,6 @@ std::vector<SweepParameter> sweep_parameters(const py::dict& params) {
   return parameters;
 }
 
-// Every run's scene, built and validated before anything is written: a bad key or value stops the
-// sweep with the run it belongs to, as `clothsim sweep` does.
-void check_runs(const SceneSpec& base, const std::vector<SweepRun>& runs) {
-  for (const SweepRun& run : runs) {
-    SceneSpec spec = base;
-    std::string source = "params (" + run.folder;
-    for (const auto& [key, value] : run.assignments) {
-      set_scene_field(spec, key, value, "params");
-      source += ", " + key + "=" + value;
-    }
-    validate_scene(spec, source + ")");
-  }
-}
-
 py::dict sweep(py::handle scene, const py::dict& params, py::handle out, py::handle client, bool retry_failed,
                const py::kwargs& options) {
   for (const char* reserved : {"set", "out", "scene"}) {
@@ -139,7 +124,7 @@ py::dict sweep(py::handle scene, const py::dict& params, py::handle out, py::han
   const SceneSpec spec = scene_from(scene, py::none());
   const std::vector<SweepParameter> parameters = sweep_parameters(params);
   const std::vector<SweepRun> runs = plan_sweep(parameters, "params");
-  check_runs(spec, runs);
+  check_sweep_scenes(spec, runs, "params");
   if (out.is_none()) throw InputError("out", "", "needs the sweep's folder");
   const fs::path folder = py::module_::import("os").attr("fspath")(out).cast<std::string>();
 

@@ -34,10 +34,9 @@
 #include "core/error.h"
 #include "memory_check.h"
 #include "run/run_writer.h"
-#include "run_render.h"
-#include "scene/validate_scene.h"
-#include "scene_options.h"
 #include "run/sweep_plan.h"
+#include "run_render.h"
+#include "scene_options.h"
 
 namespace clothsim::cli {
 namespace {
@@ -127,16 +126,7 @@ void check_run_scenes(const SweepOptions& options, const std::vector<SweepParame
       }
     }
   }
-  const SceneSpec base = make_scene(options.scene);
-  for (const SweepRun& run : runs) {
-    SceneSpec spec = base;
-    std::string source = "--param (" + run.folder;
-    for (const auto& [key, value] : run.assignments) {
-      set_scene_field(spec, key, value, "--param");
-      source += ", " + key + "=" + value;
-    }
-    validate_scene(spec, source + ")");
-  }
+  check_sweep_scenes(make_scene(options.scene), runs, "--param");
 }
 
 std::string describe_assignments(const SweepRun& run) {
@@ -343,7 +333,8 @@ int sweep(const SweepOptions& options, const CLI::App& app) {
 
   // 4. Index (written after each run) and the outcome.
   write_sweep_index(out, parameters, runs);
-  const std::size_t failed = failed_before + scheduler.count(SweepRunState::failed) + scheduler.count(SweepRunState::error) +
+  const std::size_t failed = failed_before + scheduler.count(SweepRunState::failed) +
+                             scheduler.count(SweepRunState::error) +
                              (whole ? scheduler.count(SweepRunState::interrupted) : 0);
   if (!options.quiet) {
     std::printf("sweep: %zu of %zu runs of this %s complete, %zu failed%s; index: %s\n",

@@ -14,6 +14,7 @@
 #include "run/run_folders.h"
 #include "run/run_writer.h"
 #include "scene/json_fields.h"
+#include "scene/validate_scene.h"
 #include "sim/statistics.h"
 
 namespace clothsim {
@@ -192,6 +193,19 @@ std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters, 
     }
   }
   return runs;
+}
+
+void check_sweep_scenes(const SceneSpec& base, const std::vector<SweepRun>& runs, std::string_view source) {
+  const std::string name(source);
+  for (const SweepRun& run : runs) {
+    SceneSpec spec = base;
+    std::string where = name + " (" + run.folder;
+    for (const auto& [key, value] : run.assignments) {
+      set_scene_field(spec, key, value, name);
+      where += ", " + key + "=" + value;
+    }
+    validate_scene(spec, where + ")");
+  }
 }
 
 std::string_view to_string(SweepRunState state) {

@@ -19,6 +19,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "scene/scene.h"
+
 namespace clothsim {
 
 // One --param KEY=V1,V2,...: a scene field (any key --set takes) and its values, as text for
@@ -53,6 +55,11 @@ struct SweepRun {
 // parameters) when a key repeats, a key has no values or the grid exceeds kMaxSweepRuns.
 inline constexpr std::size_t kMaxSweepRuns = 1'000'000;
 std::vector<SweepRun> plan_sweep(const std::vector<SweepParameter>& parameters, std::string_view source = "--param");
+
+// Builds every run's scene, `base` with the run's assignments set, and validates it, before the
+// sweep writes anything. Throws InputError naming `source` (the argument that gave the parameters)
+// and, for a scene that only the whole rules out, the run and its assignments.
+void check_sweep_scenes(const SceneSpec& base, const std::vector<SweepRun>& runs, std::string_view source);
 
 // Where a run stands, read from the sweep's folder.
 enum class SweepRunState {
