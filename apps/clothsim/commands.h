@@ -14,6 +14,7 @@ Subcommand add_params_command(CLI::App& parent);                             // 
 Subcommand add_bench_command(CLI::App& parent);                              // bench_command.cpp
 Subcommand add_sweep_command(CLI::App& parent);                              // sweep_command.cpp
 Subcommand add_devices_command(CLI::App& parent);                            // devices_command.cpp
+Subcommand add_report_command(CLI::App& parent);                             // report_command.cpp
 // Built with CLOTHSIM_BUILD_RENDER (it needs OpenGL, GLFW and Dear ImGui); CLOTHSIM_HAS_VIEWER.
 Subcommand add_view_command(CLI::App& parent);  // view_command.cpp
 

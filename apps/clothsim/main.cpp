@@ -45,8 +45,8 @@ int main(int argc, char** argv) {
   app.get_formatter()->column_width(34);
   app.footer(main_footer());
   std::vector<Subcommand> commands = {
-      add_run_command(app, invocation), add_validate_command(app), add_scenes_command(app), add_params_command(app),
-      add_bench_command(app),           add_sweep_command(app),    add_devices_command(app)};
+      add_run_command(app, invocation), add_validate_command(app), add_scenes_command(app),  add_params_command(app),
+      add_bench_command(app),           add_sweep_command(app),    add_devices_command(app), add_report_command(app)};
 #if defined(CLOTHSIM_HAS_VIEWER)
   commands.push_back(add_view_command(app));
 #endif

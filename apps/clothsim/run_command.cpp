@@ -22,6 +22,7 @@
 #include "core/error.h"
 #include "memory_check.h"
 #include "progress_bar.h"
+#include "run/run_report.h"
 #include "run/run_scene.h"
 #include "run/run_writer.h"
 #include "run_render.h"
@@ -68,8 +69,9 @@ struct RunFlags {
   bool quiet = false;
   bool no_progress = false;
   bool profile = false;
-  RenderFlags render;  // --render, --size, --camera, --mesh, --show (run_render.h)
-  MemoryFlags memory;  // --max-memory (memory_check.h)
+  bool report = false;  // --report: the run's report.html at the end (run/run_report.h)
+  RenderFlags render;   // --render, --size, --camera, --mesh, --show (run_render.h)
+  MemoryFlags memory;   // --max-memory (memory_check.h)
 
   bool given(std::string_view flag) const { return scene.given(flag); }
 };
@@ -221,11 +223,15 @@ RunOptions run_options(const RunFlags& options, const Invocation& invocation, Ru
   return run;
 }
 
-// The end of a run, new or resumed: the summary printed; returns the exit code.
+// The end of a run, new or resumed: the report page written (--report), the summary printed;
+// returns the exit code.
 int report_run(const RunResult& result, const RunFlags& options) {
   const Simulation& simulation = *result.simulation;
+  // A failed or interrupted run's frames are worth a look too: the page says how it ended.
+  const std::filesystem::path report = options.report ? write_run_report(result.out) : std::filesystem::path();
   if (!options.quiet) {
     print_summary(result);
+    if (!report.empty()) std::printf("report       %s\n", report.string().c_str());
     if (result.pictures) {
       std::printf(
           "pictures     %s: %ld frames in %s (%.3g ms per frame); %s\n", result.picture_files.c_str(),
@@ -355,6 +361,9 @@ Subcommand add_run_command(CLI::App& parent, const Invocation& invocation) {
   app->add_flag("--profile", options->profile,
                 "print where the wall time went, by the stages of the step: forces, integration (and its parts: stage "
                 "sums, solution and error, ...), collisions, anchors, events, checks; then output, other, total");
+  app->add_flag("--report", options->report,
+                "write report.html in the output folder at the end: the run in a browser, a 3D player, plots over "
+                "time and the summary, in one file (as 'clothsim report OUT' does; docs/report.md)");
   add_render_flags(*app, options->render);
   add_memory_flag(*app, options->memory);
   app->footer(run_footer());

@@ -33,6 +33,7 @@
 #include "core/child_process.h"
 #include "core/error.h"
 #include "memory_check.h"
+#include "run/run_report.h"
 #include "run/run_writer.h"
 #include "run/sweep_plan.h"
 #include "run_render.h"
@@ -82,11 +83,13 @@ struct SweepOptions {
   int jobs = 1;
   bool retry_failed = false;
   bool quiet = false;
+  bool report = false;  // --report: each run's report.html and the index's page
 };
 
 // The sweep's own options; every other option given is passed on to each run as written.
 bool is_sweep_option(const CLI::Option& option) {
-  static const std::vector<std::string> kOwn = {"param", "out", "shard", "jobs", "retry-failed", "quiet", "help"};
+  static const std::vector<std::string> kOwn = {"param",        "out",   "shard",  "jobs",
+                                                "retry-failed", "quiet", "report", "help"};
   const std::vector<std::string>& names = option.get_lnames();
   return !names.empty() && std::find(kOwn.begin(), kOwn.end(), names.front()) != kOwn.end();
 }
@@ -289,6 +292,8 @@ int sweep(const SweepOptions& options, const CLI::App& app) {
       std::any_of(options.scene.assignments.begin(), options.scene.assignments.end(),
                   [](const std::string& a) { return a.starts_with("threads="); }) ||
       std::any_of(parameters.begin(), parameters.end(), [](const SweepParameter& p) { return p.key == "threads"; });
+  // --report is the sweep's own (a sweep's record does not change with it) and each run's.
+  if (options.report) arguments.emplace_back("--report");
   if (options.jobs > 1 && !threads_given) {
     // Runs started together would each see every core idle and take them all.
     const unsigned cores = std::max(1u, std::thread::hardware_concurrency());
@@ -331,8 +336,9 @@ int sweep(const SweepOptions& options, const CLI::App& app) {
   const StopSignals signals;
   const bool whole = scheduler.run_all(todo, signals);
 
-  // 4. Index (written after each run) and the outcome.
+  // 4. Index (written after each run), its page, and the outcome.
   write_sweep_index(out, parameters, runs);
+  if (options.report) write_sweep_report(out);
   const std::size_t failed = failed_before + scheduler.count(SweepRunState::failed) +
                              scheduler.count(SweepRunState::error) +
                              (whole ? scheduler.count(SweepRunState::interrupted) : 0);
@@ -382,6 +388,9 @@ Subcommand add_sweep_command(CLI::App& parent) {
       ->type_name("K/N");
   app->add_flag("--retry-failed", options->retry_failed, "run again the runs whose simulation failed before");
   app->add_flag("--quiet", options->quiet, "print only runs that did not complete, and errors");
+  app->add_flag("--report", options->report,
+                "each run writes its report.html (clothsim run --report), and the sweep report.html: index.csv as a "
+                "page with a link to each run's report");
   add_scene_options(*app, options->scene);
   app->add_flag("--until-rest", options->until_rest, "passed to each run (see 'clothsim run --help')");
   add_render_flags(*app, options->render);

@@ -143,4 +143,20 @@ std::vector<LeftoverRun> find_leftover_runs(const fs::path& out) {
   return leftovers;
 }
 
+void write_text_atomically(const fs::path& path, const std::string& text) {
+  const fs::path temporary = path.string() + ".tmp-" + std::to_string(::getpid());
+  {
+    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
+    out << text;
+    out.close();
+    if (!out) throw OutputError(temporary.string() + ": cannot write");
+  }
+  std::error_code error;
+  fs::rename(temporary, path, error);
+  if (error) {
+    fs::remove(temporary, error);
+    throw OutputError(path.string() + ": cannot write: " + error.message());
+  }
+}
+
 }  // namespace clothsim

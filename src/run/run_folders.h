@@ -49,6 +49,10 @@ struct LeftoverRun {
 // than this process's own).
 std::vector<LeftoverRun> find_leftover_runs(const std::filesystem::path& out);
 
+// Writes `text` to `path` through a temporary file beside it renamed into place, so that a reader
+// sees the old file or the new one, never a part. Throws OutputError naming the path.
+void write_text_atomically(const std::filesystem::path& path, const std::string& text);
+
 // Every partial folder beside `out` (other than this process's own), alive or not.
 std::vector<LeftoverRun> find_partial_runs(const std::filesystem::path& out);
 

@@ -63,22 +63,6 @@ std::size_t read_count(std::string_view text, std::string_view what, const std::
   return value;
 }
 
-void write_text_atomically(const fs::path& path, const std::string& text) {
-  const fs::path temporary = path.string() + ".tmp-" + std::to_string(::getpid());
-  {
-    std::ofstream out(temporary, std::ios::binary | std::ios::trunc);
-    out << text;
-    out.close();
-    if (!out) throw OutputError(temporary.string() + ": cannot write");
-  }
-  std::error_code error;
-  fs::rename(temporary, path, error);
-  if (error) {
-    fs::remove(temporary, error);
-    throw OutputError(path.string() + ": cannot write: " + error.message());
-  }
-}
-
 json read_json(const fs::path& path) {
   std::ifstream in(path);
   if (!in) return json();
