@@ -36,7 +36,12 @@ packages=(
   clang-14 libclang-rt-14-dev libomp-14-dev llvm-14
   # Static analysis (.clang-tidy, scripts/run-clang-tidy.sh, a phase of .ci/run).
   clang-tidy
+  # The run report (docs/report.md): its tests open the page in headless Chromium (tests/report).
+  chromium
 )
+# npm, for the three.js the run report embeds (web/package.json): Debian's, where the machine has
+# no npm of its own (a Node.js from elsewhere brings its npm, and Debian's would conflict with it).
+if ! command -v npm >/dev/null 2>&1; then packages+=(npm); fi
 
 missing=()
 for p in "${packages[@]}"; do
@@ -51,4 +56,14 @@ if ((${#missing[@]})); then
   DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends "${missing[@]}"
 else
   echo "install-deps: all packages present"
+fi
+
+# three.js for the run report, from the npm registry at the version web/package-lock.json pins,
+# into web/node_modules (the build embeds it: src/CMakeLists.txt). Again only when the lock changed.
+web="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/web"
+if [ ! -f "$web/node_modules/.package-lock.json" ] || [ "$web/package-lock.json" -nt "$web/node_modules/.package-lock.json" ]; then
+  echo "install-deps: npm ci in web/ (three.js for the run report)"
+  npm ci --prefix "$web" --no-audit --no-fund --loglevel=error
+else
+  echo "install-deps: web/node_modules is up to date"
 fi

@@ -379,6 +379,22 @@ if (data.frames.length < data.total_frames) {
 const hash = new URLSearchParams(location.hash.slice(1));
 const requested = hash.get("frame");
 setFrame(requested === "last" ? frameCount - 1 : Number(requested ?? 0) || 0);
+// The pieces of the sheet drawn: connected components of the mesh's triangles (union-find).
+function pieces(epoch, vertexCount) {
+  const parent = Int32Array.from({ length: vertexCount }, (_, i) => i);
+  const find = (i) => {
+    while (parent[i] !== i) i = parent[i] = parent[parent[i]];
+    return i;
+  };
+  const triangles = epochs[epoch].triangles;
+  for (let t = 0; t < triangles.length; t += 3) {
+    parent[find(triangles[t])] = find(triangles[t + 1]);
+    parent[find(triangles[t + 1])] = find(triangles[t + 2]);
+  }
+  const roots = new Set();
+  for (let t = 0; t < triangles.length; t += 1) roots.add(find(triangles[t]));
+  return roots.size;
+}
 const rect = (element) => {
   const r = element.getBoundingClientRect();
   return [Math.round(r.left), Math.round(r.top + window.scrollY), Math.round(r.width), Math.round(r.height)];
@@ -390,6 +406,7 @@ const status = {
   frame: shown,
   vertices: data.vertex_counts[shown],
   triangles: epochs[epochShown].triangles.length / 3,
+  pieces: pieces(epochShown, data.vertex_counts[shown]),
   anchors_shown: anchorMarkers.count,
   view: rect(canvas),
   plots: plots.map((plot) => rect(plot.element.querySelector("svg"))),

@@ -136,6 +136,23 @@ json collider_json(const Collider& collider, const std::vector<double>& times) {
   return out;
 }
 
+// A float64 array of one value per connector of the run folder.
+std::vector<double> connector_array(const fs::path& folder, std::string_view name, const ClothModel& model) {
+  const std::string path = run_file(folder, name).string();
+  NpyArray array;
+  try {
+    array = read_npy(path);
+  } catch (const std::runtime_error& error) {
+    throw InputError(path, "", error.what());
+  }
+  if (array.data.size() != model.connector_count()) {
+    throw InputError(path, "",
+                     "holds " + std::to_string(array.data.size()) + " values for the " +
+                         std::to_string(model.connector_count()) + " connectors of the folder's scene.json");
+  }
+  return std::move(array.data);
+}
+
 // The player's frames: the mesh of each (build_sheet_mesh in particle mode, as final.obj and the
 // run's pictures), its topology replayed from the connectors' break times.
 json frames_json(const fs::path& folder, const SceneSpec& spec, const json& summary) {
@@ -143,13 +160,10 @@ json frames_json(const fs::path& folder, const SceneSpec& spec, const json& summ
   const std::size_t particles = model.particle_count();
   const std::size_t frames = summary.value("frames", std::size_t{0});
   if (frames == 0) throw InputError(folder.string(), "summary.json", "records no frame: the run wrote none");
-  std::vector<double> break_time(model.connector_count(), std::numeric_limits<double>::infinity());
-  const fs::path break_file = folder / RunWriter::kBreakTimeFile;
-  std::error_code exists_error;
-  if (fs::exists(break_file, exists_error)) {
-    const NpyArray array = read_npy(break_file.string());
-    if (array.data.size() == break_time.size()) break_time = array.data;
-  }
+  // Each connector's break time and, for the split vertices of a torn mesh (half a rest length
+  // along a broken connector), its rest length as it broke, which is its rest length at the end.
+  const std::vector<double> break_time = connector_array(folder, RunWriter::kBreakTimeFile, model);
+  const std::vector<double> rest_length = connector_array(folder, RunWriter::kRestLengthFile, model);
 
   std::size_t stride = 1;
   const std::vector<std::size_t> chosen = player_frames(frames, particles, stride);
@@ -166,7 +180,10 @@ json frames_json(const fs::path& folder, const SceneSpec& spec, const json& summ
   for (std::size_t i = 0; i < chosen.size(); ++i) {
     const double t = frame_time(chosen[i], fps);
     for (std::uint32_t c = 0; c < break_time.size(); ++c) {
-      if (break_time[c] <= t && model.connector_live[c] != 0) break_connector(model, c, break_time[c]);
+      if (break_time[c] <= t && model.connector_live[c] != 0) {
+        break_connector(model, c, break_time[c]);
+        set_connector_rest_length(model, c, rest_length[c]);
+      }
     }
     read_npy_frame(positions_file, chosen[i], position);
     build_sheet_mesh(model, position, SheetMeshMode::particles, mesh);

@@ -262,7 +262,7 @@ void RunWriter::resume(const fs::path& from, const SceneSpec& scene, const Simul
     scene_ = scene;
     // What finish() writes anew; a finished folder's pictures are made again from frame 0.
     for (std::string_view name :
-         {kSummaryFile, kFinalMeshFile, kBreakTimeFile, RunExports::kRestMeshFile, RunExports::kGlbFile,
+         {kSummaryFile, kFinalMeshFile, kBreakTimeFile, kRestLengthFile, RunExports::kRestMeshFile, RunExports::kGlbFile,
           std::string_view("final.png"), std::string_view("animation.mp4")}) {
       fs::remove(partial_ / name);
     }
@@ -313,6 +313,7 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       }
       const std::array<std::size_t, 1> shape = {simulation.model().connector_break_time.size()};
       write_npy((partial_ / kBreakTimeFile).string(), simulation.model().connector_break_time, shape);
+      write_npy((partial_ / kRestLengthFile).string(), simulation.model().connector_rest_length, shape);
       if (exports_) exports_->finish(model, last_position_, last_time_);
     } catch (...) {
       rethrow_as_output_error("cannot finish the output folder");
@@ -345,7 +346,9 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       {std::string(kConnectorsFile),
        ordered_json{{"shape", ordered_json::array({model.connector_count(), 2})}, {"dtype", "int32"}}},
       {std::string(kBreakTimeFile),
-       ordered_json{{"shape", ordered_json::array({model.connector_count()})}, {"dtype", "float64"}, {"unit", "s"}}}};
+       ordered_json{{"shape", ordered_json::array({model.connector_count()})}, {"dtype", "float64"}, {"unit", "s"}}},
+      {std::string(kRestLengthFile),
+       ordered_json{{"shape", ordered_json::array({model.connector_count()})}, {"dtype", "float64"}, {"unit", "m"}}}};
   if (exports_) {
     for (const auto& [name, details] : exports_->summary_files()) run.files[name] = details;
   }

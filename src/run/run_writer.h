@@ -11,8 +11,11 @@
 //   connectors.npy            int32 [connectors, 2]: the particles of each connector, in index order
 //   connector_break_time.npy  float64 [connectors], s: the simulated time at which the connector
 //                             broke (the end of the step after which it broke), +inf if it never did
-// The last two let a reader rebuild any frame's live connectors (and so its torn mesh) without
-// storing the mask per frame: connector e is intact at frame k iff break_time[e] > time[k].
+//   connector_rest_length.npy float64 [connectors], m: each connector's rest length at the end
+//                             (changed by yielding; a broken connector's stays as it broke)
+// These let a reader rebuild any frame's live connectors and so its torn mesh (whose split
+// vertices sit half a rest length along a broken connector, model/sheet_mesh.h) without storing
+// the mask per frame: connector e is intact at frame k iff break_time[e] > time[k].
 // With the scene's output.export, also the files for other tools of run/run_exports.h
 // (animation.pc2 and rest.obj, frames/frame_NNNNNN.obj, streamed frame by frame like the arrays;
 // final.glb, written at the end like final.obj).
@@ -74,6 +77,7 @@ class RunWriter {
   static constexpr std::string_view kSceneFile = "scene.json";
   static constexpr std::string_view kConnectorsFile = "connectors.npy";
   static constexpr std::string_view kBreakTimeFile = "connector_break_time.npy";
+  static constexpr std::string_view kRestLengthFile = "connector_rest_length.npy";
 
   // Checks that `out` may receive the run and creates nothing: `out` must not exist, or be a
   // folder holding a summary.json with a "clothsim_version" key (a previous run, which finish()

@@ -266,7 +266,8 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
                                     "run/final.obj",
                                     "run/scene.json",
                                     "run/connectors.npy",
-                                    "run/connector_break_time.npy"};
+                                    "run/connector_break_time.npy",
+                                    "run/connector_rest_length.npy"};
 #if CLOTHSIM_HAVE_RENDER
   // The pictures, by default (tests/render/test_run_pictures.cpp checks their contents).
   expected.insert({"run/final.png", "run/animation.mp4"});

@@ -12,7 +12,7 @@ from conftest import short_scene
 # Files whose bytes depend only on the scene: the same from the command and from Python.
 SAME_BYTES = [
     "positions.npy", "velocities.npy", "energy.csv", "final.obj", "scene.json", "connectors.npy",
-    "connector_break_time.npy",
+    "connector_break_time.npy", "connector_rest_length.npy",
 ]
 
 

@@ -222,7 +222,8 @@ TEST_F(RunPictures, RenderFlagWritesExactlyTheNamedFiles) {
                                       "run/final.obj",
                                       "run/scene.json",
                                       "run/connectors.npy",
-                                      "run/connector_break_time.npy"};
+                                      "run/connector_break_time.npy",
+                                      "run/connector_rest_length.npy"};
   struct Case {
     const char* render;
     std::vector<std::string> pictures;

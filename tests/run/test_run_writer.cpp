@@ -175,6 +175,10 @@ TEST(RunWriter, TornRunRecordsItsTopologyAndChanges) {
       EXPECT_EQ(live_then, frame < 2 || torn.connector_live[e] != 0) << "connector " << e << ", frame " << frame;
     }
   }
+  // connector_rest_length.npy: the rest lengths at the end, which place the split vertices.
+  const NpyArray rest_length = read_npy((out / RunWriter::kRestLengthFile).string());
+  EXPECT_EQ(rest_length.data, torn.connector_rest_length);
+  EXPECT_EQ(summary["files"]["connector_rest_length.npy"]["unit"], "m");
 
   // final.obj is split along the tear.
   std::ifstream obj(out / RunWriter::kFinalMeshFile);
