@@ -98,6 +98,24 @@ class SweepTest : public ::testing::Test {
   fs::path work_;
 };
 
+// --report: each run writes its report.html, and the sweep a page of index.csv linking to them.
+// The sweep's record does not change with it: the same sweep again without --report goes on.
+TEST_F(SweepTest, ReportWritesEachRunsPageAndTheIndexPage) {
+  std::vector<std::string> args = grid_args("pages", "0.1");
+  args.emplace_back("--report");
+  const Result result = clothsim(args);
+  ASSERT_EQ(result.exit_code, 0) << describe(result);
+  const std::string index = read_text(work_ / "pages" / "report.html");
+  for (const std::string& run : kRunFolders) {
+    EXPECT_TRUE(fs::exists(work_ / "pages" / run / "report.html")) << run;
+    EXPECT_TRUE(contains(index, "<a href=\"" + run + "/report.html\">" + run + "</a>")) << run;
+  }
+  EXPECT_TRUE(contains(index, "springs.connector.stiffness"));
+  const Result again = clothsim(grid_args("pages", "0.1"));
+  EXPECT_EQ(again.exit_code, 0) << describe(again);
+  EXPECT_TRUE(contains(again.out, "4 already complete"));
+}
+
 TEST_F(SweepTest, GridWritesFourCompleteFoldersAndAnIndex) {
   const Result result = clothsim(grid_args("grid"));
   ASSERT_EQ(result.exit_code, 0) << describe(result);
