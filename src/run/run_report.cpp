@@ -66,7 +66,7 @@ json vec3_json(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
 
 // A file of the run folder, which must be there.
 fs::path run_file(const fs::path& folder, std::string_view name) {
-  const fs::path path = folder / name;
+  fs::path path = folder / name;
   std::error_code error;
   if (!fs::is_regular_file(path, error)) {
     throw InputError(folder.string(), std::string(name),
@@ -288,7 +288,7 @@ fs::path write_run_report(const fs::path& folder) {
   data["fps"] = spec.output.fps;
   data["summary"] = summary;
   data["energy_csv"] = read_input_file(run_file(folder, RunWriter::kEnergyFile).string());
-  const fs::path path = folder / kReportFile;
+  fs::path path = folder / kReportFile;
   write_text_atomically(path, page("clothsim: " + spec.name, data.dump()));
   return path;
 }
@@ -337,7 +337,7 @@ fs::path write_sweep_report(const fs::path& out) {
       "</h1>\n<p>One row per run, from index.csv; a run's folder links to its report where the run wrote one "
       "(clothsim run --report).</p>\n" +
       table + "</body>\n</html>\n";
-  const fs::path path = out / kReportFile;
+  fs::path path = out / kReportFile;
   write_text_atomically(path, html);
   return path;
 }
