@@ -12,6 +12,7 @@ import re
 import shutil
 import struct
 import subprocess
+import tempfile
 import zlib
 
 import pytest
@@ -28,7 +29,10 @@ BROWSER_FLAGS.append(f"--window-size={WINDOW[0]},{WINDOW[1]}")  # the status's r
 
 def chromium(*args, cwd):
     assert CHROMIUM, "Chromium is not installed (scripts/install-deps.sh installs Debian's chromium)"
-    return subprocess.run([CHROMIUM, *BROWSER_FLAGS, *args], cwd=cwd, capture_output=True, text=True, timeout=180)
+    # A profile of its own: two browsers on one profile would hand the page to the first one.
+    with tempfile.TemporaryDirectory(prefix="chromium-profile-") as profile:
+        return subprocess.run([CHROMIUM, *BROWSER_FLAGS, f"--user-data-dir={profile}", *args], cwd=cwd,
+                              capture_output=True, text=True, timeout=180)
 
 
 def page_status(report, fragment):
