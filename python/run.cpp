@@ -105,7 +105,7 @@ RenderFlags render_flags(const std::string& render, py::handle size, const std::
 
 py::object run(py::handle scene, py::handle set, py::handle out, const std::string& render, py::handle size,
                const std::string& camera, const std::string& mesh, const std::string& show, int samples,
-               py::handle max_memory, bool quiet) {
+               py::handle max_memory, bool report, bool quiet) {
   const SceneSpec spec = scene_from(scene, set);
   RunOptions options;
   options.max_memory = max_memory_from(max_memory);
@@ -113,6 +113,8 @@ py::object run(py::handle scene, py::handle set, py::handle out, const std::stri
   if (!out.is_none()) options.out = py::module_::import("os").attr("fspath")(out).cast<std::string>();
   options.out_source = "out";
   options.render = render_flags(render, size, camera, mesh, show, samples);
+  options.report = report;
+  options.report_source = "report";
   // summary.json's command_line: how to make the run again.
   std::string call = "clothsim.run(" + py::repr(py::str(spec.name)).cast<std::string>();
   if (!options.out.empty()) call += ", out=" + py::repr(py::str(options.out.string())).cast<std::string>();
@@ -151,15 +153,18 @@ void bind_run(py::module_& module) {
 
   module.def("run", &run, py::arg("scene"), py::kw_only(), py::arg("set") = py::none(), py::arg("out") = py::none(),
              py::arg("render") = "", py::arg("size") = "1280x720", py::arg("camera") = "auto",
-             py::arg("mesh") = "particles", py::arg("show") = "", py::arg("samples") = 4, py::arg("max_memory") = py::none(), py::arg("quiet") = false,
+             py::arg("mesh") = "particles", py::arg("show") = "", py::arg("samples") = 4,
+             py::arg("max_memory") = py::none(), py::arg("report") = false, py::arg("quiet") = false,
              "Runs `scene` (a Scene or anything load_scene() takes, with its set=) and writes the output folder of "
              "`clothsim run` (default out/<scene name>): positions.npy, velocities.npy, energy.csv, summary.json, "
              "final.obj, scene.json, the connector arrays, the scene's exports and, unless render='none', "
-             "final.png and animation.mp4 (render: all, image, video or none; '' is the build's default). size, "
+             "final.png and animation.mp4 (render: all, image, video or none; '' is the build's default); with "
+             "report=True, report.html (the run in a browser, as `clothsim run --report`). size, "
              "camera, mesh, show and samples are the command's --size, --camera, --mesh, --show and --samples. "
              "Notices go to sys.stderr unless quiet. Returns a RunResult; raises ResourceError for a scene whose "
              "estimate is above 90 % of the memory available or above max_memory (bytes, or a size such as '8G'), "
-             "SceneError for other bad input (both before anything is written), OutputError when the folder cannot be written, SimulationError when the simulation fails "
+             "SceneError for other bad input (both before anything is written), OutputError when the folder cannot be "
+             "written, SimulationError when the simulation fails "
              "(the folder is kept, status \"failed\"; .result is the RunResult), and KeyboardInterrupt after "
              "finishing the folder (status \"interrupted\") on Ctrl-C.");
   module.def("resume", &resume, py::arg("path"), py::kw_only(), py::arg("max_memory") = py::none(),

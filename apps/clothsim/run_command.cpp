@@ -22,7 +22,6 @@
 #include "core/error.h"
 #include "memory_check.h"
 #include "progress_bar.h"
-#include "run/run_report.h"
 #include "run/run_scene.h"
 #include "run/run_writer.h"
 #include "run_render.h"
@@ -206,6 +205,7 @@ RunOptions run_options(const RunFlags& options, const Invocation& invocation, Ru
   run.render = options.render;
   run.observer = &observer;
   run.max_memory = max_memory(options.memory);
+  run.report = options.report;
   // A resumed run keeps the picture flags it began with, but for those given again.
   run.resumed_render = [&options](const RenderFlags& stored) {
     RenderFlags flags = stored;
@@ -223,15 +223,12 @@ RunOptions run_options(const RunFlags& options, const Invocation& invocation, Ru
   return run;
 }
 
-// The end of a run, new or resumed: the report page written (--report), the summary printed;
-// returns the exit code.
+// The end of a run, new or resumed: the summary printed; returns the exit code.
 int report_run(const RunResult& result, const RunFlags& options) {
   const Simulation& simulation = *result.simulation;
-  // A failed or interrupted run's frames are worth a look too: the page says how it ended.
-  const std::filesystem::path report = options.report ? write_run_report(result.out) : std::filesystem::path();
   if (!options.quiet) {
     print_summary(result);
-    if (!report.empty()) std::printf("report       %s\n", report.string().c_str());
+    if (!result.report.empty()) std::printf("report       %s\n", result.report.string().c_str());
     if (result.pictures) {
       std::printf(
           "pictures     %s: %ld frames in %s (%.3g ms per frame); %s\n", result.picture_files.c_str(),

@@ -19,6 +19,7 @@
 #include "run/run_folders.h"
 #include "run/run_memory.h"
 #include "run/run_recorder.h"
+#include "run/run_report.h"
 #include "scene/parameters.h"
 #include "scene/scene_model.h"
 #include "scene/scene_simulation.h"
@@ -52,6 +53,15 @@ void warn_about_stability(const ClothModel& model, const IntegratorSettings& int
           << " s (the stiffest springs are at " << model.describe_particle(stable.particle)
           << "); the run may blow up. A smaller --time-step, or --integrator rkf45 or implicit-euler, avoids it.";
   observer.notice(message.str());
+}
+
+// A run that asks for its report in a build without one is refused before it starts, not after.
+void check_report_available(const RunOptions& options) {
+  if (options.report && !report_available()) {
+    throw InputError(options.report_source, "",
+                     "this clothsim was built without the run report: three.js was not found at build time in "
+                     "web/node_modules (scripts/install-deps.sh installs it with npm ci; then build again)");
+  }
 }
 
 // The partial folders earlier runs into the same folder left when they died, reported at the
@@ -162,7 +172,7 @@ RunStatus simulate_frames(const SceneSpec& spec, RunObserver& observer, Simulati
 
 // The end of a run, new or resumed: the pictures and the folder finished.
 RunResult finish_run(const SceneSpec& spec, const RenderPlan& plan, std::unique_ptr<Simulation> simulation,
-                     RunWriter& writer, RunRecorder& recorder, RunStatus status, double wall_seconds) {
+                     RunWriter& writer, RunRecorder& recorder, RunStatus status, double wall_seconds, bool report) {
   recorder.finish(writer);
   writer.finish(*simulation, status, wall_seconds);
   RunResult result;
@@ -181,6 +191,7 @@ RunResult finish_run(const SceneSpec& spec, const RenderPlan& plan, std::unique_
   result.picture_seconds = recorder.seconds();
   result.picture_description = recorder.description();
   result.simulation = std::move(simulation);
+  if (report) result.report = write_run_report(result.out);
   return result;
 }
 
@@ -212,6 +223,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   // A scene too large is refused before its model is built, and so is one without its device.
   const MemoryAllowance memory = check_run_memory(spec, *render_plan, options, observer);
   check_backend_fits(spec);
+  check_report_available(options);
   ClothModel model = build_model(spec);
   RunWriter writer(options.out.empty() ? std::filesystem::path(default_output_folder(spec)) : options.out, options.info,
                    options.out_source);
@@ -238,7 +250,8 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   const RunStatus status = simulate_frames(spec, observer, *simulation, writer, recorder, run, wall);
 
   // 3. The folder finished.
-  RunResult result = finish_run(spec, *render_plan, std::move(simulation), writer, recorder, status, wall.seconds());
+  RunResult result =
+      finish_run(spec, *render_plan, std::move(simulation), writer, recorder, status, wall.seconds(), options.report);
   if (status == RunStatus::completed || status == RunStatus::at_rest) remove_leftovers(leftovers, observer);
   return result;
 }
@@ -252,6 +265,7 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
   const MemoryAllowance memory = check_run_memory(spec, *parse_render_flags(options.render), options, observer);
   check_backend_fits(spec);
+  check_report_available(options);
   const Stopwatch wall;
   std::unique_ptr<Simulation> simulation = make_unique_simulation(spec, memory);
   RunCheckpoint run;
@@ -297,8 +311,8 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   const RunStatus status = simulate_frames(spec, observer, *simulation, writer, recorder, run, wall);
 
   // 3. The folder finished.
-  RunResult result =
-      finish_run(spec, *render_plan, std::move(simulation), writer, recorder, status, wall_before + wall.seconds());
+  RunResult result = finish_run(spec, *render_plan, std::move(simulation), writer, recorder, status,
+                                wall_before + wall.seconds(), options.report);
   result.resumed_from = used;
   return result;
 }

@@ -86,6 +86,10 @@ struct RunOptions {
   // resume_run(): the picture settings from the ones the run began with (kept in its
   // checkpoints); unset: those, unchanged.
   std::function<RenderFlags(const RenderFlags& stored)> resumed_render;
+  // The run report, report.html, written into the finished folder (run/run_report.h), whatever
+  // the status; a build without the report refuses it before the run.
+  bool report = false;
+  std::string report_source = "--report";  // what asked for it, in messages
 };
 
 // How a run ended and what it wrote.
@@ -106,6 +110,7 @@ struct RunResult {
   std::string picture_description;         // size and OpenGL renderer
   std::unique_ptr<Simulation> simulation;  // at the last frame written; failure() has a failed run's diagnosis
   std::filesystem::path resumed_from;      // resume_run(): the checkpoint it went on from
+  std::filesystem::path report;            // report.html, where RunOptions::report asked for it
 };
 
 // Runs `spec` (valid: validate_scene) into its output folder (see the top of this file).

@@ -35,6 +35,16 @@ def test_run_writes_the_commands_folder(run_command, tmp_path):
     assert numpy.array_equal(result.simulation.positions, numpy.load(python / "positions.npy")[-1])
 
 
+def test_run_writes_the_report_when_asked(tmp_path):
+    result = clothsim.run(short_scene("paper-fig5", 0.2), out=tmp_path / "run", render="none", report=True)
+    page = (tmp_path / "run" / "report.html").read_text()
+    assert result.status == "completed"
+    assert '<script type="importmap">' in page and '"total_frames":13' in page
+    assert not (tmp_path / "plain").exists()
+    clothsim.run(short_scene("paper-fig5", 0.2), out=tmp_path / "plain", render="none")
+    assert not (tmp_path / "plain" / "report.html").exists()
+
+
 @pytest.mark.skipif(not clothsim.has_render, reason="built without CLOTHSIM_BUILD_RENDER")
 def test_run_makes_the_picture_unless_render_is_none(tmp_path):
     result = clothsim.run(short_scene("paper-fig5", 0.1), out=tmp_path / "run", render="image", size=(64, 48),
