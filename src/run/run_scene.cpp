@@ -201,6 +201,12 @@ void check_backend_fits(const SceneSpec& spec) {
   clothsim::check_backend_fits(shape.counts, shape.anchors, spec.integrator, spec.backend);
 }
 
+// The exports fit their size limits (RunExports::check_sizes) for the run's frames, all of them
+// (an until_rest run may stop sooner). Throws InputError.
+void check_export_sizes(const SceneSpec& spec) {
+  RunExports::check_sizes(simulation_shape(spec).counts, last_frame(spec.output) + 1, spec.output.exports);
+}
+
 }  // namespace
 
 RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
@@ -211,6 +217,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
   // A scene too large is refused before its model is built, and so is one without its device.
   const MemoryAllowance memory = check_run_memory(spec, *render_plan, options, observer);
+  check_export_sizes(spec);
   check_backend_fits(spec);
   ClothModel model = build_model(spec);
   RunWriter writer(options.out.empty() ? std::filesystem::path(default_output_folder(spec)) : options.out, options.info,
@@ -251,6 +258,7 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   const ResumeTarget target = find_resume_target(path);
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
   const MemoryAllowance memory = check_run_memory(spec, *parse_render_flags(options.render), options, observer);
+  check_export_sizes(spec);
   check_backend_fits(spec);
   const Stopwatch wall;
   std::unique_ptr<Simulation> simulation = make_unique_simulation(spec, memory);

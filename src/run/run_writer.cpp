@@ -263,7 +263,7 @@ void RunWriter::resume(const fs::path& from, const SceneSpec& scene, const Simul
     // What finish() writes anew; a finished folder's pictures are made again from frame 0.
     for (std::string_view name :
          {kSummaryFile, kFinalMeshFile, kBreakTimeFile, RunExports::kRestMeshFile, RunExports::kGlbFile,
-          std::string_view("final.png"), std::string_view("animation.mp4")}) {
+          RunExports::kAnimationGlbFile, std::string_view("final.png"), std::string_view("animation.mp4")}) {
       fs::remove(partial_ / name);
     }
     positions_.emplace((partial_ / kPositionsFile).string(), particles, 3, frames);
@@ -313,7 +313,7 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       }
       const std::array<std::size_t, 1> shape = {simulation.model().connector_break_time.size()};
       write_npy((partial_ / kBreakTimeFile).string(), simulation.model().connector_break_time, shape);
-      if (exports_) exports_->finish(model, last_position_, last_time_);
+      if (exports_) exports_->finish(model, last_position_, last_time_, partial_ / kPositionsFile, scene_.output.fps);
     } catch (...) {
       rethrow_as_output_error("cannot finish the output folder");
     }
