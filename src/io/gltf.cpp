@@ -282,6 +282,12 @@ GlbCounts write_glb(const std::string& path, const ClothModel& model, std::span<
   return document.counts;
 }
 
+std::size_t glb_animation_memory_for(std::size_t rows, std::size_t cols, std::size_t frames) {
+  constexpr std::size_t kDocumentBytesPerFrame = 8192;
+  return glb_bytes_for(rows, cols) + SheetMesh::bytes_for(rows, cols) +
+         rows * cols * (sizeof(Vec3) + 6 * sizeof(float)) + frames * kDocumentBytesPerFrame;
+}
+
 std::uint64_t glb_animation_bytes_for(std::size_t rows, std::size_t cols, std::size_t frames) {
   const std::uint64_t vertices = std::uint64_t{rows} * cols;
   const std::uint64_t cells = rows > 0 && cols > 0 ? std::uint64_t{rows - 1} * (cols - 1) : 0;

@@ -99,6 +99,13 @@ using GlbFrameReader = std::function<void(std::size_t frame, std::span<Vec3> pos
 GlbCounts write_glb_animation(const std::string& path, const ClothModel& model, const GlbAnimation& animation,
                               const GlbFrameReader& read_frame);
 
+// The most memory write_glb_animation holds for `frames` frames of an intact rows x cols
+// lattice: final.glb's (the base mesh's document), a second mesh, a frame's positions and its
+// displacements, and about 7 kB a frame of document (each target's accessors, buffer views and
+// name, as tinygltf's structures, then as its JSON tree and text; measured 6.7 kB a frame with
+// 1723 frames of paper-fig5: counted as 8 kB).
+std::size_t glb_animation_memory_for(std::size_t rows, std::size_t cols, std::size_t frames);
+
 // The size of animation.glb for `frames` frames of an intact rows x cols lattice, bytes
 // (docs/exports.md): 24 bytes a vertex and frame (12 for a 1-wide lattice, which has no normals),
 // 4 F^2 for the weights, the JSON's few hundred bytes a frame and the base mesh. A torn sheet's

@@ -99,7 +99,8 @@ RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, c
   }
 }
 
-RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> formats) {
+RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::size_t frames,
+                                         std::span<const ExportFormat> formats) {
   Memory memory;
   const std::size_t mesh = SheetMesh::bytes_for(counts.rows, counts.cols);
   for (ExportFormat format : formats) {
@@ -114,12 +115,7 @@ RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::span<
     } else if (format == ExportFormat::gltf) {
       memory.peak = std::max(memory.peak, glb_bytes_for(counts.rows, counts.cols));  // at the end
     } else if (format == ExportFormat::gltf_animation) {
-      // At the end: final.glb's document (the base mesh) and a second mesh, a frame's positions
-      // and its float32 displacements. The JSON of a frame's accessors, held as tinygltf's
-      // document and as text, is a few kB a frame, below the memory check's margin.
-      memory.peak = std::max(memory.peak, glb_bytes_for(counts.rows, counts.cols) +
-                                              SheetMesh::bytes_for(counts.rows, counts.cols) +
-                                              counts.particles * (sizeof(Vec3) + 6 * sizeof(float)));
+      memory.peak = std::max(memory.peak, glb_animation_memory_for(counts.rows, counts.cols, frames));  // at the end
     }
   }
   return memory;

@@ -93,14 +93,14 @@ class RunExports {
   // "frames/frame_000042.obj".
   static std::string frame_file_name(std::size_t frame);
 
-  // Memory for the lattice of `counts` writing `formats`: held from the first frame to the end
-  // (the cache's frame buffer and frame 0's positions), and the most held for a moment (a frame's
-  // mesh, rest.obj's mesh) (run/run_memory.h).
+  // Memory for `frames` frames of the lattice of `counts` writing `formats`: held from the first
+  // frame to the end (the cache's frame buffer and frame 0's positions), and the most held for a
+  // moment (a frame's mesh, rest.obj's mesh, animation.glb's writer) (run/run_memory.h).
   struct Memory {
     std::size_t held = 0;
     std::size_t peak = 0;
   };
-  static Memory bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> formats);
+  static Memory bytes_for(const LatticeCounts& counts, std::size_t frames, std::span<const ExportFormat> formats);
 
   // Refuses, before the run, exports that would pass their size limit for `frames` frames of the
   // lattice of `counts`: animation.glb above kAnimationGlbLimit. Throws InputError naming

@@ -188,11 +188,12 @@ void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
   last_position_.reserve(simulation.model().particle_count());
 }
 
-std::size_t RunWriter::bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> exports) {
+std::size_t RunWriter::bytes_for(const LatticeCounts& counts, std::size_t frames,
+                                 std::span<const ExportFormat> exports) {
   const std::size_t last_position = counts.particles * sizeof(decltype(last_position_)::value_type);
   const std::size_t connector_table = 2 * counts.connectors * sizeof(std::int32_t);
   const std::size_t final_mesh = SheetMesh::bytes_for(counts.rows, counts.cols);
-  const RunExports::Memory exported = RunExports::bytes_for(counts, exports);
+  const RunExports::Memory exported = RunExports::bytes_for(counts, frames, exports);
   return last_position + exported.held + std::max({connector_table, final_mesh, exported.peak});
 }
 

@@ -237,5 +237,16 @@ TEST(AnimationGlb, TooLargeIsRefusedBeforeTheRun) {
   EXPECT_NO_THROW(RunExports::check_sizes(lattice_counts(400, 400), 121, spec.output.exports));
 }
 
+// The memory check counts the writer's document, a few kB a frame (io/gltf.h), on top of the
+// meshes: a long run of a small sheet needs more than a short one.
+TEST(AnimationGlb, MemoryEstimateGrowsWithTheFrames) {
+  const std::vector<ExportFormat> exports = {ExportFormat::gltf_animation};
+  const LatticeCounts counts = lattice_counts(11, 11);
+  const std::size_t short_run = RunWriter::bytes_for(counts, 31, exports);
+  const std::size_t long_run = RunWriter::bytes_for(counts, 20031, exports);
+  EXPECT_GE(long_run - short_run, 20000u * 6700u) << "measured: 6.7 kB a frame";
+  EXPECT_EQ(RunWriter::bytes_for(counts, 31, {}), RunWriter::bytes_for(counts, 20031, {}));
+}
+
 }  // namespace
 }  // namespace clothsim
