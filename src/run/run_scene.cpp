@@ -201,13 +201,11 @@ void check_backend_fits(const SceneSpec& spec) {
   clothsim::check_backend_fits(shape.counts, shape.anchors, spec.integrator, spec.backend);
 }
 
-// The exports fit their size limits (RunExports::check_sizes) for the run's frames, all of them
-// (an until_rest run may stop sooner). Throws InputError.
+}  // namespace
+
 void check_export_sizes(const SceneSpec& spec) {
   RunExports::check_sizes(simulation_shape(spec).counts, last_frame(spec.output) + 1, spec.output.exports);
 }
-
-}  // namespace
 
 RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   RunObserver silent;

@@ -470,14 +470,22 @@ TEST_F(CliTest, GltfAnimationPastItsSizeLimitIsRefused) {
   EXPECT_TRUE(contains(result.err, "animation.glb of 1201 frames of 160000 particles would take about")) << result.err;
   EXPECT_TRUE(contains(result.err, "more than its limit of 2048 MiB")) << result.err;
   EXPECT_FALSE(fs::exists(work_ / "huge"));
+
+  // `clothsim validate` refuses it too: a scene that validates starts.
+  write_text(work_ / "huge.json",
+             R"({"lattice": {"rows": 400, "cols": 400}, "output": {"export": ["gltf-animation"]}})");
+  const Result validated = clothsim({"validate", "huge.json"});
+  EXPECT_EQ(validated.exit_code, 2) << describe(validated);
+  EXPECT_TRUE(contains(validated.err, "more than its limit of 2048 MiB")) << validated.err;
 }
 
 // --export gltf of a built-in scene that tears: final.glb is final.obj's split mesh, its first
 // vertices the particles at the last frame of positions.npy (tests/io/test_run_exports.cpp tests
-// the file in detail).
+// the file in detail); animation.glb has that mesh too, with every frame of positions.npy
+// (tests/run/test_run_exports_animation.cpp tests it in detail).
 TEST_F(CliTest, GltfExportOfATearingSceneIsItsSplitLastFrame) {
-  const Result result =
-      clothsim({"run", "tear-pull", "--out", "torn", "--export", "gltf", "--render", "none", "--no-progress"});
+  const Result result = clothsim(
+      {"run", "tear-pull", "--out", "torn", "--export", "gltf,gltf-animation", "--render", "none", "--no-progress"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   const json run = summary("torn");
   const auto frames = run["frames"].get<std::size_t>();
@@ -504,6 +512,18 @@ TEST_F(CliTest, GltfExportOfATearingSceneIsItsSplitLastFrame) {
   const std::size_t last = (frames - 1) * particles * 3;
   for (std::size_t k = 0; k < particles * 3; ++k) {
     ASSERT_EQ(glb.position[k], static_cast<float>(positions.data[last + k])) << "coordinate " << k;
+  }
+
+  const testing::GlbMesh animation = testing::read_glb(work_ / "torn" / "animation.glb");
+  ASSERT_TRUE(animation.loaded) << animation.error;
+  EXPECT_EQ(animation.vertices(), obj_vertices);
+  EXPECT_EQ(animation.index, glb.index) << "the last frame's topology";
+  ASSERT_EQ(animation.target_position.size(), frames);
+  for (std::size_t k = 0; k < particles * 3; ++k) {
+    const double expected = positions.data[last + k];
+    ASSERT_NEAR(animation.position[k] + animation.target_position[frames - 1][k], expected,
+                1e-6 * (1.0 + std::abs(expected)))
+        << "coordinate " << k;
   }
 }
 
