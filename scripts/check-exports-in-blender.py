@@ -14,8 +14,14 @@
 #         compares its first rows*cols vertices (world space, turned back to y up) with the last
 #         frame of positions.npy. Shading "Smooth": Debian 12's Blender 3.4.1 fails with Debian's
 #         NumPy 1.24 in the importer's default shading guess (np.bool, gone from NumPy 1.24).
+#   gltf-animation  Sets the scene's frame rate to the run's, imports animation.glb the same way,
+#         checks that it has a shape key per frame and an action over them spanning the frames
+#         one scene frame apart, and compares the evaluated mesh's particles (world space, y up)
+#         with positions.npy at the first, middle and last frames, and halfway between the middle
+#         frame and the next with the mean of the two (the LINEAR blend).
 # Prints the largest difference of each and exits 1 if one is above float32 rounding of the
 # sheet's coordinates, or if the folder has neither export.
+import json
 import os
 import sys
 
@@ -78,6 +84,46 @@ if os.path.exists(out + "/final.glb"):
           f"{mesh.materials[0].name} double-sided {not mesh.materials[0].use_backface_culling}, "
           f"largest difference {worst:.3g} m (coordinates up to {scale:.3g} m)")
     failed |= worst > tolerance or not same_counts
+    checked += 1
+
+if os.path.exists(out + "/animation.glb"):
+    clear()
+    with open(out + "/summary.json") as summary:
+        fps = json.load(summary)["files"]["animation.glb"]["fps"]
+    scene = bpy.context.scene
+    scene.render.fps = fps  # before the import, which turns seconds into frames at this rate
+    scene.render.fps_base = 1.0
+    bpy.ops.import_scene.gltf(filepath=out + "/animation.glb", import_shading="SMOOTH")
+    sheet = bpy.data.objects["clothsim_sheet"]
+    keys = sheet.data.shape_keys
+    frames = positions.shape[0]
+    particles = positions.shape[1]
+    shape_keys = len(keys.key_blocks) - 1  # less the basis
+    action = keys.animation_data.action if keys.animation_data else None
+    first, last = action.frame_range if action else (0.0, -1.0)
+
+    def particles_at(frame, subframe=0.0):
+        scene.frame_set(frame, subframe=subframe)
+        evaluated = sheet.evaluated_get(bpy.context.evaluated_depsgraph_get())
+        mesh = evaluated.to_mesh()
+        world = np.array([(evaluated.matrix_world @ v.co)[:] for v in mesh.vertices[:particles]])
+        evaluated.to_mesh_clear()
+        return np.stack([world[:, 0], world[:, 2], -world[:, 1]], axis=1)  # Blender z up to y up
+
+    worst = 0.0
+    middle = frames // 2
+    start = int(round(first))
+    for frame in sorted({0, middle, frames - 1}):
+        worst = max(worst, float(np.abs(particles_at(start + frame) - positions[frame]).max()))
+    if middle + 1 < frames:
+        blend = 0.5 * (positions[middle] + positions[middle + 1])
+        worst = max(worst, float(np.abs(particles_at(start + middle, 0.5) - blend).max()))
+    right_shape = shape_keys == frames and abs((last - first) - (frames - 1)) < 1e-3
+    print(f"clothsim glTF animation in Blender {bpy.app.version_string}: {shape_keys} shape keys, action "
+          f"'{action.name if action else None}' frames {first:g} to {last:g} at {fps} fps ({frames} frames in "
+          f"positions.npy), {len(sheet.data.vertices)} vertices; at frames 0, {middle}, {middle + 0.5}, "
+          f"{frames - 1}: largest difference {worst:.3g} m (coordinates up to {scale:.3g} m)")
+    failed |= worst > tolerance or not right_shape
     checked += 1
 
 sys.exit(0 if checked > 0 and not failed else 1)

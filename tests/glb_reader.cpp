@@ -86,6 +86,46 @@ GlbMesh read_glb(const std::filesystem::path& path) {
     mesh.position_min = positions.minValues;
     mesh.position_max = positions.maxValues;
   }
+  mesh.accessors = file.accessors.size();
+  for (const tinygltf::Accessor& accessor : file.accessors) {
+    mesh.accessors_without_bounds += accessor.minValues.empty() || accessor.maxValues.empty();
+    mesh.non_float_accessors += accessor.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT &&
+                                accessor.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT;
+  }
+  mesh.mesh_weights = file.meshes.front().weights;
+  for (const auto& target : primitive.targets) {
+    const auto read_target = [&](const char* name, std::vector<std::vector<float>>& out) {
+      const auto found = target.find(name);
+      if (found == target.end()) return;
+      out.emplace_back();
+      ok = ok && read_accessor(file, found->second, TINYGLTF_COMPONENT_TYPE_FLOAT, 3, out.back(), mesh.error);
+    };
+    read_target("POSITION", mesh.target_position);
+    read_target("NORMAL", mesh.target_normal);
+  }
+  mesh.animations = file.animations.size();
+  if (!file.animations.empty()) {
+    const tinygltf::Animation& animation = file.animations.front();
+    mesh.channels = animation.channels.size();
+    if (!animation.channels.empty() && animation.channels.front().sampler >= 0 &&
+        static_cast<std::size_t>(animation.channels.front().sampler) < animation.samplers.size()) {
+      const tinygltf::AnimationChannel& channel = animation.channels.front();
+      const tinygltf::AnimationSampler& sampler = animation.samplers[static_cast<std::size_t>(channel.sampler)];
+      mesh.channel_node = channel.target_node;
+      mesh.channel_path = channel.target_path;
+      mesh.interpolation = sampler.interpolation;
+      ok = ok &&
+           read_accessor(file, sampler.input, TINYGLTF_COMPONENT_TYPE_FLOAT, 1, mesh.animation_time, mesh.error) &&
+           read_accessor(file, sampler.output, TINYGLTF_COMPONENT_TYPE_FLOAT, 1, mesh.animation_weight, mesh.error);
+      if (ok) {
+        mesh.animation_time_min = file.accessors[static_cast<std::size_t>(sampler.input)].minValues;
+        mesh.animation_time_max = file.accessors[static_cast<std::size_t>(sampler.input)].maxValues;
+      }
+    } else {
+      mesh.error += "the animation has no channel with a sampler; ";
+      ok = false;
+    }
+  }
   if (!file.nodes.empty()) {
     const tinygltf::Value& extras = file.nodes.front().extras;
     if (extras.Has("time")) mesh.extras_time = extras.Get("time").GetNumberAsDouble();

@@ -29,11 +29,28 @@ struct GlbMesh {
   double extras_time = -1.0;                       // the node's extras "time", s
   int extras_frame = -1;                           // the node's extras "frame"
 
+  // Morph targets and animation (animation.glb).
+  std::size_t accessors = 0;
+  std::size_t accessors_without_bounds = 0;         // accessors lacking min or max
+  std::size_t non_float_accessors = 0;              // accessors other than float32, uint32 indices aside
+  std::vector<std::vector<float>> target_position;  // [targets][vertices * 3], m: POSITION displacements
+  std::vector<std::vector<float>> target_normal;    // [targets][vertices * 3]: NORMAL displacements
+  std::vector<double> mesh_weights;                 // the mesh's default weights
+  std::size_t animations = 0;
+  std::size_t channels = 0;                                    // of the first animation
+  int channel_node = -1;                                       // its first channel's
+  std::string channel_path;                                    // "weights"
+  std::string interpolation;                                   // its sampler's
+  std::vector<float> animation_time;                           // the sampler's input, s
+  std::vector<float> animation_weight;                         // the sampler's output [times * targets]
+  std::vector<double> animation_time_min, animation_time_max;  // the input accessor's bounds
+
   std::size_t vertices() const { return position.size() / 3; }
 };
 
-// Loads `path` and decodes the first mesh's first primitive; `loaded` false (and `error`) when
-// the loader refuses the file or the primitive lacks POSITION, TEXCOORD_0 or indices.
+// Loads `path` and decodes the first mesh's first primitive, its morph targets and the first
+// animation's first channel; `loaded` false (and `error`) when the loader refuses the file or the
+// primitive lacks POSITION, TEXCOORD_0 or indices, or a target or the animation cannot be read.
 GlbMesh read_glb(const std::filesystem::path& path);
 
 }  // namespace clothsim::testing

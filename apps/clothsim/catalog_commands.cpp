@@ -54,8 +54,8 @@ ParameterRow special_row(std::string_view key, const SceneSpec& defaults) {
   } else if (key == "description") {
     row = {row.key, "", "text", "\"\"", "free text describing the scene"};
   } else if (key == "integrator.method") {
-    row = {row.key, "", "rkf45|rk4|symplectic-euler|implicit-euler|imex", std::string(to_string(defaults.integrator.kind)),
-           "time integrator (--integrator)"};
+    row = {row.key, "", "rkf45|rk4|symplectic-euler|implicit-euler|imex",
+           std::string(to_string(defaults.integrator.kind)), "time integrator (--integrator)"};
   } else if (key == "anchors") {
     row = {row.key, "", "preset or JSON list", defaults.anchors.empty() ? "none" : "",
            "anchored particles: center, corners, edge-corners, none, or a JSON list (--anchor)"};
@@ -64,8 +64,9 @@ ParameterRow special_row(std::string_view key, const SceneSpec& defaults) {
            "sets mass, springs and limits from physical units at lattice.spacing (--material; "
            "docs/materials.md)"};
   } else if (key == "output.export") {
-    row = {row.key, "", "list of pc2, obj-sequence, gltf", "none",
-           "files for other tools: a PC2 point cache with rest.obj, one OBJ per frame, the last frame as glTF "
+    row = {row.key, "", "list of pc2, obj-sequence, gltf, gltf-animation", "none",
+           "files for other tools: a PC2 point cache with rest.obj, one OBJ per frame, the last frame as glTF, "
+           "every frame as one animated glTF "
            "(--export; docs/exports.md)"};
   } else if (key == "paper_args") {
     row = {row.key, "", "10 numbers", "-",

@@ -160,6 +160,10 @@ void print_summary(const RunResult& result) {
     } else if (format == ExportFormat::gltf && result.frames > 0) {
       std::printf("export       gltf: %.*s (frame %zu)\n", static_cast<int>(RunExports::kGlbFile.size()),
                   RunExports::kGlbFile.data(), result.frames - 1);
+    } else if (format == ExportFormat::gltf_animation && result.frames > 0) {
+      std::printf("export       gltf-animation: %.*s (%zu frames as morph targets, %d fps)\n",
+                  static_cast<int>(RunExports::kAnimationGlbFile.size()), RunExports::kAnimationGlbFile.data(),
+                  result.frames, spec.output.fps);
     }
   }
   std::fflush(stdout);
@@ -311,7 +315,8 @@ std::string run_footer() {
       "final.png (the last frame) and "
       "animation.mp4 (H.264, one video frame per output frame, at --fps); with --export pc2, animation.pc2 and "
       "rest.obj (a point cache of every frame, for Blender's Mesh Cache modifier), with --export obj-sequence, "
-      "frames/frame_000000.obj and on, with --export gltf, final.glb (the last frame as binary glTF) "
+      "frames/frame_000000.obj and on, with --export gltf, final.glb (the last frame as binary glTF), with --export "
+      "gltf-animation, animation.glb (every frame in one binary glTF, played at --fps) "
       "(docs/exports.md); with --checkpoint-every, checkpoints/ (the "
       "newest two checkpoints). It is written as <out>.partial-<pid> and renamed into place at the end; an "
       "existing <out> is replaced only if a clothsim run wrote it. A run killed or interrupted after a "

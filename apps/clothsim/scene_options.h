@@ -33,7 +33,8 @@ struct FieldFlag {
 inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
     {"--duration", "output.duration", "SECONDS", "simulated time to run"},
     {"--fps", "output.fps", "N", "frames written per simulated second"},
-    {"--integrator", "integrator.method", "METHOD", "time integrator: rkf45, rk4, symplectic-euler, implicit-euler or imex"},
+    {"--integrator", "integrator.method", "METHOD",
+     "time integrator: rkf45, rk4, symplectic-euler, implicit-euler or imex"},
     {"--rtol", "integrator.relative_tolerance", "X", "RKF45 and imex relative error tolerance"},
     {"--atol", "integrator.absolute_tolerance", "X", "RKF45 and imex absolute error tolerance (m, m/s)"},
     {"--time-step", "integrator.time_step", "SECONDS",
@@ -49,10 +50,11 @@ inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
      "write a checkpoint every this much simulated time, for --resume (0: none)"},
     {"--export", "output.export", "LIST",
      "files for other tools, comma-separated: pc2 (animation.pc2 and rest.obj), obj-sequence (frames/*.obj), gltf "
-     "(final.glb); none"},
+     "(final.glb), gltf-animation (animation.glb: every frame, as glTF morph targets); none"},
     {"--backend", "backend", "cpu|vulkan",
      "where the steps run: cpu (every feature), or vulkan (rkf45, rk4 and symplectic-euler on a Vulkan device, "
-     "tearing, plasticity and creasing included; implicit-euler, imex and collisions run on the cpu only: docs/gpu.md)"},
+     "tearing, plasticity and creasing included; implicit-euler, imex and collisions run on the cpu only: "
+     "docs/gpu.md)"},
     {"--device", "device", "N", "the Vulkan device of --backend vulkan, as 'clothsim devices' lists them"},
     {"--precision", "precision", "float64|float32|auto",
      "arithmetic of the forces: float64 (the cpu default), float32 (the vulkan default; on the cpu, float32 springs "

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "core/error.h"
+#include "run/run_scene.h"
 #include "scene/builtin_scenes.h"
 #include "scene/scene_model.h"
 #include "scene/validate_scene.h"
@@ -25,6 +26,7 @@ int validate(const ValidateOptions& options) {
     try {
       const SceneSpec spec = load_scene(scene);
       validate_scene(spec, scene);
+      check_export_sizes(spec);
       const ClothModel model = build_model(spec);
       std::printf("ok  %s: %s, %s\n", scene.c_str(), describe_lattice(model).c_str(),
                   describe_run_settings(spec).c_str());

@@ -6,6 +6,8 @@
 #include <cstdio>
 #include <system_error>
 
+#include "core/error.h"
+#include "io/npy.h"
 #include "io/obj.h"
 
 namespace clothsim {
@@ -68,6 +70,8 @@ RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, c
       fs::create_directory(folder_ / kFramesFolder);
     } else if (format == ExportFormat::gltf) {
       gltf_ = true;  // written by finish()
+    } else if (format == ExportFormat::gltf_animation) {
+      gltf_animation_ = true;  // written by finish(), from positions.npy
     }
   }
 }
@@ -89,11 +93,14 @@ RunExports::RunExports(fs::path folder, std::span<const ExportFormat> formats, c
       }
     } else if (format == ExportFormat::gltf) {
       gltf_ = true;  // RunWriter::resume removed a finished run's final.glb; finish() writes it
+    } else if (format == ExportFormat::gltf_animation) {
+      gltf_animation_ = true;  // likewise animation.glb, from the whole positions.npy
     }
   }
 }
 
-RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> formats) {
+RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::size_t frames,
+                                         std::span<const ExportFormat> formats) {
   Memory memory;
   const std::size_t mesh = SheetMesh::bytes_for(counts.rows, counts.cols);
   for (ExportFormat format : formats) {
@@ -107,6 +114,8 @@ RunExports::Memory RunExports::bytes_for(const LatticeCounts& counts, std::span<
       memory.peak = std::max(memory.peak, mesh);  // each frame's mesh
     } else if (format == ExportFormat::gltf) {
       memory.peak = std::max(memory.peak, glb_bytes_for(counts.rows, counts.cols));  // at the end
+    } else if (format == ExportFormat::gltf_animation) {
+      memory.peak = std::max(memory.peak, glb_animation_memory_for(counts.rows, counts.cols, frames));  // at the end
     }
   }
   return memory;
@@ -124,10 +133,34 @@ void RunExports::write_frame(const ClothModel& model, std::span<const Vec3> posi
   ++frames_;
 }
 
-void RunExports::finish(const ClothModel& model, std::span<const Vec3> last_position, double last_time) {
+void RunExports::check_sizes(const LatticeCounts& counts, std::size_t frames, std::span<const ExportFormat> formats) {
+  if (std::find(formats.begin(), formats.end(), ExportFormat::gltf_animation) == formats.end()) return;
+  const std::uint64_t bytes = glb_animation_bytes_for(counts.rows, counts.cols, frames);
+  if (bytes <= kAnimationGlbLimit) return;
+  const auto mib = [](std::uint64_t value) { return std::to_string((value + (1u << 20) - 1) >> 20) + " MiB"; };
+  throw InputError("", "output.export",
+                   "gltf-animation: " + std::string(kAnimationGlbFile) + " of " + std::to_string(frames) +
+                       " frames of " + std::to_string(counts.particles) + " particles would take about " + mib(bytes) +
+                       ", more than its limit of " + mib(kAnimationGlbLimit) +
+                       " (docs/exports.md: about 24 bytes a particle and frame, plus 4 bytes per frame squared); "
+                       "use fewer frames (a shorter --duration or a lower --fps) or a smaller sheet, or --export pc2 "
+                       "for a point cache of any length");
+}
+
+void RunExports::finish(const ClothModel& model, std::span<const Vec3> last_position, double last_time,
+                        const std::filesystem::path& positions, int fps) {
   if (gltf_ && frames_ > 0) {
     glb_ =
         write_glb((folder_ / kGlbFile).string(), model, last_position, GlbFrame{scene_name_, frames_ - 1, last_time});
+  }
+  if (gltf_animation_ && frames_ > 0) {
+    fps_ = fps;
+    const std::string positions_file = positions.string();
+    animation_glb_ = write_glb_animation((folder_ / kAnimationGlbFile).string(), model,
+                                         GlbAnimation{scene_name_, frames_, static_cast<double>(fps)},
+                                         [&positions_file](std::size_t frame, std::span<Vec3> position) {
+                                           read_npy_frame(positions_file, frame, position);
+                                         });
   }
   if (!cache_) return;
   cache_->close();
@@ -179,6 +212,16 @@ std::vector<std::pair<std::string, nlohmann::ordered_json>> RunExports::summary_
                                                            {"triangles", glb_->triangles},
                                                            {"unit", "m"},
                                                            {"up", "+y"}});
+  }
+  if (animation_glb_) {
+    files.emplace_back(std::string(kAnimationGlbFile), ordered_json{{"format", "gltf-animation"},
+                                                                    {"frames", frames_},
+                                                                    {"fps", fps_},
+                                                                    {"morph_targets", frames_},
+                                                                    {"vertices", animation_glb_->vertices},
+                                                                    {"triangles", animation_glb_->triangles},
+                                                                    {"unit", "m"},
+                                                                    {"up", "+y"}});
   }
   return files;
 }

@@ -4,6 +4,13 @@
 //   obj-sequence  frames/frame_000000.obj and on, the sheet at every saved frame (io/obj.h)
 //   gltf          final.glb, the last frame as binary glTF (io/gltf.h): the mesh of final.obj,
 //                 written by finish() like final.obj, so a resumed run writes it at its end too
+//   gltf-animation  animation.glb, every saved frame in one binary glTF (io/gltf.h): written by
+//                 finish() from positions.npy, which holds every frame and is closed by then, rather
+//                 than kept in memory (a long run of a large sheet does not fit) or streamed to a
+//                 file of its own (a second copy of the trajectory). A resumed run's positions.npy is
+//                 the uninterrupted run's, so its animation.glb is too. Its size grows with the
+//                 frames times the vertices, and with the frames squared (the weights): a run whose
+//                 file would pass kAnimationGlbLimit is refused before it starts (check_sizes).
 //
 // The cache starts at frame 0 with one sample per frame, so in Blender cache frame k is the
 // run's frame k, at t = k / output.fps; set the Blender scene's frame rate to output.fps.
@@ -24,6 +31,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -48,6 +56,12 @@ class RunExports {
   static constexpr std::string_view kRestMeshFile = "rest.obj";
   static constexpr std::string_view kFramesFolder = "frames";
   static constexpr std::string_view kGlbFile = "final.glb";
+  static constexpr std::string_view kAnimationGlbFile = "animation.glb";
+  // The largest animation.glb a run may plan, bytes: half of GLB's 4 GiB, whose 32-bit lengths
+  // are a hard limit, because the estimate counts an intact sheet (a torn one's split vertices
+  // add to it) and because viewers hold the file whole: browsers cap an ArrayBuffer near 2 GiB,
+  // and Blender's importer decodes every target into memory. docs/exports.md.
+  static constexpr std::uint64_t kAnimationGlbLimit = std::uint64_t{2} << 30;
 
   // Creates the files of `formats` in `folder` (a run's partial folder) for a sheet of `model`.
   // Throws std::runtime_error naming the path on an I/O failure.
@@ -67,9 +81,11 @@ class RunExports {
   void flush() {
     if (cache_) cache_->flush();
   }
-  // Closes the cache and writes rest.obj from the model's final broken connectors, and final.glb
-  // of `last_position` [particle_count()], m, the last frame written, at `last_time`, s.
-  void finish(const ClothModel& model, std::span<const Vec3> last_position, double last_time);
+  // Closes the cache and writes rest.obj from the model's final broken connectors, final.glb
+  // of `last_position` [particle_count()], m, the last frame written, at `last_time`, s, and
+  // animation.glb of every frame of `positions` (positions.npy, closed), frame k at k / fps.
+  void finish(const ClothModel& model, std::span<const Vec3> last_position, double last_time,
+              const std::filesystem::path& positions, int fps);
 
   // summary.json "files" entries for what finish() left: name and details.
   std::vector<std::pair<std::string, nlohmann::ordered_json>> summary_files() const;
@@ -77,14 +93,19 @@ class RunExports {
   // "frames/frame_000042.obj".
   static std::string frame_file_name(std::size_t frame);
 
-  // Memory for the lattice of `counts` writing `formats`: held from the first frame to the end
-  // (the cache's frame buffer and frame 0's positions), and the most held for a moment (a frame's
-  // mesh, rest.obj's mesh) (run/run_memory.h).
+  // Memory for `frames` frames of the lattice of `counts` writing `formats`: held from the first
+  // frame to the end (the cache's frame buffer and frame 0's positions), and the most held for a
+  // moment (a frame's mesh, rest.obj's mesh, animation.glb's writer) (run/run_memory.h).
   struct Memory {
     std::size_t held = 0;
     std::size_t peak = 0;
   };
-  static Memory bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> formats);
+  static Memory bytes_for(const LatticeCounts& counts, std::size_t frames, std::span<const ExportFormat> formats);
+
+  // Refuses, before the run, exports that would pass their size limit for `frames` frames of the
+  // lattice of `counts`: animation.glb above kAnimationGlbLimit. Throws InputError naming
+  // output.export, the estimate, the limit and what to change.
+  static void check_sizes(const LatticeCounts& counts, std::size_t frames, std::span<const ExportFormat> formats);
 
  private:
   std::filesystem::path folder_;
@@ -92,12 +113,15 @@ class RunExports {
   std::size_t points_ = 0;  // of the cache: the particles
   bool obj_sequence_ = false;
   bool gltf_ = false;
+  bool gltf_animation_ = false;
   std::optional<Pc2Writer> cache_;
   std::vector<Vec3> first_position_;  // [particles], m: frame 0, rest.obj's vertices
   std::size_t frames_ = 0;
-  std::size_t rest_triangles_ = 0;     // written to rest.obj
-  std::size_t dropped_triangles_ = 0;  // left out of rest.obj: they span a broken connector
-  std::optional<GlbCounts> glb_;       // what final.glb holds, once written
+  std::size_t rest_triangles_ = 0;          // written to rest.obj
+  std::size_t dropped_triangles_ = 0;       // left out of rest.obj: they span a broken connector
+  std::optional<GlbCounts> glb_;            // what final.glb holds, once written
+  std::optional<GlbCounts> animation_glb_;  // what animation.glb holds, once written
+  int fps_ = 0;                             // animation.glb's
 };
 
 // Lattice triangles (model/sheet_mesh.h) none of whose edges is a broken connector of `model`:

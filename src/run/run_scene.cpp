@@ -214,6 +214,10 @@ void check_backend_fits(const SceneSpec& spec) {
 
 }  // namespace
 
+void check_export_sizes(const SceneSpec& spec) {
+  RunExports::check_sizes(simulation_shape(spec).counts, last_frame(spec.output) + 1, spec.output.exports);
+}
+
 RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   RunObserver silent;
   RunObserver& observer = options.observer != nullptr ? *options.observer : silent;
@@ -222,6 +226,7 @@ RunResult run_scene(const SceneSpec& spec, const RunOptions& options) {
   const std::shared_ptr<const RenderPlan> render_plan = parse_render_flags(options.render);
   // A scene too large is refused before its model is built, and so is one without its device.
   const MemoryAllowance memory = check_run_memory(spec, *render_plan, options, observer);
+  check_export_sizes(spec);
   check_backend_fits(spec);
   check_report_available(options);
   ClothModel model = build_model(spec);
@@ -264,6 +269,7 @@ RunResult resume_run(const std::string& path, const RunOptions& options) {
   const ResumeTarget target = find_resume_target(path);
   const SceneSpec spec = load_scene_file((target.folder / RunWriter::kSceneFile).string());
   const MemoryAllowance memory = check_run_memory(spec, *parse_render_flags(options.render), options, observer);
+  check_export_sizes(spec);
   check_backend_fits(spec);
   check_report_available(options);
   const Stopwatch wall;

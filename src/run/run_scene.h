@@ -48,6 +48,10 @@ double frame_time(std::uint64_t frame, int fps);
 // The last output frame of a run with these settings: round(duration * fps). Frames 0 .. this are
 // written (fewer when the run stops early).
 std::uint64_t last_frame(const OutputSettings& output);
+// The scene's exports fit their size limits (RunExports::check_sizes) for all its frames (an
+// until_rest run may stop sooner): run_scene() and resume_run() check it before anything is
+// written, `clothsim validate` too. Throws InputError.
+void check_export_sizes(const SceneSpec& spec);
 
 // What a caller hears of a run while it goes on. Every member has a default that does nothing.
 // Called on the thread that called run_scene() or resume_run().

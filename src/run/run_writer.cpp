@@ -188,11 +188,12 @@ void RunWriter::begin(const SceneSpec& scene, const Simulation& simulation) {
   last_position_.reserve(simulation.model().particle_count());
 }
 
-std::size_t RunWriter::bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> exports) {
+std::size_t RunWriter::bytes_for(const LatticeCounts& counts, std::size_t frames,
+                                 std::span<const ExportFormat> exports) {
   const std::size_t last_position = counts.particles * sizeof(decltype(last_position_)::value_type);
   const std::size_t connector_table = 2 * counts.connectors * sizeof(std::int32_t);
   const std::size_t final_mesh = SheetMesh::bytes_for(counts.rows, counts.cols);
-  const RunExports::Memory exported = RunExports::bytes_for(counts, exports);
+  const RunExports::Memory exported = RunExports::bytes_for(counts, frames, exports);
   return last_position + exported.held + std::max({connector_table, final_mesh, exported.peak});
 }
 
@@ -261,9 +262,9 @@ void RunWriter::resume(const fs::path& from, const SceneSpec& scene, const Simul
     begun_ = true;
     scene_ = scene;
     // What finish() writes anew; a finished folder's pictures are made again from frame 0.
-    for (std::string_view name :
-         {kSummaryFile, kFinalMeshFile, kBreakTimeFile, kRestLengthFile, RunExports::kRestMeshFile, RunExports::kGlbFile,
-          std::string_view("final.png"), std::string_view("animation.mp4")}) {
+    for (std::string_view name : {kSummaryFile, kFinalMeshFile, kBreakTimeFile, kRestLengthFile,
+                                  RunExports::kRestMeshFile, RunExports::kGlbFile, RunExports::kAnimationGlbFile,
+                                  std::string_view("final.png"), std::string_view("animation.mp4")}) {
       fs::remove(partial_ / name);
     }
     positions_.emplace((partial_ / kPositionsFile).string(), particles, 3, frames);
@@ -314,7 +315,7 @@ void RunWriter::finish(const Simulation& simulation, RunStatus status, double wa
       const std::array<std::size_t, 1> shape = {simulation.model().connector_break_time.size()};
       write_npy((partial_ / kBreakTimeFile).string(), simulation.model().connector_break_time, shape);
       write_npy((partial_ / kRestLengthFile).string(), simulation.model().connector_rest_length, shape);
-      if (exports_) exports_->finish(model, last_position_, last_time_);
+      if (exports_) exports_->finish(model, last_position_, last_time_, partial_ / kPositionsFile, scene_.output.fps);
     } catch (...) {
       rethrow_as_output_error("cannot finish the output folder");
     }

@@ -141,10 +141,11 @@ class RunWriter {
   // True when `out` held a previous run that finish() replaces (or replaced).
   bool replaces_previous_run() const { return replace_existing_; }
 
-  // The most memory the writer holds at once for a run of the lattice of `counts` writing
-  // `exports` (run/run_memory.h): the last frame's positions throughout, and at the end the mesh
-  // of final.obj (the connector table at the start is smaller), with the exports' own.
-  static std::size_t bytes_for(const LatticeCounts& counts, std::span<const ExportFormat> exports);
+  // The most memory the writer holds at once for a run of `frames` frames of the lattice of
+  // `counts` writing `exports` (run/run_memory.h): the last frame's positions throughout, and at
+  // the end the mesh of final.obj (the connector table at the start is smaller), with the
+  // exports' own.
+  static std::size_t bytes_for(const LatticeCounts& counts, std::size_t frames, std::span<const ExportFormat> exports);
 
  private:
   void close_files();

@@ -81,8 +81,8 @@ void read_precision(std::string_view text, SceneSpec& spec, const std::string& s
 // ---------------------------------------------------------------------------------------------
 // output.export: a list of format names, each at most once.
 
-constexpr std::array<ExportFormat, 3> kExportFormats = {ExportFormat::pc2, ExportFormat::obj_sequence,
-                                                        ExportFormat::gltf};
+constexpr std::array<ExportFormat, 4> kExportFormats = {ExportFormat::pc2, ExportFormat::obj_sequence,
+                                                        ExportFormat::gltf, ExportFormat::gltf_animation};
 
 std::string export_choices() {
   std::vector<std::string_view> names;
@@ -199,6 +199,7 @@ std::string_view to_string(ExportFormat format) {
     case ExportFormat::pc2: return "pc2";
     case ExportFormat::obj_sequence: return "obj-sequence";
     case ExportFormat::gltf: return "gltf";
+    case ExportFormat::gltf_animation: return "gltf-animation";
   }
   return "unknown";
 }

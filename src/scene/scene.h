@@ -61,15 +61,17 @@ struct ColliderSpec {
 };
 
 // Files a run writes besides its own (run/run_exports.h, docs/exports.md), for other tools:
-// "pc2" (animation.pc2 + rest.obj), "obj-sequence" (frames/frame_NNNNNN.obj) and "gltf" (final.glb).
+// "pc2" (animation.pc2 + rest.obj), "obj-sequence" (frames/frame_NNNNNN.obj), "gltf" (final.glb)
+// and "gltf-animation" (animation.glb).
 enum class ExportFormat : std::uint8_t {
-  pc2,           // a PC2 point cache of the particles, every saved frame, and its rest.obj
-  obj_sequence,  // one OBJ mesh per saved frame
-  gltf,          // the last frame as a binary glTF 2.0 file
+  pc2,             // a PC2 point cache of the particles, every saved frame, and its rest.obj
+  obj_sequence,    // one OBJ mesh per saved frame
+  gltf,            // the last frame as a binary glTF 2.0 file
+  gltf_animation,  // every saved frame in one binary glTF 2.0 file, a morph target each
 };
 
 std::string_view to_string(ExportFormat format);
-// "pc2", "obj-sequence", "gltf"; false for any other text (`format` is then unchanged).
+// "pc2", "obj-sequence", "gltf", "gltf-animation"; false for any other text (`format` is then unchanged).
 bool parse_export_format(std::string_view text, ExportFormat& format);
 
 struct OutputSettings {

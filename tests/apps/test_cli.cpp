@@ -434,11 +434,14 @@ TEST_F(CliTest, CollisionFlagsSetTheSceneKeys) {
 // contents are tested in tests/io/test_run_exports.cpp).
 TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
   const Result result =
-      small_run("exported", {"--export", "pc2,obj-sequence,gltf", "--duration", "0.5", "--fps", "20"});
+      small_run("exported", {"--export", "pc2,obj-sequence,gltf,gltf-animation", "--duration", "0.5", "--fps", "20"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   EXPECT_TRUE(contains(result.out, "export       pc2: animation.pc2 (11 samples of 25 points)")) << result.out;
   EXPECT_TRUE(contains(result.out, "export       gltf: final.glb (frame 10)")) << result.out;
+  EXPECT_TRUE(contains(result.out, "export       gltf-animation: animation.glb (11 frames as morph targets, 20 fps)"))
+      << result.out;
   EXPECT_TRUE(fs::exists(work_ / "exported" / "rest.obj"));
+  EXPECT_TRUE(fs::exists(work_ / "exported" / "animation.glb"));
   // The PC2 header's sample count (bytes 28 to 31) is fixed up to the frame count at the end.
   const std::string cache = read_text(work_ / "exported" / "animation.pc2");
   ASSERT_EQ(cache.size(), 32u + 11u * 25u * 3u * 4u);
@@ -448,7 +451,7 @@ TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
   EXPECT_TRUE(fs::exists(work_ / "exported" / "frames" / "frame_000010.obj"));
   EXPECT_FALSE(fs::exists(work_ / "exported" / "frames" / "frame_000011.obj"));
   EXPECT_EQ(json::parse(read_text(work_ / "exported" / "scene.json"))["output"]["export"],
-            json::array({"pc2", "obj-sequence", "gltf"}));
+            json::array({"pc2", "obj-sequence", "gltf", "gltf-animation"}));
 
   const Result failed = small_run("blow", {"--export", "pc2,gltf", "--integrator", "symplectic-euler", "--time-step",
                                            "0.5", "--duration", "5", "--fps", "2"});
@@ -458,12 +461,32 @@ TEST_F(CliTest, ExportFlagWritesTheExportsOfEveryFrame) {
   EXPECT_EQ(run["files"]["final.glb"]["frame"], run["frames"].get<int>() - 1);  // the last good frame
 }
 
+// An animation.glb that would pass its limit (2 GiB) is refused before the run, as bad input,
+// naming the estimate, the limit and what to change; nothing is written.
+TEST_F(CliTest, GltfAnimationPastItsSizeLimitIsRefused) {
+  const Result result =
+      clothsim({"run", "paper-fig5", "--out", "huge", "--set", "lattice.rows=400", "--set", "lattice.cols=400",
+                "--export", "gltf-animation", "--render", "none", "--no-progress"});
+  EXPECT_EQ(result.exit_code, 2) << describe(result);
+  EXPECT_TRUE(contains(result.err, "animation.glb of 1201 frames of 160000 particles would take about")) << result.err;
+  EXPECT_TRUE(contains(result.err, "more than its limit of 2048 MiB")) << result.err;
+  EXPECT_FALSE(fs::exists(work_ / "huge"));
+
+  // `clothsim validate` refuses it too: a scene that validates starts.
+  write_text(work_ / "huge.json",
+             R"({"lattice": {"rows": 400, "cols": 400}, "output": {"export": ["gltf-animation"]}})");
+  const Result validated = clothsim({"validate", "huge.json"});
+  EXPECT_EQ(validated.exit_code, 2) << describe(validated);
+  EXPECT_TRUE(contains(validated.err, "more than its limit of 2048 MiB")) << validated.err;
+}
+
 // --export gltf of a built-in scene that tears: final.glb is final.obj's split mesh, its first
 // vertices the particles at the last frame of positions.npy (tests/io/test_run_exports.cpp tests
-// the file in detail).
+// the file in detail); animation.glb has that mesh too, with every frame of positions.npy
+// (tests/run/test_run_exports_animation.cpp tests it in detail).
 TEST_F(CliTest, GltfExportOfATearingSceneIsItsSplitLastFrame) {
-  const Result result =
-      clothsim({"run", "tear-pull", "--out", "torn", "--export", "gltf", "--render", "none", "--no-progress"});
+  const Result result = clothsim(
+      {"run", "tear-pull", "--out", "torn", "--export", "gltf,gltf-animation", "--render", "none", "--no-progress"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   const json run = summary("torn");
   const auto frames = run["frames"].get<std::size_t>();
@@ -490,6 +513,18 @@ TEST_F(CliTest, GltfExportOfATearingSceneIsItsSplitLastFrame) {
   const std::size_t last = (frames - 1) * particles * 3;
   for (std::size_t k = 0; k < particles * 3; ++k) {
     ASSERT_EQ(glb.position[k], static_cast<float>(positions.data[last + k])) << "coordinate " << k;
+  }
+
+  const testing::GlbMesh animation = testing::read_glb(work_ / "torn" / "animation.glb");
+  ASSERT_TRUE(animation.loaded) << animation.error;
+  EXPECT_EQ(animation.vertices(), obj_vertices);
+  EXPECT_EQ(animation.index, glb.index) << "the last frame's topology";
+  ASSERT_EQ(animation.target_position.size(), frames);
+  for (std::size_t k = 0; k < particles * 3; ++k) {
+    const double expected = positions.data[last + k];
+    ASSERT_NEAR(animation.position[k] + animation.target_position[frames - 1][k], expected,
+                1e-6 * (1.0 + std::abs(expected)))
+        << "coordinate " << k;
   }
 }
 

@@ -264,11 +264,11 @@ TEST_F(ResumeTest, InterruptedRunResumesFromItsFolder) {
 }
 
 // The exports come out of a killed and resumed run as out of an uninterrupted one: the point
-// cache and the OBJ sequence cut back to the checkpoint and streamed on, rest.obj and final.glb
-// written at the end (docs/exports.md).
+// cache and the OBJ sequence cut back to the checkpoint and streamed on, rest.obj, final.glb and
+// animation.glb (from the whole positions.npy) written at the end (docs/exports.md).
 TEST_F(ResumeTest, ExportsOfAResumedRunAreTheUninterruptedRunsBitForBit) {
   const ResumeCase exported = {
-      "Exported", {"paper-fig5", "--duration", "6", "--export", "pc2,obj-sequence,gltf"}, "0.5"};
+      "Exported", {"paper-fig5", "--duration", "6", "--export", "pc2,obj-sequence,gltf,gltf-animation"}, "0.5"};
   ASSERT_EQ(clothsim(run_args(exported, "full")).exit_code, 0);
   const pid_t pid = start(run_args(exported, "part"));
   kill_after_checkpoint(pid, partial("part", pid), "", false);
@@ -277,8 +277,9 @@ TEST_F(ResumeTest, ExportsOfAResumedRunAreTheUninterruptedRunsBitForBit) {
   ASSERT_EQ(resumed.exit_code, 0) << describe(resumed);
   expect_same_output("full", "part");
   const auto frames = summary("full")["frames"].get<std::size_t>();
-  for (const std::string& file : {std::string("animation.pc2"), std::string("rest.obj"), std::string("final.glb"),
-                                  RunExports::frame_file_name(0), RunExports::frame_file_name(frames - 1)}) {
+  for (const std::string& file :
+       {std::string("animation.pc2"), std::string("rest.obj"), std::string("final.glb"), std::string("animation.glb"),
+        RunExports::frame_file_name(0), RunExports::frame_file_name(frames - 1)}) {
     const std::string left = read_text(work_ / "full" / file);
     ASSERT_FALSE(left.empty()) << "full/" << file;
     EXPECT_TRUE(left == read_text(work_ / "part" / file)) << file << " differs between full and part";

@@ -1,7 +1,8 @@
 // Tests of io/gltf on its own: what write_glb does with a 1-wide lattice (lines, or points) and
-// with bad paths and sizes. The mesh of a whole run, intact and torn, against final.obj and
-// positions.npy is tested in test_run_exports.cpp; the file is read by tinygltf's loader
-// (glb_reader.h), not by the writer's code.
+// with bad paths and sizes; write_glb_animation of a chain. The mesh of a whole run, intact and
+// torn, against final.obj and positions.npy is tested in test_run_exports.cpp (animation.glb's in
+// test_run_exports_animation.cpp); the file is read by tinygltf's loader (glb_reader.h), not by
+// the writer's code.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -107,6 +108,34 @@ TEST(WriteGlb, StripWithEveryConnectorBrokenIsPoints) {
   ASSERT_TRUE(glb.loaded) << glb.error;
   EXPECT_EQ(glb.mode, 0) << "points";
   EXPECT_EQ(glb.index, (std::vector<std::uint32_t>{0, 1}));
+}
+
+// animation.glb of a chain (a 1-wide lattice, lines without normals): its targets move positions
+// only; frames come from the reader in order, twice (a pass for the bounds, one for the arrays);
+// the targets' bounds are those of their values.
+TEST(WriteGlbAnimation, ChainHasPositionTargetsOnlyAndReadsEachFrameTwice) {
+  const ClothModel model = make_sheet(1, 4);
+  const std::string path = checks::scratch_path("io", "chain_animation.glb");
+  std::vector<std::size_t> read;
+  const auto frame = [&read, &model](std::size_t k, std::span<Vec3> position) {
+    read.push_back(k);
+    for (std::size_t p = 0; p < position.size(); ++p) {
+      position[p] = model.particle_rest_position[p] + Vec3{0.0, -0.1 * static_cast<double>(k * p), 0.0};
+    }
+  };
+  const GlbCounts counts = write_glb_animation(path, model, GlbAnimation{"chain", 3, 10.0}, frame);
+  EXPECT_EQ(counts.vertices, 4u);
+  EXPECT_EQ(read, (std::vector<std::size_t>{0, 0, 1, 2, 0, 1, 2}));
+  const testing::GlbMesh glb = testing::read_glb(path);
+  ASSERT_TRUE(glb.loaded) << glb.error;
+  EXPECT_TRUE(glb.error.empty()) << glb.error;
+  EXPECT_EQ(glb.mode, 1) << "lines";
+  EXPECT_EQ(glb.accessors_without_bounds, 0u);
+  ASSERT_EQ(glb.target_position.size(), 3u);
+  EXPECT_TRUE(glb.target_normal.empty());
+  EXPECT_EQ(glb.target_position[2], (std::vector<float>{0, 0, 0, 0, -0.2f, 0, 0, -0.4f, 0, 0, -0.6f, 0}));
+  EXPECT_EQ(glb.animation_time, (std::vector<float>{0.0f, 0.1f, 0.2f}));
+  EXPECT_EQ(glb.animation_weight, (std::vector<float>{1, 0, 0, 0, 1, 0, 0, 0, 1}));
 }
 
 TEST(WriteGlb, ErrorsNameThePath) {
