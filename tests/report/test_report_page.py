@@ -104,7 +104,7 @@ def runs(tmp_path_factory):
     root = tmp_path_factory.mktemp("report")
     made = {}
     for name, args in {
-        "tear-pull": ["--duration", "0.8"],
+        "tear-pull": ["--duration", "0.8", "--export", "gltf-animation"],
         "paper-crease": ["--duration", "1.0"],
         "drape-sphere": ["--duration", "0.5"],
     }.items():
@@ -185,3 +185,33 @@ def test_clothsim_report_writes_the_page_of_a_folder_and_refuses_what_is_not_a_r
     process = subprocess.run([EXE, "report", str(empty)], capture_output=True, text=True, timeout=60)
     assert process.returncode == 2 and "scene.json" in process.stderr and "is missing" in process.stderr
     assert not (empty / "report.html").exists()
+
+
+def test_animation_glb_plays_in_a_browser_with_three_js(runs, tmp_path):
+    """--export gltf-animation's file in a browser viewer: three.js's GLTFLoader and AnimationMixer,
+    in headless Chromium, play it as the run ran: at each frame time the particles are positions.npy's
+    frame, halfway between two frames their mean, and at the end every vertex is final.obj's."""
+    import numpy
+    folder = runs["tear-pull"]
+    summary = json.loads((folder / "summary.json").read_text())
+    fps = summary["fps"]
+    frames = numpy.load(folder / "positions.npy")
+    last = len(frames) - 1
+    times = [0.0, 20 / fps, 20.5 / fps, last / fps]
+    viewer = os.path.join(os.path.dirname(os.path.abspath(__file__)), "animation_viewer.html")
+    address = f"file://{viewer}#glb=file://{folder / 'animation.glb'}&times={','.join(map(repr, times))}"
+    process = chromium("--allow-file-access-from-files", "--dump-dom", address, cwd=tmp_path)
+    found = re.search(r'<pre id="viewer-status"[^>]*>(.*?)</pre>', process.stdout, re.S)
+    assert found, process.stderr[-2000:]
+    status = json.loads(found.group(1).replace("&quot;", '"').replace("&amp;", "&"))
+    assert status["ready"] and status["errors"] == [], status.get("load_error")
+    assert status["targets"] == len(frames) and abs(status["duration"] - last / fps) < 1e-6
+    particles = frames.shape[1]
+    expected = [frames[0], frames[20], 0.5 * (frames[20] + frames[21]), frames[last]]
+    for sample, want in zip(status["samples"], expected):
+        assert abs(sample["weight_sum"] - 1.0) < 1e-6
+        drawn = numpy.array(sample["positions"]).reshape(-1, 3)
+        assert numpy.abs(drawn[:particles] - want).max() < 1e-6 * max(1.0, numpy.abs(want).max())
+    # The end: the whole mesh, split along the tear, is final.obj.
+    drawn = numpy.array(status["samples"][-1]["positions"]).reshape(-1, 3)
+    assert numpy.abs(drawn - numpy.array(final_obj_vertices(folder))).max() < 1e-6
