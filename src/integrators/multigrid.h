@@ -42,13 +42,8 @@
 // smoother works in the free directions only. Anchored particles are outside the system: their
 // rows and columns are left out of every product. setup() must run again when the held set changes.
 //
-// Rejected. Smoothed aggregation (Tamstorf, Jones and McCormick 2015: the tentative piecewise-
-// constant prolongator smoothed by a damped Jacobi step): its prolongator has 3x3 blocks, up to 9
-// per row, and its Galerkin triple product would cost about 130 Mflop per step at 128 x 128 (a
-// count of the block products, not built), against about 20 for the scalar bilinear weights. A
-// multiplicative two-level cycle on the old 4 x 4 aggregates with damped Jacobi: 29 iterations
-// with two sweeps on each side, 20 with four (64 x 64), and a coarse factor that grows as
-// particles x cols. (docs/performance.md has the measurements.)
+// What was tried and rejected (smoothed aggregation, a multiplicative two-level cycle on
+// aggregates) and why: docs/performance.md, "Implicit Euler's multigrid preconditioner".
 #pragma once
 
 #include <array>
