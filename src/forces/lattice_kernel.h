@@ -120,9 +120,7 @@ class LatticeKernel {
     }
   }
   // Reals in the scratch of the current precision.
-  std::size_t scratch_size() const {
-    return precision_ == Precision::float64 ? scratch64_.size() : scratch32_.size();
-  }
+  std::size_t scratch_size() const { return precision_ == Precision::float64 ? scratch64_.size() : scratch32_.size(); }
   // Resizes the scratch of the current precision to `arrays` arrays, new entries zero.
   void resize_scratch(std::size_t arrays);
   template <typename Real>
@@ -131,7 +129,7 @@ class LatticeKernel {
   // stiffness, damping, rest value and liveness into the padded arrays.
   void refresh(const ClothModel& model);
   // Every connector intact, and every spring of a family with the same stiffness, damping and
-  // rest value.
+  // rest value (and, connectors, original length).
   static bool is_uniform(const ClothModel& model);
   // Zero entries before and after each array, and Reals per array (padding + particles +
   // padding, rounded up to whole 64-byte lines of floats).
@@ -144,7 +142,8 @@ class LatticeKernel {
   struct FamilyValues {
     double stiffness = 0.0;
     double damping = 0.0;
-    double rest = 0.0;  // rest length (m) or rest angle (rad)
+    double rest = 0.0;      // rest length (m) or rest angle (rad)
+    double original = 0.0;  // connectors: the original length, m, which sets the radial springs' fade
     bool operator==(const FamilyValues&) const = default;
   };
 
