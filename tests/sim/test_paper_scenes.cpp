@@ -83,10 +83,11 @@ TEST(PaperScenes, Figures5And6HangBelowTheAnchorAndComeToRest) {
 // of vanishing arms (forces/element_math.inc) the radial springs on that connector made RKF45's
 // step shrink to its floor (1.3 million steps in fig5's last half second, a step-size underflow at
 // 28.7 s; docs/performance.md, "Soak"). Now both run to 60 s, and no simulated second takes more
-// than kMostStepsPerSecond steps, accepted and rejected (measured: see the test's output).
+// than kMostStepsPerSecond steps, accepted and rejected (measured 2026-12-02: fig5 84,744 steps to
+// 60 s, at most 3,039 in one second; fig6 80,664, at most 2,718).
 TEST(PaperScenes, Figures5And6SurviveLongRuns) {
   constexpr double kDuration = 60.0;
-  constexpr std::uint64_t kMostStepsPerSecond = 100000;
+  constexpr std::uint64_t kMostStepsPerSecond = 20000;
   for (const std::string scene : {"paper-fig5", "paper-fig6"}) {
     SCOPED_TRACE(scene);
     Simulation simulation = testing::one_thread_simulation(builtin_scene(scene));
