@@ -45,6 +45,7 @@ mutations=(
   "src/integrators/symplectic_euler.cpp@  count_evaluations(dynamics_.evaluations());@  stats_.force_evaluations = dynamics_.evaluations();@KilledRunTest@a resumed run's force evaluations counted from the checkpoint on"
   "src/forces/element_math.inc@    result.force_on_b -= (energy * fade_c.value * fade_b.slope) * g.unit_b;@    (void)energy;@RadialFade|RadialElement|RadialJacobian|LatticeKernel@the faded radial spring without the product rule's pull along arm b"
   "src/forces/lattice_kernel.cpp@    fade[p] = exists ? f.value : Real(1);@    fade[p] = Real(1);@LatticeKernel|Float32Forces@the lattice kernel's radial springs not faded as an arm vanishes"
+  "src/events/spring_events.cpp@      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness, fade[0], fade[1]) -@      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness, 0.0, 0.0) -@EventStageLaws@a crease's plastic work booked from the unfaded energy"
 )
 
 echo "scratch clone: $copy"

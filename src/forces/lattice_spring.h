@@ -99,12 +99,12 @@ template <typename Real>
 
 // One radial spring between the connectors centre->b and centre->c, from their unit vectors and
 // inverse lengths (0: no such connector), their fades (phi and d phi / d l, from arm_fade) and
-// the relative velocities v_b - v_a, v_c - v_a. The
-// formulas are those of element::radial_force, rearranged to multiply by 1/length and
-// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p. A singular spring
-// (sin(theta) < SingularLimits::sine) gets meaningless values from the kResolveSingular = false
-// version, which only reports it through `singular`; the caller then recomputes it with the true
-// version, which takes the bending plane from the motion like element::resolve_singular_directions.
+// the relative velocities v_b - v_a, v_c - v_a. The formulas are those of element::radial_force,
+// rearranged to multiply by 1/length and 1/sin(theta) once and to scale w = sin(theta) p instead
+// of forming p. A singular spring (sin(theta) < SingularLimits::sine) gets meaningless values
+// from the kResolveSingular = false version, which only reports it through `singular`; the
+// caller then recomputes it with the true version, which takes the bending plane from the motion
+// like element::resolve_singular_directions.
 template <typename Real>
 struct RadialResult {
   Vector<Real> on_b;
