@@ -243,7 +243,7 @@ template <typename Real, int kDirection>
 // kRadialArmB[kPair] and kRadialArmC[kPair], with its own stiffness, damping and rest angle
 // (kUniform: its family's). On a uniform sheet a spring that does not exist (at a border) has the
 // family's values, not zeros, and contributes nothing all the same: one of its arms has 1/length 0.
-template <typename Real, bool kUniform, bool kResolveSingular, std::size_t kPair>
+template <typename Real, bool kUniform, bool kResolveSingular, bool kFade, std::size_t kPair>
 [[gnu::always_inline]] inline RadialResult<Real> spring_at(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                            std::size_t p, std::size_t cols) {
   constexpr bool kOpposite = radial_pair_is_opposite(kPair);
@@ -263,7 +263,7 @@ template <typename Real, bool kUniform, bool kResolveSingular, std::size_t kPair
     damping = s[kRadialDamping + kPair][p];
     rest_angle = s[kRadialRestAngle + kPair][p];
   }
-  return lattice_spring::radial_spring<Real, kResolveSingular>(
+  return lattice_spring::radial_spring<Real, kResolveSingular, kFade>(
       b.unit, b.inverse_length, b.fade, c.unit, c.inverse_length, c.fade, b.relative_velocity, c.relative_velocity,
       elastic * stiffness, damped * damping, rest_angle);
 }
@@ -295,20 +295,20 @@ template <typename Real, int kArm>
   return end(kTerms[0]) + end(kTerms[1]) + end(kTerms[2]);
 }
 
-template <typename Real, bool kUniform, std::size_t... kPair>
+template <typename Real, bool kUniform, bool kFade, std::size_t... kPair>
 [[gnu::always_inline]] inline ParticleSprings<Real> springs_at(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                                std::size_t p, std::size_t cols,
                                                                std::index_sequence<kPair...>) {
-  return {spring_at<Real, kUniform, false, kPair>(s, k, p, cols)...};
+  return {spring_at<Real, kUniform, false, kFade, kPair>(s, k, p, cols)...};
 }
 
 // The six radial springs centred at particle p, written as forces on its four neighbours; each
 // neighbour's sum and the power are accumulated in the springs' order (resolve_spring_row repeats
 // exactly these sums). Returns a positive number if one of the springs is singular.
-template <typename Real, bool kUniform>
+template <typename Real, bool kUniform, bool kFade>
 [[gnu::always_inline]] inline Real radial_particle(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t p,
                                                    std::size_t cols) {
-  const ParticleSprings<Real> r = springs_at<Real, kUniform>(
+  const ParticleSprings<Real> r = springs_at<Real, kUniform, kFade>(
       s, k, p, cols, std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
   const Vector<Real> to_east = force_on_arm<Real, 0>(r);
   const Vector<Real> to_south = force_on_arm<Real, 1>(r);
@@ -338,7 +338,7 @@ constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, 
 // forces into the neighbours' sums in the order of radial_particle (a spring that is the first
 // term of a neighbour's sum starts it). One spring per loop keeps the body small enough for GCC to
 // if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
-template <typename Real, bool kUniform, std::size_t kPair>
+template <typename Real, bool kUniform, bool kFade, std::size_t kPair>
 [[gnu::always_inline]] inline void resolve_spring_row(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                       std::size_t begin, std::size_t end, std::size_t cols) {
   constexpr int kB = kRadialArmB[kPair];
@@ -355,7 +355,7 @@ template <typename Real, bool kUniform, std::size_t kPair>
   const Real zero = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    const RadialResult<Real> r = spring_at<Real, kUniform, true, kPair>(s, k, p, cols);
+    const RadialResult<Real> r = spring_at<Real, kUniform, true, kFade, kPair>(s, k, p, cols);
     bx[p] = (kFirstB ? zero : bx[p]) + r.on_b.x;
     by[p] = (kFirstB ? zero : by[p]) + r.on_b.y;
     bz[p] = (kFirstB ? zero : bz[p]) + r.on_b.z;
@@ -366,24 +366,34 @@ template <typename Real, bool kUniform, std::size_t kPair>
   }
 }
 
-template <typename Real, bool kUniform, std::size_t... kPair>
+template <typename Real, bool kUniform, bool kFade, std::size_t... kPair>
 [[gnu::always_inline]] inline void resolve_springs(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                    std::size_t begin, std::size_t end, std::size_t cols,
                                                    std::index_sequence<kPair...>) {
-  (resolve_spring_row<Real, kUniform, kPair>(s, k, begin, end, cols), ...);
+  (resolve_spring_row<Real, kUniform, kFade, kPair>(s, k, begin, end, cols), ...);
 }
 
-template <typename Real, bool kUniform>
-[[gnu::always_inline]] inline void radial_band_of(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients,
-                                                  std::size_t begin, std::size_t end, std::size_t cols) {
-  // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
-  const Arrays<Real> s = arrays;
-  const Coefficients<Real> k = coefficients;
+// Whether an arm of a particle in [begin, end) is inside the fade: its east and south connectors,
+// and its west and north ones (the neighbours' east and south).
+template <typename Real>
+[[gnu::always_inline]] inline bool band_fades(const Arrays<Real>& s, std::size_t begin, std::size_t end,
+                                              std::size_t cols) {
+  const Real* __restrict east = s[kEastFade];
+  const Real* __restrict south = s[kSouthFade];
+  int fading = 0;
+  for (std::size_t p = begin > 0 ? begin - 1 : 0; p < end; ++p) fading |= east[p] < Real(1) ? 1 : 0;
+  for (std::size_t p = begin >= cols ? begin - cols : 0; p < end; ++p) fading |= south[p] < Real(1) ? 1 : 0;
+  return fading != 0;
+}
+
+template <typename Real, bool kUniform, bool kFade>
+[[gnu::always_inline]] inline void radial_band_with(const Arrays<Real>& s, const Coefficients<Real>& k,
+                                                    std::size_t begin, std::size_t end, std::size_t cols) {
   Real* __restrict singular = s[kSingular];
   int any_singular = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    singular[p] = radial_particle<Real, kUniform>(s, k, p, cols);
+    singular[p] = radial_particle<Real, kUniform, kFade>(s, k, p, cols);
     any_singular |= singular[p] > Real(0) ? 1 : 0;
   }
   if (any_singular != 0) {
@@ -392,8 +402,23 @@ template <typename Real, bool kUniform>
     // where it is undefined. Particles without a singular spring get the same values again.
     Real* __restrict power = s[kPower];
     for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
-    resolve_springs<Real, kUniform>(s, k, begin, end, cols,
-                                    std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
+    resolve_springs<Real, kUniform, kFade>(s, k, begin, end, cols,
+                                           std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
+  }
+}
+
+template <typename Real, bool kUniform>
+[[gnu::always_inline]] inline void radial_band_of(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients,
+                                                  std::size_t begin, std::size_t end, std::size_t cols) {
+  // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
+  const Arrays<Real> s = arrays;
+  const Coefficients<Real> k = coefficients;
+  // The fade of vanishing arms costs a seventh of the springs' work and acts only where a
+  // connector is collapsing: a band without one takes the loops without it (the same bits).
+  if (band_fades(s, begin, end, cols)) {
+    radial_band_with<Real, kUniform, true>(s, k, begin, end, cols);
+  } else {
+    radial_band_with<Real, kUniform, false>(s, k, begin, end, cols);
   }
 }
 

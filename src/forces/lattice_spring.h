@@ -104,7 +104,8 @@ template <typename Real>
 // of forming p. A singular spring (sin(theta) < SingularLimits::sine) gets meaningless values
 // from the kResolveSingular = false version, which only reports it through `singular`; the
 // caller then recomputes it with the true version, which takes the bending plane from the motion
-// like element::resolve_singular_directions.
+// like element::resolve_singular_directions. kFade = false leaves the fade out: for springs whose
+// arms are all outside it (fade 1, slope 0), where it changes nothing, bit for bit.
 template <typename Real>
 struct RadialResult {
   Vector<Real> on_b;
@@ -113,7 +114,7 @@ struct RadialResult {
   Real singular = 0;  // > 0 if the spring is singular (a Real: GCC vectorises it better than a bool)
 };
 
-template <typename Real, bool kResolveSingular>
+template <typename Real, bool kResolveSingular, bool kFade>
 [[gnu::always_inline]] inline RadialResult<Real> radial_spring(const Vector<Real>& ub, Real inverse_b,
                                                                const Fade<Real>& fade_b, const Vector<Real>& uc,
                                                                Real inverse_c, const Fade<Real>& fade_c,
@@ -127,9 +128,9 @@ template <typename Real, bool kResolveSingular>
   // The faded energy's force (element::radial_force): the spring's coefficients times
   // phi_b phi_c (1 exactly outside the fade, so the products keep their bits), then the pull
   // along each arm.
-  const Real fade = fade_b.value * fade_c.value;
-  const Real stiffness = fade * unfaded_stiffness;
-  const Real damping = fade * unfaded_damping;
+  const Real fade = kFade ? fade_b.value * fade_c.value : one;
+  const Real stiffness = kFade ? fade * unfaded_stiffness : unfaded_stiffness;
+  const Real damping = kFade ? fade * unfaded_damping : unfaded_damping;
   const Vector<Real> n = cross(ub, uc);
   const Real cosine = dot(ub, uc);
   const Real sine = std::sqrt(dot(n, n));
@@ -185,18 +186,20 @@ template <typename Real, bool kResolveSingular>
     angle_rate = use ? singular_rate : angle_rate;
     torque = use ? singular_torque : torque;
   }
-  // The product rule's pull, -E phi_c phi_b' u_b on b (likewise on c), selected only inside the
-  // fade so that outside it the forces keep their bits (adding a zero could turn -0 into +0).
-  const Real theta = obtuse ? std::numbers::pi_v<Real> - angle : angle;
-  const Real departure = theta - rest_angle;
-  const Real energy = Real(0.5) * unfaded_stiffness * departure * departure;
-  const Real pull_b = energy * fade_c.value * fade_b.slope;
-  const Real pull_c = energy * fade_b.value * fade_c.slope;
-  const bool fading = fade < one;
-  fb = {fading ? fb.x - pull_b * ub.x : fb.x, fading ? fb.y - pull_b * ub.y : fb.y,
-        fading ? fb.z - pull_b * ub.z : fb.z};
-  fc = {fading ? fc.x - pull_c * uc.x : fc.x, fading ? fc.y - pull_c * uc.y : fc.y,
-        fading ? fc.z - pull_c * uc.z : fc.z};
+  if constexpr (kFade) {
+    // The product rule's pull, -E phi_c phi_b' u_b on b (likewise on c), selected only inside
+    // the fade so that outside it the forces keep their bits (adding a zero could turn -0 into +0).
+    const Real theta = obtuse ? std::numbers::pi_v<Real> - angle : angle;
+    const Real departure = theta - rest_angle;
+    const Real energy = Real(0.5) * unfaded_stiffness * departure * departure;
+    const Real pull_b = energy * fade_c.value * fade_b.slope;
+    const Real pull_c = energy * fade_b.value * fade_c.slope;
+    const bool fading = fade < one;
+    fb = {fading ? fb.x - pull_b * ub.x : fb.x, fading ? fb.y - pull_b * ub.y : fb.y,
+          fading ? fb.z - pull_b * ub.z : fb.z};
+    fc = {fading ? fc.x - pull_c * uc.x : fc.x, fading ? fc.y - pull_c * uc.y : fc.y,
+          fading ? fc.z - pull_c * uc.z : fc.z};
+  }
   out.on_b = {exists ? fb.x : zero, exists ? fb.y : zero, exists ? fb.z : zero};
   out.on_c = {exists ? fc.x : zero, exists ? fc.y : zero, exists ? fc.z : zero};
   out.power = exists ? torque * angle_rate : zero;
