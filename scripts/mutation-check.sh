@@ -46,6 +46,7 @@ mutations=(
   "src/forces/element_math.inc@    result.force_on_b -= (energy * fade_c.value * fade_b.slope) * g.unit_b;@    (void)energy;@RadialFade|RadialElement|RadialJacobian|LatticeKernel@the faded radial spring without the product rule's pull along arm b"
   "src/forces/lattice_kernel.cpp@    fade[p] = exists ? f.value : Real(1);@    fade[p] = Real(1);@LatticeKernel|Float32Forces@the lattice kernel's radial springs not faded as an arm vanishes"
   "src/events/spring_events.cpp@      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness, fade[0], fade[1]) -@      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness, 0.0, 0.0) -@EventStageLaws@a crease's plastic work booked from the unfaded energy"
+  "src/forces/lattice_kernel.cpp@  for (std::size_t p = begin >= cols ? begin - cols : 0; p < end; ++p) fading |= south[p] < Real(1) ? 1 : 0;@  for (std::size_t p = begin >= cols ? begin : 0; p < end; ++p) fading |= south[p] < Real(1) ? 1 : 0;@LatticeKernel@a band's fade check without the north arms of its first row"
 )
 
 echo "scratch clone: $copy"

@@ -159,6 +159,20 @@ TEST(LatticeKernel, AgreesWithTheGeneralPathWhereRadialSpringsFade) {
   }
 }
 
+// The kernel leaves the fade out of bands of particles with no arm inside it. One connector
+// collapsed across the boundary of two bands (the radial pass runs over bands of at least 256
+// particles, whole rows: rows 0-15 and 16-19 of a 20 x 16 sheet): the south arm of a particle of
+// the first band and the north arm of one of the second, which must fade in both.
+TEST(LatticeKernel, AgreesWithTheGeneralPathWhereOneConnectorFadesAcrossBands) {
+  const ClothModel model = lattice(20, 16, 0.2);
+  std::vector<Vec3> x, v;
+  randomise(model, 0.05, 2.0, 75, x, v);
+  const std::size_t above = 15 * 16 + 5;  // row 15, col 5
+  const std::size_t below = above + 16;   // row 16, col 5
+  x[below] = x[above] + 0.2 * (x[below] - x[above]);
+  expect_paths_agree(model, x, v);
+}
+
 TEST(LatticeKernel, GravityAloneIsMassTimesG) {
   ClothModel model = lattice(4, 5);
   set_particle_mass(model, 2.5);
