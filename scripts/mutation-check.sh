@@ -43,6 +43,10 @@ mutations=(
   "src/sim/step_diagnosis.cpp@    if (std::abs(rest_angle - end) < kKinkWindow) continue;@    (void)rest_angle;@StepDiagnosis@a radial spring at rest on the kink taken for at it"
   "src/events/spring_events.cpp@      if (spring_laws::connector_breaks(length, model.connector_original_length[e], model.connector_break_strain[e])) {@      if (spring_laws::connector_breaks(length, model.connector_rest_length[e], model.connector_break_strain[e])) {@EventStageLaws@the break strain measured from the rest length a yield left"
   "src/integrators/symplectic_euler.cpp@  count_evaluations(dynamics_.evaluations());@  stats_.force_evaluations = dynamics_.evaluations();@KilledRunTest@a resumed run's force evaluations counted from the checkpoint on"
+  "src/forces/element_math.inc@    result.force_on_b -= (energy * fade_c.value * fade_b.slope) * g.unit_b;@    (void)energy;@RadialFade|RadialElement|RadialJacobian|LatticeKernel@the faded radial spring without the product rule's pull along arm b"
+  "src/forces/lattice_kernel.cpp@    fade[p] = exists ? f.value : Real(1);@    fade[p] = Real(1);@LatticeKernel|Float32Forces@the lattice kernel's radial springs not faded as an arm vanishes"
+  "src/events/spring_events.cpp@      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness, fade[0], fade[1]) -@      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness, 0.0, 0.0) -@EventStageLaws@a crease's plastic work booked from the unfaded energy"
+  "src/forces/lattice_kernel.cpp@  for (std::size_t p = begin >= cols ? begin - cols : 0; p < end; ++p) fading |= south[p] < Real(1) ? 1 : 0;@  for (std::size_t p = begin >= cols ? begin : 0; p < end; ++p) fading |= south[p] < Real(1) ? 1 : 0;@LatticeKernel@a band's fade check without the north arms of its first row"
 )
 
 echo "scratch clone: $copy"

@@ -184,7 +184,7 @@ int bench(const BenchFlags& flags) {
   });
   std::printf(
       "\nevals/s: force evaluations per wall second; us/eval: wall time per evaluation; GFLOP/s: the force\n"
-      "kernel's rate (808 operations per particle and evaluation, forces/lattice_kernel.h); peak: GFLOP/s\n"
+      "kernel's rate (836 operations per particle and evaluation, forces/lattice_kernel.h); peak: GFLOP/s\n"
       "of a multiply-add probe on as many threads, in the forces' precision; %%peak: their ratio; p-steps/s:\n"
       "particles x accepted steps per wall second; sim s/s: simulated seconds per wall second (>= 1 is\n"
       "real time); sim MiB: model + state + integrator workspace; RSS MiB: process peak so far.\n");

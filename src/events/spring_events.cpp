@@ -135,8 +135,9 @@ SpringEventCounts SpringEvents::apply(ClothModel& model, ClothState& state, int 
                                                               model.radial_yield_angle[r]);
       if (new_rest == rest) continue;
       const double stiffness = model.radial_stiffness[r];
-      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness) -
-                            element::radial_energy(x[centre], x[b], x[c], rest, stiffness);
+      const std::array<double, 2> fade = radial_fade_lengths(model, r);
+      state.plastic_work += element::radial_energy(x[centre], x[b], x[c], new_rest, stiffness, fade[0], fade[1]) -
+                            element::radial_energy(x[centre], x[b], x[c], rest, stiffness, fade[0], fade[1]);
       set_radial_rest_angle(model, static_cast<std::uint32_t>(r), new_rest);
       set_crease_bounds(model, r);
       ++counts.creases;

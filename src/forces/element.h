@@ -37,6 +37,11 @@
 // the element takes it from the motion instead: the plane into which the relative velocities
 // open the configuration (resolve_singular_directions), which makes the force the one-sided limit
 // along the trajectory. Damping uses the same directions. docs/model.md discusses the choice.
+//
+// Vanishing arms. The energy above and its damping are multiplied by phi(l_b / f_b) phi(l_c / f_c),
+// which is 1 while both arms are at least their fade length f (half the connector's original
+// length) and falls smoothly to 0 as an arm vanishes, so that a collapsing connector does not
+// make its radial springs' forces grow as 1 / length (element_math.inc, kRadialFadeFraction).
 #pragma once
 
 #include <cmath>

@@ -44,6 +44,14 @@
 //     singular configurations (folded pairs, cone points of theta0 != pi) keep only the
 //     Gauss-Newton part along the direction the motion selects (resolve_singular_directions).
 // Damping: f = -c (g . v) g gives -df/dv = c g g^T exactly (g depends on positions only).
+//
+// The fade of vanishing arms (element_math.inc, kRadialFadeFraction) multiplies the energy and
+// the damping by phi = phi_b phi_c, which depends on positions only. The damping Jacobian
+// phi c g g^T stays exact. The stiffness is taken as phi times the approximation above: the
+// Hessian of phi E also has the terms dphi (dE)^T + dE dphi^T + E d^2phi, which vanish with
+// theta - theta0 (E and dE do), so at the rest angle the faded K = phi k g g^T is exact; away
+// from it they are dropped like the in-plane curvature term (they are indefinite too), which
+// only slows Newton's convergence inside the fade, not what the step converges to.
 #pragma once
 
 #include <array>
@@ -136,11 +144,16 @@ inline std::array<double, 2> radial_transverse_eigenvalues(const RadialGeometry&
 
 // The Jacobians of radial_force() at the same arguments.
 inline RadialJacobian radial_jacobian(const Vec3& xa, const Vec3& xb, const Vec3& xc, const Vec3& va, const Vec3& vb,
-                                      const Vec3& vc, double rest_angle, double stiffness, double damping) {
+                                      const Vec3& vc, double rest_angle, double stiffness, double damping,
+                                      double fade_length_b, double fade_length_c) {
   RadialGeometry g = radial_geometry(xa, xb, xc);
   resolve_singular_directions(g, va, vb, vc);
   RadialJacobian out;
   if (g.degenerate) return out;
+  // The fade scales both coefficients (file comment); 1 exactly outside it.
+  const double fade = arm_fade(g.length_b, fade_length_b).value * arm_fade(g.length_c, fade_length_c).value;
+  stiffness *= fade;
+  damping *= fade;
   out.gradient[1] = radial_gradient_b(g);
   out.gradient[2] = radial_gradient_c(g);
   out.gradient[0] = -(out.gradient[1] + out.gradient[2]);

@@ -17,6 +17,7 @@
 // up to rounding (tests/forces/test_lattice_kernel.cpp), and each is bit-for-bit independent of the thread count.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -119,6 +120,10 @@ double connector_energy(const ClothModel& model, std::span<const Vec3> position,
 // Elastic energy of one connector or radial spring (0 once broken), J.
 double connector_spring_energy(const ClothModel& model, std::span<const Vec3> position, std::size_t connector);
 double radial_spring_energy(const ClothModel& model, std::span<const Vec3> position, std::size_t radial);
+// The fade lengths of radial spring `radial`'s two arms (centre-b, centre-c): element_math.inc's
+// kRadialFadeFraction times each arm connector's original length, m. Every path that evaluates a
+// radial spring of the model takes them from here.
+std::array<double, 2> radial_fade_lengths(const ClothModel& model, std::size_t radial);
 // Adds the radial springs' energy into report.radial_adjacent and report.radial_opposite.
 void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report, int threads = 1);
 double kinetic_energy(const ClothModel& model, std::span<const Vec3> velocity, int threads = 1);

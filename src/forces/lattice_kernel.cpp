@@ -84,6 +84,7 @@ struct Coefficients {
   Real connector_stiffness = 0;
   Real connector_damping = 0;
   Real connector_rest_length = 0;
+  Real connector_fade_length = 0;  // element::kRadialFadeFraction times the original length
   Real adjacent_stiffness = 0;
   Real adjacent_damping = 0;
   Real adjacent_rest_angle = 0;
@@ -136,6 +137,9 @@ template <typename Real, bool kUniform>
   const Real* __restrict damping = kUniform ? nullptr : s[parameters + 1];
   const Real* __restrict rest_length = kUniform ? nullptr : s[parameters + 2];
   const Real* __restrict live = kUniform ? nullptr : s[parameters + 3];
+  const Real* __restrict fade_length = kUniform ? nullptr : s[parameters + 4];
+  Real* __restrict fade = s[ux_array + 8];
+  Real* __restrict fade_slope = s[ux_array + 9];
   const Real elastic = k.connector_elastic;
   const Real damped = k.connector_damped;
   const Real zero = 0;
@@ -163,10 +167,15 @@ template <typename Real, bool kUniform>
     vy[p] = relative_velocity.y;
     vz[p] = relative_velocity.z;
     power[p] += exists ? -c * rate * rate : zero;
+    const lattice_spring::Fade<Real> f =
+        lattice_spring::arm_fade(length, kUniform ? k.connector_fade_length : fade_length[p]);
+    fade[p] = exists ? f.value : Real(1);
+    fade_slope[p] = exists ? f.slope : zero;
   }
   // No connector from the last column eastwards, or from the last row southwards.
   for (std::size_t p = missing_from; p < end; ++p) {
-    ux[p] = uy[p] = uz[p] = inverse_length[p] = tension[p] = vx[p] = vy[p] = vz[p] = zero;
+    ux[p] = uy[p] = uz[p] = inverse_length[p] = tension[p] = vx[p] = vy[p] = vz[p] = fade_slope[p] = zero;
+    fade[p] = Real(1);
   }
 }
 
@@ -174,12 +183,11 @@ template <typename Real, bool kUniform>
 // and form, and a template that picks it. Everything they call is always_inline: with both
 // precisions in this file, GCC's inliner otherwise runs out of its growth budget and leaves small
 // calls (dot, cross, the arctangent) inside the loops, which then do not vectorise.
-#define CLOTHSIM_CONNECTOR_ROW(name, Real, kUniform)                                                           \
-  CLOTHSIM_MULTIVERSION void name(const Arrays<Real>& s, const Coefficients<Real>& k, const Vec3* __restrict x, \
-                                  const Vec3* __restrict v, std::size_t begin, std::size_t end,                 \
-                                  std::size_t offset, std::size_t missing_from, std::size_t ux_array,           \
-                                  Real* __restrict power) {                                                     \
-    connector_row_of<Real, kUniform>(s, k, x, v, begin, end, offset, missing_from, ux_array, power);          \
+#define CLOTHSIM_CONNECTOR_ROW(name, Real, kUniform)                                                                \
+  CLOTHSIM_MULTIVERSION void name(const Arrays<Real>& s, const Coefficients<Real>& k, const Vec3* __restrict x,     \
+                                  const Vec3* __restrict v, std::size_t begin, std::size_t end, std::size_t offset, \
+                                  std::size_t missing_from, std::size_t ux_array, Real* __restrict power) {         \
+    connector_row_of<Real, kUniform>(s, k, x, v, begin, end, offset, missing_from, ux_array, power);                \
   }
 CLOTHSIM_CONNECTOR_ROW(connector_row_64, double, false)
 CLOTHSIM_CONNECTOR_ROW(uniform_connector_row_64, double, true)
@@ -200,14 +208,15 @@ void connector_row(bool uniform, const Arrays<Real>& s, const Coefficients<Real>
   }
 }
 
-// A connector of particle p seen from p: unit vector towards the neighbour, 1/length, and the
-// neighbour's velocity relative to p's. Directions: 0 east, 1 south, 2 west, 3 north; west and
-// north are the neighbour's east and south connector reversed (negation is exact, so they are the
-// same values as differences taken from p's side).
+// A connector of particle p seen from p: unit vector towards the neighbour, 1/length, the fade of
+// the radial springs on it, and the neighbour's velocity relative to p's. Directions: 0 east, 1 south, 2 west, 3 north;
+// west and north are the neighbour's east and south connector reversed (negation is exact, so they are the same values
+// as differences taken from p's side).
 template <typename Real>
 struct Arm {
   Vector<Real> unit;
   Real inverse_length = 0;
+  lattice_spring::Fade<Real> fade;
   Vector<Real> relative_velocity;
 };
 
@@ -219,6 +228,7 @@ template <typename Real, int kDirection>
   const Vector<Real> velocity{s[kFirst + 5][q], s[kFirst + 6][q], s[kFirst + 7][q]};
   Arm<Real> out;
   out.inverse_length = s[kFirst + 3][q];
+  out.fade = {s[kFirst + 8][q], s[kFirst + 9][q]};
   if constexpr (kDirection < 2) {
     out.unit = unit;
     out.relative_velocity = velocity;
@@ -233,7 +243,7 @@ template <typename Real, int kDirection>
 // kRadialArmB[kPair] and kRadialArmC[kPair], with its own stiffness, damping and rest angle
 // (kUniform: its family's). On a uniform sheet a spring that does not exist (at a border) has the
 // family's values, not zeros, and contributes nothing all the same: one of its arms has 1/length 0.
-template <typename Real, bool kUniform, bool kResolveSingular, std::size_t kPair>
+template <typename Real, bool kUniform, bool kResolveSingular, bool kFade, std::size_t kPair>
 [[gnu::always_inline]] inline RadialResult<Real> spring_at(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                            std::size_t p, std::size_t cols) {
   constexpr bool kOpposite = radial_pair_is_opposite(kPair);
@@ -253,9 +263,9 @@ template <typename Real, bool kUniform, bool kResolveSingular, std::size_t kPair
     damping = s[kRadialDamping + kPair][p];
     rest_angle = s[kRadialRestAngle + kPair][p];
   }
-  return lattice_spring::radial_spring<Real, kResolveSingular>(b.unit, b.inverse_length, c.unit, c.inverse_length,
-                                                               b.relative_velocity, c.relative_velocity,
-                                                               elastic * stiffness, damped * damping, rest_angle);
+  return lattice_spring::radial_spring<Real, kResolveSingular, kFade>(
+      b.unit, b.inverse_length, b.fade, c.unit, c.inverse_length, c.fade, b.relative_velocity, c.relative_velocity,
+      elastic * stiffness, damped * damping, rest_angle);
 }
 
 // The force the radial springs centred at a particle exert on the neighbour along an arm is the
@@ -285,20 +295,20 @@ template <typename Real, int kArm>
   return end(kTerms[0]) + end(kTerms[1]) + end(kTerms[2]);
 }
 
-template <typename Real, bool kUniform, std::size_t... kPair>
+template <typename Real, bool kUniform, bool kFade, std::size_t... kPair>
 [[gnu::always_inline]] inline ParticleSprings<Real> springs_at(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                                std::size_t p, std::size_t cols,
                                                                std::index_sequence<kPair...>) {
-  return {spring_at<Real, kUniform, false, kPair>(s, k, p, cols)...};
+  return {spring_at<Real, kUniform, false, kFade, kPair>(s, k, p, cols)...};
 }
 
 // The six radial springs centred at particle p, written as forces on its four neighbours; each
 // neighbour's sum and the power are accumulated in the springs' order (resolve_spring_row repeats
 // exactly these sums). Returns a positive number if one of the springs is singular.
-template <typename Real, bool kUniform>
+template <typename Real, bool kUniform, bool kFade>
 [[gnu::always_inline]] inline Real radial_particle(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t p,
                                                    std::size_t cols) {
-  const ParticleSprings<Real> r = springs_at<Real, kUniform>(
+  const ParticleSprings<Real> r = springs_at<Real, kUniform, kFade>(
       s, k, p, cols, std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
   const Vector<Real> to_east = force_on_arm<Real, 0>(r);
   const Vector<Real> to_south = force_on_arm<Real, 1>(r);
@@ -328,7 +338,7 @@ constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, 
 // forces into the neighbours' sums in the order of radial_particle (a spring that is the first
 // term of a neighbour's sum starts it). One spring per loop keeps the body small enough for GCC to
 // if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
-template <typename Real, bool kUniform, std::size_t kPair>
+template <typename Real, bool kUniform, bool kFade, std::size_t kPair>
 [[gnu::always_inline]] inline void resolve_spring_row(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                       std::size_t begin, std::size_t end, std::size_t cols) {
   constexpr int kB = kRadialArmB[kPair];
@@ -345,7 +355,7 @@ template <typename Real, bool kUniform, std::size_t kPair>
   const Real zero = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    const RadialResult<Real> r = spring_at<Real, kUniform, true, kPair>(s, k, p, cols);
+    const RadialResult<Real> r = spring_at<Real, kUniform, true, kFade, kPair>(s, k, p, cols);
     bx[p] = (kFirstB ? zero : bx[p]) + r.on_b.x;
     by[p] = (kFirstB ? zero : by[p]) + r.on_b.y;
     bz[p] = (kFirstB ? zero : bz[p]) + r.on_b.z;
@@ -356,24 +366,34 @@ template <typename Real, bool kUniform, std::size_t kPair>
   }
 }
 
-template <typename Real, bool kUniform, std::size_t... kPair>
+template <typename Real, bool kUniform, bool kFade, std::size_t... kPair>
 [[gnu::always_inline]] inline void resolve_springs(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                    std::size_t begin, std::size_t end, std::size_t cols,
                                                    std::index_sequence<kPair...>) {
-  (resolve_spring_row<Real, kUniform, kPair>(s, k, begin, end, cols), ...);
+  (resolve_spring_row<Real, kUniform, kFade, kPair>(s, k, begin, end, cols), ...);
 }
 
-template <typename Real, bool kUniform>
-[[gnu::always_inline]] inline void radial_band_of(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients,
-                                                  std::size_t begin, std::size_t end, std::size_t cols) {
-  // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
-  const Arrays<Real> s = arrays;
-  const Coefficients<Real> k = coefficients;
+// Whether an arm of a particle in [begin, end) is inside the fade: its east and south connectors,
+// and its west and north ones (the neighbours' east and south).
+template <typename Real>
+[[gnu::always_inline]] inline bool band_fades(const Arrays<Real>& s, std::size_t begin, std::size_t end,
+                                              std::size_t cols) {
+  const Real* __restrict east = s[kEastFade];
+  const Real* __restrict south = s[kSouthFade];
+  int fading = 0;
+  for (std::size_t p = begin > 0 ? begin - 1 : 0; p < end; ++p) fading |= east[p] < Real(1) ? 1 : 0;
+  for (std::size_t p = begin >= cols ? begin - cols : 0; p < end; ++p) fading |= south[p] < Real(1) ? 1 : 0;
+  return fading != 0;
+}
+
+template <typename Real, bool kUniform, bool kFade>
+[[gnu::always_inline]] inline void radial_band_with(const Arrays<Real>& s, const Coefficients<Real>& k,
+                                                    std::size_t begin, std::size_t end, std::size_t cols) {
   Real* __restrict singular = s[kSingular];
   int any_singular = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    singular[p] = radial_particle<Real, kUniform>(s, k, p, cols);
+    singular[p] = radial_particle<Real, kUniform, kFade>(s, k, p, cols);
     any_singular |= singular[p] > Real(0) ? 1 : 0;
   }
   if (any_singular != 0) {
@@ -382,15 +402,30 @@ template <typename Real, bool kUniform>
     // where it is undefined. Particles without a singular spring get the same values again.
     Real* __restrict power = s[kPower];
     for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
-    resolve_springs<Real, kUniform>(s, k, begin, end, cols,
-                                    std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
+    resolve_springs<Real, kUniform, kFade>(s, k, begin, end, cols,
+                                           std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
   }
 }
 
-#define CLOTHSIM_RADIAL_BAND(name, Real, kUniform)                                                                  \
-  CLOTHSIM_MULTIVERSION void name(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients,               \
-                                  std::size_t begin, std::size_t end, std::size_t cols) {                           \
-    radial_band_of<Real, kUniform>(arrays, coefficients, begin, end, cols);                                         \
+template <typename Real, bool kUniform>
+[[gnu::always_inline]] inline void radial_band_of(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients,
+                                                  std::size_t begin, std::size_t end, std::size_t cols) {
+  // Local copies, so that the compiler sees the array pointers and coefficients as loop invariant.
+  const Arrays<Real> s = arrays;
+  const Coefficients<Real> k = coefficients;
+  // The fade of vanishing arms costs a seventh of the springs' work and acts only where a
+  // connector is collapsing: a band without one takes the loops without it (the same bits).
+  if (band_fades(s, begin, end, cols)) {
+    radial_band_with<Real, kUniform, true>(s, k, begin, end, cols);
+  } else {
+    radial_band_with<Real, kUniform, false>(s, k, begin, end, cols);
+  }
+}
+
+#define CLOTHSIM_RADIAL_BAND(name, Real, kUniform)                                                    \
+  CLOTHSIM_MULTIVERSION void name(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients, \
+                                  std::size_t begin, std::size_t end, std::size_t cols) {             \
+    radial_band_of<Real, kUniform>(arrays, coefficients, begin, end, cols);                           \
   }
 CLOTHSIM_RADIAL_BAND(radial_band_64, double, false)
 CLOTHSIM_RADIAL_BAND(uniform_radial_band_64, double, true)
@@ -438,12 +473,11 @@ template <typename Real>
   }
 }
 
-#define CLOTHSIM_GATHER_BAND(name, Real)                                                                            \
-  CLOTHSIM_MULTIVERSION void name(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients,        \
-                                         const double* __restrict mass, const Vec3* __restrict velocity,            \
-                                         std::size_t begin, std::size_t end, std::size_t cols,                      \
-                                         Vec3* __restrict force) {                                                  \
-    gather_band_of<Real>(arrays, coefficients, mass, velocity, begin, end, cols, force);                            \
+#define CLOTHSIM_GATHER_BAND(name, Real)                                                                             \
+  CLOTHSIM_MULTIVERSION void name(const Arrays<Real>& arrays, const Coefficients<Real>& coefficients,                \
+                                  const double* __restrict mass, const Vec3* __restrict velocity, std::size_t begin, \
+                                  std::size_t end, std::size_t cols, Vec3* __restrict force) {                       \
+    gather_band_of<Real>(arrays, coefficients, mass, velocity, begin, end, cols, force);                             \
   }
 CLOTHSIM_GATHER_BAND(gather_band_64, double)
 CLOTHSIM_GATHER_BAND(gather_band_32, float)
@@ -490,6 +524,7 @@ double LatticeKernel::evaluate_in(const ClothModel& model, std::span<const Vec3>
     k.connector_stiffness = static_cast<Real>(family_[0].stiffness);
     k.connector_damping = static_cast<Real>(family_[0].damping);
     k.connector_rest_length = static_cast<Real>(family_[0].rest);
+    k.connector_fade_length = static_cast<Real>(element::kRadialFadeFraction * family_[0].original);
     k.adjacent_stiffness = static_cast<Real>(family_[1].stiffness);
     k.adjacent_damping = static_cast<Real>(family_[1].damping);
     k.adjacent_rest_angle = static_cast<Real>(family_[1].rest);
@@ -501,8 +536,7 @@ double LatticeKernel::evaluate_in(const ClothModel& model, std::span<const Vec3>
   std::vector<Real>& scratch = this->scratch<Real>();
   Arrays<Real> s;
   const std::size_t arrays = scratch.size() / stride_;  // without the parameter arrays on a uniform sheet
-  for (std::size_t a = 0; a < kArrayCount; ++a)
-    s.a[a] = a < arrays ? scratch.data() + a * stride_ + padding_ : nullptr;
+  for (std::size_t a = 0; a < kArrayCount; ++a) s.a[a] = a < arrays ? scratch.data() + a * stride_ + padding_ : nullptr;
   const std::size_t cols = static_cast<std::size_t>(cols_);
   const std::size_t rows = static_cast<std::size_t>(rows_);
   const std::size_t n = rows * cols;

@@ -56,23 +56,25 @@ namespace clothsim {
 // lattice_kernel.cpp for an interior particle, on the vector path (both sides of every select
 // are computed, and counted); negations, absolute values, comparisons and selects not counted,
 // compile-time constants folded:
-//   connectors (connector_row_of), 2 per particle, 28 each: difference 3, dot 5, u = e / l 3,
+//   connectors (connector_row_of), 2 per particle, 40 each: difference 3, dot 5, u = e / l 3,
 //     relative velocity 3 (stored: the radial springs of both ends read it) and its dot 5,
-//     damping 1, tension 5, damping power 3; and 1 division and 1 square root each;
+//     damping 1, tension 5, damping power 3, the fade of the radial springs on it (arm_fade: the
+//     quintic 7, 1 - s 1, slope 4); and 3 divisions and 1 square root each;
 //   radial springs (radial_spring, spring_at), 6 per particle, 106 each: two cross products for
 //     n and the two w 27, dot and norm 10, atan2_first_quadrant 27 (reduction 4, z 1, numerator
 //     polynomial 8, denominator 9, last terms 5), the angle ratio and its series 6, rest-angle
 //     term 1, stiffness per length and gradients 4, angle rate 12, torque 1, elastic term 2, the
-//     two forces 12, power 1, switches 2; and 3 divisions and 1 square root each;
+//     two forces 12, power 1, switches 2; and 3 divisions and 1 square root each (the fade's own
+//     terms, about 20 more, are computed only in a band with an arm inside it, and not counted);
 //   per particle besides: the sums into the four neighbours 24 and the power 6
 //     (radial_particle), the gather 57 (gravity and drag 9, four tensions 24, own and
 //     neighbours' spring forces 24), the damping power's sum 1.
-// 56 + 636 + 88 = 780 additions and multiplications, 20 divisions and 8 square roots: 808
+// 80 + 636 + 88 = 804 additions and multiplications, 24 divisions and 8 square roots: 836
 // operations, each division and square root counted as one (as LINPACK counts them; they take
 // many cycles each, so the peak of additions and multiplications is out of reach). The west and
 // north arms' relative velocities are the connectors' own, stored, negated. The same count in
 // float32; the float32 kernel's conversions to and from double are not counted.
-inline constexpr double kLatticeKernelFlopsPerParticle = 808.0;
+inline constexpr double kLatticeKernelFlopsPerParticle = 836.0;
 
 // Scratch memory of the structured kernel: padded SoA arrays, allocated by prepare().
 class LatticeKernel {
@@ -120,9 +122,7 @@ class LatticeKernel {
     }
   }
   // Reals in the scratch of the current precision.
-  std::size_t scratch_size() const {
-    return precision_ == Precision::float64 ? scratch64_.size() : scratch32_.size();
-  }
+  std::size_t scratch_size() const { return precision_ == Precision::float64 ? scratch64_.size() : scratch32_.size(); }
   // Resizes the scratch of the current precision to `arrays` arrays, new entries zero.
   void resize_scratch(std::size_t arrays);
   template <typename Real>
@@ -131,7 +131,7 @@ class LatticeKernel {
   // stiffness, damping, rest value and liveness into the padded arrays.
   void refresh(const ClothModel& model);
   // Every connector intact, and every spring of a family with the same stiffness, damping and
-  // rest value.
+  // rest value (and, connectors, original length).
   static bool is_uniform(const ClothModel& model);
   // Zero entries before and after each array, and Reals per array (padding + particles +
   // padding, rounded up to whole 64-byte lines of floats).
@@ -144,7 +144,8 @@ class LatticeKernel {
   struct FamilyValues {
     double stiffness = 0.0;
     double damping = 0.0;
-    double rest = 0.0;  // rest length (m) or rest angle (rad)
+    double rest = 0.0;      // rest length (m) or rest angle (rad)
+    double original = 0.0;  // connectors: the original length, m, which sets the radial springs' fade
     bool operator==(const FamilyValues&) const = default;
   };
 

@@ -20,9 +20,13 @@ enum Array : std::size_t {
   // neighbour's velocity relative to the particle's (m/s; 0 where there is no connector). The
   // relative velocities are differences of the float64 state, taken once per connector: the
   // radial springs of both ends read them, and in float32 (lattice_kernel.h, "Precision") they
-  // keep the digits a difference of two rounded absolute velocities would lose.
+  // keep the digits a difference of two rounded absolute velocities would lose. Then the fade of
+  // the radial springs using the connector as an arm (element_math.inc, kRadialFadeFraction):
+  // phi(l / f) and d phi / d l (1/m), 1 and 0 where it does not exist.
   kEastX, kEastY, kEastZ, kEastInverseLength, kEastTension, kEastVelocityX, kEastVelocityY, kEastVelocityZ,
+  kEastFade, kEastFadeSlope,
   kSouthX, kSouthY, kSouthZ, kSouthInverseLength, kSouthTension, kSouthVelocityX, kSouthVelocityY, kSouthVelocityZ,
+  kSouthFade, kSouthFadeSlope,
   kConnectorPower,  // damping power of the east and south connectors, W
   // Force that the radial springs centred at a particle exert on each of its four neighbours, N.
   kToEastX, kToEastY, kToEastZ,
@@ -32,12 +36,12 @@ enum Array : std::size_t {
   kPower,  // damping power of everything owned by the particle (2 connectors, 6 radials), W
   kSingular,  // > 0 where one of the particle's radial springs is singular
   // Per-spring parameters, copied from the model by refresh() whenever its revision moves.
-  // East and south connector: stiffness, damping, rest length, and 1 if intact (0 if broken or
-  // missing). Radial spring i of the particle (i in the order of model/lattice_springs.inc: (E,S),
+  // East and south connector: stiffness, damping, rest length, 1 if intact (0 if broken or
+  // missing), and the fade length of the radial springs using it (m). Radial spring i of the particle (i in the order of model/lattice_springs.inc: (E,S),
   // (S,W), (W,N), (N,E), (E,W), (S,N)): stiffness, damping, rest angle; 0, 0 where it is broken or
   // missing.
-  kEastStiffness, kEastDamping, kEastRestLength, kEastLive,
-  kSouthStiffness, kSouthDamping, kSouthRestLength, kSouthLive,
+  kEastStiffness, kEastDamping, kEastRestLength, kEastLive, kEastFadeLength,
+  kSouthStiffness, kSouthDamping, kSouthRestLength, kSouthLive, kSouthFadeLength,
   kRadialStiffness, kRadialDamping = kRadialStiffness + 6, kRadialRestAngle = kRadialDamping + 6,
   kArrayCount = kRadialRestAngle + 6
 };

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 
+#include "forces/element.h"
 #include "forces/forces.h"
 #include "forces/lattice_kernel.h"
 #include "forces/lattice_kernel_layout.h"
@@ -81,7 +82,8 @@ bool LatticeKernel::is_uniform(const ClothModel& model) {
   };
   for (std::size_t e = 0; e < model.connector_count(); ++e) {
     if (model.connector_live[e] == 0 ||
-        !same(0, {model.connector_stiffness[e], model.connector_damping[e], model.connector_rest_length[e]})) {
+        !same(0, {model.connector_stiffness[e], model.connector_damping[e], model.connector_rest_length[e],
+                  model.connector_original_length[e]})) {
       return false;
     }
   }
@@ -100,7 +102,8 @@ void LatticeKernel::refresh(const ClothModel& model) {
   const bool arrays = scratch_size() == kArrayCount * stride_;
   uniform_ = !arrays && is_uniform(model);
   if (uniform_) {
-    family_[0] = {model.connector_stiffness[0], model.connector_damping[0], model.connector_rest_length[0]};
+    family_[0] = {model.connector_stiffness[0], model.connector_damping[0], model.connector_rest_length[0],
+                  model.connector_original_length[0]};
     for (std::size_t r = 0; r < model.radial_count(); ++r) {
       const std::size_t f = model.radial_kind[r] == RadialKind::adjacent ? 1 : 2;
       family_[f] = {model.radial_stiffness[r], model.radial_damping[r], model.radial_rest_angle[r]};
@@ -133,6 +136,7 @@ void LatticeKernel::copy_parameters(const ClothModel& model) {
         array(first + 1)[p] = real(model.connector_damping[e]);
         array(first + 2)[p] = real(model.connector_rest_length[e]);
         array(first + 3)[p] = model.connector_live[e] != 0 ? Real(1) : Real(0);
+        array(first + 4)[p] = real(element::kRadialFadeFraction * model.connector_original_length[e]);
         return true;
       },
       [&](std::uint32_t r, std::uint32_t p, std::size_t pair) {

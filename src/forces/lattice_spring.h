@@ -77,13 +77,35 @@ struct SingularLimits<float> {
   static constexpr float opening = 1e-5f;
 };
 
+// The fade of the radial springs on an arm of length `length` with fade length `fade_length` (m):
+// element::arm_fade's quintic, in the same order of operations, as selects so that it vectorises.
+template <typename Real>
+struct Fade {
+  Real value = 1;  // phi(l / f)
+  Real slope = 0;  // d phi / d l, 1/m
+};
+
+template <typename Real>
+[[gnu::always_inline]] inline Fade<Real> arm_fade(Real length, Real fade_length) {
+  const Real one = 1;
+  const bool inside = length < fade_length;
+  const Real s = inside ? length / fade_length : one;
+  const Real r = one - s;
+  const Real value =
+      s * s * s * (Real(element::kFadeCubic) + s * (Real(element::kFadeQuartic) + s * Real(element::kFadeQuintic)));
+  const Real slope = Real(element::kFadeSlope) * s * s * r * r / (inside ? fade_length : one);
+  return {inside ? value : one, inside ? slope : Real(0)};
+}
+
 // One radial spring between the connectors centre->b and centre->c, from their unit vectors and
-// inverse lengths (0: no such connector) and the relative velocities v_b - v_a, v_c - v_a. The
-// formulas are those of element::radial_force, rearranged to multiply by 1/length and
-// 1/sin(theta) once and to scale w = sin(theta) p instead of forming p. A singular spring
-// (sin(theta) < SingularLimits::sine) gets meaningless values from the kResolveSingular = false
-// version, which only reports it through `singular`; the caller then recomputes it with the true
-// version, which takes the bending plane from the motion like element::resolve_singular_directions.
+// inverse lengths (0: no such connector), their fades (phi and d phi / d l, from arm_fade) and
+// the relative velocities v_b - v_a, v_c - v_a. The formulas are those of element::radial_force,
+// rearranged to multiply by 1/length and 1/sin(theta) once and to scale w = sin(theta) p instead
+// of forming p. A singular spring (sin(theta) < SingularLimits::sine) gets meaningless values
+// from the kResolveSingular = false version, which only reports it through `singular`; the
+// caller then recomputes it with the true version, which takes the bending plane from the motion
+// like element::resolve_singular_directions. kFade = false leaves the fade out: for springs whose
+// arms are all outside it (fade 1, slope 0), where it changes nothing, bit for bit.
 template <typename Real>
 struct RadialResult {
   Vector<Real> on_b;
@@ -92,15 +114,23 @@ struct RadialResult {
   Real singular = 0;  // > 0 if the spring is singular (a Real: GCC vectorises it better than a bool)
 };
 
-template <typename Real, bool kResolveSingular>
+template <typename Real, bool kResolveSingular, bool kFade>
 [[gnu::always_inline]] inline RadialResult<Real> radial_spring(const Vector<Real>& ub, Real inverse_b,
-                                                               const Vector<Real>& uc, Real inverse_c,
+                                                               const Fade<Real>& fade_b, const Vector<Real>& uc,
+                                                               Real inverse_c, const Fade<Real>& fade_c,
                                                                const Vector<Real>& rb, const Vector<Real>& rc,
-                                                               Real stiffness, Real damping, Real rest_angle) {
+                                                               Real unfaded_stiffness, Real unfaded_damping,
+                                                               Real rest_angle) {
   using Limits = SingularLimits<Real>;
   const Real zero = 0;
   const Real one = 1;
   const bool exists = std::min(inverse_b, inverse_c) > zero;
+  // The faded energy's force (element::radial_force): the spring's coefficients times
+  // phi_b phi_c (1 exactly outside the fade, so the products keep their bits), then the pull
+  // along each arm.
+  const Real fade = kFade ? fade_b.value * fade_c.value : one;
+  const Real stiffness = kFade ? fade * unfaded_stiffness : unfaded_stiffness;
+  const Real damping = kFade ? fade * unfaded_damping : unfaded_damping;
   const Vector<Real> n = cross(ub, uc);
   const Real cosine = dot(ub, uc);
   const Real sine = std::sqrt(dot(n, n));
@@ -155,6 +185,20 @@ template <typename Real, bool kResolveSingular>
     fc = {use ? singular_fc.x : fc.x, use ? singular_fc.y : fc.y, use ? singular_fc.z : fc.z};
     angle_rate = use ? singular_rate : angle_rate;
     torque = use ? singular_torque : torque;
+  }
+  if constexpr (kFade) {
+    // The product rule's pull, -E phi_c phi_b' u_b on b (likewise on c), selected only inside
+    // the fade so that outside it the forces keep their bits (adding a zero could turn -0 into +0).
+    const Real theta = obtuse ? std::numbers::pi_v<Real> - angle : angle;
+    const Real departure = theta - rest_angle;
+    const Real energy = Real(0.5) * unfaded_stiffness * departure * departure;
+    const Real pull_b = energy * fade_c.value * fade_b.slope;
+    const Real pull_c = energy * fade_b.value * fade_c.slope;
+    const bool fading = fade < one;
+    fb = {fading ? fb.x - pull_b * ub.x : fb.x, fading ? fb.y - pull_b * ub.y : fb.y,
+          fading ? fb.z - pull_b * ub.z : fb.z};
+    fc = {fading ? fc.x - pull_c * uc.x : fc.x, fading ? fc.y - pull_c * uc.y : fc.y,
+          fading ? fc.z - pull_c * uc.z : fc.z};
   }
   out.on_b = {exists ? fb.x : zero, exists ? fb.y : zero, exists ? fb.z : zero};
   out.on_c = {exists ? fc.x : zero, exists ? fc.y : zero, exists ? fc.z : zero};

@@ -22,9 +22,11 @@ void accumulate_radial_springs(const ClothModel& model, std::span<const Vec3> po
       return;
     }
     const auto [centre, b, c] = model.radial_particles[r];
-    const element::RadialForce f = element::radial_force(
-        position[centre], position[b], position[c], velocity[centre], velocity[b], velocity[c],
-        model.radial_rest_angle[r], model.radial_stiffness[r], damped ? model.radial_damping[r] : 0.0);
+    const std::array<double, 2> fade = radial_fade_lengths(model, r);
+    const element::RadialForce f =
+        element::radial_force(position[centre], position[b], position[c], velocity[centre], velocity[b], velocity[c],
+                              model.radial_rest_angle[r], model.radial_stiffness[r],
+                              damped ? model.radial_damping[r] : 0.0, fade[0], fade[1]);
     slot[3 * r] = -(f.force_on_b + f.force_on_c);
     slot[3 * r + 1] = f.force_on_b;
     slot[3 * r + 2] = f.force_on_c;
@@ -35,8 +37,15 @@ void accumulate_radial_springs(const ClothModel& model, std::span<const Vec3> po
 double radial_spring_energy(const ClothModel& model, std::span<const Vec3> position, std::size_t r) {
   if (model.radial_live[r] == 0) return 0.0;
   const auto [centre, b, c] = model.radial_particles[r];
+  const std::array<double, 2> fade = radial_fade_lengths(model, r);
   return element::radial_energy(position[centre], position[b], position[c], model.radial_rest_angle[r],
-                                model.radial_stiffness[r]);
+                                model.radial_stiffness[r], fade[0], fade[1]);
+}
+
+std::array<double, 2> radial_fade_lengths(const ClothModel& model, std::size_t r) {
+  const auto [first, second] = model.radial_connectors[r];
+  return {element::kRadialFadeFraction * model.connector_original_length[first],
+          element::kRadialFadeFraction * model.connector_original_length[second]};
 }
 
 void add_radial_energy(const ClothModel& model, std::span<const Vec3> position, EnergyReport& report, int threads) {

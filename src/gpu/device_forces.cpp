@@ -4,6 +4,7 @@
 #include <string>
 
 #include "core/assert.h"
+#include "forces/forces.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
@@ -71,6 +72,13 @@ std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(con
   contents[A::radial_rest_angle] = real_bytes(model.radial_rest_angle, precision);
   contents[A::radial_stiffness] = real_bytes(model.radial_stiffness, precision);
   contents[A::radial_damping] = real_bytes(model.radial_damping, precision);
+  std::vector<double> fade_lengths(2 * model.radial_count());
+  for (std::size_t r = 0; r < model.radial_count(); ++r) {
+    const std::array<double, 2> fade = radial_fade_lengths(model, r);
+    fade_lengths[2 * r] = fade[0];
+    fade_lengths[2 * r + 1] = fade[1];
+  }
+  contents[A::radial_fade_length] = real_bytes(fade_lengths, precision);
   contents[A::radial_active] = index_bytes(std::span<const std::uint32_t>(radial_active_flags(model, terms)));
   return contents;
 }
@@ -94,6 +102,7 @@ std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const LatticeCo
   bytes[A::connector_active] = connectors * 4;
   bytes[A::radial_particles] = radials * 3 * 4;
   bytes[A::radial_rest_angle] = bytes[A::radial_stiffness] = bytes[A::radial_damping] = radials * real;
+  bytes[A::radial_fade_length] = 2 * radials * real;
   bytes[A::radial_active] = radials * 4;
   bytes[A::position] = bytes[A::velocity] = bytes[A::force] = particles * 3 * real;
   bytes[A::slot_force] = slots * 3 * real;
@@ -133,7 +142,7 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
       radials_(count32(model.radial_count(), "radial springs")),
       connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)), 9,
                       sizeof(ElementPassConstants)),
-      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), 9,
+      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), 10,
                    sizeof(ElementPassConstants)),
       gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
       sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
@@ -149,7 +158,7 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
   bind(connector_pass_, {position, velocity, connector_particles, connector_rest_length, connector_stiffness,
                          connector_damping, connector_active, slot_force, element_power});
   bind(radial_pass_, {position, velocity, radial_particles, radial_rest_angle, radial_stiffness, radial_damping,
-                      radial_active, slot_force, element_power});
+                      radial_fade_length, radial_active, slot_force, element_power});
   bind(gather_pass_, {velocity, particle_mass, environment, gather_offset, gather_slot, slot_force, force});
   bind(sum_pass_, {element_power, block_power, damping_power});
 }

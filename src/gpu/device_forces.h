@@ -79,6 +79,7 @@ class DeviceForces {
     radial_rest_angle,
     radial_stiffness,
     radial_damping,
+    radial_fade_length,  // [2 radial_count]: the b and c arms' fade lengths, m
     radial_active,
     slot_force,
     element_power,

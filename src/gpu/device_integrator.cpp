@@ -173,7 +173,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
       state_readback_(device_, std::uint64_t{particles_} * 6 * real_size(precision_), Memory::host_visible),
       stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 10, sizeof(StagePassConstants))),
-      lattice_pass_(make_pass(device_, "lattice_elements", precision_, 6, sizeof(LatticePassConstants))),
+      lattice_pass_(make_pass(device_, "lattice_elements", precision_, 7, sizeof(LatticePassConstants))),
       acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 15, sizeof(StagePassConstants))),
       solution_pass_(make_pass(device_, "rk_solution", precision_, 12, sizeof(StagePassConstants), kReduceWorkgroup)),
       control_pass_(make_pass(device_, "rk_control", precision_, 6, sizeof(ReducePassConstants), kReduceWorkgroup)),
@@ -207,7 +207,7 @@ void DeviceIntegrator::bind_passes() {
                             own(control_real), own(control_uint), own(particle_anchor), own(anchor_paths),
                             own(acceleration), own(particle_power), own(lattice_forces)});
   bind(lattice_pass_, {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces),
-                       own(particle_power), own(control_uint)});
+                       own(particle_power), own(control_uint), own(event_params)});
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
                         own(trial_velocity), own(block_error), own(block_particle)});

@@ -11,7 +11,9 @@
 namespace clothsim::gpu {
 namespace {
 
-constexpr std::uint32_t kBindings = 9;  // 7 inputs, 2 outputs: the shaders' binding list
+// The shaders' binding lists: the inputs, the active flags, then 2 outputs.
+constexpr std::uint32_t kConnectorBindings = 9;
+constexpr std::uint32_t kRadialBindings = 10;
 
 std::uint32_t element_count(std::size_t count, bool arrays_agree, const char* what) {
   if (!arrays_agree) throw GpuError(std::string(what) + ": the element arrays differ in length");
@@ -29,9 +31,9 @@ Device& with_precision(Device& device, Precision precision) {
 ElementForcePasses::ElementForcePasses(Device& device, Precision precision)
     : device_(with_precision(device, precision)),
       precision_(precision),
-      connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)), kBindings,
-                      sizeof(ElementPassConstants)),
-      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), kBindings,
+      connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)),
+                      kConnectorBindings, sizeof(ElementPassConstants)),
+      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), kRadialBindings,
                    sizeof(ElementPassConstants)) {}
 
 ElementForces ElementForcePasses::run(ComputePipeline& pipeline, std::span<const std::vector<std::byte>> inputs,
@@ -44,8 +46,9 @@ ElementForces ElementForcePasses::run(ComputePipeline& pipeline, std::span<const
   total += std::uint64_t{count} * 4;  // the active flags
   device_.require_memory(total, "the element force pass");
 
+  const std::size_t bindings = inputs.size() + 3;
   std::vector<Buffer> buffers;
-  buffers.reserve(kBindings);
+  buffers.reserve(bindings);
   for (const std::vector<std::byte>& input : inputs) {
     buffers.emplace_back(device_, input.size(), Memory::device_local);
     upload(device_, buffers.back(), input);
@@ -65,8 +68,8 @@ ElementForces ElementForcePasses::run(ComputePipeline& pipeline, std::span<const
 
   std::vector<std::byte> slot_result(slot_bytes);
   std::vector<std::byte> power_result(power_bytes);
-  download(device_, buffers[kBindings - 2], slot_result);
-  download(device_, buffers[kBindings - 1], power_result);
+  download(device_, buffers[bindings - 2], slot_result);
+  download(device_, buffers[bindings - 1], power_result);
   ElementForces forces;
   forces.slot_force = vectors_from_bytes(slot_result, precision_);
   forces.element_power = reals_from_bytes(power_result, precision_);
@@ -94,14 +97,16 @@ ElementForces ElementForcePasses::accumulate_radial_springs(const RadialSpringAr
   const std::uint32_t count =
       element_count(n,
                     arrays.radial_rest_angle.size() == n && arrays.radial_stiffness.size() == n &&
-                        arrays.radial_damping.size() == n && arrays.position.size() == arrays.velocity.size(),
+                        arrays.radial_damping.size() == n && arrays.radial_fade_length.size() == 2 * n &&
+                        arrays.position.size() == arrays.velocity.size(),
                     "accumulate_radial_springs");
   const std::vector<std::byte> inputs[] = {vector_bytes(arrays.position, precision_),
                                            vector_bytes(arrays.velocity, precision_),
                                            index_bytes(arrays.radial_particles),
                                            real_bytes(arrays.radial_rest_angle, precision_),
                                            real_bytes(arrays.radial_stiffness, precision_),
-                                           real_bytes(arrays.radial_damping, precision_)};
+                                           real_bytes(arrays.radial_damping, precision_),
+                                           real_bytes(arrays.radial_fade_length, precision_)};
   return run(radial_pass_, inputs, count, 3, damped);
 }
 

@@ -39,6 +39,7 @@ struct RadialSpringArrays {
   std::span<const double> radial_rest_angle;                       // [radial_count], rad
   std::span<const double> radial_stiffness;                        // [radial_count], N m/rad
   std::span<const double> radial_damping;                          // [radial_count], N m s/rad
+  std::span<const double> radial_fade_length;  // [2 radial_count]: the b and c arms' (radial_fade_lengths), m
 };
 
 // A pass's output, in double whatever the device's precision.

@@ -158,8 +158,8 @@ std::size_t BlockSystem::bytes() const {
   total += bytes(connector_jacobian) + bytes(radial_jacobian);
   total += bytes(row_offset) + bytes(column) + bytes(block) + bytes(connector_block) + bytes(radial_block);
   total += bytes(preconditioner) + bytes(free);
-  total += bytes(rhs) + bytes(solution) + bytes(residual_) + bytes(preconditioned_) + bytes(direction_) +
-           bytes(product_);
+  total +=
+      bytes(rhs) + bytes(solution) + bytes(residual_) + bytes(preconditioned_) + bytes(direction_) + bytes(product_);
   total += bytes(particle_aggregate_) + coarse_factor_.bytes() + bytes(coarse_vector_);
   if (multigrid_) total += multigrid_->bytes();
   total += bytes(block_sum_a_) + bytes(block_sum_b_) + bytes(block_sum_c_);
@@ -224,9 +224,10 @@ void BlockSystem::compute_jacobians(ForceTerms terms, std::span<const Vec3> x, s
       return;
     }
     const auto [centre, b, c] = model.radial_particles[r];
+    const std::array<double, 2> fade = radial_fade_lengths(model, r);
     radial_jacobian[r] =
         element::radial_jacobian(x[centre], x[b], x[c], v[centre], v[b], v[c], model.radial_rest_angle[r],
-                                 model.radial_stiffness[r], damped ? model.radial_damping[r] : 0.0);
+                                 model.radial_stiffness[r], damped ? model.radial_damping[r] : 0.0, fade[0], fade[1]);
   });
 }
 

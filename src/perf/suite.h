@@ -11,7 +11,7 @@
 // (getrusage), which includes the program itself and everything before the case.
 //
 // The roofline, read from the command: per case, the force kernel's achieved floating-point rate,
-// kLatticeKernelFlopsPerParticle (forces/lattice_kernel.h: 808 operations per particle and
+// kLatticeKernelFlopsPerParticle (forces/lattice_kernel.h: 836 operations per particle and
 // evaluation, counted from the code) times particles times evaluations over the wall time inside
 // force evaluation, and its share of the machine's peak on the case's thread count, in the
 // precision of its forces, measured by a multiply-add probe (perf/peak_flops.h) once per thread

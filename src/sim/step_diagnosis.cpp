@@ -85,8 +85,7 @@ StepLimit find_step_limit(const ClothModel& model, std::span<const Vec3> positio
     const NearestKink kink = nearest_kink(angle, model.radial_rest_angle[r]);
     const double mobility = angle_mobility(position[a], position[b], position[c], model.particle_mass[a],
                                            model.particle_mass[b], model.particle_mass[c]);
-    const double rate =
-        std::max(model.radial_damping[r] * mobility, std::sqrt(model.radial_stiffness[r] * mobility));
+    const double rate = std::max(model.radial_damping[r] * mobility, std::sqrt(model.radial_stiffness[r] * mobility));
     StepLimit limit{StepLimit::Kind::radial, r, kink.distance < kKinkWindow, kink.angle, angle, 0.0, rate};
     springs.emplace_back(limit, limit.at_kink ? -kink.distance : std::abs(angle - model.radial_rest_angle[r]));
   }
@@ -125,8 +124,9 @@ std::string describe_step_limit(const ClothModel& model, const StepLimit& limit,
         return "connector " + std::to_string(limit.element) + " between " + model.describe_particle(a) + " and " +
                model.describe_particle(b) + " has collapsed to " + diagnostic_number(length) + " m, " +
                diagnostic_number(100.0 * length / model.connector_rest_length[limit.element]) +
-               " % of its rest length: the radial springs on it lose their angle as it vanishes and their forces "
-               "grow as 1 / length (one particle is passing through the other)";
+               " % of its rest length (one particle is passing through the other): the radial springs on it have "
+               "faded out with it, but its own force keeps a magnitude near stiffness x rest length and turns "
+               "round as the length passes through 0";
       }
       return "connector " + std::to_string(limit.element) + " between " + model.describe_particle(a) + " and " +
              model.describe_particle(b) + " is at strain " + diagnostic_number(100.0 * limit.strain) + " % (" +

@@ -23,9 +23,11 @@ namespace clothsim {
 
 // How near a kink a radial spring counts as at it, rad (2 degrees).
 inline constexpr double kKinkWindow = 0.035;
-// A connector shorter than this fraction of its rest length counts as collapsing: the radial
-// springs on it lose their angle as its length goes to 0, and their forces grow as 1 / length.
-// The paper's hanging sheets die of this (docs/performance.md, "Soak").
+// A connector shorter than this fraction of its rest length counts as collapsing: one particle is
+// passing through the other. The radial springs on it fade out as it vanishes (their forces
+// would otherwise grow as 1 / length: forces/element_math.inc, kRadialFadeFraction), but the
+// connector's own force k (l - L) u turns round as l passes through 0. The paper's hanging sheets
+// died of this before the fade (docs/performance.md, "Soak").
 inline constexpr double kCollapsedLength = 0.1;
 
 struct StepLimit {

@@ -10,6 +10,8 @@
 
 #include "event_fixtures.h"
 #include "events/spring_events.h"
+#include "forces/element.h"
+#include "forces/forces.h"
 #include "model/model_edits.h"
 
 namespace clothsim {
@@ -101,6 +103,28 @@ TEST(EventStageLaws, ACreaseFoldedOneWayAndThenBackFollowsTheClosedForm) {
   state.position[2] = state.position[1] + Vec3{-std::cos(kPi - 0.5), 0.0, -std::sin(kPi - 0.5)};
   EXPECT_EQ(apply_at(model, state).creases, 1u);
   EXPECT_NEAR(model.radial_rest_angle[r], kPi - 0.3, 1e-12);
+}
+
+// A crease whose spring has an arm inside the fade of vanishing arms (forces/element_math.inc):
+// the work the event stage books is the change of the faded energy the balance sums, and a
+// connector that breaks there releases its radial springs' faded energy.
+TEST(EventStageLaws, WorkBookedInTheFadeIsTheFadedEnergysChange) {
+  SpringLimits limits;
+  limits.opposite_yield_angle = 0.2;
+  ClothModel model = strip_with(3, limits);
+  const std::size_t r = opposite_spring(model);
+  ClothState state = make_rest_state(model);
+  // Folded to pi - 0.6 with the arm to particle 2 at 30 % of its length: phi(0.6) = 0.68.
+  const Vec3 middle = state.position[1];
+  state.position[2] = middle + 0.3 * Vec3{-std::cos(kPi - 0.6), 0.0, std::sin(kPi - 0.6)};
+  const double before = compute_energy(model, state).radial_opposite;
+  EXPECT_EQ(apply_at(model, state).creases, 1u);
+  EXPECT_NEAR(model.radial_rest_angle[r], kPi - 0.4, 1e-12);
+  const double after = compute_energy(model, state).radial_opposite;
+  // Unfaded, the change would be 1/2 k (0.2^2 - 0.6^2); faded, phi(0.6) times that.
+  const double unfaded = 0.5 * model.radial_stiffness[r] * (0.2 * 0.2 - 0.6 * 0.6);
+  EXPECT_NEAR(after - before, element::arm_fade(0.3, 0.5).value * unfaded, 1e-9 * std::abs(unfaded));
+  EXPECT_NEAR(state.plastic_work, after - before, 1e-12 * std::abs(unfaded));
 }
 
 }  // namespace

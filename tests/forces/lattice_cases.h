@@ -57,4 +57,23 @@ inline ClothModel torn_and_plastic(int rows, int cols, double broken_fraction, s
   return model;
 }
 
+// Moves every third particle of x towards its east neighbour (its west one in the last column),
+// so that the connector between them is 2 % to 45 % of its original length: inside the fade of
+// the radial springs on it (forces/element_math.inc, kRadialFadeFraction). Returns how many
+// connectors it shortened.
+inline int collapse_connectors(const ClothModel& model, std::vector<Vec3>& x, std::uint64_t seed) {
+  TestRandom random(seed);
+  int count = 0;
+  for (std::size_t p = 0; p < x.size(); p += 3) {
+    if (model.cols < 2) break;
+    const bool last = static_cast<int>(p % static_cast<std::size_t>(model.cols)) == model.cols - 1;
+    const std::size_t q = last ? p - 1 : p + 1;
+    const Vec3 arm = x[p] - x[q];
+    const double length = random.uniform(0.02, 0.45) * model.spacing;
+    x[p] = x[q] + (length / norm(arm)) * arm;
+    ++count;
+  }
+  return count;
+}
+
 }  // namespace clothsim::testing

@@ -1,7 +1,8 @@
 // Element Jacobians against finite differences of the element forces and energies: the connector
 // Jacobian exactly, the radial one as the documented positive semi-definite approximation
 // (Gauss-Newton in the plane, the exact curvature out of it where that is non-negative, the exact
-// Hessian at a straight pair).
+// Hessian at a straight pair), and inside the fade of vanishing arms: exact damping, and exact
+// stiffness at the rest angle.
 #include "forces/element_jacobian.h"
 
 #include <gtest/gtest.h>
@@ -53,7 +54,7 @@ std::array<Vec3, 3> displaced(const std::array<Vec3, 3>& x, const Vector9& w, do
 }
 
 double energy(const std::array<Vec3, 3>& x, double rest, double k) {
-  return element::radial_energy(x[0], x[1], x[2], rest, k);
+  return element::radial_energy(x[0], x[1], x[2], rest, k, 0.0, 0.0);
 }
 
 // d^2 E / ds^2 along w, central second difference.
@@ -65,7 +66,7 @@ double energy_curvature(const std::array<Vec3, 3>& x, const Vector9& w, double r
 // Forces on (centre, b, c) of the elastic part of the radial spring.
 std::array<Vec3, 3> radial_forces(const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& v, double rest, double k,
                                   double c) {
-  const element::RadialForce f = element::radial_force(x[0], x[1], x[2], v[0], v[1], v[2], rest, k, c);
+  const element::RadialForce f = element::radial_force(x[0], x[1], x[2], v[0], v[1], v[2], rest, k, c, 0.0, 0.0);
   return {-(f.force_on_b + f.force_on_c), f.force_on_b, f.force_on_c};
 }
 
@@ -160,7 +161,8 @@ TEST(RadialJacobian, GaussNewtonPartIsStiffnessTimesAngleGradientOuterProduct) {
   for (int trial = 0; trial < 50; ++trial) {
     const std::array<Vec3, 3> x = configuration(random, random.uniform(0.2, kPi - 0.2));
     const double k = random.uniform(1, 50);
-    const element::RadialJacobian jacobian = element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, 1.0, k, 0.0);
+    const element::RadialJacobian jacobian =
+        element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, 1.0, k, 0.0, 0.0, 0.0);
     EXPECT_EQ(jacobian.in_plane_stiffness, k);
     for (std::size_t p = 0; p < 3; ++p) {
       const Vec3 numerical = testing::numerical_gradient(
@@ -182,7 +184,8 @@ TEST(RadialJacobian, StiffnessIsPositiveSemiDefinite) {
   for (int trial = 0; trial < 200; ++trial) {
     const std::array<Vec3, 3> x = configuration(random, random.uniform(0.01, kPi - 0.01));
     const double rest = random.uniform(0.0, kPi);
-    const element::RadialJacobian jacobian = element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, 10.0, 0.0);
+    const element::RadialJacobian jacobian =
+        element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, 10.0, 0.0, 0.0, 0.0);
     const Matrix9 m = radial_stiffness_matrix(jacobian);
     for (std::size_t i = 0; i < 9; ++i) {
       for (std::size_t j = 0; j < 9; ++j) EXPECT_NEAR(m[i][j], m[j][i], 1e-9) << "symmetric";
@@ -206,7 +209,8 @@ TEST(RadialJacobian, OutOfPlaneCurvatureIsExactWhereNonNegative) {
     const double angle = opposite ? random.uniform(kPi / 2 + 0.1, kPi - 0.05) : random.uniform(0.3, kPi - 0.3);
     const std::array<Vec3, 3> x = configuration(random, angle);
     const double k = 7.0;
-    const element::RadialJacobian jacobian = element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, k, 0.0);
+    const element::RadialJacobian jacobian =
+        element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, k, 0.0, 0.0, 0.0);
     const Matrix9 m = radial_stiffness_matrix(jacobian);
     const Vec3 eb = x[1] - x[0], ec = x[2] - x[0];
     Vec3 n = cross(eb, ec);
@@ -236,7 +240,8 @@ TEST(RadialJacobian, StraightPairIsTheExactHessian) {
     u = u / norm(u);
     const std::array<Vec3, 3> x = {centre, centre + random.uniform(0.5, 2) * u, centre - random.uniform(0.5, 2) * u};
     const double k = 3.0;
-    const element::RadialJacobian jacobian = element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, kPi, k, 0.0);
+    const element::RadialJacobian jacobian =
+        element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, kPi, k, 0.0, 0.0, 0.0);
     const Matrix9 m = radial_stiffness_matrix(jacobian);
     const std::array<Vec3, 3> still{};
     const double h = 1e-6;
@@ -260,7 +265,8 @@ TEST(RadialJacobian, DampingIsMinusForceVelocityDerivative) {
     const std::array<Vec3, 3> x = configuration(random, random.uniform(0.2, kPi - 0.2));
     const std::array<Vec3, 3> v = {random.vector(-1, 1), random.vector(-1, 1), random.vector(-1, 1)};
     const double c = random.uniform(0.5, 5);
-    const element::RadialJacobian jacobian = element::radial_jacobian(x[0], x[1], x[2], v[0], v[1], v[2], 1.0, 0.0, c);
+    const element::RadialJacobian jacobian =
+        element::radial_jacobian(x[0], x[1], x[2], v[0], v[1], v[2], 1.0, 0.0, c, 0.0, 0.0);
     const double h = 1e-6;
     for (int j = 0; j < 3; ++j) {
       for (int axis = 0; axis < 3; ++axis) {
@@ -275,6 +281,100 @@ TEST(RadialJacobian, DampingIsMinusForceVelocityDerivative) {
           for (int row = 0; row < 3; ++row) EXPECT_NEAR(block(row, axis), -column[row], 1e-7 * c);
         }
       }
+    }
+  }
+}
+
+// ---- the fade of vanishing arms ----------------------------------------------------------------
+
+// Forces on (centre, b, c) with both arms' fade lengths.
+std::array<Vec3, 3> faded_forces(const std::array<Vec3, 3>& x, const std::array<Vec3, 3>& v, double rest, double k,
+                                 double c, double fade_b, double fade_c) {
+  const element::RadialForce f = element::radial_force(x[0], x[1], x[2], v[0], v[1], v[2], rest, k, c, fade_b, fade_c);
+  return {-(f.force_on_b + f.force_on_c), f.force_on_b, f.force_on_c};
+}
+
+// Fade lengths that put both arms of x inside the fade, at 40 % to 90 % of it.
+std::array<double, 2> fade_lengths_inside(TestRandom& random, const std::array<Vec3, 3>& x) {
+  return {norm(x[1] - x[0]) / random.uniform(0.4, 0.9), norm(x[2] - x[0]) / random.uniform(0.4, 0.9)};
+}
+
+// Inside the fade the damping Jacobian phi c g g^T is exact.
+TEST(RadialJacobian, FadedDampingIsMinusForceVelocityDerivative) {
+  TestRandom random(26);
+  for (int trial = 0; trial < 30; ++trial) {
+    const std::array<Vec3, 3> x = configuration(random, random.uniform(0.2, kPi - 0.2));
+    const std::array<Vec3, 3> v = {random.vector(-1, 1), random.vector(-1, 1), random.vector(-1, 1)};
+    const std::array<double, 2> fade = fade_lengths_inside(random, x);
+    const double c = random.uniform(0.5, 5);
+    const element::RadialJacobian jacobian =
+        element::radial_jacobian(x[0], x[1], x[2], v[0], v[1], v[2], 1.0, 0.0, c, fade[0], fade[1]);
+    EXPECT_LT(jacobian.damping, c);
+    const double h = 1e-6;
+    for (int j = 0; j < 3; ++j) {
+      for (int axis = 0; axis < 3; ++axis) {
+        std::array<Vec3, 3> vp = v, vm = v;
+        vp[static_cast<std::size_t>(j)] += h * kAxes[axis];
+        vm[static_cast<std::size_t>(j)] -= h * kAxes[axis];
+        const std::array<Vec3, 3> fp = faded_forces(x, vp, 1.0, 0.0, c, fade[0], fade[1]);
+        const std::array<Vec3, 3> fm = faded_forces(x, vm, 1.0, 0.0, c, fade[0], fade[1]);
+        for (int i = 0; i < 3; ++i) {
+          const Mat3 block = jacobian.damping_block(i, j);
+          const Vec3 column = (fp[static_cast<std::size_t>(i)] - fm[static_cast<std::size_t>(i)]) / (2 * h);
+          for (int row = 0; row < 3; ++row) EXPECT_NEAR(block(row, axis), -column[row], 1e-7 * c);
+        }
+      }
+    }
+  }
+}
+
+// At the rest angle the faded stiffness phi k g g^T is the exact -df/dx of the faded force
+// (element_jacobian.h: the fade's own terms carry E or dE, both zero there).
+TEST(RadialJacobian, FadedStiffnessIsExactAtTheRestAngle) {
+  TestRandom random(27);
+  for (int trial = 0; trial < 30; ++trial) {
+    const double rest = random.uniform(0.3, kPi - 0.3);
+    const std::array<Vec3, 3> x = configuration(random, rest);
+    const double angle = element::radial_angle(x[0], x[1], x[2]);
+    const std::array<double, 2> fade = fade_lengths_inside(random, x);
+    const double k = random.uniform(1, 50);
+    const element::RadialJacobian jacobian =
+        element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, angle, k, 0.0, fade[0], fade[1]);
+    const Matrix9 m = radial_stiffness_matrix(jacobian);
+    const std::array<Vec3, 3> still{};
+    const double h = 1e-6;
+    for (std::size_t j = 0; j < 9; ++j) {
+      Vector9 w{};
+      w[j] = 1.0;
+      const std::array<Vec3, 3> plus = faded_forces(displaced(x, w, h), still, angle, k, 0.0, fade[0], fade[1]);
+      const std::array<Vec3, 3> minus = faded_forces(displaced(x, w, -h), still, angle, k, 0.0, fade[0], fade[1]);
+      for (std::size_t i = 0; i < 9; ++i) {
+        const double derivative =
+            (plus[i / 3][static_cast<int>(i % 3)] - minus[i / 3][static_cast<int>(i % 3)]) / (2 * h);
+        EXPECT_NEAR(m[i][j], -derivative, 1e-5 * k) << "entry (" << i << ", " << j << "), trial " << trial;
+      }
+    }
+  }
+}
+
+// Away from the rest angle the faded stiffness is phi times the unfaded approximation (the
+// documented one), so it stays symmetric positive semi-definite and vanishes with the arm.
+TEST(RadialJacobian, FadedStiffnessIsTheFadeTimesTheUnfadedApproximation) {
+  TestRandom random(28);
+  for (int trial = 0; trial < 50; ++trial) {
+    const std::array<Vec3, 3> x = configuration(random, random.uniform(0.05, kPi - 0.05));
+    const std::array<double, 2> fade = fade_lengths_inside(random, x);
+    const double rest = random.uniform(0.0, kPi);
+    const double phi =
+        element::arm_fade(norm(x[1] - x[0]), fade[0]).value * element::arm_fade(norm(x[2] - x[0]), fade[1]).value;
+    ASSERT_LT(phi, 1.0);
+    const Matrix9 faded = radial_stiffness_matrix(
+        element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, 10.0, 0.0, fade[0], fade[1]));
+    const Matrix9 plain =
+        radial_stiffness_matrix(element::radial_jacobian(x[0], x[1], x[2], {}, {}, {}, rest, 10.0, 0.0, 0.0, 0.0));
+    for (std::size_t i = 0; i < 9; ++i) {
+      for (std::size_t j = 0; j < 9; ++j)
+        EXPECT_NEAR(faded[i][j], phi * plain[i][j], 1e-12 * (1 + std::abs(plain[i][j])));
     }
   }
 }

@@ -2,7 +2,7 @@
 // damping power up to rounding on random configurations (stretched, bent, folded, flat with
 // motion: the singular case), on intact sheets and on torn and plastic ones, bit-for-bit thread
 // independence of both paths, uniform sheets read without parameter arrays giving the same bits,
-// the choice of the kernel by the recorded layout, edits followed through the model's revision,
+// collapsing connectors whose radial springs fade, the choice of the kernel by the recorded layout, edits followed through the model's revision,
 // and the vectorisable arctangent against std::atan2.
 #include <gtest/gtest.h>
 
@@ -11,6 +11,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <string>
 
 #include "forces/forces.h"
 #include "forces/lattice_cases.h"
@@ -139,6 +140,39 @@ TEST(LatticeKernel, AgreesWithTheGeneralPathOnAStripMovingAlongItsLine) {
 // Gravity is mass times g in both paths, with a mass other than 1 (the paper's 1 kg would hide a
 // forgotten mass) set as the viewer sets it. (The general path is what torn and irregular models
 // take; a lattice model takes the kernel unless asked, so it is asked here.)
+// Connectors collapsed to 2 % to 45 % of their length, so that the radial springs on them fade
+// (forces/element_math.inc): the kernel's fade (computed per connector, lattice_spring::arm_fade)
+// agrees with the element's, on intact sheets and on torn and plastic ones (whose connectors'
+// rest lengths differ from the original lengths the fade is measured against).
+TEST(LatticeKernel, AgreesWithTheGeneralPathWhereRadialSpringsFade) {
+  std::uint64_t seed = 70;
+  for (const auto& [rows, cols] : std::vector<std::pair<int, int>>{{2, 3}, {5, 4}, {9, 8}}) {
+    for (double broken : {-1.0, 0.0, 0.2}) {  // -1: the intact, uniform sheet
+      const ClothModel model = broken < 0.0 ? lattice(rows, cols, 0.2) : torn_and_plastic(rows, cols, broken, seed++);
+      std::vector<Vec3> x, v;
+      randomise(model, 0.05, 2.0, seed++, x, v);
+      ASSERT_GT(testing::collapse_connectors(model, x, seed++), 0);
+      SCOPED_TRACE(std::to_string(rows) + " x " + std::to_string(cols) + ", broken " + std::to_string(broken));
+      expect_paths_agree(model, x, v);
+      expect_paths_agree(model, x, v, kAdjacentRadialSprings | kOppositeRadialSprings);
+    }
+  }
+}
+
+// The kernel leaves the fade out of bands of particles with no arm inside it. One connector
+// collapsed across the boundary of two bands (the radial pass runs over bands of at least 256
+// particles, whole rows: rows 0-15 and 16-19 of a 20 x 16 sheet): the south arm of a particle of
+// the first band and the north arm of one of the second, which must fade in both.
+TEST(LatticeKernel, AgreesWithTheGeneralPathWhereOneConnectorFadesAcrossBands) {
+  const ClothModel model = lattice(20, 16, 0.2);
+  std::vector<Vec3> x, v;
+  randomise(model, 0.05, 2.0, 75, x, v);
+  const std::size_t above = 15 * 16 + 5;  // row 15, col 5
+  const std::size_t below = above + 16;   // row 16, col 5
+  x[below] = x[above] + 0.2 * (x[below] - x[above]);
+  expect_paths_agree(model, x, v);
+}
+
 TEST(LatticeKernel, GravityAloneIsMassTimesG) {
   ClothModel model = lattice(4, 5);
   set_particle_mass(model, 2.5);

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <tuple>
 #include <vector>
 
 #include "events/spring_events.h"
@@ -41,7 +42,6 @@ ClothModel paper_lattice(int rows, int cols) {
   lattice.cols = cols;
   return build_lattice(lattice, Environment{{0, -9.81, 0}, 0.0}, {});
 }
-
 
 // A built-in scene the backend runs: paper-fig4 without its self-collision (the paper had none).
 SceneSpec device_scene(const char* name, const BackendSettings& backend) {
@@ -151,8 +151,12 @@ TEST(DeviceIntegrator, FreeFlightKeepsMomentumAndAngularMomentum) {
 // general path (element passes and force slots) on a sheet that is not square, torn in places,
 // with every spring's rest value and constants its own (as plasticity and creasing leave them),
 // moving: one RKF45 step each, in float64, from the same state. The two evaluate the same
-// formulas and differ only in the order of the sums: a few ulps.
-TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPath) {
+// formulas and differ only in the order of the sums: a few ulps. With `collapse`, a few particles
+// are moved to 10 % to 40 % of the way from a neighbour (east, south, west and north of them), so
+// that the radial springs on those connectors fade (forces/element_math.inc): the lattice path
+// takes the fade lengths from each arm's connector, its own or its neighbour's (whose original
+// lengths differ here).
+void expect_lattice_path_is_general_path(bool collapse) {
   ClothModel model = paper_lattice(12, 9);
   ClothState state;
   state.position = model.particle_rest_position;
@@ -168,6 +172,21 @@ TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPath) {
   }
   for (std::size_t r = 0; r < model.radial_count(); ++r)
     model.radial_rest_angle[r] += 0.05 * std::sin(static_cast<double>(r));
+  if (collapse) {
+    // Original lengths that differ from connector to connector (as if built so), so that an arm
+    // whose fade length came from the wrong connector would show.
+    for (std::size_t e = 0; e < model.connector_count(); ++e) {
+      model.connector_original_length[e] *= 1.0 + 0.3 * std::sin(2.7 * static_cast<double>(e));
+    }
+    const int cols = model.cols;
+    // (particle, neighbour, fraction of the way left)
+    for (const auto& [p, q, left] : {std::tuple{20, 21, 0.1}, std::tuple{31, 31 + cols, 0.25}, std::tuple{58, 57, 0.4},
+                                     std::tuple{84, 84 - cols, 0.15}}) {
+      const auto a = static_cast<std::size_t>(p);
+      const auto b = static_cast<std::size_t>(q);
+      state.position[a] = state.position[b] + left * (state.position[a] - state.position[b]);
+    }
+  }
   for (std::uint32_t e : {5u, 17u, 40u, 41u}) tear_connector(model, state, e);
   IntegratorSettings settings;  // rkf45, first step 1e-3 s
   ForceOptions general;
@@ -185,6 +204,12 @@ TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPath) {
   EXPECT_LT(largest_distance(a.velocity, b.velocity), 1e-11);
   EXPECT_NEAR(a.damping_work, b.damping_work, 1e-12 * std::abs(b.damping_work));
   EXPECT_LT(a.damping_work, 0.0);
+}
+
+TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPath) { expect_lattice_path_is_general_path(false); }
+
+TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPathWhereRadialSpringsFade) {
+  expect_lattice_path_is_general_path(true);
 }
 
 // A sheet that tears (tearing and the events on the device, lattice_events_*): an 11 x 11 sheet

@@ -1,9 +1,9 @@
 // The device's element forces against element.h, the CPU's, on random inputs: generic
 // configurations, straight (theta = pi) and folded (theta = 0) radial springs exactly and nearly,
 // across the singular sine (kSingularSine = 1e-12), with and without damping, and zero-length
-// connectors. Both sides evaluate the same text (forces/element_math.inc), so the differences are
-// rounding: the device's atan2 (the shared arctangent, forces/arctangent.inc) against glibc's, and
-// whatever contraction or division the driver's compiler does differently.
+// connectors; every 4th radial spring with its arms inside the fade of vanishing arms. Both sides evaluate the same
+// text (forces/element_math.inc), so the differences are rounding: the device's atan2 (the shared arctangent,
+// forces/arctangent.inc) against glibc's, and whatever contraction or division the driver's compiler does differently.
 //
 // The bounds, per element, on the largest difference of any force slot (and of the damping
 // power), measured against the element's force scale S, the largest force its parameters allow:
@@ -150,9 +150,12 @@ struct RadialCases {
   std::vector<Vec3> position, velocity;
   std::vector<std::array<std::uint32_t, 3>> particles;
   std::vector<double> rest_angle, stiffness, damping;
+  std::vector<double> fade_length;  // [2 count]: the b and c arms'
   std::vector<Shape> shape;
 
-  gpu::RadialSpringArrays arrays() const { return {position, velocity, particles, rest_angle, stiffness, damping}; }
+  gpu::RadialSpringArrays arrays() const {
+    return {position, velocity, particles, rest_angle, stiffness, damping, fade_length};
+  }
 };
 
 RadialCases radial_cases(std::size_t count, std::uint64_t seed) {
@@ -201,6 +204,12 @@ RadialCases radial_cases(std::size_t count, std::uint64_t seed) {
     cases.rest_angle.push_back(rest_kind == 0 ? kPi : rest_kind == 1 ? 0.0 : random.uniform(0, kPi));
     cases.stiffness.push_back(random.uniform(1, 2000));
     cases.damping.push_back(random.uniform(0, 300));
+    // Every 4th spring with arms inside the fade of vanishing arms (element_math.inc), at 1 to 1/3
+    // of their fade length; the others never fade. Not drawn: the other cases stay as they were.
+    const bool fading = r % 4 == 3;
+    const double fade_scale = 1.0 + static_cast<double>(r / 4 % 7) / 3.0;
+    cases.fade_length.push_back(fading ? fade_scale * length_b : 0.0);
+    cases.fade_length.push_back(fading ? (3.0 - 0.5 * (fade_scale - 1.0)) * length_c : 0.0);
     cases.shape.push_back(shape);
   }
   return cases;
@@ -209,7 +218,7 @@ RadialCases radial_cases(std::size_t count, std::uint64_t seed) {
 RadialCases rounded_to_float(RadialCases cases) {
   for (Vec3& x : cases.position) x = round_to_float(x);
   for (Vec3& v : cases.velocity) v = round_to_float(v);
-  for (auto* values : {&cases.rest_angle, &cases.stiffness, &cases.damping}) {
+  for (auto* values : {&cases.rest_angle, &cases.stiffness, &cases.damping, &cases.fade_length}) {
     for (double& value : *values) value = round_to_float(value);
   }
   return cases;
@@ -243,7 +252,8 @@ RadialDifferences radial_differences(const RadialCases& cases, const gpu::Elemen
     const Vec3& vc = cases.velocity[c];
     const double k = cases.stiffness[r];
     const double damping = damped ? cases.damping[r] : 0.0;
-    const element::RadialForce cpu = element::radial_force(xa, xb, xc, va, vb, vc, cases.rest_angle[r], k, damping);
+    const element::RadialForce cpu = element::radial_force(xa, xb, xc, va, vb, vc, cases.rest_angle[r], k, damping,
+                                                           cases.fade_length[2 * r], cases.fade_length[2 * r + 1]);
     const element::RadialGeometry g = element::radial_geometry(xa, xb, xc);
     const double turning = norm(vb - va) / g.length_b + norm(vc - va) / g.length_c;
     const double scale = (k * kPi + damping * turning) / std::min(g.length_b, g.length_c);

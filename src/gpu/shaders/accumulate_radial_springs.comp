@@ -4,7 +4,8 @@
 // radial spring writes its three force slots (3r: the centre, 3r+1: b, 3r+2: c, after slot_base)
 // and its damping power; zeros for a spring that is broken or whose term (adjacent or opposite)
 // is off. The formula is element_math.inc's radial_force, the CPU's own text, with its handling of
-// straight and folded pairs (the singular sine).
+// straight and folded pairs (the singular sine) and its fade of vanishing arms (the fade lengths
+// of forces.h's radial_fade_lengths).
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/element_pass.h"
 
@@ -18,9 +19,10 @@ layout(std430, binding = 2) readonly buffer Particles { uint radial_particles[];
 layout(std430, binding = 3) readonly buffer RestAngle { Real radial_rest_angle[]; };  // rad
 layout(std430, binding = 4) readonly buffer Stiffness { Real radial_stiffness[]; };   // N m/rad
 layout(std430, binding = 5) readonly buffer Damping { Real radial_damping[]; };       // N m s/rad
-layout(std430, binding = 6) readonly buffer Active { uint radial_active[]; };  // 1: live and its term on
-layout(std430, binding = 7) writeonly buffer SlotForce { Real slot_force[]; };  // [3 force_slot_count], N
-layout(std430, binding = 8) writeonly buffer ElementPower { Real element_power[]; };  // [connectors + radials], W
+layout(std430, binding = 6) readonly buffer FadeLength { Real radial_fade_length[]; };  // [2 radial_count]: b, c arms, m
+layout(std430, binding = 7) readonly buffer Active { uint radial_active[]; };  // 1: live and its term on
+layout(std430, binding = 8) writeonly buffer SlotForce { Real slot_force[]; };  // [3 force_slot_count], N
+layout(std430, binding = 9) writeonly buffer ElementPower { Real element_power[]; };  // [connectors + radials], W
 
 layout(push_constant) uniform Constants { ElementPassConstants constants; };
 
@@ -49,7 +51,8 @@ void main() {
   const Real damping = constants.damped != 0u ? radial_damping[r] : Real(0.0);
   const RadialForce f = radial_force(particle_position(centre), particle_position(b), particle_position(c),
                                      particle_velocity(centre), particle_velocity(b), particle_velocity(c),
-                                     radial_rest_angle[r], radial_stiffness[r], damping);
+                                     radial_rest_angle[r], radial_stiffness[r], damping, radial_fade_length[2 * r],
+                                     radial_fade_length[2 * r + 1]);
   store_slot(slot, -(f.force_on_b + f.force_on_c));
   store_slot(slot + 1, f.force_on_b);
   store_slot(slot + 2, f.force_on_c);

@@ -15,6 +15,14 @@ LatticeCell lattice_cell(uint p, uint rows, uint cols) {
   return cell;
 }
 
+// Where the connector of arm d of particle p keeps its values in `event_params` (east and south
+// its own, west and north its neighbour's): its original length sets the fade of the radial
+// springs on the arm (element_math.inc, kRadialFadeFraction).
+uint arm_event_params(uint d, LatticeCell cell, uint p) {
+  if (d < 2u) return p * kEventParams + kEventsPerConnector * d;
+  return cell.neighbour[d] * kEventParams + kEventsPerConnector * (d - 2u);
+}
+
 // The arms of a particle's radial springs, kRadialArmB and kRadialArmC, in build_lattice's order:
 // the model's table.
 #include "model/lattice_springs.inc"

@@ -7,7 +7,8 @@
 // (E,W), (S,N)), with element_math.inc's formulas, and writes the sum of their forces on itself,
 // their forces on each of its four neighbours (which stage_acceleration gathers), and their
 // damping power. Parameters come per particle (lattice_params), so torn, plastic and creased
-// sheets take this path too: a missing, broken or switched-off spring has active 0.
+// sheets take this path too: a missing, broken or switched-off spring has active 0. The radial
+// springs fade as an arm vanishes, with the arm connector's original length from event_params.
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
@@ -21,6 +22,7 @@ layout(std430, binding = 2) readonly buffer Params { Real lattice_params[]; };  
 layout(std430, binding = 3) writeonly buffer Forces { Real lattice_forces[]; };  // [particles][kLatticeForces]
 layout(std430, binding = 4) writeonly buffer ParticlePower { Real particle_power[]; };  // [stages][3][particles]
 layout(std430, binding = 5) readonly buffer ControlUint { uint control_uint[]; };
+layout(std430, binding = 6) readonly buffer EventParams { Real event_params[]; };  // [particles][kEventParams]
 
 layout(push_constant) uniform Constants { LatticePassConstants constants; };
 
@@ -40,9 +42,12 @@ void main() {
   const Vec3 v = load_velocity(p);
   Vec3 arm_x[4];
   Vec3 arm_v[4];
+  Real fade_length[4];
   for (uint d = 0u; d < 4u; ++d) {
     arm_x[d] = has[d] ? load_position(neighbour[d]) : x;
     arm_v[d] = has[d] ? load_velocity(neighbour[d]) : v;
+    fade_length[d] =
+        has[d] ? kRadialFadeFraction * event_params[arm_event_params(d, cell, p) + kEventOriginalLength] : Real(0.0);
   }
   const uint base = p * kLatticeParams;
   const Real damped = constants.damped != 0u ? Real(1.0) : Real(0.0);
@@ -68,7 +73,8 @@ void main() {
     if (!has[b] || !has[c] || lattice_params[r + kParamActive] == Real(0.0)) continue;
     const RadialForce f =
         radial_force(x, arm_x[b], arm_x[c], v, arm_v[b], arm_v[c], lattice_params[r + kParamRest],
-                     lattice_params[r + kParamStiffness], damped * lattice_params[r + kParamDamping]);
+                     lattice_params[r + kParamStiffness], damped * lattice_params[r + kParamDamping],
+                     fade_length[b], fade_length[c]);
     own -= f.force_on_b + f.force_on_c;
     to[b] += f.force_on_b;
     to[c] += f.force_on_c;

@@ -56,8 +56,11 @@ void main() {
       const Vec3 xc = load_position(cell.neighbour[c]);
       const Real rest = lattice_params[r + kParamRest];
       const Real stiffness = lattice_params[r + kParamStiffness];
+      // The fade of vanishing arms (element_math.inc), from the arm connectors' original lengths.
+      const Real fade_b = kRadialFadeFraction * event_params[arm_event_params(b, cell, p) + kEventOriginalLength];
+      const Real fade_c = kRadialFadeFraction * event_params[arm_event_params(c, cell, p) + kEventOriginalLength];
       if (arm_broke(b, cell, p) || arm_broke(c, cell, p)) {
-        fracture -= radial_energy(x, xb, xc, rest, stiffness);
+        fracture -= radial_energy(x, xb, xc, rest, stiffness, fade_b, fade_c);
         lattice_params[r + kParamActive] = Real(0.0);
         continue;
       }
@@ -65,7 +68,8 @@ void main() {
       if ((constants.laws & kLawCreasing) == 0u) continue;
       const Real new_rest = creased_rest_angle(radial_angle(x, xb, xc), rest, yield_angle);
       if (new_rest == rest) continue;
-      plastic += radial_energy(x, xb, xc, new_rest, stiffness) - radial_energy(x, xb, xc, rest, stiffness);
+      plastic += radial_energy(x, xb, xc, new_rest, stiffness, fade_b, fade_c) -
+                 radial_energy(x, xb, xc, rest, stiffness, fade_b, fade_c);
       lattice_params[r + kParamRest] = new_rest;
       atomicAdd(control_uint[kCreases], 1u);
     }
