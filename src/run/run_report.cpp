@@ -21,6 +21,7 @@
 #include "model/cloth_model.h"
 #include "model/model_edits.h"
 #include "model/sheet_mesh.h"
+#include "render/tessellation.h"
 #include "run/report_assets.h"
 #include "run/run_folders.h"
 #include "run/run_scene.h"
@@ -54,12 +55,6 @@ std::string base64(std::span<const std::uint8_t> bytes) {
 template <typename T>
 std::string base64_of(const std::vector<T>& values) {
   return base64({reinterpret_cast<const std::uint8_t*>(values.data()), values.size() * sizeof(T)});
-}
-
-void push_vec3(std::vector<float>& out, const Vec3& v) {
-  out.push_back(static_cast<float>(v.x));
-  out.push_back(static_cast<float>(v.y));
-  out.push_back(static_cast<float>(v.z));
 }
 
 json vec3_json(const Vec3& v) { return json::array({v.x, v.y, v.z}); }
@@ -122,7 +117,7 @@ json collider_json(const Collider& collider, const std::vector<double>& times) {
       break;
     case ColliderShape::mesh: {
       std::vector<float> vertices;
-      for (const Vec3& v : collider.mesh->vertex) push_vec3(vertices, v);
+      for (const Vec3& v : collider.mesh->vertex) render::push_vec3(vertices, v);
       std::vector<std::uint32_t> triangles;
       for (const auto& t : collider.mesh->triangle) triangles.insert(triangles.end(), t.begin(), t.end());
       out["vertices"] = base64_of(vertices);
@@ -131,7 +126,7 @@ json collider_json(const Collider& collider, const std::vector<double>& times) {
     }
   }
   std::vector<float> offsets;
-  for (double t : times) push_vec3(offsets, collider_offset(collider, t));
+  for (double t : times) render::push_vec3(offsets, collider_offset(collider, t));
   out["offsets"] = base64_of(offsets);
   return out;
 }
@@ -196,7 +191,7 @@ json frames_json(const fs::path& folder, const SceneSpec& spec, const json& summ
     }
     offsets.push_back(vertices.size());
     counts.push_back(mesh.vertex_count());
-    for (const Vec3& v : mesh.vertex_position) push_vec3(vertices, v);
+    for (const Vec3& v : mesh.vertex_position) render::push_vec3(vertices, v);
     times.push_back(t);
   }
 
