@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "core/assert.h"
+#include "core/multiversion.h"
 #include "core/parallel.h"
 
 namespace clothsim {
@@ -14,7 +15,13 @@ constexpr std::array<std::array<int, 2>, 21> kOffsets = {{{-2, -1}, {-2, 0},  {-
                                                           {0, -2},  {0, -1},  {0, 0},  {0, 1},  {0, 2},   //
                                                           {1, -2},  {1, -1},  {1, 0},  {1, 1},  {1, 2},   //
                                                           {2, -1},  {2, 0},   {2, 1}}};
-constexpr std::size_t kDiagonalSlot = 10;
+constexpr std::size_t kDiagonalSlot = 10;  // the coarse rows' upper half: the slots from here on
+
+// The fine lattice's upper stencil: the elements join particles one row or column apart
+// (connectors, adjacent radial springs: (1, -1), (1, 1)) or two along a row or column (opposite
+// radial springs).
+constexpr std::array<SymmetricStencilMatrix::Offset, 7> kFineUpper = {
+    {{0, 0}, {0, 1}, {0, 2}, {1, -1}, {1, 0}, {1, 1}, {2, 0}}};
 
 // The slot of offset (di, dj), both in [-2, 2], not a corner.
 constexpr std::size_t stencil_slot(int di, int dj) {
@@ -69,7 +76,8 @@ void for_each_child_1d(std::size_t coarse, std::size_t fine_count, std::size_t c
 
 }  // namespace
 
-LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols) : rows_(rows), cols_(cols) {
+LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols)
+    : rows_(rows), cols_(cols), fine_stencil_(rows, cols, kFineUpper) {
   CLOTHSIM_ASSERT(rows > 0 && cols > 0, "a lattice");
   fine_residual_.assign(rows * cols, Vec3{});
   std::size_t level_rows = rows;
@@ -86,6 +94,7 @@ LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols) : rows_(r
     const std::size_t nodes = level_rows * level_cols;
     level.block.assign(nodes * kStencil, Mat3{});
     level.diagonal_inverse.assign(nodes, Mat3{});
+    level.stencil = SymmetricStencilMatrix(level_rows, level_cols, std::span(kOffsets).subspan(kDiagonalSlot));
     for (std::vector<Vec3>* vector : {&level.rhs, &level.solution, &level.residual}) vector->assign(nodes, Vec3{});
     coarse_.push_back(std::move(level));
   } while (level_rows * level_cols > kCoarsestNodes);
@@ -95,76 +104,41 @@ LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols) : rows_(r
 }
 
 std::size_t LatticeMultigrid::bytes() const {
-  std::size_t total = fine_residual_.capacity() * sizeof(Vec3) + coarsest_.bytes();
+  std::size_t total = fine_residual_.capacity() * sizeof(Vec3) + fine_stencil_.bytes() + coarsest_.bytes();
   total += coarsest_vector_.capacity() * sizeof(double);
   for (const CoarseLevel& level : coarse_) {
-    total += (level.block.capacity() + level.diagonal_inverse.capacity()) * sizeof(Mat3);
+    total += (level.block.capacity() + level.diagonal_inverse.capacity()) * sizeof(Mat3) + level.stencil.bytes();
     total += (level.rhs.capacity() + level.solution.capacity() + level.residual.capacity()) * sizeof(Vec3);
   }
   return total;
 }
 
 std::size_t LatticeMultigrid::bytes_for(std::size_t rows, std::size_t cols) {
-  std::size_t total = rows * cols * sizeof(Vec3);
+  std::size_t total = rows * cols * sizeof(Vec3) + SymmetricStencilMatrix::bytes_for(rows * cols, kFineUpper.size());
   std::size_t level_rows = rows;
   std::size_t level_cols = cols;
   do {
     level_rows = (level_rows + 1) / 2;
     level_cols = (level_cols + 1) / 2;
     const std::size_t nodes = level_rows * level_cols;
-    total += nodes * ((kStencil + 1) * sizeof(Mat3) + 3 * sizeof(Vec3));
+    total += nodes * ((kStencil + 1) * sizeof(Mat3) + 3 * sizeof(Vec3)) +
+             SymmetricStencilMatrix::bytes_for(nodes, kStencil - kDiagonalSlot);
   } while (level_rows * level_cols > kCoarsestNodes);
   const std::size_t dofs = 3 * level_rows * level_cols;
   return total + BandedCholesky::bytes_for(dofs, 3 * (2 * level_cols + 1) + 2) + dofs * sizeof(double);
 }
 
-Vec3 LatticeMultigrid::row_product(std::size_t level, std::size_t node, std::span<const Vec3> x) const {
-  if (level == 0) {
-    // Two partial sums, alternating blocks: half the chain of dependent additions.
-    Vec3 even;
-    Vec3 odd;
-    const std::uint32_t end = fine_.row_offset[node + 1];
-    std::uint32_t k = fine_.row_offset[node];
-    for (; k + 1 < end; k += 2) {
-      even += fine_.block[k] * x[fine_.column[k]];
-      odd += fine_.block[k + 1] * x[fine_.column[k + 1]];
-    }
-    if (k < end) even += fine_.block[k] * x[fine_.column[k]];
-    const Vec3 sum = even + odd;
-    return fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], sum) : sum;
-  }
-  const CoarseLevel& coarse = coarse_[level - 1];
-  const std::size_t row = node / coarse.cols;
-  const std::size_t col = node % coarse.cols;
-  const Mat3* blocks = &coarse.block[node * kStencil];
-  Vec3 even;
-  Vec3 odd;
-  if (row >= 2 && col >= 2 && row + 2 < coarse.rows && col + 2 < coarse.cols) {
-    // An interior node: every neighbour exists.
-    const Vec3* centre = &x[node];
-    for (std::size_t s = 0; s + 1 < kStencil; s += 2) {
-      even += blocks[s] * centre[coarse.node_offset[s]];
-      odd += blocks[s + 1] * centre[coarse.node_offset[s + 1]];
-    }
-    even += blocks[kStencil - 1] * centre[coarse.node_offset[kStencil - 1]];
-    return even + odd;
-  }
-  for (std::size_t s = 0; s < kStencil; ++s) {
-    const std::ptrdiff_t i = static_cast<std::ptrdiff_t>(row) + kOffsets[s][0];
-    const std::ptrdiff_t j = static_cast<std::ptrdiff_t>(col) + kOffsets[s][1];
-    if (i < 0 || j < 0 || i >= static_cast<std::ptrdiff_t>(coarse.rows) ||
-        j >= static_cast<std::ptrdiff_t>(coarse.cols)) {
-      continue;
-    }
-    even += blocks[s] * x[static_cast<std::size_t>(i) * coarse.cols + static_cast<std::size_t>(j)];
-  }
-  return even;
+[[gnu::always_inline]] inline Vec3 LatticeMultigrid::row_product(std::size_t level, std::size_t node,
+                                                                 std::span<const Vec3> x) const {
+  if (level > 0) return coarse_[level - 1].stencil.row_product(node, x);
+  const Vec3 sum = fine_stencil_.row_product(node, x);
+  return fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], sum) : sum;
 }
 
-void LatticeMultigrid::smooth(std::size_t level, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x,
-                              int threads) {
-  const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
-  const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
+// Compiled for each instruction set (core/multiversion.h): the sweeps are most of the V-cycle.
+CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_nodes(std::size_t level, std::size_t first, std::size_t end,
+                                                          bool ascending, std::span<const Vec3> rhs,
+                                                          std::span<Vec3> x) const {
   const auto update = [&](std::size_t node) {
     if (level == 0) {
       if (!fine_.free[node]) return;
@@ -174,19 +148,32 @@ void LatticeMultigrid::smooth(std::size_t level, bool ascending, std::span<const
       x[node] += coarse_[level - 1].diagonal_inverse[node] * (rhs[node] - row_product(level, node, x));
     }
   };
+  if (ascending) {
+    for (std::size_t node = first; node < end; ++node) update(node);
+  } else {
+    for (std::size_t node = end; node-- > first;) update(node);
+  }
+}
+
+CLOTHSIM_MULTIVERSION void LatticeMultigrid::residual_nodes(std::size_t level, std::size_t first, std::size_t end,
+                                                            std::span<const Vec3> rhs, std::span<const Vec3> x,
+                                                            std::span<Vec3> residual) const {
+  for (std::size_t node = first; node < end; ++node) {
+    residual[node] = level == 0 && !fine_.free[node] ? Vec3{} : rhs[node] - row_product(level, node, x);
+  }
+}
+
+void LatticeMultigrid::smooth(std::size_t level, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x,
+                              int threads) {
+  const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
+  const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
   const std::size_t bands = (rows + kBandRows - 1) / kBandRows;
   const int loop_threads = level_threads(rows * cols, threads);
   for (std::size_t step = 0; step < 2; ++step) {
     const std::size_t parity = ascending ? step : 1 - step;
     parallel_for((bands + 1 - parity) / 2, loop_threads, [&](std::size_t k) {
       const std::size_t band = parity + 2 * k;
-      const std::size_t first = band * kBandRows * cols;
-      const std::size_t end = std::min(rows, (band + 1) * kBandRows) * cols;
-      if (ascending) {
-        for (std::size_t node = first; node < end; ++node) update(node);
-      } else {
-        for (std::size_t node = end; node-- > first;) update(node);
-      }
+      smooth_nodes(level, band * kBandRows * cols, std::min(rows, (band + 1) * kBandRows) * cols, ascending, rhs, x);
     });
   }
 }
@@ -196,9 +183,8 @@ void LatticeMultigrid::restrict_residual(std::size_t level, std::span<const Vec3
   const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
   const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
   std::vector<Vec3>& residual = level == 0 ? fine_residual_ : coarse_[level - 1].residual;
-  parallel_for(rows * cols, level_threads(rows * cols, threads), [&](std::size_t node) {
-    residual[node] = level == 0 && !fine_.free[node] ? Vec3{} : rhs[node] - row_product(level, node, x);
-  });
+  parallel_for(rows, level_threads(rows * cols, threads),
+               [&](std::size_t row) { residual_nodes(level, row * cols, (row + 1) * cols, rhs, x, residual); });
   CoarseLevel& next = coarse_[level];
   parallel_for(next.rows * next.cols, level_threads(rows * cols, threads), [&](std::size_t node) {
     const std::size_t row = node / next.cols;
@@ -286,6 +272,9 @@ void LatticeMultigrid::galerkin(std::size_t level, int threads) {
     // The smoother's block: the diagonal's inverse, zero for a node no free particle reaches.
     // The tiny shift keeps it finite where the held directions of all its children coincide
     // (the diagonal is then singular in a direction in which its right-hand side is zero).
+    for (std::size_t slot = kDiagonalSlot; slot < kStencil; ++slot) {
+      next.stencil.set(node, slot - kDiagonalSlot, row_blocks[slot]);
+    }
     const Mat3& diagonal = row_blocks[kDiagonalSlot];
     const double trace = diagonal(0, 0) + diagonal(1, 1) + diagonal(2, 2);
     next.diagonal_inverse[node] = trace > 0.0 ? inverse(diagonal + Mat3::diagonal(1e-12 * trace)) : Mat3{};
@@ -295,6 +284,22 @@ void LatticeMultigrid::galerkin(std::size_t level, int threads) {
 void LatticeMultigrid::setup(const MultigridFineSystem& fine, int threads) {
   CLOTHSIM_ASSERT(fine.row_offset.size() == rows_ * cols_ + 1, "the fine system is the lattice's");
   fine_ = fine;
+  // The fine matrix's free rows and columns, upper half, for the smoother and the residuals.
+  parallel_for(rows_ * cols_, level_threads(rows_ * cols_, threads), [&](std::size_t p) {
+    fine_stencil_.clear_row(p);
+    if (!fine_.free[p]) return;
+    const auto row = static_cast<int>(p / cols_);
+    const auto col = static_cast<int>(p % cols_);
+    for (std::uint32_t k = fine_.row_offset[p]; k < fine_.row_offset[p + 1]; ++k) {
+      const std::uint32_t q = fine_.column[k];
+      const int di = static_cast<int>(q / cols_) - row;
+      const int dj = static_cast<int>(q % cols_) - col;
+      const bool upper = di > 0 || (di == 0 && dj >= 0);
+      const std::size_t slot = upper ? fine_stencil_.slot(di, dj) : fine_stencil_.slot(-di, -dj);
+      CLOTHSIM_ASSERT(slot < SymmetricStencilMatrix::kMaxSlots, "the fine matrix couples lattice neighbours only");
+      if (upper && fine_.free[q]) fine_stencil_.set(p, slot, fine_.block[k]);
+    }
+  });
   for (std::size_t level = 0; level < coarse_.size(); ++level) galerkin(level, threads);
   // The coarsest matrix's lower triangle into the banded factor.
   const CoarseLevel& last = coarse_.back();

@@ -26,16 +26,18 @@
 // stored densely per node.
 //
 // Smoother. Block Gauss-Seidel (3x3 blocks and their inverses: the block Jacobi preconditioner's
-// on level 0), 2 sweeps on level 0 and 1 on the coarse levels on each side of the coarse
-// correction. The nodes are visited in bands of kBandRows = 4 whole rows: first the even bands,
-// each in parallel with the others and lexicographically within itself, then the odd ones. Elements
-// reach 2 rows, so no two bands of the same parity share a matrix entry: each node is updated by
-// one thread from values that do not depend on the thread count, and the bands are fixed by the
-// lattice, not by the threads. On the way up the V the sweep runs in exactly the reverse order,
-// the adjoint of the way down, so the V-cycle is a symmetric positive definite operator, as
-// conjugate gradients require. (Gauss-Seidel converges on any symmetric positive definite matrix,
-// with no damping to tune: damped Jacobi at 0.8 diverged on cotton. A 9-colour Gauss-Seidel,
-// (i mod 3, j mod 3), took as many iterations and 13 % more time: it reads the matrix in strides.)
+// on level 0) on each level's matrix as integrators/stencil_matrix.h stores it (the upper half of
+// the stencil in single precision: the sweeps were bound by memory), 2 sweeps on level 0 and 1 on
+// the coarse levels on each side of the coarse correction. The nodes are visited in bands of
+// kBandRows = 4 whole rows: first the even bands, each in parallel with the others and
+// lexicographically within itself, then the odd ones. Elements reach 2 rows, so no two bands of
+// the same parity share a matrix entry: each node is updated by one thread from values that do not
+// depend on the thread count, and the bands are fixed by the lattice, not by the threads. On the
+// way up the V the sweep runs in exactly the reverse order, the adjoint of the way down, so the
+// V-cycle is a symmetric positive definite operator, as conjugate gradients require. (Gauss-Seidel
+// converges on any symmetric positive definite matrix, with no damping to tune: damped Jacobi at
+// 0.8 diverged on cotton. A 9-colour Gauss-Seidel, (i mod 3, j mod 3), took as many iterations and
+// 13 % more time: it reads the matrix in strides.)
 //
 // Held particles (integrators/held_directions.h). The level-0 operator is S A S and the transfer
 // S P: the Galerkin product filters each fine block, the prolongation filters what it adds, the
@@ -55,6 +57,7 @@
 #include "core/mat3.h"
 #include "integrators/banded_cholesky.h"
 #include "integrators/held_directions.h"
+#include "integrators/stencil_matrix.h"
 
 namespace clothsim {
 
@@ -98,6 +101,7 @@ class LatticeMultigrid {
     std::size_t cols = 0;
     std::array<std::ptrdiff_t, kStencil> node_offset{};  // index of the node at each slot's offset, less I
     std::vector<Mat3> block;             // [nodes kStencil], row I's block to node I + offset(s) at I kStencil + s
+    SymmetricStencilMatrix stencil;      // the same matrix, as the smoother and the residuals read it
     std::vector<Mat3> diagonal_inverse;  // [nodes], the smoother's blocks
     std::vector<Vec3> rhs;               // [nodes] restricted residual
     std::vector<Vec3> solution;          // [nodes]
@@ -108,6 +112,12 @@ class LatticeMultigrid {
   Vec3 row_product(std::size_t level, std::size_t node, std::span<const Vec3> x) const;
   // One Gauss-Seidel sweep over level l's colours, ascending (down the V) or descending.
   void smooth(std::size_t level, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
+  // Gauss-Seidel on level l's nodes [first, end), ascending or descending: one band of smooth().
+  void smooth_nodes(std::size_t level, std::size_t first, std::size_t end, bool ascending, std::span<const Vec3> rhs,
+                    std::span<Vec3> x) const;
+  // residual = rhs - A x on level l's nodes [first, end) (zero where not solved for).
+  void residual_nodes(std::size_t level, std::size_t first, std::size_t end, std::span<const Vec3> rhs,
+                      std::span<const Vec3> x, std::span<Vec3> residual) const;
   // residual = rhs - A x on level l, then the next level's rhs = P^T residual.
   void restrict_residual(std::size_t level, std::span<const Vec3> rhs, std::span<const Vec3> x, int threads);
   // x += P (next level's solution) on level l.
@@ -118,9 +128,10 @@ class LatticeMultigrid {
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
   MultigridFineSystem fine_;
-  std::vector<Vec3> fine_residual_;  // [particles]
-  std::vector<CoarseLevel> coarse_;  // levels 1 .. level_count() - 1
-  BandedCholesky coarsest_;          // the last level's matrix, factored
+  SymmetricStencilMatrix fine_stencil_;  // the fine matrix (its free rows) as the smoother reads it
+  std::vector<Vec3> fine_residual_;      // [particles]
+  std::vector<CoarseLevel> coarse_;      // levels 1 .. level_count() - 1
+  BandedCholesky coarsest_;              // the last level's matrix, factored
   std::vector<double> coarsest_vector_;
 };
 
