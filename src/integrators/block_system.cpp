@@ -117,6 +117,7 @@ BlockSystem::BlockSystem(const ClothModel& model, const IntegratorSettings& sett
   const bool lattice = model.rows > 0 && model.cols > 0 &&
                        static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == n;
   if (settings.cg_two_level && settings.cg_multigrid && lattice) {
+    vcycle_threshold_ = settings.cg_vcycle_threshold;
     multigrid_.emplace(static_cast<std::size_t>(model.rows), static_cast<std::size_t>(model.cols));
   } else if (settings.cg_two_level && lattice) {
     // Aggregates of kAggregateSize x kAggregateSize particles, numbered row by row.
@@ -336,7 +337,7 @@ void BlockSystem::set_hold(std::size_t p, Hold how, const Vec3& normal) {
 
 double BlockSystem::precondition() {
   const std::size_t n = model_.particle_count();
-  if (multigrid_) {
+  if (multigrid_ && vcycle_) {
     multigrid_->apply(residual_, preconditioned_, threads_);
     return blocked_sums([&](std::size_t begin, std::size_t end) {
       std::array<double, 3> sums{};
@@ -453,9 +454,35 @@ BlockSystem::Solve BlockSystem::solve(double relative, double absolute, int max_
   return {max_iterations, false};
 }
 
+double BlockSystem::stiffness_ratio() {
+  const std::size_t n = model_.particle_count();
+  const std::size_t blocks = block_count(n);
+  if (blocks == 0) return 0.0;
+  parallel_for(blocks, threads_, [&](std::size_t b) {
+    double largest = 0.0;
+    for (std::size_t p = b * kReductionBlock; p < std::min(n, (b + 1) * kReductionBlock); ++p) {
+      if (!free[p]) continue;
+      const Mat3& diagonal = block[diagonal_block(p)];
+      const double mass = model_.particle_mass[p];
+      largest = std::max(largest, (diagonal(0, 0) + diagonal(1, 1) + diagonal(2, 2) - 3.0 * mass) / mass);
+    }
+    block_sum_a_[b] = largest;
+  });
+  return *std::max_element(block_sum_a_.begin(), block_sum_a_.begin() + static_cast<std::ptrdiff_t>(blocks));
+}
+
+double BlockSystem::jacobi_iterations_estimate() {
+  constexpr double kIterationsPerLatticeSide = 6.5;
+  const double side = std::max(model_.rows, model_.cols);
+  return std::min(std::sqrt(stiffness_ratio()), kIterationsPerLatticeSide * side);
+}
+
 void BlockSystem::setup_preconditioner() {
   if (multigrid_) {
-    multigrid_->setup({row_offset, column, block, preconditioner, free, hold, held_normal, holding}, threads_);
+    vcycle_ = vcycle_threshold_ <= 0.0 || jacobi_iterations_estimate() > vcycle_threshold_;
+    if (vcycle_) {
+      multigrid_->setup({row_offset, column, block, preconditioner, free, hold, held_normal, holding}, threads_);
+    }
     return;
   }
   if (coarse_factor_.dofs() == 0) return;

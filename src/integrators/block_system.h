@@ -49,9 +49,23 @@ class BlockSystem {
   void assemble(ForceTerms terms, double damping_scale, double stiffness_scale, std::span<const Vec3> displacement,
                 std::span<Vec3> stiffness_product);
   // The coarse-grid correction for this matrix and held set (multigrid levels or aggregate factor).
+  // With the multigrid, a system that block Jacobi alone solves in fewer passes over the matrix
+  // than the V-cycle's setup and iterations cost (a mass-dominated one: small steps, soft sheets,
+  // an IMEX stage's damping, a small lattice) is left to block Jacobi for this solve:
+  // jacobi_iterations_estimate() at most IntegratorSettings::cg_vcycle_threshold.
   void setup_preconditioner();
-  // Whether the preconditioner is the multigrid V-cycle, whose levels depend on the held set.
+  // Whether the preconditioner may be the multigrid V-cycle, whose levels depend on the held set.
   bool uses_multigrid() const { return multigrid_.has_value(); }
+  // Whether the last setup_preconditioner() chose the V-cycle.
+  bool vcycle_chosen() const { return multigrid_.has_value() && vcycle_; }
+  // The system's stiffness relative to its mass: the largest over the free particles of
+  // s = (trace A_pp - 3 m_p) / m_p, what the step's damping and stiffness add to the diagonal.
+  double stiffness_ratio();
+  // Block Jacobi's CG iterations per solve at the default tolerance, roughly: min(sqrt(s),
+  // 6.5 max(rows, cols)). Its condition number grows with s until the lattice bounds it (the
+  // smoothest mode's stiffness falls as the lattice's side squared). Fitted on the built-in scenes
+  // (docs/performance.md, "A cheaper implicit Euler step"), within a factor of about 1.5.
+  double jacobi_iterations_estimate();
   struct Solve {
     int iterations = 0;
     bool converged = true;  // false: stopped at max_iterations
@@ -92,9 +106,9 @@ class BlockSystem {
   std::vector<element::ConnectorJacobian> connector_jacobian;  // [connector_count()]
   std::vector<element::RadialJacobian> radial_jacobian;        // [radial_count()]
   // Particles held on an obstacle's surface: how, and their unit normal (zero where not held).
-  std::vector<Hold> hold;          // [particle_count()]
-  std::vector<Vec3> held_normal;   // [particle_count()]
-  bool holding = false;            // some particle is held
+  std::vector<Hold> hold;         // [particle_count()]
+  std::vector<Vec3> held_normal;  // [particle_count()]
+  bool holding = false;           // some particle is held
 
  private:
   // preconditioned_ = P^-1 residual_ (zero on anchored particles); returns residual . preconditioned.
@@ -112,6 +126,8 @@ class BlockSystem {
   // Coarse-grid correction: the V-cycle's hierarchy, or each particle's aggregate and the coarse
   // matrix's banded Cholesky factor (3 unknowns per aggregate; none without the correction).
   std::optional<LatticeMultigrid> multigrid_;
+  double vcycle_threshold_ = 0.0;                  // IntegratorSettings::cg_vcycle_threshold
+  bool vcycle_ = true;                             // the last setup chose the V-cycle (with multigrid_)
   std::vector<std::uint32_t> particle_aggregate_;  // [particle_count()]
   BandedCholesky coarse_factor_;
   std::vector<double> coarse_vector_;  // [coarse_factor_.dofs()]

@@ -44,8 +44,8 @@ struct IntegratorSettings {
   double absolute_tolerance = 1e-6;  // m for positions, m/s for velocities
   // Fixed-step methods: the step. RKF45, imex: the first trial step (0 picks one automatically).
   double time_step = kDefaultTimeStep;  // s
-  double min_step = 1e-10;  // s; RKF45 and imex stop with a diagnosis if they need a smaller step
-  double max_step = 0.1;    // s; upper bound on RKF45 and imex steps
+  double min_step = 1e-10;              // s; RKF45 and imex stop with a diagnosis if they need a smaller step
+  double max_step = 0.1;                // s; upper bound on RKF45 and imex steps
   // Step-size controller (Hairer, Norsett and Wanner, Solving ODEs I, sec. II.4).
   double safety = 0.9;      // factor on the optimal step
   double max_growth = 5.0;  // largest step increase per step
@@ -62,6 +62,11 @@ struct IntegratorSettings {
   // Galerkin coarse matrices down to 8 x 8 nodes, Gauss-Seidel smoothing; integrators/multigrid.h)
   // instead of the exact solve on 4 x 4 aggregates.
   bool cg_multigrid = true;
+  // With cg_multigrid: the V-cycle is set up for a solve only where block Jacobi alone would take
+  // more than this many iterations by BlockSystem::jacobi_iterations_estimate(); below, Jacobi
+  // is cheaper than the V-cycle's setup and passes (0: the V-cycle always). Not a scene key: the
+  // library's tests force the V-cycle with it.
+  double cg_vcycle_threshold = 80.0;
   // The blow-up check (sim/simulation.h): a run whose energy balance gains more than this fraction
   // of its energy scale stops as failed.
   double energy_error_limit = 10.0;  // dimensionless

@@ -282,11 +282,15 @@ TEST(ImplicitEuler, AggregatesPreconditionerSolvesTheSameSystemInFewerIterations
 namespace clothsim {
 namespace {
 
-enum class Preconditioner { jacobi, aggregates, multigrid };
+// multigrid: the V-cycle in every solve; automatic: the default, the V-cycle where block Jacobi
+// would take many iterations (IntegratorSettings::cg_vcycle_threshold).
+enum class Preconditioner { jacobi, aggregates, multigrid, automatic };
 
 IntegratorSettings with_preconditioner(IntegratorSettings settings, Preconditioner preconditioner) {
   settings.cg_two_level = preconditioner != Preconditioner::jacobi;
-  settings.cg_multigrid = preconditioner == Preconditioner::multigrid;
+  settings.cg_multigrid = preconditioner == Preconditioner::multigrid || preconditioner == Preconditioner::automatic;
+  settings.cg_vcycle_threshold =
+      preconditioner == Preconditioner::multigrid ? 0.0 : IntegratorSettings{}.cg_vcycle_threshold;
   return settings;
 }
 
@@ -345,6 +349,36 @@ TEST(ImplicitEuler, MultigridTakesFewIterationsPerStepOn128By128Cotton) {
   EXPECT_EQ(stats.cg_unconverged_solves, 0u);
   EXPECT_LE(stats.cg_max_iterations_in_a_step, 25u);
   EXPECT_LE(stats.cg_iterations, 20u * kSteps);
+}
+
+// The V-cycle is set up only where the system is stiff relative to its mass
+// (BlockSystem::kVCycleStiffness): at steps small enough for the mass to dominate, the default
+// preconditioner is block Jacobi, the same bits as asking for it; at the frame step it is the
+// V-cycle, in far fewer iterations than Jacobi.
+TEST(ImplicitEuler, MassDominatedStepsSkipTheVCycle) {
+  const SceneSpec spec = small_cotton(32);
+  const ClothModel model = build_model(spec);
+  const auto run = [&](Preconditioner preconditioner, double h) {
+    IntegratorSettings settings = with_preconditioner(spec.integrator, preconditioner);
+    settings.time_step = h;
+    ImplicitEuler integrator(model, settings, ForceOptions{});
+    ClothState state = build_initial_state(model, spec);
+    for (int step = 0; step < 8; ++step) EXPECT_EQ(integrator.step(state, 10.0).status, StepStatus::ok);
+    return std::pair{state, integrator.stats().cg_iterations};
+  };
+  const auto bytes = [](const std::vector<Vec3>& v) { return v.size() * sizeof(Vec3); };
+  const auto [small_default, small_default_iterations] = run(Preconditioner::automatic, 2e-5);
+  const auto [small_jacobi, small_jacobi_iterations] = run(Preconditioner::jacobi, 2e-5);
+  EXPECT_EQ(small_default_iterations, small_jacobi_iterations);
+  EXPECT_EQ(std::memcmp(small_default.position.data(), small_jacobi.position.data(), bytes(small_jacobi.position)), 0);
+  EXPECT_EQ(std::memcmp(small_default.velocity.data(), small_jacobi.velocity.data(), bytes(small_jacobi.velocity)), 0);
+
+  const auto [frame_default, frame_default_iterations] = run(Preconditioner::automatic, 1.0 / 60.0);
+  const auto [frame_vcycle, frame_vcycle_iterations] = run(Preconditioner::multigrid, 1.0 / 60.0);
+  const auto [frame_jacobi, frame_jacobi_iterations] = run(Preconditioner::jacobi, 1.0 / 60.0);
+  EXPECT_EQ(frame_default_iterations, frame_vcycle_iterations);
+  EXPECT_EQ(std::memcmp(frame_default.position.data(), frame_vcycle.position.data(), bytes(frame_vcycle.position)), 0);
+  EXPECT_LT(3 * frame_default_iterations, frame_jacobi_iterations);
 }
 
 // The V-cycle's loops (Galerkin products, Gauss-Seidel bands, transfers) run in parallel on the
