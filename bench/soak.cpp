@@ -22,6 +22,7 @@
 // simulation failed, or if the balance error ever left [-limit, +limit] times the scale, with
 // limit the scene's integrator.energy_error_limit. bench/soak.sh runs the standard set and
 // docs/performance.md ("Soak") has the figures.
+#include <time.h>
 #include <unistd.h>
 
 #include <cinttypes>
@@ -55,6 +56,15 @@ long long resident_bytes() {
   long long pages_resident = 0;
   if (!(statm >> pages_total >> pages_resident)) return -1;
   return pages_resident * ::sysconf(_SC_PAGESIZE);
+}
+
+// CPU time of this process so far, s: the soak's cost measure, since it does not count time the
+// process waited for the CPU (a loaded machine) or was stopped (SIGSTOP while something else is
+// measured); on one thread it is what the wall time would be on an idle machine.
+double process_cpu_seconds() {
+  timespec now{};
+  ::clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &now);
+  return static_cast<double>(now.tv_sec) + 1e-9 * static_cast<double>(now.tv_nsec);
 }
 
 // Cuts the CSV at `path` back to its header and the rows up to simulated time `time`.
@@ -141,6 +151,7 @@ int main(int argc, char** argv) {
   // back to the samples the checkpoint had seen (a run stopped between two samples wrote rows the
   // checkpoint does not know).
   double wall_before = 0.0;  // wall seconds of the earlier segments
+  double cpu_before = 0.0;   // CPU seconds of the earlier segments
   double worst_ratio = 0.0;  // largest |balance error| / scale over the samples, all segments
   std::int64_t first_sample = 0;
   const bool resuming = !checkpoint_path.empty() && std::filesystem::exists(checkpoint_path);
@@ -148,6 +159,7 @@ int main(int argc, char** argv) {
     try {
       CheckpointReader reader(checkpoint_path);
       reader.value("soak_wall_seconds", wall_before);
+      reader.value("soak_cpu_seconds", cpu_before);
       reader.value("soak_worst_ratio", worst_ratio);
       simulation.transfer_state(reader);
       reader.finish();
@@ -162,12 +174,13 @@ int main(int argc, char** argv) {
   std::FILE* csv = csv_path.empty() ? nullptr : std::fopen(csv_path.c_str(), resuming ? "a" : "w");
   if (!csv_path.empty() && csv == nullptr) return usage(("cannot write " + csv_path).c_str());
   const char* header =
-      "time,wall_seconds,resident_bytes,simulation_bytes,accepted_steps,total_energy,balance_error,"
+      "time,wall_seconds,cpu_seconds,resident_bytes,simulation_bytes,accepted_steps,total_energy,balance_error,"
       "energy_scale,error_over_scale,broken_connectors\n";
   if (csv != nullptr && !resuming) std::fputs(header, csv);
 
   const double limit = spec.integrator.energy_error_limit;
   const Stopwatch wall;
+  const double cpu_start = process_cpu_seconds();
   long long first_resident = -1;  // the reference: this process's first sample after the start
   double reference_time = 0.0;
   long long peak_growth = 0;
@@ -191,8 +204,10 @@ int main(int argc, char** argv) {
     const double ratio = std::abs(balance.error()) / simulation.energy_scale();
     worst_ratio = std::max(worst_ratio, ratio);
     const double wall_total = wall_before + wall.seconds();
+    const double cpu_total = cpu_before + process_cpu_seconds() - cpu_start;
     if (csv != nullptr) {
-      std::fprintf(csv, "%.17g,%.6g,%lld,%zu,%" PRIu64 ",%.17g,%.17g,%.17g,%.6g,%zu\n", t, wall_total, resident,
+      std::fprintf(csv, "%.17g,%.6g,%.6g,%lld,%zu,%" PRIu64 ",%.17g,%.17g,%.17g,%.6g,%zu\n", t, wall_total, cpu_total,
+                   resident,
                    simulation.memory_bytes(), simulation.integrator_stats().accepted_steps, balance.energy.total(),
                    balance.error(), simulation.energy_scale(), ratio, simulation.model_changes().broken_connectors);
       std::fflush(csv);
@@ -201,6 +216,8 @@ int main(int argc, char** argv) {
       write_checkpoint(checkpoint_path, [&](StateArchive& archive) {
         double w = wall_total;
         archive.value("soak_wall_seconds", w);
+        double c = cpu_total;
+        archive.value("soak_cpu_seconds", c);
         archive.value("soak_worst_ratio", worst_ratio);
         simulation.transfer_state(archive);
       });
@@ -212,8 +229,9 @@ int main(int argc, char** argv) {
   const bool balanced = worst_ratio <= limit;
   std::string label = name;
   for (const std::string& text : assignments) label += " " + text;
-  std::printf("%s: %.6g s simulated in %.1f s wall%s, %" PRIu64 " steps; ", label.c_str(), simulation.state().time,
-              wall_before + wall.seconds(), resuming ? " (resumed)" : "", simulation.integrator_stats().accepted_steps);
+  std::printf("%s: %.6g s simulated in %.1f s wall, %.1f s CPU%s, %" PRIu64 " steps; ", label.c_str(),
+              simulation.state().time, wall_before + wall.seconds(), cpu_before + process_cpu_seconds() - cpu_start,
+              resuming ? " (resumed)" : "", simulation.integrator_stats().accepted_steps);
   if (first_resident < 0) {
     std::printf("memory not measured (stopped before t = %g s); ", std::min(every, duration));
   } else {
