@@ -43,24 +43,37 @@ std::uint32_t count32(std::size_t count, const char* what) {
 }
 
 // The checks before anything is made on the device.
-Device& checked(Device& device, const ClothModel& model, Precision precision, std::uint32_t power_slots) {
+Device& checked(Device& device, const ClothModel& model, Precision precision, std::uint32_t power_slots,
+                DeviceForcePath path) {
   device.require_precision(precision);
-  device.require_memory(DeviceForces::bytes_for(element_counts(model), precision, power_slots), "the scene");
+  device.require_memory(DeviceForces::bytes_for(element_counts(model), precision, power_slots, path), "the scene");
   return device;
 }
 
+// The arrays the lattice path reads (the rest serve the element passes alone).
+bool lattice_reads(DeviceForces::Array array) {
+  using A = DeviceForces;
+  return array == A::position || array == A::velocity || array == A::particle_mass || array == A::environment;
+}
+
+// The size of an array that no pass reads: a storage buffer may not be empty, and the passes
+// that declare it (stage_acceleration, rk_accept) skip it on the lattice path.
+constexpr std::uint64_t kPlaceholderBytes = 16;
+
 // The model's arrays as the device holds them (the other arrays are state and scratch: empty).
 std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(const ClothModel& model,
-                                                                             Precision precision, ForceTerms terms) {
+                                                                             Precision precision, ForceTerms terms,
+                                                                             DeviceForcePath path) {
   using A = DeviceForces;
-  GatherTable gather;
-  gather.build(model);
   const Vec3 gravity = (terms & kGravity) != 0 ? model.environment.gravity : Vec3{};
   const double drag = (terms & kAirDrag) != 0 ? model.environment.air_drag : 0.0;
   const std::array<double, 4> environment_values = {gravity.x, gravity.y, gravity.z, drag};
   std::array<std::vector<std::byte>, A::array_count> contents;
   contents[A::particle_mass] = real_bytes(model.particle_mass, precision);
   contents[A::environment] = real_bytes(environment_values, precision);
+  if (path == DeviceForcePath::lattice) return contents;
+  GatherTable gather;
+  gather.build(model);
   contents[A::gather_offset] = index_bytes(std::span<const std::uint32_t>(gather.offset));
   contents[A::gather_slot] = index_bytes(std::span<const std::uint32_t>(gather.slot));
   contents[A::connector_particles] = index_bytes(std::span(model.connector_particles));
@@ -85,7 +98,7 @@ std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(con
 
 // The size of every array, bytes.
 std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const LatticeCounts& counts, Precision precision,
-                                                                 std::uint32_t power_slots) {
+                                                                 std::uint32_t power_slots, DeviceForcePath path) {
   using A = DeviceForces;
   const std::uint64_t real = real_size(precision);
   const std::uint64_t particles = counts.particles;
@@ -109,6 +122,11 @@ std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const LatticeCo
   bytes[A::element_power] = (connectors + radials) * power_slots * real;
   bytes[A::block_power] = (connectors + radials + kReductionBlock - 1) / kReductionBlock * real;
   bytes[A::damping_power] = real;
+  if (path == DeviceForcePath::lattice) {
+    for (std::uint32_t a = 0; a < A::array_count; ++a) {
+      if (!lattice_reads(static_cast<A::Array>(a))) bytes[a] = kPlaceholderBytes;
+    }
+  }
   return bytes;
 }
 
@@ -124,18 +142,20 @@ LatticeCounts element_counts(const ClothModel& model) {
   return counts;
 }
 
-std::uint64_t DeviceForces::bytes_for(const LatticeCounts& counts, Precision precision, std::uint32_t power_slots) {
+std::uint64_t DeviceForces::bytes_for(const LatticeCounts& counts, Precision precision, std::uint32_t power_slots,
+                                      DeviceForcePath path) {
   std::uint64_t total = 0;
-  for (std::uint64_t bytes : array_bytes(counts, precision, power_slots)) total += bytes;
+  for (std::uint64_t bytes : array_bytes(counts, precision, power_slots, path)) total += bytes;
   return total;
 }
 
 DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms,
-                           std::uint32_t power_slots)
-    : device_(checked(device, model, precision, power_slots)),
+                           std::uint32_t power_slots, DeviceForcePath path)
+    : device_(checked(device, model, precision, power_slots, path)),
       precision_(precision),
       terms_(terms),
       power_slots_(power_slots),
+      path_(path),
       model_revision_(model.revision),
       particles_(count32(model.particle_count(), "particles")),
       connectors_(count32(model.connector_count(), "connectors")),
@@ -146,7 +166,7 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
                    sizeof(ElementPassConstants)),
       gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
       sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
-  const std::array<std::uint64_t, array_count> bytes = array_bytes(element_counts(model), precision, power_slots);
+  const std::array<std::uint64_t, array_count> bytes = array_bytes(element_counts(model), precision, power_slots, path);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload_model(model);
@@ -164,7 +184,7 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
 }
 
 void DeviceForces::upload_model(const ClothModel& model) {
-  const std::array<std::vector<std::byte>, array_count> contents = model_contents(model, precision_, terms_);
+  const std::array<std::vector<std::byte>, array_count> contents = model_contents(model, precision_, terms_, path_);
   for (std::uint32_t a = 0; a < array_count; ++a) {
     if (!contents[a].empty()) upload(device_, arrays_[a], contents[a]);
   }
@@ -179,6 +199,7 @@ void DeviceForces::refresh(const ClothModel& model) {
 }
 
 void DeviceForces::record_element_passes(VkCommandBuffer commands, std::uint32_t power_slot) const {
+  CLOTHSIM_ASSERT(path_ == DeviceForcePath::general, "DeviceForces: the element passes are the general path's");
   CLOTHSIM_ASSERT(power_slot < power_slots_, "DeviceForces: a power slot it holds");
   const std::uint32_t damped = (terms_ & kSpringDamping) != 0 ? 1u : 0u;
   const std::uint32_t power_base = power_slot * (connectors_ + radials_);
@@ -190,6 +211,7 @@ void DeviceForces::record_element_passes(VkCommandBuffer commands, std::uint32_t
 
 double DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> position_in,
                               std::span<const Vec3> velocity_in, std::span<Vec3> force_out) {
+  CLOTHSIM_ASSERT(path_ == DeviceForcePath::general, "DeviceForces::evaluate runs the general path");
   CLOTHSIM_ASSERT(model.revision == model_revision_ && model.particle_count() == particles_,
                   "DeviceForces: the model changed since it was uploaded (refresh() it)");
   CLOTHSIM_ASSERT(

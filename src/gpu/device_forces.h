@@ -13,6 +13,13 @@
 // stage's state into this class's `position` and `velocity` arrays, records the element passes
 // into its own command buffers (record_element_passes), and gathers the slots itself.
 //
+// The lattice path of the device step (lattice_elements, device_integrator.h) evaluates each
+// particle's springs from its own arrays and reads only the stage state, the masses and the
+// environment here: built for it (DeviceForcePath::lattice), this class allocates the element
+// arrays, the force slots, the gather table and the damping powers as placeholders of a few bytes
+// and uploads nothing to them (at 1024 x 1024 in float32, about 780 bytes a particle, two thirds of
+// the device step's memory).
+//
 // Which elements act is decided when the model is uploaded: live and its term on (the CPU's
 // condition), as one flag per element. The model's revision is recorded; a model changed since
 // (tearing, plasticity, live edits) is uploaded again with refresh().
@@ -31,18 +38,22 @@
 
 namespace clothsim::gpu {
 
+// Which force passes a DeviceForces serves: the element passes (any sheet, and evaluate()), or
+// only the state the lattice path reads.
+enum class DeviceForcePath : std::uint8_t { general, lattice };
+
 class DeviceForces {
  public:
   // Uploads the model. Throws GpuError when the device lacks the precision or the memory
   // ("the scene needs X MiB of device memory, <device> has Y MiB"), before allocating anything.
   // `power_slots`: how many sets of element damping powers element_power holds (one per stage
-  // of a device step; evaluate() uses the first).
+  // of a device step; evaluate() uses the first). `path`: which passes it serves (above).
   DeviceForces(Device& device, const ClothModel& model, Precision precision, ForceTerms terms,
-               std::uint32_t power_slots = 1);
+               std::uint32_t power_slots = 1, DeviceForcePath path = DeviceForcePath::general);
 
   // The total force on every particle [particle_count()], as evaluate_forces computes it, and
   // the damping power of the springs (ForcePowers::damping, W). The drag power is not computed
-  // on the device yet.
+  // on the device yet. The general path only.
   double evaluate(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                   std::span<Vec3> force);
 
@@ -55,12 +66,13 @@ class DeviceForces {
   void adopt_revision(std::uint64_t revision) { model_revision_ = revision; }
 
   // Records the connector and radial passes on `position` and `velocity`: every element's force
-  // slots, and its damping power into element_power's set `power_slot`.
+  // slots, and its damping power into element_power's set `power_slot`. The general path only.
   void record_element_passes(VkCommandBuffer commands, std::uint32_t power_slot) const;
 
   // Device memory for the arrays of a model of these counts (rows and cols unused), the state
-  // and the scratch, bytes.
-  static std::uint64_t bytes_for(const LatticeCounts& counts, Precision precision, std::uint32_t power_slots = 1);
+  // and the scratch, bytes, on `path`.
+  static std::uint64_t bytes_for(const LatticeCounts& counts, Precision precision, std::uint32_t power_slots = 1,
+                                 DeviceForcePath path = DeviceForcePath::general);
 
   // The device's arrays, by the CPU's names: the state, the model, the scratch, the results.
   enum Array : std::uint32_t {
@@ -91,6 +103,7 @@ class DeviceForces {
   Buffer& buffer(Array array) { return arrays_[array]; }
   std::uint32_t particle_count() const { return particles_; }
   std::uint32_t element_count() const { return connectors_ + radials_; }
+  DeviceForcePath path() const { return path_; }
 
  private:
   void upload_model(const ClothModel& model);
@@ -99,6 +112,7 @@ class DeviceForces {
   Precision precision_;
   ForceTerms terms_;
   std::uint32_t power_slots_;
+  DeviceForcePath path_;
   std::uint64_t model_revision_;
   std::uint32_t particles_, connectors_, radials_;
   std::vector<Buffer> arrays_;  // [array_count]

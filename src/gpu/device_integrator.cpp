@@ -81,11 +81,19 @@ std::uint32_t anchor_capacity_for(std::size_t anchors) {
 }
 
 // The checks before anything is allocated: the device, its precision and its memory.
-Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision) {
+Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision,
+                DeviceForcePath path) {
   device.require_precision(precision);
   device.require_memory(
-      DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision), "the scene");
+      DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision, path),
+      "the scene");
   return device;
+}
+
+// The lattice path (lattice_elements) on a lattice model unless the general kernel is asked for.
+DeviceForcePath force_path(const ClothModel& model, const ForceOptions& options) {
+  return model.layout == ModelLayout::lattice && options.kernel != ForceKernel::general ? DeviceForcePath::lattice
+                                                                                         : DeviceForcePath::general;
 }
 
 std::vector<double> nystrom_rows(const ButcherTableau& tableau) {
@@ -146,9 +154,9 @@ std::uint64_t state_fingerprint(const ClothState& state, int threads) {
 }  // namespace
 
 std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
-                                                 Precision precision) {
+                                                 Precision precision, DeviceForcePath path) {
   const int stages = tableau_for(kind).stages;
-  std::uint64_t total = DeviceForces::bytes_for(counts, precision, static_cast<std::uint32_t>(stages));
+  std::uint64_t total = DeviceForces::bytes_for(counts, precision, static_cast<std::uint32_t>(stages), path);
   for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_capacity_for(anchors))) total += bytes;
   return total;
 }
@@ -161,11 +169,12 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       tableau_(tableau_for(settings.kind)),
       adaptive_(settings.kind == IntegratorKind::rkf45),
       symplectic_(settings.kind == IntegratorKind::symplectic_euler),
-      lattice_(model.layout == ModelLayout::lattice && options.kernel != ForceKernel::general),
+      lattice_(force_path(model, options) == DeviceForcePath::lattice),
       precision_(selection.precision),
       device_(DeviceOptions{selection.index, selection.validation}),
-      forces_(checked(device_, model, settings.kind, selection.precision), model, selection.precision, options.terms,
-              static_cast<std::uint32_t>(tableau_.stages)),
+      forces_(checked(device_, model, settings.kind, selection.precision, force_path(model, options)), model,
+              selection.precision, options.terms, static_cast<std::uint32_t>(tableau_.stages),
+              force_path(model, options)),
       particles_(forces_.particle_count()),
       elements_(forces_.element_count()),
       anchor_capacity_(anchor_capacity_for(model.anchors.size())),

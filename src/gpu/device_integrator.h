@@ -76,12 +76,15 @@ class DeviceIntegrator final : public Integrator {
   // True on the lattice path: each particle evaluates the springs it owns (lattice_elements);
   // false on the general path of element passes and force slots.
   bool lattice_path() const { return lattice_; }
+  // The arrays DeviceForces holds: the general path's, or only what the lattice path reads.
+  DeviceForcePath device_forces_path() const { return forces_.path(); }
   Precision precision() const { return precision_; }
-  // Device memory the integrator holds for a model of these counts and anchors, bytes: what is
-  // checked before allocating, and before a run builds its model (sim/backend.h). The lattice
-  // path's arrays are counted whether or not the model takes it.
+  // Device memory the integrator holds for a model of these counts and anchors on force path
+  // `path`, bytes: what is checked before allocating, and before a run builds its model
+  // (sim/backend.h: a scene's model is a lattice, so the lattice path). The lattice path's own
+  // arrays are counted on either path.
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
-                                        Precision precision);
+                                        Precision precision, DeviceForcePath path = DeviceForcePath::lattice);
 
   // The device's arrays besides DeviceForces' (which holds the stage state, the model and the
   // element scratch).

@@ -373,6 +373,35 @@ TEST(DeviceIntegrator, EditsBetweenFramesReachTheDevice) {
   EXPECT_NEAR(device.balance_error, cpu.balance_error, 1e-10 * device.energy_scale);
 }
 
+// The lattice path reads only the stage state, the masses and the environment of DeviceForces:
+// the element arrays, the force slots, the gather table and the element powers are the general
+// path's alone, and are not allocated for the lattice path (issue 22 item 3). The whole device
+// step at 1024 x 1024 in float32 then holds under 500 bytes a particle, the general path over 900.
+TEST(DeviceIntegrator, TheLatticePathHoldsNoElementArrays) {
+  const LatticeCounts counts = lattice_counts(1024, 1024);
+  const auto per_particle = [&](std::uint64_t bytes) {
+    return static_cast<double>(bytes) / static_cast<double>(counts.particles);
+  };
+  const std::uint64_t forces_lattice =
+      gpu::DeviceForces::bytes_for(counts, Precision::float32, 6, gpu::DeviceForcePath::lattice);
+  EXPECT_LE(per_particle(forces_lattice), 3 * 4 + 3 * 4 + 4 + 0.01);  // position, velocity, mass
+  const auto step = [&](gpu::DeviceForcePath path) {
+    return per_particle(
+        gpu::DeviceIntegrator::device_bytes_for(counts, 1, IntegratorKind::rkf45, Precision::float32, path));
+  };
+  EXPECT_LT(step(gpu::DeviceForcePath::lattice), 500.0);
+  EXPECT_GT(step(gpu::DeviceForcePath::general), 900.0);
+  // A device integrator on each path runs, and the one on the lattice path holds the smaller set.
+  const ClothModel model = paper_lattice(6, 7);
+  ForceOptions general;
+  general.kernel = ForceKernel::general;
+  const gpu::DeviceIntegrator lattice_path(model, IntegratorSettings{}, ForceOptions{}, device0(Precision::float32));
+  EXPECT_TRUE(lattice_path.lattice_path());
+  EXPECT_EQ(lattice_path.device_forces_path(), gpu::DeviceForcePath::lattice);
+  const gpu::DeviceIntegrator general_path(model, IntegratorSettings{}, general, device0(Precision::float32));
+  EXPECT_EQ(general_path.device_forces_path(), gpu::DeviceForcePath::general);
+}
+
 // What the backend does not run is refused with the feature and its field, before anything runs;
 // so are a device that does not exist and a scene larger than the device's memory.
 TEST(DeviceIntegrator, RefusesWhatItCannotRun) {
