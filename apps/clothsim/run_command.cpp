@@ -249,6 +249,7 @@ int report_run(const RunResult& result, const RunFlags& options) {
         format_profile(profile_rows(simulation, result.output_seconds + result.picture_seconds, result.wall_seconds),
                        simulation.integrator_stats().force_evaluations)
             .c_str());
+    std::fputs(simulation.profile_notes().c_str(), stdout);
     std::fflush(stdout);
   }
   if (result.status == RunStatus::failed) {

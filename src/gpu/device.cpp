@@ -40,6 +40,7 @@ Device::Device(DeviceOptions options) : instance_(InstanceOptions{options.valida
     if ((families[i].queueFlags & VK_QUEUE_COMPUTE_BIT) != 0) family = i;
   }
   if (family == family_count) throw GpuError(device_name(info_) + " has no compute queue");
+  timestamp_valid_bits_ = families[family].timestampValidBits;
 
   const float priority = 1.0f;
   VkDeviceQueueCreateInfo queue{};

@@ -40,6 +40,8 @@ class Device {
   VkDevice handle() const { return device_; }
   const Instance& instance() const { return instance_; }
   const VkPhysicalDeviceLimits& limits() const { return limits_; }
+  // The bits of a timestamp its compute queue writes (0: no timestamps there).
+  std::uint32_t timestamp_valid_bits() const { return timestamp_valid_bits_; }
 
   // Throws GpuError "<what> needs X MiB of device memory, <device> has Y MiB" when `bytes` is more
   // than the device-local memory. A check before anything is allocated or written.
@@ -65,6 +67,7 @@ class Device {
   DeviceInfo info_;
   VkPhysicalDevice physical_device_ = VK_NULL_HANDLE;
   VkPhysicalDeviceLimits limits_{};
+  std::uint32_t timestamp_valid_bits_ = 0;
   VkPhysicalDeviceMemoryProperties memory_{};
   VkDevice device_ = VK_NULL_HANDLE;
   VkQueue queue_ = VK_NULL_HANDLE;

@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <numbers>
 #include <span>
@@ -11,6 +12,7 @@
 #include "core/assert.h"
 #include "core/parallel.h"
 #include "core/step_profile.h"
+#include "core/timer.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
@@ -233,13 +235,14 @@ void DeviceIntegrator::bind_passes() {
 
 DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with the device's pool
 
-void DeviceIntegrator::record_attempt(VkCommandBuffer commands) const {
+void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer) const {
   const auto stages = static_cast<std::uint32_t>(tableau_.stages);
   const std::uint32_t lattice_cols = lattice_ ? static_cast<std::uint32_t>(model_.cols) : 0u;
   const std::uint32_t damped = (options_.terms & kSpringDamping) != 0 ? 1u : 0u;
   for (std::uint32_t i = 0; i < stages; ++i) {
     const StagePassConstants stage{particles_, i, stages, 0, lattice_cols};
     stage_state_pass_.dispatch(commands, &stage, particles_);
+    timer.mark(commands, StepStage::stage_sums);
     if (lattice_) {
       const LatticePassConstants lattice{particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i};
       lattice_pass_.dispatch(commands, &lattice, particles_);
@@ -247,17 +250,20 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands) const {
       forces_.record_element_passes(commands, i);
     }
     acceleration_pass_.dispatch(commands, &stage, particles_);
+    timer.mark(commands, StepStage::forces);
   }
   const StagePassConstants solution{particles_, 0, stages, symplectic_ ? 1u : 0u, lattice_cols};
   solution_pass_.dispatch(commands, &solution, particles_);
   const ReducePassConstants decide{particles_, workgroups_of(particles_), 0, stages};
   control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
+  timer.mark(commands, StepStage::solution_and_error);
   const std::uint32_t element_items = lattice_ ? 0u : elements_;  // the lattice path's damping is per particle
   const std::uint32_t accept_items = std::max(particles_, element_items);
   const AcceptPassConstants accept{particles_, element_items, stages, workgroups_of(accept_items), lattice_ ? 1u : 0u};
   accept_pass_.dispatch(commands, &accept, accept_items);
   const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages};
   control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
+  timer.mark(commands, StepStage::solution_update);
   if (laws_ != 0) {
     // Tearing, stretching and creasing on the accepted state (events/spring_events.h), then their
     // work into the advance's sums.
@@ -267,19 +273,30 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands) const {
     events_radial_pass_.dispatch(commands, &events, particles_);
     const ReducePassConstants collect_events{particles_, workgroups_of(particles_), 2, stages};
     control_pass_.dispatch(commands, &collect_events, kReduceWorkgroup);
+    timer.mark(commands, StepStage::events);
   }
 }
 
-VkCommandBuffer DeviceIntegrator::attempts_buffer(std::uint32_t attempts) {
+DeviceIntegrator::RecordedAttempts& DeviceIntegrator::attempts_buffer(std::uint32_t attempts) {
   const auto found = recorded_.find(attempts);
   if (found != recorded_.end()) return found->second;
-  VkCommandBuffer commands = device_.record([&](VkCommandBuffer c) {
-    for (std::uint32_t a = 0; a < attempts; ++a) record_attempt(c);
+  // Marks per attempt: two per stage (its state, its forces), the decision, the acceptance, the
+  // events.
+  const auto marks_per_attempt = static_cast<std::uint32_t>(2 * tableau_.stages + 3);
+  RecordedAttempts recorded;
+  recorded.timer = std::make_unique<PassTimer>(device_, attempts * marks_per_attempt);
+  recorded.commands = device_.record([&](VkCommandBuffer c) {
+    recorded.timer->begin(c);
+    for (std::uint32_t a = 0; a < attempts; ++a) record_attempt(c, *recorded.timer);
     record_readback(c, arrays_[control_real], control_real_readback_, control_real_readback_.bytes());
     record_readback(c, arrays_[control_uint], control_uint_readback_, control_uint_readback_.bytes());
   });
-  recorded_.emplace(attempts, commands);
-  return commands;
+  return recorded_.emplace(attempts, std::move(recorded)).first->second;
+}
+
+void DeviceIntegrator::release_recorded() {
+  for (const auto& [attempts, recorded] : recorded_) device_.release(recorded.commands);
+  recorded_.clear();
 }
 
 void DeviceIntegrator::upload_changes(const ClothState& state) {
@@ -311,8 +328,7 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
     arrays_[anchor_paths] =
         Buffer(device_, std::uint64_t{anchor_capacity_} * kAnchorReals * real_size(precision_), Memory::device_local);
     bind_passes();
-    for (const auto& [attempts, commands] : recorded_) device_.release(commands);
-    recorded_.clear();
+    release_recorded();
   }
   std::vector<double> paths;
   paths.reserve(model_.anchors.size() * kAnchorReals);
@@ -434,10 +450,14 @@ DeviceIntegrator::Control DeviceIntegrator::run_attempts(std::uint32_t max_accep
   Control control;
   control.uints.resize(kControlUints);
   for (;;) {
-    {
-      StageTimer timer(profile_, StepStage::device_steps);
-      device_.run(attempts_buffer(attempts));
-    }
+    // The device's time per stage from the passes' timestamps; "device steps" is the rest of the
+    // wait (the submission, the control's read-back, what the timestamps do not cover).
+    RecordedAttempts& recorded = attempts_buffer(attempts);
+    const Stopwatch wait;
+    device_.run(recorded.commands);
+    const double waited = wait.seconds();
+    recorded.timer->add_to(profile_);
+    profile_.add(StepStage::device_steps, std::max(0.0, waited - recorded.timer->last_seconds()));
     std::memcpy(control.uints.data(), control_uint_readback_.mapped(), kControlUints * 4);
     if (control.uints[kActive] == 0) break;
     attempts = std::min(2 * attempts, kMaxAttemptsPerSubmission);
@@ -487,6 +507,55 @@ StepOutcome DeviceIntegrator::take_results(ClothState& state, double t0, double 
     return {status, std::min(reals[kProposedStep], reals[kStep]), uints[kFailedParticle], uints[kNonFiniteError] != 0};
   }
   return {StepStatus::ok, reals[kTakenStep], 0, false};
+}
+
+double DeviceIntegrator::traffic_per_particle_and_attempt() const {
+  if (!lattice_) return 0.0;
+  const auto real = static_cast<double>(real_size(precision_));
+  const double index = 4.0;
+  const auto stages = static_cast<std::size_t>(tableau_.stages);
+  const std::vector<double> row_reals = nystrom_rows(tableau_);
+  double reals = 0.0;
+  double indices = 0.0;
+  for (std::size_t i = 0; i < stages; ++i) {
+    // rk_stage_state: the state in, the stage state out, and the earlier stages' accelerations
+    // its Nystrom row weighs.
+    std::size_t weighed = 0;
+    for (std::size_t l = 0; l < i; ++l) {
+      const std::size_t row = i * kRowReals;
+      if (row_reals[row + 1 + l] != 0.0 || row_reals[row + 1 + kMaxDeviceStages + l] != 0.0) ++weighed;
+    }
+    reals += 6 + 6 + 3 * static_cast<double>(weighed);
+    indices += 1;  // the particle's anchor
+    // lattice_elements: the stage state, the particle's spring parameters and its two connectors'
+    // original lengths in; its force and its four neighbours' shares, and its damping power, out.
+    reals += 6 + kLatticeParams + 2 + kLatticeForces + 1;
+    // stage_acceleration: the stage velocity, mass and inverse mass, the forces gathered, the
+    // acceleration out, the drag and anchor powers out and the damping power read.
+    reals += 3 + 1 + 1 + kLatticeForces + 3 + 3;
+    indices += 1;
+  }
+  // rk_solution: the state and every stage's acceleration in, the trial state out.
+  reals += 12 + 3 * static_cast<double>(stages);
+  indices += 1;
+  // rk_accept: the trial state in, the state out, every stage's three powers in.
+  reals += 12 + 3 * static_cast<double>(stages);
+  if (laws_ != 0) {
+    // The events: each pass reads the state, its springs' parameters (the connectors' 8, the
+    // radial springs' 24) and the particle's event parameters, and writes its energies.
+    reals += (3 + 8 + kEventParams + 2) + (3 + 24 + kEventParams + 2);
+    indices += 1;  // the broken connectors' flags
+  }
+  return reals * real + indices * index;
+}
+
+std::string DeviceIntegrator::profile_notes() const {
+  if (!lattice_) return {};
+  char line[160];
+  std::snprintf(line, sizeof line,
+                "device traffic: %.0f bytes per particle and attempt (%s, counted from the passes' arrays)\n",
+                traffic_per_particle_and_attempt(), to_string(precision_));
+  return line;
 }
 
 std::size_t DeviceIntegrator::workspace_bytes() const { return 0; }

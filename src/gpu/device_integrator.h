@@ -31,12 +31,15 @@
 
 #include <cstdint>
 #include <map>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
+#include "gpu/pass_timer.h"
 #include "integrators/integrator.h"
 #include "integrators/tableau.h"
 
@@ -76,6 +79,14 @@ class DeviceIntegrator final : public Integrator {
   // True on the lattice path: each particle evaluates the springs it owns (lattice_elements);
   // false on the general path of element passes and force slots.
   bool lattice_path() const { return lattice_; }
+  // Device memory an attempt reads and writes per particle on the lattice path, bytes: each
+  // array element a pass touches counted once (a neighbour's values as cached), summed over the
+  // attempt's passes as last recorded (the event passes from the first advance on, where the
+  // model's laws ask for them; docs/gpu.md, "Where the time goes"); 0 on the general path, not
+  // counted.
+  double traffic_per_particle_and_attempt() const;
+  // "device traffic: ... bytes per particle and attempt", for `clothsim run --profile`.
+  std::string profile_notes() const override;
   // The arrays DeviceForces holds: the general path's, or only what the lattice path reads.
   DeviceForcePath device_forces_path() const { return forces_.path(); }
   Precision precision() const { return precision_; }
@@ -131,9 +142,17 @@ class DeviceIntegrator final : public Integrator {
   // Uploads what changed on the host since the last exchange: the model, the state.
   void upload_changes(const ClothState& state);
   void write_anchor_paths(double t0);
+  // A command buffer of a number of attempts, with the timestamps between its passes.
+  struct RecordedAttempts {
+    VkCommandBuffer commands = VK_NULL_HANDLE;
+    std::unique_ptr<PassTimer> timer;
+  };
   // The command buffer of `attempts` attempts, recorded on first use.
-  VkCommandBuffer attempts_buffer(std::uint32_t attempts);
-  void record_attempt(VkCommandBuffer commands) const;
+  RecordedAttempts& attempts_buffer(std::uint32_t attempts);
+  // One attempt's passes, each run of them marked with its stage of the step (pass_timer.h).
+  void record_attempt(VkCommandBuffer commands, PassTimer& timer) const;
+  // Drops the recorded command buffers, to be recorded again (the passes or their arrays changed).
+  void release_recorded();
   // Binds every pass's arrays (again after the anchor table grows).
   void bind_passes();
   void read_state(ClothState& state);
@@ -162,7 +181,7 @@ class DeviceIntegrator final : public Integrator {
   Buffer state_readback_;  // positions, then velocities
   ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_,
       events_connectors_pass_, events_radial_pass_, accept_pass_;
-  std::map<std::uint32_t, VkCommandBuffer> recorded_;  // by attempts per submission
+  std::map<std::uint32_t, RecordedAttempts> recorded_;  // by attempts per submission
 
   // What the host last exchanged with the device: a fingerprint of the state (not a copy of it).
   bool exchanged_ = false;

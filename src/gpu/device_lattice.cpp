@@ -77,8 +77,7 @@ void DeviceIntegrator::set_laws() {
   if (laws == laws_) return;
   // The laws are in the recorded attempts' push constants: record them again.
   laws_ = laws;
-  for (const auto& [attempts, commands] : recorded_) device_.release(commands);
-  recorded_.clear();
+  release_recorded();
 }
 
 IntegratorEvents DeviceIntegrator::take_spring_events(ClothModel& model) {

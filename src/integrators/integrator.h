@@ -154,6 +154,9 @@ class Integrator {
   const StepProfile& profile() const { return profile_; }
   // Bytes of scratch memory the integrator holds: stage arrays, force buffers, and so on.
   virtual std::size_t workspace_bytes() const { return 0; }
+  // Lines that `clothsim run --profile` prints under the profile's table (the device's memory
+  // traffic per attempt); none by default.
+  virtual std::string profile_notes() const { return {}; }
   // True when the integrator applies tearing, permanent stretching and creasing itself after each
   // of its steps (events/spring_events.h's laws, on a device: gpu/device_integrator.h). The
   // Simulation then calls take_spring_events() after each advance() instead of running its event

@@ -288,13 +288,20 @@ ModelChanges Simulation::model_changes() const {
 
 IntegratorStats Simulation::integrator_stats() const { return combine(retired_stats_, integrator_->stats()); }
 
+std::string Simulation::profile_notes() const { return integrator_->profile_notes(); }
+
 StepProfile Simulation::profile() const {
   StepProfile integrator = retired_profile_;
   integrator += integrator_->profile();
   StepProfile profile = profile_;
   profile += integrator;
-  // The integrator's forces are inside the integration stage's time: the rest is integration.
-  profile.set(StepStage::integration, profile_.seconds(StepStage::integration) - integrator.seconds(StepStage::forces));
+  // What the integrator times of the step's own stages (its forces; the device's events) is
+  // inside the integration stage's time: the rest is integration.
+  double own = 0.0;
+  for (const StepStageInfo& info : kStepStages) {
+    if (is_step_stage(info.stage) && info.stage != StepStage::integration) own += integrator.seconds(info.stage);
+  }
+  profile.set(StepStage::integration, profile_.seconds(StepStage::integration) - own);
   return profile;
 }
 

@@ -92,6 +92,9 @@ class Simulation {
   // Wall time per stage of the step (core/step_profile.h), the integrator's parts included, over
   // the run and across set_integrator() switches.
   StepProfile profile() const;
+  // What the integrator adds under the profile's table (Integrator::profile_notes()): the device's
+  // memory traffic per attempt on the Vulkan backend; empty on the CPU.
+  std::string profile_notes() const;
   // Bytes held by the model's arrays, the state and the integrator's workspace (capacity, not
   // just size): the simulation's own memory, without the process around it.
   std::size_t memory_bytes() const;

@@ -402,6 +402,48 @@ TEST(DeviceIntegrator, TheLatticePathHoldsNoElementArrays) {
   EXPECT_EQ(general_path.device_forces_path(), gpu::DeviceForcePath::general);
 }
 
+// The device's time per stage comes from timestamps between its passes (gpu/pass_timer.h), by
+// the CPU's stage names; it lies inside the step's wall time, which the rows then add up to. The
+// traffic per particle and attempt is counted from the passes' arrays (issue 22 item 5).
+TEST(DeviceIntegrator, TheProfileNamesTheCpusStagesAndTheTraffic) {
+  SceneSpec spec = device_scene("paper-fig5", vulkan(Precision::float32));
+  spec.lattice.limits.break_strain = 10.0;  // the event passes run (and never break a spring)
+  Simulation simulation = make_simulation(spec);
+  ASSERT_TRUE(simulation.advance_to(0.2));
+  const StepProfile profile = simulation.profile();
+  for (StepStage stage : {StepStage::forces, StepStage::stage_sums, StepStage::solution_and_error,
+                          StepStage::solution_update, StepStage::events, StepStage::device_steps}) {
+    EXPECT_TRUE(profile.timed(stage)) << to_string(stage);
+    EXPECT_GE(profile.seconds(stage), 0.0) << to_string(stage);
+  }
+  EXPECT_GT(profile.seconds(StepStage::forces), 0.0);
+  EXPECT_GT(profile.seconds(StepStage::stage_sums), 0.0);
+  // The integration stage is the step's wall time less the forces and the device's events, and
+  // its parts fit inside it.
+  EXPECT_GE(profile.seconds(StepStage::integration), 0.0);
+  const double parts = profile.seconds(StepStage::stage_sums) + profile.seconds(StepStage::solution_and_error) +
+                       profile.seconds(StepStage::solution_update) + profile.seconds(StepStage::device_steps);
+  EXPECT_LE(parts, profile.seconds(StepStage::integration) * (1.0 + 1e-9) + 1e-6);
+  // About 2.7 kB per particle and attempt in float32 (RKF45: six stages of a state, the lattice
+  // pass and the gather, then the solution and the acceptance); float64 twice the reals.
+  const auto traffic = [](Precision precision, double break_strain) {
+    ClothModel model = paper_lattice(8, 8);
+    model.limits.break_strain = break_strain;
+    gpu::DeviceIntegrator device(model, IntegratorSettings{}, ForceOptions{}, device0(precision));
+    ClothState state;  // one step, which sets the passes up for the model's laws
+    state.position = model.particle_rest_position;
+    state.velocity.assign(model.particle_count(), Vec3{});
+    EXPECT_EQ(device.step(state, 0.01).status, StepStatus::ok);
+    return device.traffic_per_particle_and_attempt();
+  };
+  const double single = traffic(Precision::float32, SpringLimits::kNever);
+  EXPECT_GT(single, 2000.0);
+  EXPECT_LT(single, 3500.0);
+  EXPECT_GT(traffic(Precision::float64, SpringLimits::kNever), 1.9 * single);
+  EXPECT_GT(traffic(Precision::float32, 0.5), single);  // the event passes read and write more
+  EXPECT_NE(simulation.profile_notes().find("bytes per particle and attempt"), std::string::npos);
+}
+
 // What the backend does not run is refused with the feature and its field, before anything runs;
 // so are a device that does not exist and a scene larger than the device's memory.
 TEST(DeviceIntegrator, RefusesWhatItCannotRun) {
