@@ -1,5 +1,5 @@
 // tinygltf's loader for the tests (glb_reader.h): its implementation, without image support (the
-// files have no images), compiled here once per test executable.
+// files have no images), compiled once, into the tests' clothsim_test_glb_reader library (tests/CMakeLists.txt).
 #include "glb_reader.h"
 
 #include <cstring>
