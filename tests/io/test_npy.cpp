@@ -248,7 +248,7 @@ TEST_P(NpyWriterFrameCount, HeaderIsAlignedAndRewrittenOnClose) {
   expect_bit_exact(array.data, frames * items * 3);
 }
 
-INSTANTIATE_TEST_SUITE_P(Frames, NpyWriterFrameCount, testing::Values(0U, 1U, 1000U));
+INSTANTIATE_TEST_SUITE_P(Frames, NpyWriterFrameCount, testing::Values(0U, 1U, 1000U), testing::PrintToStringParamName());
 
 TEST(NpyWriter, FlushMakesTheFramesSoFarReadable) {
   const std::string path = checks::scratch_path("io", "flushed.npy");

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -411,7 +412,17 @@ const MalformedScene kMalformedScenes[] = {
     {"empty text", "", {"scene.json: line 1, column", "JSON syntax error"}},
 };
 
-INSTANTIATE_TEST_SUITE_P(Scenes, MalformedSceneTest, ::testing::ValuesIn(kMalformedScenes));
+// Each case's name in gtest and ctest: its description with every character that is not a letter or
+// a digit as '_' ("Scenes/MalformedSceneTest.ThrowsInputErrorNamingFieldAndRange/rows_2_5").
+std::string malformed_case_name(const ::testing::TestParamInfo<MalformedScene>& info) {
+  std::string name = info.param.what;
+  for (char& c : name) {
+    if (std::isalnum(static_cast<unsigned char>(c)) == 0) c = '_';
+  }
+  return name;
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, MalformedSceneTest, ::testing::ValuesIn(kMalformedScenes), malformed_case_name);
 
 TEST(LoadSceneFile, MissingFile) {
   const std::string path = CLOTHSIM_SOURCE_DIR "/tests/scene/no-such-scene.json";
