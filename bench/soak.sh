@@ -14,8 +14,8 @@
 # overrides both). SOAK_JOBS runs that many at once, on one thread each (default 1: one at a
 # time on the scene's own threads). SOAK_CHECKPOINTS=DIR checkpoints each run at every sample in
 # DIR/<run>.checkpoint and resumes it from there when it exists, so a soak can be stopped and
-# taken up again (the runs go on bit for bit). The costs per simulated second, the wall times of the last
-# soak and how each run ended are in docs/performance.md, "Soak".
+# taken up again (the runs go on bit for bit). bench/soak_table.py prints the results as the table
+# of docs/performance.md, "Soak", which has the costs per simulated second and how each run ended.
 set -euo pipefail
 cd "$(dirname "${BASH_SOURCE[0]}")/.."
 build=${1:-build/bench}
