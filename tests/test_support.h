@@ -2,13 +2,24 @@
 #pragma once
 
 #include <array>
+#include <cctype>
 #include <cstdint>
 #include <functional>
+#include <string>
 #include <vector>
 
 #include "core/vec3.h"
 
 namespace clothsim::testing {
+
+// A parameterised case's name for gtest and ctest: `text` with every character that is not a letter
+// or a digit as '_' ("paper-fig4" -> "paper_fig4", "rows 2.5" -> "rows_2_5").
+inline std::string case_name(std::string text) {
+  for (char& c : text) {
+    if (std::isalnum(static_cast<unsigned char>(c)) == 0) c = '_';
+  }
+  return text;
+}
 
 // Deterministic uniform numbers for test configurations (SplitMix64).
 class TestRandom {

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "test_checks.h"
+#include "test_support.h"
 
 namespace clothsim {
 namespace {
@@ -241,11 +242,7 @@ TEST_P(EstimateAgainstPeak, IsWithinAQuarterOfTheMeasuredPeak) {
 }
 
 std::string case_name(const ::testing::TestParamInfo<Case>& info) {
-  std::string name = std::to_string(info.param.side) + "_" + info.param.integrator;
-  for (char& c : name) {
-    if (c == '-') c = '_';
-  }
-  return name;
+  return testing::case_name(std::to_string(info.param.side) + "_" + info.param.integrator);
 }
 
 INSTANTIATE_TEST_SUITE_P(Sizes, EstimateAgainstPeak,

@@ -8,7 +8,6 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
-#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -21,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "test_helpers.h"
+#include "test_support.h"
 
 namespace clothsim {
 namespace {
@@ -412,17 +412,10 @@ const MalformedScene kMalformedScenes[] = {
     {"empty text", "", {"scene.json: line 1, column", "JSON syntax error"}},
 };
 
-// Each case's name in gtest and ctest: its description with every character that is not a letter or
-// a digit as '_' ("Scenes/MalformedSceneTest.ThrowsInputErrorNamingFieldAndRange/rows_2_5").
-std::string malformed_case_name(const ::testing::TestParamInfo<MalformedScene>& info) {
-  std::string name = info.param.what;
-  for (char& c : name) {
-    if (std::isalnum(static_cast<unsigned char>(c)) == 0) c = '_';
-  }
-  return name;
-}
-
-INSTANTIATE_TEST_SUITE_P(Scenes, MalformedSceneTest, ::testing::ValuesIn(kMalformedScenes), malformed_case_name);
+INSTANTIATE_TEST_SUITE_P(Scenes, MalformedSceneTest, ::testing::ValuesIn(kMalformedScenes),
+                         [](const ::testing::TestParamInfo<MalformedScene>& case_info) {
+                           return testing::case_name(case_info.param.what);
+                         });
 
 TEST(LoadSceneFile, MissingFile) {
   const std::string path = CLOTHSIM_SOURCE_DIR "/tests/scene/no-such-scene.json";

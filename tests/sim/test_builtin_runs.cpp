@@ -19,6 +19,7 @@
 #include "scene/scene.h"
 #include "scene_simulation.h"
 #include "sim/simulation.h"
+#include "test_support.h"
 
 namespace clothsim {
 namespace {
@@ -56,11 +57,7 @@ TEST_P(BuiltinRun, CompletesWithoutTrippingTheChecks) {
 
 INSTANTIATE_TEST_SUITE_P(Scenes, BuiltinRun, ::testing::ValuesIn(builtin_names()),
                          [](const ::testing::TestParamInfo<std::string>& scene_info) {
-                           std::string name = scene_info.param;
-                           for (char& c : name) {
-                             if (c == '-') c = '_';
-                           }
-                           return name;
+                           return testing::case_name(scene_info.param);
                          });
 
 }  // namespace
