@@ -8,11 +8,14 @@
 
 #include <gtest/gtest.h>
 
+#include <nlohmann/json.hpp>
+
 #include <cstdio>
 #include <filesystem>
 #include <set>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "test_checks.h"
@@ -78,5 +81,43 @@ inline std::string describe(const Result& result) {
   text << "exit code " << result.exit_code << "\n--- stdout\n" << result.out << "--- stderr\n" << result.err;
   return text.str();
 }
+
+// The fixture of every end-to-end test of the tool: a fresh folder per test,
+// CLOTHSIM_TEST_TMPDIR/<area>/<Suite>.<Test> ('/' of parameterised names replaced by '_'), with
+// the captured stdout and stderr in it and the tool's working folder `work_` below it, so that
+// work_ holds only what the tool wrote.
+class ToolTest : public ::testing::Test {
+ protected:
+  explicit ToolTest(std::string area) : area_(std::move(area)) {}
+
+  void SetUp() override {
+    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
+    std::string name = std::string(info->test_suite_name()) + "." + info->name();
+    for (char& c : name) {
+      if (c == '/') c = '_';
+    }
+    root_ = fs::path(CLOTHSIM_TEST_TMPDIR) / area_ / name;
+    fs::remove_all(root_);
+    work_ = root_ / "work";
+    fs::create_directories(work_);
+  }
+
+  // Runs clothsim with `args` in work_ and waits for it.
+  Result clothsim(const std::vector<std::string>& args) const {
+    return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
+  }
+  // Starts clothsim with `args` in work_; wait_clothsim(pid, root_) collects it.
+  pid_t start(const std::vector<std::string>& args) const { return spawn_clothsim(work_, args, root_); }
+  // The summary.json of the run folder `out` (relative to work_).
+  nlohmann::json summary(const std::string& out) const {
+    return nlohmann::json::parse(read_text(work_ / out / "summary.json"));
+  }
+
+  fs::path root_;  // this test's folder: the capture files
+  fs::path work_;  // the tool's working folder: only what the tool writes
+
+ private:
+  std::string area_;
+};
 
 }  // namespace clothsim::cli_harness

@@ -24,23 +24,11 @@ using checks::read_text;
 using cli_harness::contains;
 using cli_harness::describe;
 using cli_harness::entries;
-using cli_harness::spawn_clothsim;
-using cli_harness::wait_clothsim;
 using Result = checks::ProcessResult;
 
-class BackendTest : public ::testing::Test {
+class BackendTest : public cli_harness::ToolTest {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::path(CLOTHSIM_TEST_TMPDIR) / "backend" / info->name();
-    fs::remove_all(root_);
-    work_ = root_ / "work";
-    fs::create_directories(work_);
-  }
-
-  Result clothsim(const std::vector<std::string>& args) const {
-    return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
-  }
+  BackendTest() : ToolTest("backend") {}
 
   // A refusal: exit 2, the message, nothing written.
   void expect_refused(const Result& result, const std::string& message) const {
@@ -48,9 +36,6 @@ class BackendTest : public ::testing::Test {
     EXPECT_TRUE(contains(result.err, message));
     EXPECT_TRUE(entries(work_).empty()) << "written: " << entries(work_).size() << " paths";
   }
-
-  fs::path root_;
-  fs::path work_;
 };
 
 // Float32 forces on the CPU (tests/sim/test_mixed_precision.cpp holds their accuracy): the scene

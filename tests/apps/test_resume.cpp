@@ -29,7 +29,6 @@ namespace fs = std::filesystem;
 using checks::contains;
 using checks::read_text;
 using cli_harness::describe;
-using cli_harness::spawn_clothsim;
 using cli_harness::wait_clothsim;
 using Result = checks::ProcessResult;
 using Clock = std::chrono::steady_clock;
@@ -61,24 +60,9 @@ const std::vector<ResumeCase> kResumeCases = {
     {"Imex", {"paper-fig5", "--integrator", "imex", "--duration", "4"}, "0.1"},
 };
 
-class ResumeTest : public ::testing::Test {
+class ResumeTest : public cli_harness::ToolTest {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "." + info->name();
-    for (char& c : name) {
-      if (c == '/') c = '_';
-    }
-    root_ = fs::path(CLOTHSIM_TEST_TMPDIR) / "resume" / name;
-    fs::remove_all(root_);
-    work_ = root_ / "work";
-    fs::create_directories(work_);
-  }
-
-  Result clothsim(const std::vector<std::string>& args) const {
-    return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
-  }
-  pid_t start(const std::vector<std::string>& args) const { return spawn_clothsim(work_, args, root_); }
+  ResumeTest() : ToolTest("resume") {}
 
   // `clothsim run SCENE... --out OUT --checkpoint-every EVERY`, without pictures.
   static std::vector<std::string> run_args(const ResumeCase& c, const std::string& out) {
@@ -159,13 +143,6 @@ class ResumeTest : public ::testing::Test {
     }
     EXPECT_EQ(left.flatten().dump(1), right.flatten().dump(1));
   }
-
-  nlohmann::json summary(const std::string& out) const {
-    return nlohmann::json::parse(read_text(work_ / out / "summary.json"));
-  }
-
-  fs::path root_;
-  fs::path work_;
 };
 
 class KilledRunTest : public ResumeTest, public ::testing::WithParamInterface<ResumeCase> {};

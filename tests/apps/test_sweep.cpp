@@ -27,7 +27,6 @@ namespace fs = std::filesystem;
 using checks::contains;
 using checks::read_text;
 using cli_harness::describe;
-using cli_harness::spawn_clothsim;
 using cli_harness::wait_clothsim;
 using Result = checks::ProcessResult;
 
@@ -66,23 +65,9 @@ std::string column(const std::vector<std::vector<std::string>>& rows, std::size_
   return {};
 }
 
-class SweepTest : public ::testing::Test {
+class SweepTest : public cli_harness::ToolTest {
  protected:
-  void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    root_ = fs::path(CLOTHSIM_TEST_TMPDIR) / "sweep" / info->name();
-    fs::remove_all(root_);
-    work_ = root_ / "work";
-    fs::create_directories(work_);
-  }
-
-  Result clothsim(const std::vector<std::string>& args) const {
-    return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
-  }
-
-  nlohmann::json summary(const std::string& folder) const {
-    return nlohmann::json::parse(read_text(work_ / folder / "summary.json"));
-  }
+  SweepTest() : ToolTest("sweep") {}
 
   void expect_same_runs(const std::string& a, const std::string& b) const {
     for (const std::string& run : kRunFolders) {
@@ -93,9 +78,6 @@ class SweepTest : public ::testing::Test {
       }
     }
   }
-
-  fs::path root_;
-  fs::path work_;
 };
 
 // --report: each run writes its report.html, and the sweep a page of index.csv linking to them.
@@ -190,7 +172,7 @@ TEST_F(SweepTest, InterruptedSweepResumesWithoutRedoingFinishedRuns) {
   // Longer runs, with checkpoints, so that the interrupt finds run-0001 part way.
   std::vector<std::string> args = grid_args("grid", "1.5");
   args.insert(args.end(), {"--checkpoint-every", "0.25"});
-  const pid_t pid = spawn_clothsim(work_, args, root_);
+  const pid_t pid = start(args);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::minutes(3);
   const auto second_run_started = [&] {
     std::error_code error;
