@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <set>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -33,7 +34,8 @@ std::string thrown_message(Action&& action) {
   return "<no exception thrown>";
 }
 
-// An empty folder for the running test: CLOTHSIM_TEST_TMPDIR/<area>/<suite>.<test>, made afresh.
+// An empty folder for the running test: CLOTHSIM_TEST_TMPDIR/<area>/<suite>.<test>, made afresh
+// (a parameterised test's name has a '/', which makes a folder per instance).
 inline std::filesystem::path fresh_test_folder(const std::string& area) {
   const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
   const std::filesystem::path folder =
@@ -43,9 +45,21 @@ inline std::filesystem::path fresh_test_folder(const std::string& area) {
   return folder;
 }
 
+// Whether `text` contains `part`; the failure shows the whole text (a command's output, a file).
 inline ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "'" << text << "' does not contain '" << part << "'";
+  return ::testing::AssertionFailure() << "missing '" << part << "' in:\n" << text;
+}
+
+// The paths a run writes into its folder `folder` besides pictures and exports (docs/cli.md,
+// "The output folder"), the folder included: what a test compares a folder's listing with.
+inline std::set<std::string> run_data_paths(const std::string& folder) {
+  std::set<std::string> paths = {folder};
+  for (const char* file : {"positions.npy", "velocities.npy", "energy.csv", "summary.json", "final.obj", "scene.json",
+                           "connectors.npy", "connector_break_time.npy", "connector_rest_length.npy"}) {
+    paths.insert(folder + "/" + file);
+  }
+  return paths;
 }
 
 // A Python interpreter that imports numpy: $CLOTHSIM_PYTHON if set, else the first of python3

@@ -71,10 +71,7 @@ inline std::set<std::string> entries(const fs::path& folder) {
   return names;
 }
 
-inline ::testing::AssertionResult contains(const std::string& text, const std::string& part) {
-  if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
-  return ::testing::AssertionFailure() << "missing '" << part << "' in:\n" << text;
-}
+using checks::contains;
 
 inline std::string describe(const Result& result) {
   std::ostringstream text;
@@ -83,21 +80,14 @@ inline std::string describe(const Result& result) {
 }
 
 // The fixture of every end-to-end test of the tool: a fresh folder per test,
-// CLOTHSIM_TEST_TMPDIR/<area>/<Suite>.<Test> ('/' of parameterised names replaced by '_'), with
-// the captured stdout and stderr in it and the tool's working folder `work_` below it, so that
-// work_ holds only what the tool wrote.
+// checks::fresh_test_folder(area), with the captured stdout and stderr in it and the tool's
+// working folder `work_` below it, so that work_ holds only what the tool wrote.
 class ToolTest : public ::testing::Test {
  protected:
   explicit ToolTest(std::string area) : area_(std::move(area)) {}
 
   void SetUp() override {
-    const ::testing::TestInfo* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "." + info->name();
-    for (char& c : name) {
-      if (c == '/') c = '_';
-    }
-    root_ = fs::path(CLOTHSIM_TEST_TMPDIR) / area_ / name;
-    fs::remove_all(root_);
+    root_ = checks::fresh_test_folder(area_);
     work_ = root_ / "work";
     fs::create_directories(work_);
   }

@@ -220,16 +220,7 @@ TEST_F(CliTest, SmallRunWritesEveryFile) {
   EXPECT_TRUE(contains(result.out, "5x5 lattice, 25 particles"));
 
   // Exactly the documented files, and no partial folder left next to them.
-  std::set<std::string> expected = {"run",
-                                    "run/positions.npy",
-                                    "run/velocities.npy",
-                                    "run/energy.csv",
-                                    "run/summary.json",
-                                    "run/final.obj",
-                                    "run/scene.json",
-                                    "run/connectors.npy",
-                                    "run/connector_break_time.npy",
-                                    "run/connector_rest_length.npy"};
+  std::set<std::string> expected = checks::run_data_paths("run");
 #if CLOTHSIM_HAVE_RENDER
   // The pictures, by default (tests/render/test_run_pictures.cpp checks their contents).
   expected.insert({"run/final.png", "run/animation.mp4"});

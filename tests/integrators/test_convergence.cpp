@@ -7,44 +7,20 @@
 
 #include "integrators/explicit_runge_kutta.h"
 #include "integrators/symplectic_euler.h"
+#include "single_spring.h"
 
 namespace clothsim {
 namespace {
 
-constexpr double kStiffness = 80.0;  // N/m, the paper's connector
-constexpr double kMass = 1.0;        // kg
-constexpr double kRest = 1.0;        // m
-
-// Two particles, one connector; particle 0 anchored at its rest position (-L/2, 0, 0).
-ClothModel single_spring(double damping) {
-  LatticeDef def;
-  def.rows = 1;
-  def.cols = 2;
-  def.spacing = kRest;
-  def.particle_mass = kMass;
-  def.connector = {kStiffness, damping};
-  const Anchor anchor{0, AnchorPath::fixed_at({-kRest / 2, 0, 0})};
-  return build_lattice(def, Environment{{0, 0, 0}, 0.0}, {&anchor, 1});
-}
-
-// Runs `integrator` from `state` to `end`, returning the final state.
-ClothState run(Integrator& integrator, ClothState state, double end) {
-  while (state.time < end) {
-    EXPECT_EQ(integrator.step(state, end).status, StepStatus::ok);
-  }
-  return state;
-}
-
-ClothState displaced(const ClothModel& model, double amplitude, Vec3 velocity = {}) {
-  ClothState state = make_rest_state(model);
-  state.position[1].x += amplitude;
-  state.velocity[1] = velocity;
-  return state;
-}
+using single_spring::displaced;
+using single_spring::kMass;
+using single_spring::kRest;
+using single_spring::kStiffness;
+using single_spring::run;
 
 TEST(SingleSpring, RKF45MatchesTheAnalyticDampedOscillation) {
   const double damping = 1.5;  // N s/m: underdamped
-  const ClothModel model = single_spring(damping);
+  const ClothModel model = single_spring::model(damping);
   IntegratorSettings settings;
   settings.relative_tolerance = 1e-10;
   settings.absolute_tolerance = 1e-10;
@@ -95,7 +71,7 @@ Vec3 swing(Integrator& integrator, const ClothModel& model) {
 
 template <typename Make>
 double observed_order(Make make, int coarse_steps) {
-  const ClothModel model = single_spring(0.7);
+  const ClothModel model = single_spring::model(0.7);
   IntegratorSettings fine_settings;
   fine_settings.time_step = 1.0 / 20000;
   FixedStepRungeKutta reference_integrator(model, fine_settings, ForceOptions{}, kFehlberg45);

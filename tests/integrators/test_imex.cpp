@@ -9,34 +9,16 @@
 
 #include "integrators/explicit_runge_kutta.h"
 #include "integrators/imex.h"
+#include "single_spring.h"
 
 namespace clothsim {
 namespace {
 
-constexpr double kStiffness = 80.0;  // N/m, the paper's connector
-constexpr double kMass = 1.0;        // kg
-constexpr double kRest = 1.0;        // m
-
-// Two particles, one connector; particle 0 anchored at its rest position (-L/2, 0, 0).
-ClothModel single_spring(double damping) {
-  LatticeDef def;
-  def.rows = 1;
-  def.cols = 2;
-  def.spacing = kRest;
-  def.particle_mass = kMass;
-  def.connector = {kStiffness, damping};
-  const Anchor anchor{0, AnchorPath::fixed_at({-kRest / 2, 0, 0})};
-  return build_lattice(def, Environment{{0, 0, 0}, 0.0}, {&anchor, 1});
-}
-
-ClothState run(Integrator& integrator, ClothState state, double end) {
-  while (state.time < end) {
-    const StepOutcome outcome = integrator.step(state, end);
-    EXPECT_EQ(outcome.status, StepStatus::ok);
-    if (outcome.status != StepStatus::ok) break;
-  }
-  return state;
-}
+using single_spring::displaced;
+using single_spring::kMass;
+using single_spring::kRest;
+using single_spring::kStiffness;
+using single_spring::run;
 
 TEST(ImexTableau, SatisfiesTheOrderConditionsOfBothParts) {
   const AdditiveTableau& t = kArk324L2SA;
@@ -80,14 +62,13 @@ TEST(ImexTableau, SatisfiesTheOrderConditionsOfBothParts) {
 constexpr double kSwingDamping = 20.0;  // N s/m
 
 Vec3 swing(Integrator& integrator, const ClothModel& model) {
-  ClothState state = make_rest_state(model);
-  state.position[1].x += 0.3;
+  ClothState state = displaced(model, 0.3);
   state.velocity[1] = {0, 0, 2.0};  // stretched and moving sideways: a nonlinear orbit
   return run(integrator, state, 1.0).position[1];
 }
 
 double observed_order(const AdditiveTableau& tableau, int coarse_steps) {
-  const ClothModel model = single_spring(kSwingDamping);
+  const ClothModel model = single_spring::model(kSwingDamping);
   IntegratorSettings fine_settings;
   fine_settings.time_step = 1.0 / 20000;
   FixedStepRungeKutta reference_integrator(model, fine_settings, ForceOptions{}, kFehlberg45);
@@ -114,7 +95,7 @@ TEST(ImexConvergence, EmbeddedSolutionIsSecondOrder) {
 // set by the slow motion's accuracy alone.
 TEST(ImexStiffOscillator, FollowsTheAnalyticSolutionAtStepsFarPastTheExplicitLimit) {
   const double damping = 1e4;  // N s/m, c/m = 1e4 / s
-  const ClothModel model = single_spring(damping);
+  const ClothModel model = single_spring::model(damping);
   IntegratorSettings settings;
   settings.kind = IntegratorKind::imex;
   settings.max_step = 10.0;
@@ -127,8 +108,7 @@ TEST(ImexStiffOscillator, FollowsTheAnalyticSolutionAtStepsFarPastTheExplicitLim
   const auto exact = [&](double t) {
     return amplitude * (fast * std::exp(slow * t) - slow * std::exp(fast * t)) / (fast - slow);
   };
-  ClothState state = make_rest_state(model);
-  state.position[1].x += amplitude;
+  ClothState state = displaced(model, amplitude);
   double largest_error = 0.0;
   const double end = 100.0;  // s: the slow mode decays to e^-0.8
   for (int frame = 1; frame <= 100; ++frame) {
@@ -145,15 +125,14 @@ TEST(ImexStiffOscillator, FollowsTheAnalyticSolutionAtStepsFarPastTheExplicitLim
 }
 
 TEST(ImexStiffOscillator, RefusesAStepBelowTheFloorWithADiagnosis) {
-  const ClothModel model = single_spring(10.0);
+  const ClothModel model = single_spring::model(10.0);
   IntegratorSettings settings;
   settings.kind = IntegratorKind::imex;
   settings.relative_tolerance = 1e-14;
   settings.absolute_tolerance = 1e-300;
   settings.min_step = 1e-3;
   AdditiveRungeKutta imex(model, settings, ForceOptions{});
-  ClothState state = make_rest_state(model);
-  state.position[1].x += 0.2;
+  ClothState state = displaced(model, 0.2);
   const StepOutcome outcome = imex.step(state, 1.0);
   EXPECT_EQ(outcome.status, StepStatus::step_underflow);
   EXPECT_EQ(outcome.particle, 1u);

@@ -214,16 +214,7 @@ TEST_F(RunPictures, OddSizesArePaddedInTheVideoOnly) {
 }
 
 TEST_F(RunPictures, RenderFlagWritesExactlyTheNamedFiles) {
-  const std::set<std::string> data = {"run",
-                                      "run/positions.npy",
-                                      "run/velocities.npy",
-                                      "run/energy.csv",
-                                      "run/summary.json",
-                                      "run/final.obj",
-                                      "run/scene.json",
-                                      "run/connectors.npy",
-                                      "run/connector_break_time.npy",
-                                      "run/connector_rest_length.npy"};
+  const std::set<std::string> data = checks::run_data_paths("run");
   struct Case {
     const char* render;
     std::vector<std::string> pictures;
