@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 #include <set>
 #include <string>
 #include <thread>
@@ -32,6 +33,7 @@
 #include "io/npy.h"
 #include "render/image.h"
 
+#include "cli_harness.h"
 #include "test_checks.h"
 
 namespace clothsim {
@@ -95,64 +97,18 @@ class VirtualDisplay {
   std::string name_;
 };
 
-class ViewCommand : public ::testing::Test {
+class ViewCommand : public cli_harness::ToolTest {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    folder_ = fs::path(CLOTHSIM_TEST_TMPDIR) / "view" / info->name();
-    fs::remove_all(folder_);
-    fs::create_directories(folder_ / "work");
-  }
+  ViewCommand() : ToolTest("view") {}
 
-  const fs::path& folder() const { return folder_; }
-  fs::path work() const { return folder_ / "work"; }
-
-  // Runs clothsim with `args` in work(), with DISPLAY set to `display` (unset when empty).
+  // Runs clothsim with `args` in work_, with DISPLAY set to `display` (unset when empty) and no
+  // Wayland display; a run that outlasts 120 s is killed and fails the test.
   Result run(const std::vector<std::string>& args, const std::string& display) const {
-    const fs::path out_path = folder_ / "stdout.txt";
-    const fs::path err_path = folder_ / "stderr.txt";
-    std::vector<std::string> words = {CLOTHSIM_EXE};
-    words.insert(words.end(), args.begin(), args.end());
-    std::vector<char*> argv;
-    for (std::string& word : words) argv.push_back(word.data());
-    argv.push_back(nullptr);
-    std::fflush(nullptr);
-    const pid_t pid = ::fork();
-    if (pid == 0) {
-      if (::chdir(work().c_str()) != 0) ::_exit(126);
-      const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      ::dup2(out, STDOUT_FILENO);
-      ::dup2(err, STDERR_FILENO);
-      if (display.empty()) {
-        ::unsetenv("DISPLAY");
-      } else {
-        ::setenv("DISPLAY", display.c_str(), 1);
-      }
-      ::unsetenv("WAYLAND_DISPLAY");
-      ::execv(argv[0], argv.data());
-      ::_exit(127);
-    }
-    Result result;
-    int status = 0;
-    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(120);
-    while (::waitpid(pid, &status, WNOHANG) == 0) {
-      if (std::chrono::steady_clock::now() > deadline) {
-        ::kill(pid, SIGKILL);
-        ::waitpid(pid, &status, 0);
-        ADD_FAILURE() << "clothsim view did not finish within 120 s";
-        break;
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    result.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    result.out = read_text(out_path);
-    result.err = read_text(err_path);
-    return result;
+    std::optional<std::string> value;
+    if (!display.empty()) value = display;
+    const pid_t pid = start(args, {{"DISPLAY", value}, {"WAYLAND_DISPLAY", std::nullopt}});
+    return cli_harness::wait_clothsim(pid, root_, std::chrono::seconds(120));
   }
-
- private:
-  fs::path folder_;
 };
 
 // Fraction of pixels that differ clearly from the top-left one (the background), and the number
@@ -193,21 +149,21 @@ std::vector<std::string> drag_arguments() {
 TEST_F(ViewCommand, ScriptedDragEndsAtItsTargetWithScreenshotsOfTheSheet) {
   const VirtualDisplay display;
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
-  write_text(work() / "drag.json", kDragScript);
+  write_text(work_ / "drag.json", kDragScript);
   const Result result = run(drag_arguments(), display.name());
   ASSERT_EQ(result.exit_code, 0) << result.err;
   EXPECT_NE(result.out.find("screenshot: middle.png (320x240, t = 0.5 s)"), std::string::npos) << result.out;
   EXPECT_NE(result.out.find("screenshot: final.png (320x240, t = 0.75 s)"), std::string::npos) << result.out;
 
   // The drag started at 0.1 s and took 0.5 s: at 0.75 s the corner is at its target.
-  const NpyArray state = read_npy((work() / "state.npy").string());
+  const NpyArray state = read_npy((work_ / "state.npy").string());
   ASSERT_EQ(state.shape, (std::vector<std::size_t>{kParticles, 3}));
   EXPECT_LT(norm(particle_position(state, 0) - Vec3{-2.0, 2.0, -2.5}), 1e-9);
   EXPECT_EQ(particle_position(state, kCentre), Vec3{});         // the scene's anchor stayed put
   EXPECT_LT(particle_position(state, kParticles - 1).y, -0.1);  // the far corner hangs down
 
-  const render::Image final_image = render::read_png((work() / "final.png").string());
-  const render::Image middle_image = render::read_png((work() / "middle.png").string());
+  const render::Image final_image = render::read_png((work_ / "final.png").string());
+  const render::Image middle_image = render::read_png((work_ / "middle.png").string());
   EXPECT_EQ(final_image.width, 320);
   EXPECT_EQ(final_image.height, 240);
   const auto [covered, colours] = image_content(final_image);
@@ -240,10 +196,10 @@ TEST_F(ViewCommand, TheViewKeepsAFallingSheetInThePicture) {
            "--screenshot-at", "120:fallen.png", "--dump-state", "state.npy", "--size", "320x240"},
           display.name());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const NpyArray state = read_npy((work() / "state.npy").string());
+  const NpyArray state = read_npy((work_ / "state.npy").string());
   EXPECT_LT(particle_position(state, kCentre).y, -15.0) << "the sheet did fall";
-  const double start = sheet_share(render::read_png((work() / "start.png").string()));
-  const double fallen = sheet_share(render::read_png((work() / "fallen.png").string()));
+  const double start = sheet_share(render::read_png((work_ / "start.png").string()));
+  const double fallen = sheet_share(render::read_png((work_ / "fallen.png").string()));
   EXPECT_GT(start, 0.05);
   EXPECT_GT(fallen, 0.002) << "the fallen sheet is out of the picture";
 }
@@ -253,17 +209,17 @@ TEST_F(ViewCommand, TheViewKeepsAFallingSheetInThePicture) {
 TEST_F(ViewCommand, ScriptedCutTearsTheSheetAndTheLowerPartFalls) {
   const VirtualDisplay display;
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
-  write_text(work() / "cut.json", R"({"events": [{"at": 0.1, "cut": {"from": [4.5, -1], "to": [4.5, 7]}},
+  write_text(work_ / "cut.json", R"({"events": [{"at": 0.1, "cut": {"from": [4.5, -1], "to": [4.5, 7]}},
                                                  {"frame": 60, "screenshot": "torn.png"}]})");
   const Result result = run({"view", "--paper-args", kPaperArgs, "--script", "cut.json", "--frames", "60",
                              "--dump-state", "state.npy", "--size", "320x240"},
                             display.name());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const NpyArray state = read_npy((work() / "state.npy").string());
+  const NpyArray state = read_npy((work_ / "state.npy").string());
   ASSERT_EQ(state.shape, (std::vector<std::size_t>{kParticles, 3}));
   // Row 4 hangs from the anchored centre; row 5, cut loose 0.9 s ago, fell about 4 m further.
   EXPECT_LT(particle_position(state, 5 * 7 + 3).y, particle_position(state, 4 * 7 + 3).y - 2.0);
-  const auto [covered, colours] = image_content(render::read_png((work() / "torn.png").string()));
+  const auto [covered, colours] = image_content(render::read_png((work_ / "torn.png").string()));
   EXPECT_GT(covered, 0.01);
   EXPECT_GT(colours, 50u);
 }
@@ -271,22 +227,22 @@ TEST_F(ViewCommand, ScriptedCutTearsTheSheetAndTheLowerPartFalls) {
 TEST_F(ViewCommand, ScriptedRunsAreReproducibleBitForBit) {
   const VirtualDisplay display;
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
-  write_text(work() / "drag.json", kDragScript);
+  write_text(work_ / "drag.json", kDragScript);
   ASSERT_EQ(run(drag_arguments(), display.name()).exit_code, 0);
-  fs::rename(work() / "state.npy", folder() / "first.npy");
+  fs::rename(work_ / "state.npy", root_ / "first.npy");
   ASSERT_EQ(run(drag_arguments(), display.name()).exit_code, 0);
-  EXPECT_EQ(read_text(folder() / "first.npy"), read_text(work() / "state.npy"));
+  EXPECT_EQ(read_text(root_ / "first.npy"), read_text(work_ / "state.npy"));
 }
 
 TEST_F(ViewCommand, PausedRunStandsStillAndQuitEndsIt) {
   const VirtualDisplay display;
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
-  write_text(work() / "pause.json", R"({"events": [{"at": 0, "pause": true}, {"frame": 5, "quit": true}]})");
+  write_text(work_ / "pause.json", R"({"events": [{"at": 0, "pause": true}, {"frame": 5, "quit": true}]})");
   const Result result = run({"view", "--paper-args", kPaperArgs, "--script", "pause.json", "--frames", "100000",
                              "--dump-state", "state.npy", "--size", "200x150", "--hide-panel"},
                             display.name());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const NpyArray state = read_npy((work() / "state.npy").string());
+  const NpyArray state = read_npy((work_ / "state.npy").string());
   ASSERT_EQ(state.shape, (std::vector<std::size_t>{kParticles, 3}));
   // Paused from frame 0: the flat rest lattice, spacing 1, centred on the origin.
   for (std::size_t p = 0; p < kParticles; ++p) {
@@ -319,7 +275,7 @@ std::pair<std::array<double, 2>, std::size_t> difference(const render::Image& a,
 TEST_F(ViewCommand, AnAddedSphereIsDrawnWhereItIsMoved) {
   const VirtualDisplay display;
   ASSERT_FALSE(display.name().empty()) << "Xvfb did not start; install it with scripts/install-deps.sh";
-  write_text(work() / "sphere.json", R"({"events": [
+  write_text(work_ / "sphere.json", R"({"events": [
       {"frame": 0, "pause": true},
       {"frame": 1, "screenshot": "none.png"},
       {"frame": 2, "add_sphere": {"center": [-2, 1.5, 0], "radius": 0.8}},
@@ -332,9 +288,9 @@ TEST_F(ViewCommand, AnAddedSphereIsDrawnWhereItIsMoved) {
                              "320x240", "--hide-panel"},
                             display.name());
   ASSERT_EQ(result.exit_code, 0) << result.err;
-  const render::Image none = render::read_png((work() / "none.png").string());
-  const auto [added_at, added_pixels] = difference(none, render::read_png((work() / "added.png").string()));
-  const auto [moved_at, moved_pixels] = difference(none, render::read_png((work() / "moved.png").string()));
+  const render::Image none = render::read_png((work_ / "none.png").string());
+  const auto [added_at, added_pixels] = difference(none, render::read_png((work_ / "added.png").string()));
+  const auto [moved_at, moved_pixels] = difference(none, render::read_png((work_ / "moved.png").string()));
   EXPECT_GT(added_pixels, 200u) << "the added sphere is not drawn";
   EXPECT_GT(moved_pixels, 200u) << "the moved sphere is not drawn";
   EXPECT_GT(std::hypot(moved_at[0] - added_at[0], moved_at[1] - added_at[1]), 20.0)
@@ -342,7 +298,7 @@ TEST_F(ViewCommand, AnAddedSphereIsDrawnWhereItIsMoved) {
 }
 
 TEST_F(ViewCommand, BadInputExitsTwoBeforeAnyWindowOpens) {
-  write_text(work() / "bad.json", R"({"events": [{"at": 0, "pause": true},
+  write_text(work_ / "bad.json", R"({"events": [{"at": 0, "pause": true},
     {"at": 1, "drag": {"row": 0, "col": 0, "to": [0, 1, 0], "duration": -2}}]})");
   // No DISPLAY: had a window been tried, the exit code would be 3.
   Result result = run({"view", "--paper-args", kPaperArgs, "--script", "bad.json", "--dump-state", "state.npy"}, "");
@@ -351,9 +307,9 @@ TEST_F(ViewCommand, BadInputExitsTwoBeforeAnyWindowOpens) {
                 "clothsim: error: bad.json: field 'events[1].drag.duration': must be a number in (0, 86400], got -2"),
             std::string::npos)
       << result.err;
-  EXPECT_FALSE(fs::exists(work() / "state.npy"));
+  EXPECT_FALSE(fs::exists(work_ / "state.npy"));
 
-  write_text(work() / "rows.json", R"({"events": [{"at": 0, "pin": {"row": 7, "col": 0}}]})");
+  write_text(work_ / "rows.json", R"({"events": [{"at": 0, "pin": {"row": 7, "col": 0}}]})");
   result = run({"view", "--paper-args", kPaperArgs, "--script", "rows.json"}, "");
   EXPECT_EQ(result.exit_code, 2);
   EXPECT_NE(result.err.find("rows.json: field 'events[0].pin.row': must be in [0, 6]"), std::string::npos)

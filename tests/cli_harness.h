@@ -10,11 +10,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <set>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -26,9 +30,17 @@ namespace fs = std::filesystem;
 using Result = checks::ProcessResult;
 using checks::read_text;
 
+// A change to the child's environment: `name` set to `value`, or unset where there is none.
+struct EnvironmentChange {
+  std::string name;
+  std::optional<std::string> value;
+};
+
 // Starts clothsim with `args` in folder `cwd`, stdout and stderr going to files in `capture`
-// (outside `cwd`, so they do not count as output). Returns the child's process id.
-inline pid_t spawn_clothsim(const fs::path& cwd, const std::vector<std::string>& args, const fs::path& capture) {
+// (outside `cwd`, so they do not count as output), its environment changed by `environment`.
+// Returns the child's process id.
+inline pid_t spawn_clothsim(const fs::path& cwd, const std::vector<std::string>& args, const fs::path& capture,
+                            const std::vector<EnvironmentChange>& environment = {}) {
   const std::string out_path = (capture / "stdout.txt").string();
   const std::string err_path = (capture / "stderr.txt").string();
   std::vector<std::string> words = {CLOTHSIM_EXE};
@@ -44,18 +56,41 @@ inline pid_t spawn_clothsim(const fs::path& cwd, const std::vector<std::string>&
     if (out < 0 || err < 0 || ::chdir(cwd.c_str()) != 0) ::_exit(126);
     ::dup2(out, STDOUT_FILENO);
     ::dup2(err, STDERR_FILENO);
+    for (const EnvironmentChange& change : environment) {
+      if (change.value) {
+        ::setenv(change.name.c_str(), change.value->c_str(), 1);
+      } else {
+        ::unsetenv(change.name.c_str());
+      }
+    }
     ::execv(argv[0], argv.data());
     ::_exit(127);
   }
   return pid;
 }
 
-inline Result wait_clothsim(pid_t pid, const fs::path& capture) {
+// Waits for the child `pid` and reads what it wrote to `capture`. With a `limit`, a child still
+// running after it is killed and the test fails.
+inline Result wait_clothsim(pid_t pid, const fs::path& capture,
+                            std::chrono::seconds limit = std::chrono::seconds::zero()) {
   Result result;
   int status = 0;
-  if (pid > 0 && ::waitpid(pid, &status, 0) == pid) {
-    if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-    if (WIFSIGNALED(status)) result.exit_code = 128 + WTERMSIG(status);
+  if (pid > 0) {
+    const auto deadline = std::chrono::steady_clock::now() + limit;
+    pid_t waited = 0;
+    while (limit.count() > 0 && (waited = ::waitpid(pid, &status, WNOHANG)) == 0) {
+      if (std::chrono::steady_clock::now() > deadline) {
+        ::kill(pid, SIGKILL);
+        ADD_FAILURE() << "clothsim did not finish within " << limit.count() << " s";
+        break;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    if (waited == 0) waited = ::waitpid(pid, &status, 0);
+    if (waited == pid) {
+      if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
+      if (WIFSIGNALED(status)) result.exit_code = 128 + WTERMSIG(status);
+    }
   }
   result.out = read_text(capture / "stdout.txt");
   result.err = read_text(capture / "stderr.txt");
@@ -97,7 +132,9 @@ class ToolTest : public ::testing::Test {
     return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
   }
   // Starts clothsim with `args` in work_; wait_clothsim(pid, root_) collects it.
-  pid_t start(const std::vector<std::string>& args) const { return spawn_clothsim(work_, args, root_); }
+  pid_t start(const std::vector<std::string>& args, const std::vector<EnvironmentChange>& environment = {}) const {
+    return spawn_clothsim(work_, args, root_, environment);
+  }
   // The summary.json of the run folder `out` (relative to work_).
   nlohmann::json summary(const std::string& out) const {
     return nlohmann::json::parse(read_text(work_ / out / "summary.json"));
