@@ -3,6 +3,7 @@
 #pragma once
 
 #include <fcntl.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -36,11 +37,18 @@ struct EnvironmentChange {
   std::optional<std::string> value;
 };
 
+// What the child gets besides its arguments: environment changes, and an address-space limit
+// (RLIMIT_AS, bytes; exit 125 if it cannot be set).
+struct ChildSetup {
+  std::vector<EnvironmentChange> environment;
+  std::optional<rlim_t> address_space;
+};
+
 // Starts clothsim with `args` in folder `cwd`, stdout and stderr going to files in `capture`
-// (outside `cwd`, so they do not count as output), its environment changed by `environment`.
-// Returns the child's process id.
+// (outside `cwd`, so they do not count as output), set up as `setup` says. Returns the child's
+// process id.
 inline pid_t spawn_clothsim(const fs::path& cwd, const std::vector<std::string>& args, const fs::path& capture,
-                            const std::vector<EnvironmentChange>& environment = {}) {
+                            const ChildSetup& setup = {}) {
   const std::string out_path = (capture / "stdout.txt").string();
   const std::string err_path = (capture / "stderr.txt").string();
   std::vector<std::string> words = {CLOTHSIM_EXE};
@@ -56,12 +64,16 @@ inline pid_t spawn_clothsim(const fs::path& cwd, const std::vector<std::string>&
     if (out < 0 || err < 0 || ::chdir(cwd.c_str()) != 0) ::_exit(126);
     ::dup2(out, STDOUT_FILENO);
     ::dup2(err, STDERR_FILENO);
-    for (const EnvironmentChange& change : environment) {
+    for (const EnvironmentChange& change : setup.environment) {
       if (change.value) {
         ::setenv(change.name.c_str(), change.value->c_str(), 1);
       } else {
         ::unsetenv(change.name.c_str());
       }
+    }
+    if (setup.address_space) {
+      const rlimit limit{*setup.address_space, *setup.address_space};
+      if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(125);
     }
     ::execv(argv[0], argv.data());
     ::_exit(127);
@@ -132,8 +144,8 @@ class ToolTest : public ::testing::Test {
     return wait_clothsim(spawn_clothsim(work_, args, root_), root_);
   }
   // Starts clothsim with `args` in work_; wait_clothsim(pid, root_) collects it.
-  pid_t start(const std::vector<std::string>& args, const std::vector<EnvironmentChange>& environment = {}) const {
-    return spawn_clothsim(work_, args, root_, environment);
+  pid_t start(const std::vector<std::string>& args, const ChildSetup& setup = {}) const {
+    return spawn_clothsim(work_, args, root_, setup);
   }
   // The summary.json of the run folder `out` (relative to work_).
   nlohmann::json summary(const std::string& out) const {

@@ -9,22 +9,20 @@
 //   - bench and view refuse too large cases the same way;
 //   - the estimate is within 25 % of the measured peak of real runs, for several sizes and every
 //     integrator.
-#include <fcntl.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <unistd.h>
 
 #include <gtest/gtest.h>
 
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <regex>
 #include <string>
 #include <vector>
 
+#include "cli_harness.h"
 #include "test_checks.h"
 #include "test_support.h"
 
@@ -56,31 +54,13 @@ fs::path fresh_folder(const std::string& name) {
 }
 
 // Runs clothsim with `args` in `cwd`; with `address_space`, under that RLIMIT_AS (bytes).
-Child run_clothsim(const fs::path& cwd, std::vector<std::string> args, std::optional<rlim_t> address_space = {}) {
+Child run_clothsim(const fs::path& cwd, const std::vector<std::string>& args, std::optional<rlim_t> address_space = {}) {
   const fs::path capture = cwd.parent_path() / (cwd.filename().string() + ".capture");
   fs::create_directories(capture);
-  const std::string out_path = (capture / "stdout.txt").string();
-  const std::string err_path = (capture / "stderr.txt").string();
-  args.insert(args.begin(), CLOTHSIM_EXE);
-  std::vector<char*> argv;
-  for (std::string& word : args) argv.push_back(word.data());
-  argv.push_back(nullptr);
-  std::fflush(nullptr);
   const auto start = std::chrono::steady_clock::now();
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const int out = ::open(out_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    const int err = ::open(err_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0644);
-    if (out < 0 || err < 0 || ::chdir(cwd.c_str()) != 0) ::_exit(126);
-    ::dup2(out, STDOUT_FILENO);
-    ::dup2(err, STDERR_FILENO);
-    if (address_space) {
-      const rlimit limit{*address_space, *address_space};
-      if (::setrlimit(RLIMIT_AS, &limit) != 0) ::_exit(125);
-    }
-    ::execv(argv[0], argv.data());
-    ::_exit(127);
-  }
+  cli_harness::ChildSetup setup;
+  setup.address_space = address_space;
+  const pid_t pid = cli_harness::spawn_clothsim(cwd, args, capture, setup);
   Child child;
   int status = 0;
   rusage usage{};
@@ -90,8 +70,8 @@ Child run_clothsim(const fs::path& cwd, std::vector<std::string> args, std::opti
   }
   child.wall_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   child.peak_bytes = 1024.0 * static_cast<double>(usage.ru_maxrss);  // KiB on Linux
-  child.out = read_text(out_path);
-  child.err = read_text(err_path);
+  child.out = read_text(capture / "stdout.txt");
+  child.err = read_text(capture / "stderr.txt");
   return child;
 }
 

@@ -106,7 +106,9 @@ class ViewCommand : public cli_harness::ToolTest {
   Result run(const std::vector<std::string>& args, const std::string& display) const {
     std::optional<std::string> value;
     if (!display.empty()) value = display;
-    const pid_t pid = start(args, {{"DISPLAY", value}, {"WAYLAND_DISPLAY", std::nullopt}});
+    cli_harness::ChildSetup setup;
+    setup.environment = {{"DISPLAY", value}, {"WAYLAND_DISPLAY", std::nullopt}};
+    const pid_t pid = start(args, setup);
     return cli_harness::wait_clothsim(pid, root_, std::chrono::seconds(120));
   }
 };
