@@ -6,6 +6,8 @@
 //   events/spring_laws.inc      tearing, the return mapping of permanent stretching, the crease law
 //   integrators/step_control.inc  the PI step-size controller and the clipping of a step to a target
 //   model/lattice_springs.inc   the order of a lattice particle's radial springs
+//   model/collider_shapes.inc   the signed distances of the analytic collider shapes
+//   collision/obstacle_contact.inc  the obstacle pass's sweep, placement, friction and step limit
 //
 // Each is written in the subset of C++ and GLSL the two share: structs of plain fields, functions
 // of values, if/else and the ternary operator, arithmetic, min/max/clamp/abs/sqrt/pow, constant
