@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <numbers>
 #include <span>
 
 #include "core/assert.h"
@@ -14,6 +13,7 @@
 #include "core/step_profile.h"
 #include "core/timer.h"
 #include "gpu/embedded_shaders.h"
+#include "gpu/device_paths.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/device_step.h"
@@ -49,7 +49,8 @@ std::uint32_t workgroups_of(std::uint64_t items) {
 // Sizes of the integrator's own arrays, bytes.
 std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const LatticeCounts& counts, int stages,
                                                                      Precision precision,
-                                                                     std::uint32_t anchor_capacity) {
+                                                                     std::uint32_t anchor_capacity,
+                                                                     std::size_t colliders) {
   using A = DeviceIntegrator;
   const std::uint64_t real = real_size(precision);
   const std::uint64_t n = counts.particles;
@@ -64,7 +65,7 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const Latti
   bytes[A::control_uint] = kControlUints * 4;
   bytes[A::particle_anchor] = n * 4;
   bytes[A::inverse_mass] = n * real;
-  bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kAnchorReals * real;
+  bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kPathReals * real;
   bytes[A::block_error] = workgroups_of(n) * real;
   bytes[A::block_particle] = workgroups_of(n) * 4;
   bytes[A::particle_power] = s * 3 * n * real;
@@ -75,6 +76,12 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const Latti
   bytes[A::event_energy] = n * 2 * real;
   bytes[A::event_flags] = n * 4;
   bytes[A::block_events] = workgroups_of(n) * 2 * real;
+  // The obstacle pass's arrays: a placeholder each without colliders (a pass binds every array).
+  const bool obstacles = colliders > 0;
+  bytes[A::colliders] = std::max<std::uint64_t>(colliders, 1) * kColliderReals * real;
+  bytes[A::contact_before] = obstacles ? 6 * n * real : real;
+  bytes[A::moved] = obstacles ? n * 4 : 4;
+  bytes[A::block_obstacles] = obstacles ? workgroups_of(n) * kObstacleBlockReals * real : real;
   return bytes;
 }
 
@@ -86,9 +93,9 @@ std::uint32_t anchor_capacity_for(std::size_t anchors) {
 Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision,
                 DeviceForcePath path) {
   device.require_precision(precision);
-  device.require_memory(
-      DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision, path),
-      "the scene");
+  device.require_memory(DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind,
+                                                           precision, path, model.colliders.size()),
+                        "the scene");
   return device;
 }
 
@@ -156,10 +163,12 @@ std::uint64_t state_fingerprint(const ClothState& state, int threads) {
 }  // namespace
 
 std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
-                                                 Precision precision, DeviceForcePath path) {
+                                                 Precision precision, DeviceForcePath path, std::size_t colliders) {
   const int stages = tableau_for(kind).stages;
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, static_cast<std::uint32_t>(stages), path);
-  for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_capacity_for(anchors))) total += bytes;
+  for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_capacity_for(anchors), colliders)) {
+    total += bytes;
+  }
   return total;
 }
 
@@ -187,16 +196,22 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       lattice_pass_(make_pass(device_, "lattice_elements", precision_, 7, sizeof(LatticePassConstants))),
       acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 15, sizeof(StagePassConstants))),
       solution_pass_(make_pass(device_, "rk_solution", precision_, 12, sizeof(StagePassConstants), kReduceWorkgroup)),
-      control_pass_(make_pass(device_, "rk_control", precision_, 6, sizeof(ReducePassConstants), kReduceWorkgroup)),
+      control_pass_(make_pass(device_, "rk_control", precision_, 7, sizeof(ReducePassConstants), kReduceWorkgroup)),
       events_connectors_pass_(
           make_pass(device_, "lattice_events_connectors", precision_, 7, sizeof(EventPassConstants))),
       events_radial_pass_(
           make_pass(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants), kReduceWorkgroup)),
-      accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)) {
+      accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)),
+      obstacle_contacts_pass_(make_pass(device_, "obstacle_contacts", precision_, 9, sizeof(ObstaclePassConstants))),
+      obstacle_energy_pass_(
+          make_pass(device_, "obstacle_energy", precision_, 13, sizeof(ObstaclePassConstants), kReduceWorkgroup)) {
   if (!lattice_ && model.limits.changes_sheet()) {
     throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
   }
-  const auto bytes = array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_);
+  if (!lattice_ && !model.colliders.empty()) throw GpuError("obstacles run on the device on a lattice sheet only");
+  collider_count_ = model.colliders.size();
+  obstacles_ = collider_count_ > 0;
+  const auto bytes = array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_, collider_count_);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload(device_, arrays_[rows], real_bytes(nystrom_rows(tableau_), precision_));
@@ -223,7 +238,14 @@ void DeviceIntegrator::bind_passes() {
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
                         own(trial_velocity), own(block_error), own(block_particle)});
   bind(control_pass_, {own(control_real), own(control_uint), own(block_error), own(block_particle), own(block_work),
-                       own(block_events)});
+                       own(block_events), own(block_obstacles)});
+  bind(obstacle_contacts_pass_, {own(control_real), own(control_uint), own(state_position), own(trial_position),
+                                 own(trial_velocity), own(particle_anchor), own(colliders), own(contact_before),
+                                 own(moved)});
+  bind(obstacle_energy_pass_, {own(control_real), own(control_uint), own(trial_position), own(trial_velocity),
+                               own(contact_before), own(moved), own(particle_anchor), own(colliders),
+                               forces(F::particle_mass), forces(F::environment), own(lattice_params),
+                               own(event_params), own(block_obstacles)});
   bind(events_connectors_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
                                  own(event_flags), own(control_real), own(control_uint)});
   bind(events_radial_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
@@ -254,14 +276,18 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
   }
   const StagePassConstants solution{particles_, 0, stages, symplectic_ ? 1u : 0u, lattice_cols};
   solution_pass_.dispatch(commands, &solution, particles_);
-  const ReducePassConstants decide{particles_, workgroups_of(particles_), 0, stages};
+  const std::uint32_t obstacles = obstacles_ ? 1u : 0u;
+  const ReducePassConstants decide{particles_, workgroups_of(particles_), 0, stages, obstacles};
   control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
   timer.mark(commands, StepStage::solution_and_error);
+  if (obstacles_) record_obstacle_passes(commands, timer);
   const std::uint32_t element_items = lattice_ ? 0u : elements_;  // the lattice path's damping is per particle
   const std::uint32_t accept_items = std::max(particles_, element_items);
   const AcceptPassConstants accept{particles_, element_items, stages, workgroups_of(accept_items), lattice_ ? 1u : 0u};
   accept_pass_.dispatch(commands, &accept, accept_items);
-  const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages};
+  // Phase 1 reads rk_accept's blocks and the obstacle passes': one per kReduceWorkgroup particles
+  // both, on the lattice path, where obstacles run.
+  const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages, obstacles};
   control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
   timer.mark(commands, StepStage::solution_update);
   if (laws_ != 0) {
@@ -271,7 +297,7 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
                                     static_cast<std::uint32_t>(model_.cols), laws_, workgroups_of(particles_)};
     events_connectors_pass_.dispatch(commands, &events, particles_);
     events_radial_pass_.dispatch(commands, &events, particles_);
-    const ReducePassConstants collect_events{particles_, workgroups_of(particles_), 2, stages};
+    const ReducePassConstants collect_events{particles_, workgroups_of(particles_), 2, stages, obstacles};
     control_pass_.dispatch(commands, &collect_events, kReduceWorkgroup);
     timer.mark(commands, StepStage::events);
   }
@@ -280,9 +306,9 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
 DeviceIntegrator::RecordedAttempts& DeviceIntegrator::attempts_buffer(std::uint32_t attempts) {
   const auto found = recorded_.find(attempts);
   if (found != recorded_.end()) return found->second;
-  // Marks per attempt: two per stage (its state, its forces), the decision, the acceptance, the
-  // events.
-  const auto marks_per_attempt = static_cast<std::uint32_t>(2 * tableau_.stages + 3);
+  // Marks per attempt: two per stage (its state, its forces), the decision, the obstacles, the
+  // acceptance, the events.
+  const auto marks_per_attempt = static_cast<std::uint32_t>(2 * tableau_.stages + 4);
   RecordedAttempts recorded;
   recorded.timer = std::make_unique<PassTimer>(device_, attempts * marks_per_attempt);
   recorded.commands = device_.record([&](VkCommandBuffer c) {
@@ -305,6 +331,7 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
   const bool model_changed = model_.revision != model_revision_ || !exchanged_;
   if (model_changed) {
     if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
+    prepare_obstacles();
     upload(device_, arrays_[inverse_mass], real_bytes(model_.particle_inverse_mass, precision_));
     upload(device_, arrays_[particle_anchor], bytes_of(model_.particle_anchor));
     if (lattice_) upload_lattice_params();
@@ -326,27 +353,13 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
     // and the recorded command buffers, which name the old one, recorded again.
     anchor_capacity_ = 2 * static_cast<std::uint32_t>(model_.anchors.size());
     arrays_[anchor_paths] =
-        Buffer(device_, std::uint64_t{anchor_capacity_} * kAnchorReals * real_size(precision_), Memory::device_local);
+        Buffer(device_, std::uint64_t{anchor_capacity_} * kPathReals * real_size(precision_), Memory::device_local);
     bind_passes();
     release_recorded();
   }
   std::vector<double> paths;
-  paths.reserve(model_.anchors.size() * kAnchorReals);
-  for (const Anchor& anchor : model_.anchors) {
-    const AnchorPath& path = anchor.path;
-    const Vec3 x0 = path.position(t0);
-    Vec3 v = path.velocity_at(t0);
-    Vec3 amplitude;
-    double omega = 0.0;
-    double theta0 = 0.0;
-    if (path.kind == AnchorPathKind::sinusoid) {
-      v = Vec3{};
-      amplitude = path.amplitude;
-      omega = 2.0 * std::numbers::pi * path.frequency;
-      theta0 = std::remainder(omega * t0 + path.phase, 2.0 * std::numbers::pi);
-    }
-    paths.insert(paths.end(), {x0.x, x0.y, x0.z, v.x, v.y, v.z, amplitude.x, amplitude.y, amplitude.z, omega, theta0});
-  }
+  paths.reserve(model_.anchors.size() * kPathReals);
+  for (const Anchor& anchor : model_.anchors) append_path_row(paths, anchor.path, t0, Vec3{});
   if (!paths.empty()) upload(device_, arrays_[anchor_paths], real_bytes(paths, precision_));
 }
 
@@ -385,11 +398,16 @@ StepOutcome DeviceIntegrator::run(ClothState& state, double t_limit, std::uint32
     StageTimer timer(profile_, StepStage::device_transfers);
     upload_changes(state);
     write_anchor_paths(t0);
+    upload_colliders(t0);
   }
+  // The first step lands on the target or on the first impact ahead, as the Simulation limits a
+  // step on the CPU; the device limits the later ones itself.
+  const double arrival = first_arrival(state);
+  const double step_limit = std::min(t_limit, arrival);
   bool clipped = false;
-  const double h = clip_step(t0, first_step(state, t_limit), t_limit, clipped);
+  const double h = clip_step(t0, first_step(state, t_limit), step_limit, clipped);
   if (adaptive_ && h < settings_.min_step && !clipped) return {StepStatus::step_underflow, h, 0, false};
-  write_control(h, clipped, t_limit - t0, max_accepted);
+  write_control(ControlStart{h, clipped, t_limit - t0, step_limit - t0, arrival - t0}, max_accepted);
   const Control control = run_attempts(max_accepted);
   {
     StageTimer timer(profile_, StepStage::device_transfers);
@@ -416,12 +434,15 @@ double DeviceIntegrator::first_step(const ClothState& state, double t_limit) {
   return std::min(proposed_step_, settings_.max_step);
 }
 
-void DeviceIntegrator::write_control(double h, bool clipped, double target, std::uint32_t max_accepted) {
+void DeviceIntegrator::write_control(const ControlStart& start, std::uint32_t max_accepted) {
   std::vector<double> reals(kControlReals, 0.0);
-  reals[kStep] = h;
+  reals[kStep] = start.step;
   reals[kProposedStep] = proposed_step_;
   reals[kPreviousError] = previous_error_;
-  reals[kTarget] = target;
+  reals[kTarget] = start.target;
+  reals[kStepLimit] = start.step_limit;
+  reals[kArrival] = std::isfinite(start.arrival) ? start.arrival : CLOTHSIM_NO_ARRIVAL;
+  reals[kThickness] = model_.collision.thickness;
   reals[kSmallestStep] = 1e30;  // within float's range
   reals[kMinStep] = settings_.min_step;
   reals[kMaxStep] = settings_.max_step;
@@ -434,7 +455,7 @@ void DeviceIntegrator::write_control(double h, bool clipped, double target, std:
   reals[kHardening] = model_.limits.hardening;
   std::vector<std::uint32_t> uints(kControlUints, 0u);
   uints[kActive] = 1;
-  uints[kClipped] = clipped ? 1 : 0;
+  uints[kClipped] = start.clipped ? 1 : 0;
   uints[kMaxAccepted] = max_accepted;
   uints[kAdaptive] = adaptive_ ? 1 : 0;
   StageTimer timer(profile_, StepStage::device_transfers);
@@ -485,6 +506,12 @@ StepOutcome DeviceIntegrator::take_results(ClothState& state, double t0, double 
   state.anchor_work += reals[kWork + 4] + reals[kWork + 5];
   state.fracture_work += reals[kWork + 6] + reals[kWork + 7];
   state.plastic_work += reals[kWork + 8] + reals[kWork + 9];
+  state.contact_work += reals[kWork + 2 * kContactWork] + reals[kWork + 2 * kContactWork + 1];
+  if (obstacles_ && uints[kAcceptedSteps] > 0) {
+    contacts_.last = uints[kContacts];
+    contacts_.steps += uints[kContactSteps];
+    contacts_.most = std::max<std::size_t>(contacts_.most, uints[kMostContacts]);
+  }
   if (uints[kBreaks] + uints[kYields] + uints[kCreases] > 0) {
     events_.breaks += uints[kBreaks];
     events_.yields += uints[kYields];
@@ -540,6 +567,16 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
   indices += 1;
   // rk_accept: the trial state in, the state out, every stage's three powers in.
   reals += 12 + 3 * static_cast<double>(stages);
+  if (obstacles_) {
+    // obstacle_contacts: the step's start and the trial state in, the moved flag out and, for a
+    // moved particle, its state before the pass and after it (counted as if every particle moved).
+    reals += 3 + 6 + 6 + 6;
+    indices += 2;  // the anchor, the flag
+    // obstacle_energy: the state after the pass, the mass and, where particles moved, their state
+    // before it and their springs' parameters and arms' original lengths (counted the same way).
+    reals += 6 + 1 + 6 + kLatticeParams + 2;
+    indices += 2;
+  }
   if (laws_ != 0) {
     // The events: each pass reads the state, its springs' parameters (the connectors' 8, the
     // radial springs' 24) and the particle's event parameters, and writes its energies.
@@ -558,7 +595,7 @@ std::string DeviceIntegrator::profile_notes() const {
   return line;
 }
 
-std::size_t DeviceIntegrator::workspace_bytes() const { return 0; }
+std::size_t DeviceIntegrator::workspace_bytes() const { return first_arrival_.bytes(); }
 
 void DeviceIntegrator::transfer_state(StateArchive& archive) {
   Integrator::transfer_state(archive);

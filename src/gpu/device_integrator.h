@@ -13,6 +13,10 @@
 //   rk_control (0)     the largest error; accept or reject; the next step (PI controller), clipped to the target
 //   rk_accept          on acceptance: state <- trial, and each workgroup's share of the step's work
 //   rk_control (1)     the step's work added to the advance's sums
+// With colliders, the obstacle pass between the decision and the acceptance (device_obstacles.cpp):
+//   obstacle_contacts  each particle of the accepted trial state resolved against the colliders
+//   obstacle_energy    the pass's energy change and contacts, and the next impact ahead, per workgroup
+// and rk_control (1) then sets the next step, limited by that impact.
 // A submission holds a batch of attempts; once the advance reaches its target (or fails, or has
 // taken max_accepted steps) the remaining attempts of the batch return at once. After each
 // submission the host reads back only the control arrays (a few hundred bytes), and after the
@@ -35,6 +39,7 @@
 #include <string>
 #include <vector>
 
+#include "collision/obstacle_contacts.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device.h"
@@ -65,7 +70,8 @@ class DeviceIntegrator final : public Integrator {
   IntegratorKind kind() const override { return settings_.kind; }
   StepOutcome step(ClothState& state, double t_limit) override { return run(state, t_limit, 1); }
   StepOutcome advance(ClothState& state, double t_limit) override { return run(state, t_limit, 0); }
-  // Host memory besides the state: none (the read-back staging is the driver's).
+  // Host memory besides the state: the host's obstacle pass for the first step's limit (the
+  // read-back staging is the driver's).
   std::size_t workspace_bytes() const override;
   // RKF45's next step and error history (the CPU's names, so checkpoints read the same).
   void transfer_state(StateArchive& archive) override;
@@ -74,6 +80,11 @@ class DeviceIntegrator final : public Integrator {
   // the model.
   bool runs_spring_events() const override { return lattice_; }
   IntegratorEvents take_spring_events(ClothModel& model) override;
+  // The model's obstacles (planes, spheres, boxes and capsules, still or on their paths) are
+  // resolved on the device after every accepted step, with the CPU's contact law, and their impacts
+  // ahead limit the steps (device_obstacles.cpp); take_obstacle_contacts() gives an advance's counts.
+  bool runs_obstacle_contacts() const override { return obstacles_; }
+  IntegratorContacts take_obstacle_contacts() override;
 
   const DeviceInfo& device_info() const { return device_.info(); }
   // True on the lattice path: each particle evaluates the springs it owns (lattice_elements);
@@ -94,8 +105,10 @@ class DeviceIntegrator final : public Integrator {
   // `path`, bytes: what is checked before allocating, and before a run builds its model
   // (sim/backend.h: a scene's model is a lattice, so the lattice path). The lattice path's own
   // arrays are counted on either path.
+  // `colliders`: the model's obstacles, whose pass holds arrays per particle.
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
-                                        Precision precision, DeviceForcePath path = DeviceForcePath::lattice);
+                                        Precision precision, DeviceForcePath path = DeviceForcePath::lattice,
+                                        std::size_t colliders = 0);
 
   // The device's arrays besides DeviceForces' (which holds the stage state, the model and the
   // element scratch).
@@ -108,7 +121,7 @@ class DeviceIntegrator final : public Integrator {
     control_uint,     // [kControlUints]
     particle_anchor,  // [particles], int: anchor row or -1
     inverse_mass,     // [particles], 1/kg
-    anchor_paths,     // [anchors][kAnchorReals]
+    anchor_paths,     // [anchors][kPathReals]
     trial_position,   // [3 particles]
     trial_velocity,   // [3 particles]
     block_error,      // [solution workgroups]
@@ -121,6 +134,10 @@ class DeviceIntegrator final : public Integrator {
     event_energy,     // [particles][2], J: fracture and plastic work of the step
     event_flags,      // [particles], uint: the connectors that broke in the step
     block_events,     // [workgroups][2], J
+    colliders,        // [colliders][kColliderReals] (one row without colliders)
+    contact_before,   // [particles][6]: a moved particle's state before the obstacle pass (one Real without colliders)
+    moved,            // [particles], uint: 1 where the obstacle pass moved the particle (one word without)
+    block_obstacles,  // [workgroups][kObstacleBlockReals] (one Real without colliders)
     array_count
   };
 
@@ -136,7 +153,16 @@ class DeviceIntegrator final : public Integrator {
   // Its stages: the first attempt's step (as the CPU's integrators choose it), the control arrays
   // written, the batches of attempts run, the state's time, anchors, work and the statistics.
   double first_step(const ClothState& state, double t_limit);
-  void write_control(double h, bool clipped, double target, std::uint32_t max_accepted);
+  // An advance's start, times relative to it: the first attempt's step, whether it ends on
+  // step_limit (the target, or an impact ahead: `arrival`, +infinity for none).
+  struct ControlStart {
+    double step;
+    bool clipped;
+    double target;
+    double step_limit;
+    double arrival;
+  };
+  void write_control(const ControlStart& start, std::uint32_t max_accepted);
   Control run_attempts(std::uint32_t max_accepted);
   StepOutcome take_results(ClothState& state, double t0, double t_limit, const Control& control);
   // Uploads what changed on the host since the last exchange: the model, the state.
@@ -161,6 +187,14 @@ class DeviceIntegrator final : public Integrator {
   // advance applied to the model through model/model_edits.h.
   void upload_lattice_params();
   void set_laws();
+  // The obstacles (device_obstacles.cpp): their arrays sized for the model's colliders (again when
+  // their number changed), their rows written for an advance from t0, the first step's limit (the
+  // CPU's ObstacleContacts::begin_step on the state the advance starts from, +infinity without
+  // colliders), their passes recorded into an attempt.
+  void prepare_obstacles();
+  void upload_colliders(double t0);
+  double first_arrival(const ClothState& state);
+  void record_obstacle_passes(VkCommandBuffer commands, PassTimer& timer) const;
 
   const ClothModel& model_;
   IntegratorSettings settings_;
@@ -170,6 +204,10 @@ class DeviceIntegrator final : public Integrator {
   bool symplectic_;
   bool lattice_;
   std::uint32_t laws_ = 0;   // EventPassConstants::laws of the recorded attempts
+  bool obstacles_ = false;   // the recorded attempts run the obstacle passes (the model has colliders)
+  std::size_t collider_count_ = 0;  // the colliders the obstacle arrays are sized for
+  ObstacleContacts first_arrival_;  // the host's pass, for the first step's limit only
+  IntegratorContacts contacts_;     // since the last take_obstacle_contacts()
   IntegratorEvents events_;  // since the last take_spring_events()
   double events_t0_ = 0.0;   // the start of the advance whose events wait for take_spring_events()
   Precision precision_;
@@ -180,7 +218,7 @@ class DeviceIntegrator final : public Integrator {
   Buffer control_real_readback_, control_uint_readback_;
   Buffer state_readback_;  // positions, then velocities
   ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_,
-      events_connectors_pass_, events_radial_pass_, accept_pass_;
+      events_connectors_pass_, events_radial_pass_, accept_pass_, obstacle_contacts_pass_, obstacle_energy_pass_;
   std::map<std::uint32_t, RecordedAttempts> recorded_;  // by attempts per submission
 
   // What the host last exchanged with the device: a fingerprint of the state (not a copy of it).

@@ -127,6 +127,14 @@ struct IntegratorEvents {
   std::size_t creases = 0;
 };
 
+// Obstacle contacts resolved by an integrator that runs the collision stage's obstacle pass
+// itself, between its own steps (gpu/device_integrator.h), over one advance.
+struct IntegratorContacts {
+  std::size_t last = 0;     // particles the pass moved in the advance's last step
+  std::uint64_t steps = 0;  // the same, summed over the advance's steps
+  std::size_t most = 0;     // the most in one of its steps
+};
+
 struct ForceOptions {
   ForceTerms terms = kAllForceTerms;
   int threads = 1;  // resolved thread count (>= 1)
@@ -164,6 +172,13 @@ class Integrator {
   // model/model_edits.h) and returns their counts; the work they released is in the state already.
   virtual bool runs_spring_events() const { return false; }
   virtual IntegratorEvents take_spring_events(ClothModel& /*model*/) { return {}; }
+  // True when the integrator resolves the model's obstacles itself after each of its steps (the
+  // collision stage's obstacle pass, collision/obstacle_contacts.h, on a device) and limits its
+  // steps by their impacts ahead. The Simulation then neither limits the advance nor runs its
+  // collision stage, and calls take_obstacle_contacts() after each advance() for the counts; the
+  // contact work is in the state already.
+  virtual bool runs_obstacle_contacts() const { return false; }
+  virtual IntegratorContacts take_obstacle_contacts() { return {}; }
   // The particles resting on obstacles, which the collision stage refreshes before each step: an
   // integrator that can hold them on their surface within a step reads them and writes the
   // impulses it needed (model/surface_contacts.h). Null (the default): none.

@@ -44,17 +44,25 @@ void release_due_anchors(ClothModel& model, double time) {
 
 }  // namespace
 
+double next_path_event(const AnchorPath& path, double time) {
+  double next = std::numeric_limits<double>::infinity();
+  if (path.kind == AnchorPathKind::driven && path.velocity != Vec3{} && path.end_time > time) next = path.end_time;
+  // A keyframed path's keys are velocity discontinuities (+inf for other kinds).
+  return std::min(next, path.next_key_after(time));
+}
+
 double next_anchor_event(const ClothModel& model, double time) {
   double next = std::numeric_limits<double>::infinity();
   for (const Anchor& anchor : model.anchors) {
-    const AnchorPath& path = anchor.path;
-    if (path.kind == AnchorPathKind::driven && path.velocity != Vec3{} && path.end_time > time) {
-      next = std::min(next, path.end_time);
-    }
+    next = std::min(next, next_path_event(anchor.path, time));
     if (anchor.release_time > time) next = std::min(next, anchor.release_time);
-    // A keyframed path's keys are velocity discontinuities (+inf for other kinds).
-    next = std::min(next, path.next_key_after(time));
   }
+  return next;
+}
+
+double next_collider_event(const ClothModel& model, double time) {
+  double next = std::numeric_limits<double>::infinity();
+  for (const Collider& collider : model.colliders) next = std::min(next, next_path_event(collider.path, time));
   return next;
 }
 

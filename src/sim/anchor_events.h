@@ -22,6 +22,13 @@ namespace clothsim {
 // The next anchor event after `time` (a moving driven anchor arriving, a keyframe, an anchor's
 // release time), s, or +infinity.
 double next_anchor_event(const ClothModel& model, double time);
+// The next event of a path after `time`, s, or +infinity: a moving driven path's arrival, a
+// keyframed path's key (its velocity jumps at both).
+double next_path_event(const AnchorPath& path, double time);
+// The next event of a collider's path after `time`, s, or +infinity. The CPU's collision stage
+// evaluates a path at any time and needs none; the device writes each collider's path per advance
+// as one segment (gpu/device_paths.h), so its advances stop at them.
+double next_collider_event(const ClothModel& model, double time);
 
 // The events due at state.time, in the order above.
 void apply_anchor_events(ClothModel& model, ClothState& state);

@@ -46,8 +46,9 @@ bool Simulation::advance_to(double time) {
   CLOTHSIM_ASSERT(time >= state_.time, "advance_to() cannot go back in time");
   while (state_.time < time) {
     // The collision stage's swept tests start from the positions before the step, and an
-    // approaching impact limits the step (collision/obstacle_contacts.h).
-    const double step_end = std::min(time, begin_collisions());
+    // approaching impact limits the step (collision/obstacle_contacts.h); an integrator that
+    // resolves the obstacles itself limits its own steps.
+    const double step_end = integrator_->runs_obstacle_contacts() ? time : std::min(time, begin_collisions());
     if (!integrate(step_end)) return false;
     collide();
     move_anchors();
@@ -105,7 +106,10 @@ bool Simulation::integrate(double time) {
   // Anchor events (a driven anchor arriving, an anchor letting go) are never crossed by a step.
   // One step on the CPU; on a device, every step up to the limit (nothing the host does between
   // steps applies there: sim/backend.h keeps such features off it).
-  const StepOutcome outcome = integrator_->advance(state_, std::min(time, next_anchor_event(*model_, state_.time)));
+  double end = std::min(time, next_anchor_event(*model_, state_.time));
+  // An integrator that resolves the obstacles itself takes their paths one segment at a time.
+  if (integrator_->runs_obstacle_contacts()) end = std::min(end, next_collider_event(*model_, state_.time));
+  const StepOutcome outcome = integrator_->advance(state_, end);
 
   if (outcome.status == StepStatus::step_underflow) {
     const std::string where = model_->describe_particle(outcome.particle);
@@ -139,9 +143,17 @@ bool Simulation::integrate(double time) {
 }
 
 void Simulation::collide() {
+  ContactStatistics& statistics = contact_statistics_;
+  if (integrator_->runs_obstacle_contacts()) {
+    // The integrator's advance resolved them (the device: self-collision does not run there).
+    const IntegratorContacts contacts = integrator_->take_obstacle_contacts();
+    statistics.contacts = contacts.last;
+    statistics.contact_steps += contacts.steps;
+    statistics.max_in_a_step = std::max(statistics.max_in_a_step, contacts.most);
+    return;
+  }
   StageTimer timer(profile_, StepStage::collisions);
   const CollisionCounts counts = collision_stage_->apply(*model_, state_, settings_.terms, threads_);
-  ContactStatistics& statistics = contact_statistics_;
   statistics.contacts = counts.obstacles.contacts;
   statistics.contact_steps += counts.obstacles.contacts;
   statistics.max_in_a_step = std::max(statistics.max_in_a_step, counts.obstacles.contacts);

@@ -26,23 +26,31 @@ CLOTHSIM_SLOT kTarget = 5;         // s, where the advance ends (t_limit - its s
 CLOTHSIM_SLOT kError = 6;          // the last attempt's scaled error norm
 CLOTHSIM_SLOT kSmallestStep = 7;   // s, over this advance's accepted steps
 CLOTHSIM_SLOT kLargestStep = 8;    // s
-CLOTHSIM_SLOT kWork = 9;           // J, [10]: damping, drag, anchor, fracture and plastic work of this
-                                   // advance, each as a compensated sum (value, then its rounding error)
-CLOTHSIM_SLOT kWorks = 5;
-CLOTHSIM_SLOT kMinStep = 19;  // the IntegratorSettings fields of the same names
-CLOTHSIM_SLOT kMaxStep = 20;
-CLOTHSIM_SLOT kSafety = 21;
-CLOTHSIM_SLOT kMaxGrowth = 22;
-CLOTHSIM_SLOT kMaxShrink = 23;
-CLOTHSIM_SLOT kAbsoluteTolerance = 24;
-CLOTHSIM_SLOT kRelativeTolerance = 25;
-CLOTHSIM_SLOT kFixedStep = 26;  // s, the fixed-step methods' step (time_step)
-CLOTHSIM_SLOT kHardening = 27;  // SpringLimits::hardening
-CLOTHSIM_SLOT kControlReals = 28;
+CLOTHSIM_SLOT kWork = 9;           // J, [12]: damping, drag, anchor, fracture, plastic and contact work of
+                                   // this advance, each as a compensated sum (value, then its rounding error)
+CLOTHSIM_SLOT kWorks = 6;
+CLOTHSIM_SLOT kContactWork = 5;  // which of the works the obstacle pass books
+CLOTHSIM_SLOT kMinStep = 21;     // the IntegratorSettings fields of the same names
+CLOTHSIM_SLOT kMaxStep = 22;
+CLOTHSIM_SLOT kSafety = 23;
+CLOTHSIM_SLOT kMaxGrowth = 24;
+CLOTHSIM_SLOT kMaxShrink = 25;
+CLOTHSIM_SLOT kAbsoluteTolerance = 26;
+CLOTHSIM_SLOT kRelativeTolerance = 27;
+CLOTHSIM_SLOT kFixedStep = 28;   // s, the fixed-step methods' step (time_step)
+CLOTHSIM_SLOT kHardening = 29;   // SpringLimits::hardening
+CLOTHSIM_SLOT kStepStart = 30;   // s, where the last accepted step began
+CLOTHSIM_SLOT kStepLimit = 31;   // s, the time the current attempt's step may not pass: the target, or
+                                 // an impact ahead (kArrival); kClipped says the step ends on it
+CLOTHSIM_SLOT kArrival = 32;     // s, the obstacles' limit (ObstacleContacts::begin_step); kNoArrival: none
+CLOTHSIM_SLOT kThickness = 33;   // m, collision.thickness
+CLOTHSIM_SLOT kControlReals = 34;
+// No limit from the obstacles: far beyond any advance, and within float's range.
+#define CLOTHSIM_NO_ARRIVAL 1e30
 
 // control_uint.
 CLOTHSIM_SLOT kActive = 0;          // 1 while the advance goes on: not at its target, not failed, not at max_accepted
-CLOTHSIM_SLOT kClipped = 1;         // 1: the current attempt's step ends exactly at the target
+CLOTHSIM_SLOT kClipped = 1;         // 1: the current attempt's step ends exactly at kStepLimit
 CLOTHSIM_SLOT kAccepted = 2;        // 1: the last decision accepted its attempt (the accept pass reads it)
 CLOTHSIM_SLOT kRejectedBefore = 3;  // 1: the step being sought was rejected once (no growth after it)
 CLOTHSIM_SLOT kStatus = 4;          // a StepStatus: 0 ok, 1 step underflow, 2 non-finite
@@ -57,7 +65,10 @@ CLOTHSIM_SLOT kWorstParticle = 12;  // where the last attempt's error was larges
 CLOTHSIM_SLOT kBreaks = 13;         // connectors broken in this advance (lattice_events)
 CLOTHSIM_SLOT kYields = 14;         // connectors yielded
 CLOTHSIM_SLOT kCreases = 15;        // radial springs creased
-CLOTHSIM_SLOT kControlUints = 16;
+CLOTHSIM_SLOT kContacts = 16;       // particles the obstacle pass moved in the last accepted step
+CLOTHSIM_SLOT kContactSteps = 17;   // the same, summed over this advance's steps
+CLOTHSIM_SLOT kMostContacts = 18;   // the most in one step of this advance
+CLOTHSIM_SLOT kControlUints = 19;
 
 // The Nystrom rows of the method (explicit_runge_kutta.h) in the `rows` array, each kRowReals
 // Reals: the sum of its weights, then sum_i w_i a_il for each stage l (positions), then w_l
@@ -65,10 +76,28 @@ CLOTHSIM_SLOT kControlUints = 16;
 CLOTHSIM_SLOT kMaxDeviceStages = 6;
 CLOTHSIM_SLOT kRowReals = 1 + 2 * kMaxDeviceStages;
 
-// One anchor's path over an advance, in `anchor_paths`, kAnchorReals Reals each, relative to the
-// advance's start t0 (tau = t - t0): x(tau) = x0 + v tau + A (sin(theta0 + omega tau) - sin theta0),
-// which covers every AnchorPath kind between anchor events (gpu/device_integrator.cpp).
-CLOTHSIM_SLOT kAnchorReals = 11;  // x0 (3), v (3), A (3), omega, theta0
+// A path over an advance (an anchor's in `anchor_paths`, a collider's in `colliders`), kPathReals
+// Reals, relative to the advance's start t0 (tau = t - t0): x(tau) = x0 + v tau + A (sin(theta0 +
+// omega tau) - sin theta0), which covers every AnchorPath kind between path events
+// (gpu/device_paths.h).
+CLOTHSIM_SLOT kPathReals = 11;  // x0 (3), v (3), A (3), omega, theta0
+
+// A collider on the device, kColliderReals Reals each in `colliders` (gpu/device_obstacles.cpp):
+// its shape as given (model/collider.h, at t = 0), its Coulomb coefficient, and its path, whose x0
+// is the shape's offset from where it is given (collider_offset()).
+CLOTHSIM_SLOT kColliderShape = 0;     // kShapePlane ...
+CLOTHSIM_SLOT kColliderFriction = 1;  // Coulomb coefficient
+CLOTHSIM_SLOT kColliderFirst = 2;     // (3) plane: a point; sphere, box: the centre; capsule: a, m
+CLOTHSIM_SLOT kColliderSecond = 5;    // (3) plane: the unit normal; box: the half extents; capsule: b
+CLOTHSIM_SLOT kColliderRadius = 8;    // sphere, capsule: m
+CLOTHSIM_SLOT kColliderPath = 9;      // kPathReals
+CLOTHSIM_SLOT kColliderReals = 20;
+CLOTHSIM_SLOT kShapePlane = 0;
+CLOTHSIM_SLOT kShapeSphere = 1;
+CLOTHSIM_SLOT kShapeBox = 2;
+CLOTHSIM_SLOT kShapeCapsule = 3;
+// The obstacle passes' partial results per workgroup, in `block_obstacles`.
+CLOTHSIM_SLOT kObstacleBlockReals = 3;  // contact work (J), particles moved, the earliest arrival (s)
 
 // The lattice path (lattice_elements.comp): per particle, kLatticeParams Reals in
 // `lattice_params`, its east and south connectors (d 0, 1) and its six radial springs (pair k in
@@ -129,6 +158,14 @@ struct ReducePassConstants {
   uint blocks;  // workgroups of the pass whose partial results are reduced
   uint phase;   // rk_control: 0 decides on the attempt, 1 adds the accepted step's work, 2 the events' work
   uint stages;
+  uint obstacles;  // 1: the obstacle passes run; phase 1 adds their work and sets the next step
+};
+
+struct ObstaclePassConstants {
+  uint particle_count;
+  uint rows;  // the lattice (obstacle_energy walks each particle's springs)
+  uint cols;
+  uint colliders;
 };
 
 struct AcceptPassConstants {

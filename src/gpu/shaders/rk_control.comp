@@ -6,13 +6,16 @@
 // AdaptiveRungeKutta::step's decision: reject and shrink (a step underflow below min_step ends
 // the advance as failed), or accept, with the PI controller's next step and the time advanced; a
 // fixed-step method accepts every finite step. Then the next attempt's step, clipped to land on
-// the target. The controller and the clipping are the CPU's, integrators/step_control.inc; its
-// factors are computed in float here: GLSL's pow exists for float only, and a step-size factor
-// needs no more.
+// its limit: the target, or an impact on an obstacle ahead (kArrival), as the Simulation limits a
+// step on the CPU. The controller and the clipping are the CPU's, integrators/step_control.inc;
+// its factors are computed in float here: GLSL's pow exists for float only, and a step-size
+// factor needs no more.
 //
 // Phase 1, after rk_accept: the accepted step's work (damping, drag, anchor), summed over
-// rk_accept's workgroups in a fixed order, added to the advance's compensated sums. Phase 2,
-// after lattice_events_radial: the events' fracture and plastic work, the same way.
+// rk_accept's workgroups in a fixed order, added to the advance's compensated sums; with
+// obstacles, the obstacle passes' work, contacts and earliest arrival too, and only then the next
+// step, which the arrival limits. Phase 2, after lattice_events_radial: the events' fracture and
+// plastic work, the same way.
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 #define StepFactor float
@@ -28,6 +31,7 @@ layout(std430, binding = 2) readonly buffer BlockError { Real block_error[]; };
 layout(std430, binding = 3) readonly buffer BlockParticle { uint block_particle[]; };
 layout(std430, binding = 4) readonly buffer BlockWork { Real block_work[]; };  // [blocks][3]
 layout(std430, binding = 5) readonly buffer BlockEvents { Real block_events[]; };  // [blocks][2]
+layout(std430, binding = 6) readonly buffer BlockObstacles { Real block_obstacles[]; };  // [blocks][3]
 
 layout(push_constant) uniform Constants { ReducePassConstants constants; };
 
@@ -59,6 +63,20 @@ void store_controller(StepController controller) {
   control_uint[kRejectedBefore] = controller.rejected_before ? 1u : 0u;
 }
 
+// The next attempt's step, stretched to end on its limit (the target, or an impact ahead) when it
+// would stop just short of it.
+void propose_step() {
+  if (control_uint[kActive] == 0u) return;
+  const bool adaptive = control_uint[kAdaptive] != 0u;
+  const Real step = adaptive ? min(control_real[kProposedStep], control_real[kMaxStep]) : control_real[kFixedStep];
+  const Real limit = min(control_real[kTarget], control_real[kArrival]);
+  const ClippedStep next = clip_step(control_real[kElapsed], step, limit);
+  control_real[kStep] = next.step;
+  control_real[kStepLimit] = limit;
+  control_uint[kClipped] = next.clipped ? 1u : 0u;
+  if (adaptive && next.step < control_real[kMinStep] && !next.clipped) fail(1u, 0u, false);
+}
+
 void decide(Real error, uint worst) {
   control_uint[kAttempts] += 1u;
   control_uint[kWorstParticle] = worst;
@@ -82,7 +100,8 @@ void decide(Real error, uint worst) {
       accept_step(controller, h, error, clipped);
       store_controller(controller);
     }
-    control_real[kElapsed] = clipped ? control_real[kTarget] : control_real[kElapsed] + h;
+    control_real[kStepStart] = control_real[kElapsed];
+    control_real[kElapsed] = clipped ? control_real[kStepLimit] : control_real[kElapsed] + h;
     control_real[kTakenStep] = h;
     control_real[kSmallestStep] = min(control_real[kSmallestStep], h);
     control_real[kLargestStep] = max(control_real[kLargestStep], h);
@@ -90,15 +109,12 @@ void decide(Real error, uint worst) {
     control_uint[kAcceptedSteps] += 1u;
     control_uint[kRejectedBefore] = 0u;
     const uint limit = control_uint[kMaxAccepted];
-    if (clipped || (limit != 0u && control_uint[kAcceptedSteps] >= limit)) control_uint[kActive] = 0u;
+    const bool at_target = clipped && control_real[kStepLimit] == control_real[kTarget];
+    if (at_target || (limit != 0u && control_uint[kAcceptedSteps] >= limit)) control_uint[kActive] = 0u;
+    // With obstacles, the next step waits for phase 1: the step just taken moves the arrival.
+    if (constants.obstacles != 0u) return;
   }
-  if (control_uint[kActive] == 0u) return;
-  // The next attempt's step, stretched to end on the target when it would stop just short of it.
-  const Real step = adaptive ? min(control_real[kProposedStep], control_real[kMaxStep]) : control_real[kFixedStep];
-  const ClippedStep next = clip_step(control_real[kElapsed], step, control_real[kTarget]);
-  control_real[kStep] = next.step;
-  control_uint[kClipped] = next.clipped ? 1u : 0u;
-  if (adaptive && next.step < control_real[kMinStep] && !next.clipped) fail(1u, 0u, false);
+  propose_step();
 }
 
 // sum + value as a compensated (Kahan) sum kept in control_real[slot] and [slot + 1].
@@ -137,9 +153,48 @@ void collect_work() {
   }
 }
 
+// The obstacle passes' results (obstacle_energy): the contact work into its compensated sum, the
+// particles moved, and the arrival limit from the step's end (ObstacleContacts::begin_step: none
+// when it rounds to the current time).
+void collect_obstacles() {
+  const uint i = gl_LocalInvocationID.x;
+  Real sums[3] = Real[3](Real(0.0), Real(0.0), Real(CLOTHSIM_NO_ARRIVAL));
+  for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
+    sums[0] += block_obstacles[kObstacleBlockReals * block];
+    sums[1] += block_obstacles[kObstacleBlockReals * block + 1u];
+    sums[2] = min(sums[2], block_obstacles[kObstacleBlockReals * block + 2u]);
+  }
+  barrier();  // work_sum is free again after collect_work()
+  for (uint k = 0u; k < 3u; ++k) work_sum[k][i] = sums[k];
+  barrier();
+  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
+    if (i < stride) {
+      work_sum[0][i] += work_sum[0][i + stride];
+      work_sum[1][i] += work_sum[1][i + stride];
+      work_sum[2][i] = min(work_sum[2][i], work_sum[2][i + stride]);
+    }
+    barrier();
+  }
+  if (i == 0u) {
+    add_compensated(kWork + 2u * kContactWork, work_sum[0][0]);
+    const uint contacts = uint(work_sum[1][0]);
+    control_uint[kContacts] = contacts;
+    control_uint[kContactSteps] += contacts;
+    control_uint[kMostContacts] = max(control_uint[kMostContacts], contacts);
+    const Real elapsed = control_real[kElapsed];
+    const Real earliest = work_sum[2][0];  // s from now
+    const Real arrival = elapsed + earliest;
+    const bool limits = earliest < Real(CLOTHSIM_NO_ARRIVAL) && arrival > elapsed;
+    control_real[kArrival] = limits ? arrival : Real(CLOTHSIM_NO_ARRIVAL);
+    propose_step();
+  }
+}
+
 void main() {
   if (constants.phase != 0u) {
-    if (control_uint[kAccepted] != 0u) collect_work();
+    if (control_uint[kAccepted] == 0u) return;  // the same for the whole workgroup
+    collect_work();
+    if (constants.phase == 1u && constants.obstacles != 0u) collect_obstacles();
     return;
   }
   if (control_uint[kActive] == 0u) {

@@ -73,7 +73,7 @@ void main() {
     Vec3 v1 = v0;
     const int anchor = particle_anchor[p];
     if (anchor >= 0) {
-      const AnchorMotion motion = anchor_motion(uint(anchor), control_real[kElapsed] + h);
+      const PathMotion motion = anchor_motion(uint(anchor), control_real[kElapsed] + h);
       x1 = motion.position;
       v1 = motion.velocity;
     } else if (constants.symplectic != 0u) {

@@ -47,7 +47,7 @@ void main() {
   const int anchor = particle_anchor[p];
   if (anchor >= 0) {
     // The stage's node c_i is the sum of its row's weights.
-    const AnchorMotion motion = anchor_motion(uint(anchor), control_real[kElapsed] + rows[row] * h);
+    const PathMotion motion = anchor_motion(uint(anchor), control_real[kElapsed] + rows[row] * h);
     x = motion.position;
     v = motion.velocity;
   } else {

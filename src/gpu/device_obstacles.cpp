@@ -1,0 +1,104 @@
+// The Vulkan backend's obstacle pass on the host side (gpu/device_integrator.h): the colliders'
+// rows, the arrays the two obstacle passes use, the first step's limit, and the passes recorded
+// into an attempt. The passes themselves (shaders/obstacle_contacts.comp, obstacle_energy.comp)
+// run the CPU's contact law (collision/obstacle_contact.inc) on the analytic shapes
+// (model/collider_shapes.inc); docs/gpu.md, "Obstacles on the device", says what differs.
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "core/assert.h"
+#include "core/step_profile.h"
+#include "gpu/device_integrator.h"
+#include "gpu/device_paths.h"
+#include "gpu/real_arrays.h"
+#include "gpu/shaders/device_step.h"
+
+namespace clothsim::gpu {
+namespace {
+
+double shape_code(ColliderShape shape) {
+  switch (shape) {
+    case ColliderShape::plane: return kShapePlane;
+    case ColliderShape::sphere: return kShapeSphere;
+    case ColliderShape::box: return kShapeBox;
+    case ColliderShape::capsule: return kShapeCapsule;
+    case ColliderShape::mesh: break;
+  }
+  // sim/backend.cpp refuses mesh colliders on the device before an integrator is made.
+  CLOTHSIM_ASSERT(false, "mesh colliders do not run on the device");
+  return -1.0;
+}
+
+// The two Vec3s of a shape's row (device_step.h: kColliderFirst, kColliderSecond).
+std::array<Vec3, 2> shape_vectors(const Collider& c) {
+  switch (c.shape) {
+    case ColliderShape::plane: return {c.point, c.normal};
+    case ColliderShape::sphere: return {c.center, Vec3{}};
+    case ColliderShape::box: return {c.center, c.half_extents};
+    case ColliderShape::capsule: return {c.a, c.b};
+    case ColliderShape::mesh: break;
+  }
+  return {Vec3{}, Vec3{}};
+}
+
+}  // namespace
+
+void DeviceIntegrator::prepare_obstacles() {
+  const std::size_t count = model_.colliders.size();
+  if (count == collider_count_) return;
+  // Colliders added or removed since the arrays were made (a live edit): the arrays sized anew,
+  // the passes bound to them, and the attempts recorded again with or without the obstacle passes.
+  CLOTHSIM_ASSERT(lattice_ || count == 0, "obstacles run on the device's lattice path only");
+  const std::uint64_t n = particles_;
+  const std::uint64_t real = real_size(precision_);
+  const bool obstacles = count > 0;
+  device_.require_memory(obstacles ? (count * kColliderReals + 6 * n + kObstacleBlockReals * n) * real + 4 * n : 0,
+                         "the obstacles");
+  arrays_[colliders] = Buffer(device_, std::max<std::uint64_t>(count, 1) * kColliderReals * real, Memory::device_local);
+  arrays_[contact_before] = Buffer(device_, obstacles ? 6 * n * real : real, Memory::device_local);
+  arrays_[moved] = Buffer(device_, obstacles ? 4 * n : 4, Memory::device_local);
+  const std::uint64_t blocks = (n + kReduceWorkgroup - 1) / kReduceWorkgroup;
+  arrays_[block_obstacles] = Buffer(device_, obstacles ? blocks * kObstacleBlockReals * real : real, Memory::device_local);
+  collider_count_ = count;
+  obstacles_ = obstacles;
+  bind_passes();
+  release_recorded();
+}
+
+void DeviceIntegrator::upload_colliders(double t0) {
+  if (!obstacles_) return;
+  std::vector<double> table;
+  table.reserve(model_.colliders.size() * kColliderReals);
+  for (const Collider& collider : model_.colliders) {
+    const std::array<Vec3, 2> vectors = shape_vectors(collider);
+    table.insert(table.end(), {shape_code(collider.shape), collider_friction(collider, model_.collision), vectors[0].x,
+                             vectors[0].y, vectors[0].z, vectors[1].x, vectors[1].y, vectors[1].z, collider.radius});
+    // The path as the shape's offset from where it is given (collider_offset()).
+    append_path_row(table, collider.path, t0, collider.path.position(0.0));
+  }
+  CLOTHSIM_ASSERT(table.size() == model_.colliders.size() * kColliderReals, "a collider's row is device_step.h's");
+  upload(device_, arrays_[colliders], real_bytes(table, precision_));
+}
+
+double DeviceIntegrator::first_arrival(const ClothState& state) {
+  if (!obstacles_) return std::numeric_limits<double>::infinity();
+  StageTimer timer(profile_, StepStage::collisions);
+  return first_arrival_.begin_step(model_, state, options_.threads);
+}
+
+void DeviceIntegrator::record_obstacle_passes(VkCommandBuffer commands, PassTimer& timer) const {
+  const ObstaclePassConstants constants{particles_, static_cast<std::uint32_t>(model_.rows),
+                                        static_cast<std::uint32_t>(model_.cols),
+                                        static_cast<std::uint32_t>(collider_count_)};
+  obstacle_contacts_pass_.dispatch(commands, &constants, particles_);
+  obstacle_energy_pass_.dispatch(commands, &constants, particles_);
+  timer.mark(commands, StepStage::collisions);
+}
+
+IntegratorContacts DeviceIntegrator::take_obstacle_contacts() { return std::exchange(contacts_, IntegratorContacts{}); }
+
+}  // namespace clothsim::gpu
