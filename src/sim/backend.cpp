@@ -99,14 +99,15 @@ std::string backend_refusal(const std::string& unsupported, const BackendSetting
 }
 
 void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const IntegratorSettings& integrator,
-                        const BackendSettings& backend) {
+                        const BackendSettings& backend, std::size_t colliders) {
   if (backend.kind == Backend::cpu) return;
 #if CLOTHSIM_HAVE_VULKAN
   try {
     const Precision precision = backend.resolved_precision(integrator);
     const gpu::Device device(gpu::DeviceOptions{backend.device, false});
     device.require_precision(precision);
-    device.require_memory(gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision),
+    device.require_memory(gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
+                                                                   gpu::DeviceForcePath::lattice, colliders),
                           "the scene");
   } catch (const gpu::GpuError& error) {
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
@@ -115,6 +116,7 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
   (void)counts;
   (void)anchors;
   (void)integrator;
+  (void)colliders;
   throw BackendError(kNoVulkan);
 #endif
 }

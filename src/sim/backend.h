@@ -79,12 +79,12 @@ class BackendError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
-// Checks, before a model of these counts is built, that `backend` has the device and the device
-// memory for it: opens the device (a Vulkan instance, a few milliseconds) and compares. Nothing
+// Checks, before a model of these counts (and `colliders` obstacles) is built, that `backend` has
+// the device and the device memory for it: opens the device (a Vulkan instance, a few milliseconds) and compares. Nothing
 // to check on the CPU (its memory is checked from the scene: sim/memory_estimate.h). Throws
 // BackendError.
 void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const IntegratorSettings& integrator,
-                        const BackendSettings& backend);
+                        const BackendSettings& backend, std::size_t colliders = 0);
 
 // The integrator of `integrator.kind` on `backend`. Throws BackendError.
 std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, const IntegratorSettings& integrator,

@@ -1,0 +1,183 @@
+// Obstacles on the Vulkan backend (gpu/device_obstacles.cpp, shaders/obstacle_*.comp) on the
+// machine's Vulkan device (lavapipe on CI): the obstacle tests of the CPU again, with the same
+// independent checks (no particle inside a collider's thickness shell beyond rounding, the energy
+// balance, Coulomb's law on a slope, no tunnelling), and the device's runs against the CPU's.
+// Lavapipe takes milliseconds per attempt, so the sheets are the CPU tests' (tests/collision/
+// obstacle_fixtures.h) at looser tolerances or shorter runs.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include "collision/obstacle_fixtures.h"
+#include "model/cloth_model.h"
+#include "model/collider.h"
+#include "model/mesh_fixtures.h"
+#include "scene/builtin_scenes.h"
+#include "scene/scene.h"
+#include "scene/scene_simulation.h"
+#include "scene_simulation.h"
+#include "sim/backend.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+using namespace obstacle_fixtures;  // the fixtures are this file's vocabulary
+using testing::largest_distance;
+
+BackendSettings vulkan(Precision precision) { return BackendSettings{Backend::vulkan, 0, request(precision)}; }
+
+// How far inside the thickness shell a float32 device leaves a particle: the pass places it at
+// the thickness in float32 arithmetic on metre-sized coordinates (a unit in the last place is
+// 6e-8 to 1.2e-7 m there), and the check recomputes the distance in double from the rounded
+// position.
+constexpr double kFloat32DepthTolerance = 1e-6;  // m
+
+// RKF45 at 1e-4 on `backend`.
+SimulationSettings loose(const BackendSettings& backend) {
+  SimulationSettings s = settings();
+  s.integrator.relative_tolerance = 1e-4;
+  s.integrator.absolute_tolerance = 1e-4;
+  s.backend = backend;
+  return s;
+}
+
+// The opposite radial springs' damping of the sheets here: a tenth of the paper's, so that RKF45's
+// step is set by accuracy, not by the damping's stability, and a drop takes about 500 steps
+// instead of 7,000 (lavapipe takes milliseconds per attempt).
+constexpr double kSoftDamping = 20.0;  // N m s / rad
+
+ClothModel soft_sheet(double height, std::vector<Collider> colliders) {
+  return sheet(height, std::move(colliders), 0.3, 0.5, kSoftDamping);
+}
+
+// Every analytic shape, still and moving on a path: the sheet lands, stays outside, the balance
+// closes as on the CPU, and in float64 the device's run follows the CPU's: the same contact law on
+// the same steps, up to the rounding of the stage sums and of the work's summation order
+// (docs/gpu.md).
+TEST(DeviceObstacles, SheetDroppedOnEachShapeStaysOutsideAsOnTheCpu) {
+  for (bool moves : {false, true}) {
+    for (const ColliderCase& c : collider_cases()) {
+      if (c.collider.shape == ColliderShape::mesh) continue;  // refused on the device (below)
+      SCOPED_TRACE(std::string(c.name) + (moves ? ", moving" : ", still"));
+      // Sideways for the curved shapes (they sweep under the sheet), upwards for the plane (it lifts).
+      const Vec3 velocity = c.collider.shape == ColliderShape::plane ? Vec3{0.0, 0.4, 0.0} : Vec3{0.6, 0.0, 0.0};
+      const Collider collider = moves ? moving(c.collider, velocity) : c.collider;
+      const DropResult device = drop(soft_sheet(c.height, {collider}), 0.6, loose(vulkan(Precision::float64)));
+      const DropResult cpu = drop(soft_sheet(c.height, {collider}), 0.6, loose(BackendSettings{}));
+      EXPECT_GT(device.contact_steps, 0u) << "the sheet reached the collider";
+      EXPECT_LE(device.deepest, kDepthTolerance);
+      // At 1e-4 the balance is RKF45's error, about 0.2 J of the drop's few hundred: the device's
+      // is the CPU's within a hundredth of that. The contact work is a sum over every particle's
+      // projections, and which step a particle first touches in can differ by rounding: it agrees
+      // to 2 % (the capsule: 1.1 %; the others 1e-4), and the balance closes either way.
+      EXPECT_NEAR(device.balance_error, cpu.balance_error, 2e-3) << "J";
+      EXPECT_NEAR(device.contact_work, cpu.contact_work, 0.02 * std::abs(cpu.contact_work)) << "J";
+      EXPECT_LT(largest_distance(device.final_position, cpu.final_position), 1e-4) << "m";
+    }
+  }
+}
+
+TEST(DeviceObstacles, RisingPlaneLiftsTheSheetAndBooksItsWork) {
+  const auto lift = [](const BackendSettings& backend) {
+    ClothModel model = soft_sheet(kThickness, {moving(plane({0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}), {0.0, 0.5, 0.0})});
+    ClothState state = rest_state(model);
+    Simulation simulation(std::move(model), std::move(state), loose(backend));
+    EXPECT_TRUE(simulation.advance_to(0.5)) << simulation.failure()->message;
+    return simulation;
+  };
+  const Simulation device = lift(vulkan(Precision::float64));
+  const Simulation cpu = lift(BackendSettings{});
+  for (const Vec3& x : device.state().position) EXPECT_GE(x.y, 0.25 + kThickness - kDepthTolerance);
+  EXPECT_GT(device.energy_balance().contact_work, 0.0) << "the plane did work on the sheet";
+  EXPECT_NEAR(device.energy_balance().contact_work, cpu.energy_balance().contact_work,
+              1e-3 * cpu.energy_balance().contact_work);
+  EXPECT_NEAR(device.energy_balance().error(), cpu.energy_balance().error(), 2e-3) << "J";
+  EXPECT_EQ(device.contact_statistics().contacts, device.model().particle_count());
+  EXPECT_EQ(device.contact_statistics().contacts, cpu.contact_statistics().contacts);
+}
+
+// The sweep: a particle crossing a collider within one fixed step is caught at its entry point,
+// and a collider crossing particles within a step pushes them ahead, in both precisions.
+TEST(DeviceObstacles, NothingTunnelsThroughAStep) {
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    SCOPED_TRACE(std::string(to_string(precision)));
+    const bool float32 = precision == Precision::float32;
+    const double depth = float32 ? kFloat32DepthTolerance : kDepthTolerance;
+    const double speed = float32 ? 1e-5 : 1e-9;  // m/s: 50 m/s removed in float32 leaves its rounding
+    expect_no_tunnelling(sphere({0, 0, 0}, 0.1), -0.1, vulkan(precision), depth, speed);
+    expect_no_tunnelling(box({0, 0, 0}, {0.05, 0.1, 0.1}), -0.05, vulkan(precision), depth, speed);
+    // Across the particles' paths (they fly along x at z = 0 and 0.05).
+    expect_no_tunnelling(capsule({0, 0, -0.2}, {0, 0, 0.2}, 0.05), -0.05, vulkan(precision), depth, speed);
+  }
+}
+
+// Coulomb's law: a sheet on a slope below the friction angle stays put; above it, it slides
+// a = g (sin - mu cos) down it.
+TEST(DeviceObstacles, FrictionFollowsCoulombsLaw) {
+  const double below = 20.0 * std::numbers::pi / 180.0;  // tan = 0.36 < 0.5
+  const BackendSettings device = vulkan(Precision::float64);
+  EXPECT_LT(slide_on_slope(below, 0.5, IntegratorKind::rkf45, device, kSoftDamping), 1e-6);
+  const double above = 35.0 * std::numbers::pi / 180.0;  // tan = 0.70 > 0.5
+  const double expected = 0.5 * 9.81 * (std::sin(above) - 0.5 * std::cos(above)) * 0.25;  // 0.5 s
+  EXPECT_NEAR(slide_on_slope(above, 0.5, IntegratorKind::rkf45, device, kSoftDamping), expected, 0.05 * expected);
+}
+
+// The device's default precision: the sheet stays outside within float32's rounding, and the
+// balance still closes.
+TEST(DeviceObstacles, Float32KeepsTheSheetOutsideWithinItsRounding) {
+  const std::vector<Collider> colliders{sphere({0.0, 0.0, 0.0}, 1.0), plane({0.0, -0.5, 0.0}, {0.0, 1.0, 0.0})};
+  const DropResult device = drop(soft_sheet(1.3, colliders), 0.6, loose(vulkan(Precision::float32)));
+  const DropResult cpu = drop(soft_sheet(1.3, colliders), 0.6, loose(BackendSettings{}));
+  EXPECT_GT(device.contact_steps, 0u);
+  EXPECT_LE(device.deepest, kFloat32DepthTolerance);
+  EXPECT_NEAR(device.balance_error, cpu.balance_error, 0.05) << "J";
+  EXPECT_NEAR(device.contact_work, cpu.contact_work, 0.01 * std::abs(cpu.contact_work)) << "J";
+}
+
+// A collider added between frames (the viewer, a script) gets its pass on the device from the next
+// advance on, as on the CPU.
+TEST(DeviceObstacles, AColliderAddedBetweenFramesActsFromTheNextAdvance) {
+  const auto add_floor = [](const BackendSettings& backend) {
+    ClothModel model = soft_sheet(0.5, {});
+    ClothState state = rest_state(model);
+    Simulation simulation(std::move(model), std::move(state), loose(backend));
+    EXPECT_TRUE(simulation.advance_to(0.1));
+    simulation.add_collider(plane({0.0, 0.0, 0.0}, {0.0, 1.0, 0.0}));
+    EXPECT_TRUE(simulation.advance_to(0.6)) << simulation.failure()->message;
+    return simulation;
+  };
+  const Simulation device = add_floor(vulkan(Precision::float64));
+  const Simulation cpu = add_floor(BackendSettings{});
+  EXPECT_GT(device.contact_statistics().contact_steps, 0u);
+  for (const Vec3& x : device.state().position) EXPECT_GE(x.y, kThickness - kDepthTolerance);
+  EXPECT_NEAR(device.energy_balance().error(), cpu.energy_balance().error(), 2e-3) << "J";
+  EXPECT_LT(largest_distance(device.state().position, cpu.state().position), 1e-4) << "m";
+}
+
+// Mesh colliders stay on the CPU: refused with the feature and its field, before anything runs,
+// from a scene and as a live edit.
+TEST(DeviceObstacles, MeshCollidersAreRefused) {
+  SceneSpec spec = builtin_scene("paper-fig5");
+  spec.backend = vulkan(Precision::float32);
+  ColliderSpec cube;
+  cube.collider = mesh_collider(cube_mesh({0.0, -3.0, 0.0}, {1.0, 1.0, 1.0}));
+  spec.colliders.push_back(cube);
+  try {
+    Simulation simulation = make_simulation(spec);
+    ADD_FAILURE() << "a mesh collider ran on the device";
+  } catch (const BackendError& error) {
+    EXPECT_NE(std::string(error.what()).find("does not run obstacles of shape mesh (colliders)"), std::string::npos)
+        << error.what();
+  }
+  spec.colliders.clear();
+  Simulation simulation = make_simulation(spec);
+  EXPECT_THROW(simulation.add_collider(mesh_collider(cube_mesh({0.0, -3.0, 0.0}, {1.0, 1.0, 1.0}))), BackendError);
+  EXPECT_TRUE(simulation.model().colliders.empty());
+}
+
+}  // namespace
+}  // namespace clothsim
