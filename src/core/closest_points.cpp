@@ -2,42 +2,23 @@
 
 #include <algorithm>
 
+#include "core/shared_text.h"
+
 namespace clothsim {
 
+namespace {
+namespace shared {
+using Real = double;
+#include "core/closest_points.inc"
+}  // namespace shared
+}  // namespace
+
 TrianglePoint closest_point_on_triangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
-  const Vec3 ab = b - a;
-  const Vec3 ac = c - a;
-  const Vec3 ap = p - a;
-  const double d1 = dot(ab, ap);
-  const double d2 = dot(ac, ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return {a, {1.0, 0.0, 0.0}, TriangleFeature::vertex, 0};
-  const Vec3 bp = p - b;
-  const double d3 = dot(ab, bp);
-  const double d4 = dot(ac, bp);
-  if (d3 >= 0.0 && d4 <= d3) return {b, {0.0, 1.0, 0.0}, TriangleFeature::vertex, 1};
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-    const double v = d1 / (d1 - d3);
-    return {a + v * ab, {1.0 - v, v, 0.0}, TriangleFeature::edge, 0};
-  }
-  const Vec3 cp = p - c;
-  const double d5 = dot(ab, cp);
-  const double d6 = dot(ac, cp);
-  if (d6 >= 0.0 && d5 <= d6) return {c, {0.0, 0.0, 1.0}, TriangleFeature::vertex, 2};
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-    const double w = d2 / (d2 - d6);
-    return {a + w * ac, {1.0 - w, 0.0, w}, TriangleFeature::edge, 2};
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && d4 - d3 >= 0.0 && d5 - d6 >= 0.0) {
-    const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
-    return {b + w * (c - b), {0.0, 1.0 - w, w}, TriangleFeature::edge, 1};
-  }
-  const double inverse = 1.0 / (va + vb + vc);
-  const double v = vb * inverse;
-  const double w = vc * inverse;
-  return {a + v * ab + w * ac, {1.0 - v - w, v, w}, TriangleFeature::face, 0};
+  const shared::NearestOnTriangle nearest = shared::nearest_on_triangle(p, a, b, c);
+  const TriangleFeature feature = nearest.feature == shared::kFeatureVertex ? TriangleFeature::vertex
+                                  : nearest.feature == shared::kFeatureEdge ? TriangleFeature::edge
+                                                                            : TriangleFeature::face;
+  return {nearest.point, {nearest.weight.x, nearest.weight.y, nearest.weight.z}, feature, nearest.index};
 }
 
 SegmentPoints closest_points_of_segments(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2) {

@@ -1,5 +1,7 @@
 // Closest points between a point and a triangle, and between two segments: the narrow phase of
-// the mesh colliders (model/collider.cpp) and of self-collision (collision/self_contacts.h).
+// self-collision (collision/self_contacts.h). The point-triangle query is the shared text
+// core/closest_points.inc, which the mesh colliders' distance (model/mesh_distance.inc) uses on
+// the CPU and on the device.
 //
 // Both return the closest points as weights of the primitives' corners, so that a caller can
 // move the corners (an impulse distributed by barycentric weights) as well as read the points.

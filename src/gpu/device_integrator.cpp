@@ -82,6 +82,8 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const Latti
   bytes[A::contact_before] = obstacles ? 6 * n * real : real;
   bytes[A::moved] = obstacles ? n * 4 : 4;
   bytes[A::block_obstacles] = obstacles ? workgroups_of(n) * kObstacleBlockReals * real : real;
+  bytes[A::mesh_reals] = real;  // the meshes' own sizes besides
+  bytes[A::mesh_uints] = std::max<std::uint64_t>(colliders, 1) * kMeshHeaderUints * 4;
   return bytes;
 }
 
@@ -202,20 +204,20 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       events_radial_pass_(
           make_pass(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants), kReduceWorkgroup)),
       accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)),
-      obstacle_contacts_pass_(make_pass(device_, "obstacle_contacts", precision_, 9, sizeof(ObstaclePassConstants))),
+      obstacle_contacts_pass_(make_pass(device_, "obstacle_contacts", precision_, 11, sizeof(ObstaclePassConstants))),
       obstacle_energy_pass_(
-          make_pass(device_, "obstacle_energy", precision_, 13, sizeof(ObstaclePassConstants), kReduceWorkgroup)) {
+          make_pass(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants), kReduceWorkgroup)) {
   if (!lattice_ && model.limits.changes_sheet()) {
     throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
   }
   if (!lattice_ && !model.colliders.empty()) throw GpuError("obstacles run on the device on a lattice sheet only");
-  collider_count_ = model.colliders.size();
-  obstacles_ = collider_count_ > 0;
-  const auto bytes = array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_, collider_count_);
+  // The obstacles' arrays as placeholders; prepare_obstacles() sizes them for the colliders.
+  const auto bytes = array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_, 0);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload(device_, arrays_[rows], real_bytes(nystrom_rows(tableau_), precision_));
   bind_passes();
+  prepare_obstacles();
 }
 
 void DeviceIntegrator::bind_passes() {
@@ -241,11 +243,11 @@ void DeviceIntegrator::bind_passes() {
                        own(block_events), own(block_obstacles)});
   bind(obstacle_contacts_pass_, {own(control_real), own(control_uint), own(state_position), own(trial_position),
                                  own(trial_velocity), own(particle_anchor), own(colliders), own(contact_before),
-                                 own(moved)});
+                                 own(moved), own(mesh_reals), own(mesh_uints)});
   bind(obstacle_energy_pass_, {own(control_real), own(control_uint), own(trial_position), own(trial_velocity),
                                own(contact_before), own(moved), own(particle_anchor), own(colliders),
                                forces(F::particle_mass), forces(F::environment), own(lattice_params),
-                               own(event_params), own(block_obstacles)});
+                               own(event_params), own(block_obstacles), own(mesh_reals), own(mesh_uints)});
   bind(events_connectors_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
                                  own(event_flags), own(control_real), own(control_uint)});
   bind(events_radial_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),

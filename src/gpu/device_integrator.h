@@ -80,9 +80,10 @@ class DeviceIntegrator final : public Integrator {
   // the model.
   bool runs_spring_events() const override { return lattice_; }
   IntegratorEvents take_spring_events(ClothModel& model) override;
-  // The model's obstacles (planes, spheres, boxes and capsules, still or on their paths) are
-  // resolved on the device after every accepted step, with the CPU's contact law, and their impacts
-  // ahead limit the steps (device_obstacles.cpp); take_obstacle_contacts() gives an advance's counts.
+  // The model's obstacles (planes, spheres, boxes, capsules and triangle meshes, still or on their
+  // paths) are resolved on the device after every accepted step, with the CPU's contact law, and
+  // their impacts ahead limit the steps (device_obstacles.cpp); take_obstacle_contacts() gives an
+  // advance's counts.
   bool runs_obstacle_contacts() const override { return obstacles_; }
   IntegratorContacts take_obstacle_contacts() override;
 
@@ -105,7 +106,8 @@ class DeviceIntegrator final : public Integrator {
   // `path`, bytes: what is checked before allocating, and before a run builds its model
   // (sim/backend.h: a scene's model is a lattice, so the lattice path). The lattice path's own
   // arrays are counted on either path.
-  // `colliders`: the model's obstacles, whose pass holds arrays per particle.
+  // `colliders`: the model's obstacles, whose pass holds arrays per particle (their meshes' arrays,
+  // read when the model is built, are checked then).
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
                                         Precision precision, DeviceForcePath path = DeviceForcePath::lattice,
                                         std::size_t colliders = 0);
@@ -138,6 +140,8 @@ class DeviceIntegrator final : public Integrator {
     contact_before,   // [particles][6]: a moved particle's state before the obstacle pass (one Real without colliders)
     moved,            // [particles], uint: 1 where the obstacle pass moved the particle (one word without)
     block_obstacles,  // [workgroups][kObstacleBlockReals] (one Real without colliders)
+    mesh_reals,       // mesh colliders' vectors (device_step.h, kMeshHeaderUints; one Real without)
+    mesh_uints,       // [colliders][kMeshHeaderUints], then mesh colliders' indices (one word without colliders)
     array_count
   };
 
@@ -187,10 +191,10 @@ class DeviceIntegrator final : public Integrator {
   // advance applied to the model through model/model_edits.h.
   void upload_lattice_params();
   void set_laws();
-  // The obstacles (device_obstacles.cpp): their arrays sized for the model's colliders (again when
-  // their number changed), their rows written for an advance from t0, the first step's limit (the
-  // CPU's ObstacleContacts::begin_step on the state the advance starts from, +infinity without
-  // colliders), their passes recorded into an attempt.
+  // The obstacles (device_obstacles.cpp): their arrays sized for the model's colliders and their
+  // meshes uploaded (again when their number changed), their rows written for an advance from t0,
+  // the first step's limit (the CPU's ObstacleContacts::begin_step on the state the advance starts
+  // from, +infinity without colliders), their passes recorded into an attempt.
   void prepare_obstacles();
   void upload_colliders(double t0);
   double first_arrival(const ClothState& state);

@@ -7,6 +7,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <utility>
 #include <vector>
 
@@ -26,14 +27,13 @@ double shape_code(ColliderShape shape) {
     case ColliderShape::sphere: return kShapeSphere;
     case ColliderShape::box: return kShapeBox;
     case ColliderShape::capsule: return kShapeCapsule;
-    case ColliderShape::mesh: break;
+    case ColliderShape::mesh: return kShapeMesh;
   }
-  // sim/backend.cpp refuses mesh colliders on the device before an integrator is made.
-  CLOTHSIM_ASSERT(false, "mesh colliders do not run on the device");
   return -1.0;
 }
 
-// The two Vec3s of a shape's row (device_step.h: kColliderFirst, kColliderSecond).
+// The two Vec3s of a shape's row (device_step.h: kColliderFirst, kColliderSecond); a mesh's
+// arrays are its own (MeshArrays).
 std::array<Vec3, 2> shape_vectors(const Collider& c) {
   switch (c.shape) {
     case ColliderShape::plane: return {c.point, c.normal};
@@ -45,24 +45,72 @@ std::array<Vec3, 2> shape_vectors(const Collider& c) {
   return {Vec3{}, Vec3{}};
 }
 
+// The mesh colliders' arrays as the device reads them (device_step.h, kMeshHeaderUints), in
+// collider order.
+struct MeshArrays {
+  std::vector<double> reals;
+  std::vector<std::uint32_t> uints;
+};
+
+MeshArrays mesh_arrays(const std::vector<Collider>& colliders) {
+  MeshArrays arrays;
+  arrays.uints.assign(std::max<std::size_t>(colliders.size(), 1) * kMeshHeaderUints, 0u);
+  const auto append_vectors = [&](const std::vector<Vec3>& vectors) {
+    for (const Vec3& v : vectors) arrays.reals.insert(arrays.reals.end(), {v.x, v.y, v.z});
+  };
+  for (std::size_t c = 0; c < colliders.size(); ++c) {
+    if (colliders[c].shape != ColliderShape::mesh) continue;
+    const TriangleMesh& mesh = *colliders[c].mesh;
+    const auto header = static_cast<std::ptrdiff_t>(c * kMeshHeaderUints);
+    const std::array<std::size_t, kMeshHeaderUints> counts = {arrays.reals.size(), arrays.uints.size(),
+                                                              mesh.vertex.size(), mesh.triangle.size(),
+                                                              mesh.node_low.size()};
+    for (std::size_t k = 0; k < counts.size(); ++k) {
+      arrays.uints[static_cast<std::size_t>(header) + k] = static_cast<std::uint32_t>(counts[k]);
+    }
+    append_vectors(mesh.vertex);
+    append_vectors(mesh.vertex_pseudonormal);
+    append_vectors(mesh.triangle_normal);
+    append_vectors(mesh.edge_pseudonormal);
+    append_vectors(mesh.node_low);
+    append_vectors(mesh.node_high);
+    for (const auto& corners : mesh.triangle) arrays.uints.insert(arrays.uints.end(), corners.begin(), corners.end());
+    for (const auto* nodes : {&mesh.node_child, &mesh.node_first, &mesh.node_count, &mesh.node_triangle}) {
+      arrays.uints.insert(arrays.uints.end(), nodes->begin(), nodes->end());
+    }
+  }
+  if (arrays.reals.empty()) arrays.reals.push_back(0.0);  // a placeholder: every pass binds the array
+  return arrays;
+}
+
 }  // namespace
 
 void DeviceIntegrator::prepare_obstacles() {
   const std::size_t count = model_.colliders.size();
   if (count == collider_count_) return;
-  // Colliders added or removed since the arrays were made (a live edit): the arrays sized anew,
-  // the passes bound to them, and the attempts recorded again with or without the obstacle passes.
+  // The colliders of a new model, or colliders added since the arrays were made (a live edit): the
+  // arrays sized anew, the meshes uploaded, the passes bound to the arrays, and the attempts
+  // recorded again with the obstacle passes. (Colliders are never removed, and a mesh never
+  // changes after it is read.)
   CLOTHSIM_ASSERT(lattice_ || count == 0, "obstacles run on the device's lattice path only");
   const std::uint64_t n = particles_;
   const std::uint64_t real = real_size(precision_);
   const bool obstacles = count > 0;
-  device_.require_memory(obstacles ? (count * kColliderReals + 6 * n + kObstacleBlockReals * n) * real + 4 * n : 0,
+  const MeshArrays meshes = mesh_arrays(model_.colliders);
+  device_.require_memory(obstacles ? (count * kColliderReals + 6 * n + kObstacleBlockReals * n + meshes.reals.size()) *
+                                             real +
+                                         4 * (n + meshes.uints.size())
+                                   : 0,
                          "the obstacles");
   arrays_[colliders] = Buffer(device_, std::max<std::uint64_t>(count, 1) * kColliderReals * real, Memory::device_local);
   arrays_[contact_before] = Buffer(device_, obstacles ? 6 * n * real : real, Memory::device_local);
   arrays_[moved] = Buffer(device_, obstacles ? 4 * n : 4, Memory::device_local);
   const std::uint64_t blocks = (n + kReduceWorkgroup - 1) / kReduceWorkgroup;
   arrays_[block_obstacles] = Buffer(device_, obstacles ? blocks * kObstacleBlockReals * real : real, Memory::device_local);
+  arrays_[mesh_reals] = Buffer(device_, meshes.reals.size() * real, Memory::device_local);
+  arrays_[mesh_uints] = Buffer(device_, meshes.uints.size() * 4, Memory::device_local);
+  upload(device_, arrays_[mesh_reals], real_bytes(meshes.reals, precision_));
+  upload(device_, arrays_[mesh_uints], std::as_bytes(std::span(meshes.uints)));
   collider_count_ = count;
   obstacles_ = obstacles;
   bind_passes();

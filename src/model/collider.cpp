@@ -8,7 +8,6 @@
 #include <utility>
 
 #include "core/assert.h"
-#include "core/closest_points.h"
 #include "core/shared_text.h"
 
 namespace clothsim {
@@ -30,41 +29,6 @@ Vec3 unit_or_zero(const Vec3& v) {
   return length > 0.0 ? v / length : Vec3{};
 }
 
-// The nearest surface point found so far over the triangles visited.
-struct NearestTriangle {
-  double distance_squared = std::numeric_limits<double>::infinity();
-  Vec3 point;
-  Vec3 pseudonormal{0.0, 1.0, 0.0};
-  TriangleFeature feature = TriangleFeature::face;
-};
-
-void visit_triangle(const TriangleMesh& mesh, std::size_t t, const Vec3& x, NearestTriangle& nearest) {
-  // Degenerate triangles have no face and their edges belong to their neighbours.
-  if (squared_norm(mesh.triangle_normal[t]) == 0.0) return;
-  const auto& corner = mesh.triangle[t];
-  const TrianglePoint candidate =
-      closest_point_on_triangle(x, mesh.vertex[corner[0]], mesh.vertex[corner[1]], mesh.vertex[corner[2]]);
-  const double distance_squared = squared_norm(x - candidate.point);
-  if (distance_squared >= nearest.distance_squared) return;
-  nearest.distance_squared = distance_squared;
-  nearest.point = candidate.point;
-  nearest.feature = candidate.feature;
-  switch (candidate.feature) {
-    case TriangleFeature::vertex: nearest.pseudonormal = mesh.vertex_pseudonormal[corner[candidate.index]]; break;
-    case TriangleFeature::edge: nearest.pseudonormal = mesh.edge_pseudonormal[3 * t + candidate.index]; break;
-    case TriangleFeature::face: nearest.pseudonormal = mesh.triangle_normal[t]; break;
-  }
-}
-
-// Squared distance from x to the box [low, high]; 0 inside.
-double box_distance_squared(const Vec3& low, const Vec3& high, const Vec3& x) {
-  const Vec3 below = low - x;
-  const Vec3 above = x - high;
-  const Vec3 gap{std::max({below.x, above.x, 0.0}), std::max({below.y, above.y, 0.0}),
-                 std::max({below.z, above.z, 0.0})};
-  return squared_norm(gap);
-}
-
 void assert_prepared(const TriangleMesh& mesh) {
   CLOTHSIM_ASSERT(mesh.triangle_normal.size() == mesh.triangle.size() &&
                       mesh.edge_pseudonormal.size() == 3 * mesh.triangle.size() &&
@@ -73,55 +37,30 @@ void assert_prepared(const TriangleMesh& mesh) {
                   "mesh collider not prepared (prepare_triangle_mesh)");
 }
 
-// Depth-first through the hierarchy, nearer child first, skipping boxes farther than the best
-// triangle so far. The stack is a fixed array: a median split halves the triangles per level, so
-// 64 levels are never reached.
-NearestTriangle nearest_triangle(const TriangleMesh& mesh, const Vec3& x) {
-  NearestTriangle nearest;
-  if (mesh.triangle.empty()) return nearest;
-  std::array<std::uint32_t, 64> stack{};
-  std::size_t size = 0;
-  stack[size++] = 0;
-  while (size > 0) {
-    const std::uint32_t node = stack[--size];
-    if (box_distance_squared(mesh.node_low[node], mesh.node_high[node], x) >= nearest.distance_squared) continue;
-    if (mesh.node_count[node] > 0) {
-      const std::uint32_t first = mesh.node_first[node];
-      for (std::uint32_t k = first; k < first + mesh.node_count[node]; ++k) {
-        visit_triangle(mesh, mesh.node_triangle[k], x, nearest);
-      }
-      continue;
-    }
-    const std::uint32_t left = mesh.node_child[node];
-    const std::uint32_t right = left + 1;
-    const double to_left = box_distance_squared(mesh.node_low[left], mesh.node_high[left], x);
-    const double to_right = box_distance_squared(mesh.node_low[right], mesh.node_high[right], x);
-    CLOTHSIM_ASSERT(size + 2 <= stack.size(), "mesh hierarchy deeper than its traversal stack");
-    // Pushed last, popped first: the nearer child.
-    stack[size++] = to_left <= to_right ? right : left;
-    stack[size++] = to_left <= to_right ? left : right;
-  }
-  return nearest;
-}
-
-SurfaceDistance signed_from_nearest(const NearestTriangle& found, const Vec3& x) {
-  if (!std::isfinite(found.distance_squared)) return {std::numeric_limits<double>::infinity(), {0.0, 1.0, 0.0}, {}};
-  const double best = found.distance_squared;
-  const Vec3& nearest = found.point;
-  const Vec3& pseudonormal = found.pseudonormal;
-  const TriangleFeature feature = found.feature;
-  const Vec3 offset = x - nearest;
-  const double distance = std::sqrt(best);
-  const bool inside = dot(offset, pseudonormal) < 0.0;
-  // Nearest to a face's interior the outward normal is the face's, exactly; computing it from the
-  // offset would turn the rounding of the nearest point into the normal's direction for points
-  // on or very near the face. At an edge or a corner the offset's direction is the normal, except
-  // on the surface itself, where it is undefined and the pseudonormal serves.
-  const bool on_surface = distance <= 1e-12 * (1.0 + norm(x));
-  const Vec3 normal =
-      feature == TriangleFeature::face || on_surface ? pseudonormal : (inside ? -offset : offset) / distance;
-  return {inside ? -distance : distance, normal, {}};
-}
+// The mesh distance, the text the device's obstacle pass compiles as well, on the TriangleMesh's
+// arrays.
+namespace shapes {
+using uint = std::uint32_t;
+using std::sqrt;
+inline constexpr double kNoSurface = std::numeric_limits<double>::infinity();
+#include "core/closest_points.inc"
+struct MeshView {
+  const TriangleMesh* mesh;
+};
+inline Vec3 mesh_vertex(const MeshView& m, uint v) { return m.mesh->vertex[v]; }
+inline uint mesh_corner(const MeshView& m, uint t, uint k) { return m.mesh->triangle[t][k]; }
+inline Vec3 mesh_triangle_normal(const MeshView& m, uint t) { return m.mesh->triangle_normal[t]; }
+inline Vec3 mesh_vertex_pseudonormal(const MeshView& m, uint v) { return m.mesh->vertex_pseudonormal[v]; }
+inline Vec3 mesh_edge_pseudonormal(const MeshView& m, uint t, uint k) { return m.mesh->edge_pseudonormal[3 * t + k]; }
+inline Vec3 mesh_node_low(const MeshView& m, uint node) { return m.mesh->node_low[node]; }
+inline Vec3 mesh_node_high(const MeshView& m, uint node) { return m.mesh->node_high[node]; }
+inline uint mesh_node_child(const MeshView& m, uint node) { return m.mesh->node_child[node]; }
+inline uint mesh_node_first(const MeshView& m, uint node) { return m.mesh->node_first[node]; }
+inline uint mesh_node_count(const MeshView& m, uint node) { return m.mesh->node_count[node]; }
+inline uint mesh_node_triangle(const MeshView& m, uint k) { return m.mesh->node_triangle[k]; }
+inline uint mesh_triangle_count(const MeshView& m) { return static_cast<uint>(m.mesh->triangle.size()); }
+#include "model/mesh_distance.inc"
+}  // namespace shapes
 
 // Builds the subtree of node `node` over node_triangle[first, first + count).
 void build_node(TriangleMesh& mesh, const std::vector<Vec3>& centroid, std::uint32_t node, std::uint32_t first,
@@ -169,9 +108,12 @@ void build_node(TriangleMesh& mesh, const std::vector<Vec3>& centroid, std::uint
 
 SurfaceDistance mesh_distance_brute_force(const TriangleMesh& mesh, const Vec3& x) {
   assert_prepared(mesh);
-  NearestTriangle nearest;
-  for (std::size_t t = 0; t < mesh.triangle.size(); ++t) visit_triangle(mesh, t, x, nearest);
-  return signed_from_nearest(nearest, x);
+  const shapes::MeshView view{&mesh};
+  shapes::NearestTriangle nearest = shapes::no_triangle_yet();
+  for (std::size_t t = 0; t < mesh.triangle.size(); ++t) {
+    shapes::visit_triangle(view, static_cast<std::uint32_t>(t), x, nearest);
+  }
+  return surface(shapes::signed_from_nearest(nearest, x));
 }
 
 void prepare_triangle_mesh(TriangleMesh& mesh) {
@@ -234,11 +176,13 @@ SurfaceDistance signed_distance(const Collider& collider, const Vec3& x, double 
     case ColliderShape::capsule:
       out = surface(shapes::capsule_distance(collider.a, collider.b, collider.radius, local));
       break;
-    case ColliderShape::mesh:
+    case ColliderShape::mesh: {
       CLOTHSIM_ASSERT(collider.mesh != nullptr, "mesh collider without a mesh");
       assert_prepared(*collider.mesh);
-      out = signed_from_nearest(nearest_triangle(*collider.mesh, local), local);
+      const shapes::MeshView view{collider.mesh.get()};
+      out = surface(shapes::signed_from_nearest(shapes::nearest_triangle(view, local), local));
       break;
+    }
   }
   out.velocity = collider.path.velocity_at(time);
   return out;

@@ -2,7 +2,6 @@
 // involve several fields.
 #include "scene/validate_scene.h"
 
-#include <algorithm>
 #include <string>
 
 #include "model/collider.h"
@@ -105,11 +104,8 @@ void validate_scene(const SceneSpec& spec, const std::string& source) {
     validate_collider(spec.colliders[i], source, "colliders[" + std::to_string(i) + "]");
   }
   check_self_collision_thickness(spec, source);
-  const bool meshes = std::any_of(spec.colliders.begin(), spec.colliders.end(), [](const ColliderSpec& c) {
-    return c.collider.shape == ColliderShape::mesh;
-  });
   const std::string unsupported = unsupported_by_backend(
-      BackendFeatures{spec.integrator, spec.lattice.limits, !spec.colliders.empty(), spec.collision.self, true, meshes},
+      BackendFeatures{spec.integrator, spec.lattice.limits, !spec.colliders.empty(), spec.collision.self},
       spec.backend);
   if (!unsupported.empty()) fail(source, "backend", backend_refusal(unsupported, spec.backend));
 }

@@ -1,7 +1,5 @@
 #include "sim/backend.h"
 
-#include <algorithm>
-
 #if CLOTHSIM_HAVE_VULKAN
 #include "gpu/device_integrator.h"
 #include "gpu/gpu_error.h"
@@ -39,10 +37,8 @@ bool vulkan_backend_built() {
 }
 
 BackendFeatures features_of(const ClothModel& model, const IntegratorSettings& integrator) {
-  const bool meshes = std::any_of(model.colliders.begin(), model.colliders.end(),
-                                  [](const Collider& c) { return c.shape == ColliderShape::mesh; });
   return {integrator, model.limits, !model.colliders.empty(), model.collision.self,
-          model.layout == ModelLayout::lattice, meshes};
+          model.layout == ModelLayout::lattice};
 }
 
 BackendFeatures features_of(IntegratorKind kind) {
@@ -84,9 +80,7 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
   if (!features.lattice && features.limits.changes_sheet()) {
     return "tearing, permanent stretching or creasing of a sheet that is not a lattice (springs.*)";
   }
-  // The obstacle pass runs on the device's lattice path (gpu/device_obstacles.cpp), with the
-  // analytic shapes.
-  if (features.mesh_colliders) return "obstacles of shape mesh (colliders)";
+  // The obstacle pass runs on the device's lattice path (gpu/device_obstacles.cpp).
   if (features.colliders && !features.lattice) return "obstacles (colliders) on a sheet that is not a lattice";
   if (features.self_collision) return "self-collision (collision.self)";
   return "";

@@ -57,7 +57,6 @@ struct BackendFeatures {
   bool colliders = false;         // any obstacle
   bool self_collision = false;    // collision.self
   bool lattice = true;            // the lattice layout of build_lattice (every scene's)
-  bool mesh_colliders = false;    // any obstacle of shape mesh
 };
 BackendFeatures features_of(const ClothModel& model, const IntegratorSettings& integrator);
 // A plain sheet integrated with `kind`: the features of the benchmark's cases.

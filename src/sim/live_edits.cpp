@@ -113,7 +113,6 @@ void Simulation::set_self_collision(bool on) {
 std::size_t Simulation::add_collider(const Collider& collider) {
   BackendFeatures features = features_of(*model_, settings_.integrator);
   features.colliders = true;
-  features.mesh_colliders = features.mesh_colliders || collider.shape == ColliderShape::mesh;
   require_backend_runs(features);
   return clothsim::add_collider(*model_, collider);
 }

@@ -54,14 +54,14 @@ ClothModel soft_sheet(double height, std::vector<Collider> colliders) {
   return sheet(height, std::move(colliders), 0.3, 0.5, kSoftDamping);
 }
 
-// Every analytic shape, still and moving on a path: the sheet lands, stays outside, the balance
+// Every shape (the mesh: a cube of 12 triangles, the box's table through the mesh path), still and
+// moving on a path: the sheet lands, stays outside, the balance
 // closes as on the CPU, and in float64 the device's run follows the CPU's: the same contact law on
 // the same steps, up to the rounding of the stage sums and of the work's summation order
 // (docs/gpu.md).
 TEST(DeviceObstacles, SheetDroppedOnEachShapeStaysOutsideAsOnTheCpu) {
   for (bool moves : {false, true}) {
     for (const ColliderCase& c : collider_cases()) {
-      if (c.collider.shape == ColliderShape::mesh) continue;  // refused on the device (below)
       SCOPED_TRACE(std::string(c.name) + (moves ? ", moving" : ", still"));
       // Sideways for the curved shapes (they sweep under the sheet), upwards for the plane (it lifts).
       const Vec3 velocity = c.collider.shape == ColliderShape::plane ? Vec3{0.0, 0.4, 0.0} : Vec3{0.6, 0.0, 0.0};
@@ -101,7 +101,7 @@ TEST(DeviceObstacles, RisingPlaneLiftsTheSheetAndBooksItsWork) {
 }
 
 // The sweep: a particle crossing a collider within one fixed step is caught at its entry point,
-// and a collider crossing particles within a step pushes them ahead, in both precisions.
+// in both precisions, for every shape (the mesh: a box of 12 triangles).
 TEST(DeviceObstacles, NothingTunnelsThroughAStep) {
   for (Precision precision : {Precision::float64, Precision::float32}) {
     SCOPED_TRACE(std::string(to_string(precision)));
@@ -112,6 +112,7 @@ TEST(DeviceObstacles, NothingTunnelsThroughAStep) {
     expect_no_tunnelling(box({0, 0, 0}, {0.05, 0.1, 0.1}), -0.05, vulkan(precision), depth, speed);
     // Across the particles' paths (they fly along x at z = 0 and 0.05).
     expect_no_tunnelling(capsule({0, 0, -0.2}, {0, 0, 0.2}, 0.05), -0.05, vulkan(precision), depth, speed);
+    expect_no_tunnelling(mesh_collider(cube_mesh({0, 0, 0}, {0.05, 0.1, 0.1})), -0.05, vulkan(precision), depth, speed);
   }
 }
 
@@ -156,27 +157,6 @@ TEST(DeviceObstacles, AColliderAddedBetweenFramesActsFromTheNextAdvance) {
   for (const Vec3& x : device.state().position) EXPECT_GE(x.y, kThickness - kDepthTolerance);
   EXPECT_NEAR(device.energy_balance().error(), cpu.energy_balance().error(), 2e-3) << "J";
   EXPECT_LT(largest_distance(device.state().position, cpu.state().position), 1e-4) << "m";
-}
-
-// Mesh colliders stay on the CPU: refused with the feature and its field, before anything runs,
-// from a scene and as a live edit.
-TEST(DeviceObstacles, MeshCollidersAreRefused) {
-  SceneSpec spec = builtin_scene("paper-fig5");
-  spec.backend = vulkan(Precision::float32);
-  ColliderSpec cube;
-  cube.collider = mesh_collider(cube_mesh({0.0, -3.0, 0.0}, {1.0, 1.0, 1.0}));
-  spec.colliders.push_back(cube);
-  try {
-    Simulation simulation = make_simulation(spec);
-    ADD_FAILURE() << "a mesh collider ran on the device";
-  } catch (const BackendError& error) {
-    EXPECT_NE(std::string(error.what()).find("does not run obstacles of shape mesh (colliders)"), std::string::npos)
-        << error.what();
-  }
-  spec.colliders.clear();
-  Simulation simulation = make_simulation(spec);
-  EXPECT_THROW(simulation.add_collider(mesh_collider(cube_mesh({0.0, -3.0, 0.0}, {1.0, 1.0, 1.0}))), BackendError);
-  EXPECT_TRUE(simulation.model().colliders.empty());
 }
 
 }  // namespace

@@ -96,6 +96,15 @@ CLOTHSIM_SLOT kShapePlane = 0;
 CLOTHSIM_SLOT kShapeSphere = 1;
 CLOTHSIM_SLOT kShapeBox = 2;
 CLOTHSIM_SLOT kShapeCapsule = 3;
+CLOTHSIM_SLOT kShapeMesh = 4;
+// The triangle meshes of mesh colliders, in `mesh_uints` and `mesh_reals` (gpu/device_obstacles.cpp):
+// first kMeshHeaderUints words per collider (zeros for the other shapes): where its Reals and its
+// words start, its vertex, triangle and hierarchy node counts. A mesh's Reals are its vertices (3 V),
+// vertex pseudonormals (3 V), triangle normals (3 T), edge pseudonormals (9 T), nodes' low and high
+// corners (3 N each); its words its triangles' corners (3 T), nodes' first child, first triangle
+// and triangle count (N each) and the triangles in leaf order (T): TriangleMesh's arrays
+// (model/collider.h).
+CLOTHSIM_SLOT kMeshHeaderUints = 5;
 // The obstacle passes' partial results per workgroup, in `block_obstacles`.
 CLOTHSIM_SLOT kObstacleBlockReals = 3;  // contact work (J), particles moved, the earliest arrival (s)
 

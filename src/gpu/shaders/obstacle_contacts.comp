@@ -23,6 +23,8 @@ layout(std430, binding = 5) readonly buffer ParticleAnchor { int particle_anchor
 layout(std430, binding = 6) readonly buffer Colliders { Real colliders[]; };  // [colliders][kColliderReals]
 layout(std430, binding = 7) writeonly buffer ContactBefore { Real contact_before[]; };  // [6 particles]: x, v
 layout(std430, binding = 8) writeonly buffer Moved { uint moved[]; };                  // [particles]
+layout(std430, binding = 9) readonly buffer MeshReals { Real mesh_reals[]; };  // device_step.h, kMeshHeaderUints
+layout(std430, binding = 10) readonly buffer MeshUints { uint mesh_uints[]; };
 
 layout(push_constant) uniform Constants { ObstaclePassConstants constants; };
 

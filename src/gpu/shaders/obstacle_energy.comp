@@ -32,6 +32,8 @@ layout(std430, binding = 9) readonly buffer Environment { Real environment[]; };
 layout(std430, binding = 10) readonly buffer Params { Real lattice_params[]; };      // [particles][kLatticeParams]
 layout(std430, binding = 11) readonly buffer EventParams { Real event_params[]; };   // [particles][kEventParams]
 layout(std430, binding = 12) writeonly buffer BlockObstacles { Real block_obstacles[]; };  // [blocks][3]
+layout(std430, binding = 13) readonly buffer MeshReals { Real mesh_reals[]; };  // device_step.h, kMeshHeaderUints
+layout(std430, binding = 14) readonly buffer MeshUints { uint mesh_uints[]; };
 
 layout(push_constant) uniform Constants { ObstaclePassConstants constants; };
 

@@ -1,7 +1,8 @@
 // The colliders on the device, as the obstacle passes query them: each collider's row of
 // `colliders` (device_step.h, kColliderReals), its motion over the advance (path_motion.glsl), its
-// signed distance (model/collider_shapes.inc), and the contact law the CPU runs
-// (collision/obstacle_contact.inc). The includer declares `colliders`.
+// signed distance (model/collider_shapes.inc; a mesh's through its hierarchy, model/mesh_distance.inc),
+// and the contact law the CPU runs (collision/obstacle_contact.inc). The includer declares
+// `colliders`, `mesh_reals` and `mesh_uints`.
 #include "gpu/shaders/path_motion.glsl"
 
 struct SurfaceDistance {
@@ -39,6 +40,43 @@ ObstacleAtStepEnd obstacle_at(uint c, Real tau) {
 }
 
 #include "model/collider_shapes.inc"
+#include "core/closest_points.inc"
+
+// A mesh collider's arrays in `mesh_reals` and `mesh_uints` (device_step.h, kMeshHeaderUints).
+struct MeshView {
+  uint reals;  // where its Reals start
+  uint uints;  // where its words start
+  uint vertices;
+  uint triangles;
+  uint nodes;
+};
+
+MeshView mesh_of(uint c) {
+  const uint h = kMeshHeaderUints * c;
+  return MeshView(mesh_uints[h], mesh_uints[h + 1u], mesh_uints[h + 2u], mesh_uints[h + 3u], mesh_uints[h + 4u]);
+}
+
+Vec3 mesh_vector(uint at) { return Vec3(mesh_reals[at], mesh_reals[at + 1u], mesh_reals[at + 2u]); }
+Vec3 mesh_vertex(MeshView m, uint v) { return mesh_vector(m.reals + 3u * v); }
+Vec3 mesh_vertex_pseudonormal(MeshView m, uint v) { return mesh_vector(m.reals + 3u * (m.vertices + v)); }
+Vec3 mesh_triangle_normal(MeshView m, uint t) { return mesh_vector(m.reals + 6u * m.vertices + 3u * t); }
+Vec3 mesh_edge_pseudonormal(MeshView m, uint t, uint k) {
+  return mesh_vector(m.reals + 6u * m.vertices + 3u * m.triangles + 9u * t + 3u * k);
+}
+Vec3 mesh_node_low(MeshView m, uint node) { return mesh_vector(m.reals + 6u * m.vertices + 12u * m.triangles + 3u * node); }
+Vec3 mesh_node_high(MeshView m, uint node) {
+  return mesh_vector(m.reals + 6u * m.vertices + 12u * m.triangles + 3u * (m.nodes + node));
+}
+uint mesh_corner(MeshView m, uint t, uint k) { return mesh_uints[m.uints + 3u * t + k]; }
+uint mesh_node_child(MeshView m, uint node) { return mesh_uints[m.uints + 3u * m.triangles + node]; }
+uint mesh_node_first(MeshView m, uint node) { return mesh_uints[m.uints + 3u * m.triangles + m.nodes + node]; }
+uint mesh_node_count(MeshView m, uint node) { return mesh_uints[m.uints + 3u * m.triangles + 2u * m.nodes + node]; }
+uint mesh_node_triangle(MeshView m, uint k) { return mesh_uints[m.uints + 3u * m.triangles + 3u * m.nodes + k]; }
+uint mesh_triangle_count(MeshView m) { return m.triangles; }
+
+// An empty mesh's distance: far beyond any scene, within float's range.
+const Real kNoSurface = Real(1e30);
+#include "model/mesh_distance.inc"
 
 // The signed distance of x from the collider, queried in the shape's frame as given, as
 // signed_distance() does on the CPU.
@@ -56,8 +94,11 @@ SurfaceDistance obstacle_surface(const ObstacleAtStepEnd obstacle, const Vec3 x)
     d = sphere_distance(first, radius, local);
   } else if (shape == kShapeBox) {
     d = box_distance(first, second, local);
-  } else {
+  } else if (shape == kShapeCapsule) {
     d = capsule_distance(first, second, radius, local);
+  } else {
+    const MeshView mesh = mesh_of(obstacle.row / kColliderReals);
+    d = signed_from_nearest(nearest_triangle(mesh, local), local);
   }
   return SurfaceDistance(d.distance, d.normal, obstacle.velocity);
 }
