@@ -28,6 +28,8 @@
 //                              constant conversion that glslang folds from the literal's full double
 //                              value, so that 1e-4 or 1.0 / 6.0 is not rounded to float first)
 //   CLOTHSIM_ZERO_VECTOR       Vec3(); Vec3(0.0)
+//   CLOTHSIM_VECTOR(x, y, z)   a vector of three Reals: `Vec3{x, y, z}` (an aggregate, which not every
+//                              compiler builds from parentheses); `Vec3(x, y, z)`
 //   CLOTHSIM_ARRAY6(T, ...)    a constant array of six: `{...}`; `T[6](...)` (GLSL's preprocessor
 //                              has no variadic macros, hence the fixed count)
 //
@@ -42,5 +44,7 @@
 #define CLOTHSIM_DEFAULT(value) = value
 #define CLOTHSIM_REAL(literal) Real(literal)
 #define CLOTHSIM_ZERO_VECTOR Vec3()
+#define CLOTHSIM_VECTOR(x, y, z) \
+  Vec3 { x, y, z }
 #define CLOTHSIM_ARRAY6(T, a, b, c, d, e, f) \
   { a, b, c, d, e, f }

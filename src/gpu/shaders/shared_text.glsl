@@ -23,6 +23,7 @@
 #define CLOTHSIM_INOUT(T) inout T
 #define CLOTHSIM_DEFAULT(value)
 #define CLOTHSIM_ZERO_VECTOR Vec3(0.0)
+#define CLOTHSIM_VECTOR(x, y, z) Vec3(x, y, z)
 #define CLOTHSIM_ARRAY6(T, a, b, c, d, e, f) T[6](a, b, c, d, e, f)
 
 #endif
