@@ -2,7 +2,8 @@
 # Measures the Vulkan backend on a machine with a GPU, for docs/performance.md ("The Vulkan
 # backend"): the devices, the GPU tests on the device, then `clothsim bench` with RKF45 on the
 # paper's material from 16^2 (the per-step latency) to 2048^2, float32 and float64, three
-# repetitions each, and the CPU backend on all the machine's cores for comparison.
+# repetitions each, and the CPU backend on all the machine's cores for comparison; the obstacle
+# pass's share of a step.
 #
 #   bench/gpu/measure.sh BIN OUT
 #
@@ -29,6 +30,16 @@ tail -3 "$out/test_gpu.txt"
 "$bin/clothsim" run --paper-args 1024,1024,1,4,1,1400,200,80,5,1 --backend vulkan --duration 0.5 --fps 10 \
   --render none --profile --out /tmp/clothsim-profile-run >"$out/profile-1024.txt" 2>&1
 cat "$out/profile-1024.txt"
+
+# The obstacle pass's share of the step (docs/gpu.md, "Obstacles on the device"): the paper's
+# sheet dropped on a sphere above a floor, at its 11^2 and at 512^2 (a sheet 511 m wide over the
+# same sphere: every particle is tested against both colliders at every step either way).
+for n in 11 512; do
+  "$bin/clothsim" run "$(dirname "$0")/paper-sphere.json" --set lattice.rows=$n --set lattice.cols=$n \
+    --backend vulkan --duration 1 --render none --profile --out "/tmp/clothsim-obstacles-$n" \
+    >"$out/obstacles-$n.txt" 2>&1
+  tail -20 "$out/obstacles-$n.txt"
+done
 
 for rep in 1 2 3; do
   for precision in float32 float64; do

@@ -97,11 +97,10 @@ void DeviceIntegrator::prepare_obstacles() {
   const std::uint64_t real = real_size(precision_);
   const bool obstacles = count > 0;
   const MeshArrays meshes = mesh_arrays(model_.colliders);
-  device_.require_memory(obstacles ? (count * kColliderReals + 6 * n + kObstacleBlockReals * n + meshes.reals.size()) *
-                                             real +
-                                         4 * (n + meshes.uints.size())
-                                   : 0,
-                         "the obstacles");
+  // The colliders' rows, each particle's state before the pass, flag and share of a block, the meshes.
+  const std::uint64_t reals = count * kColliderReals + (6 + kObstacleBlockReals) * n + meshes.reals.size();
+  const std::uint64_t words = n + meshes.uints.size();
+  if (obstacles) device_.require_memory(reals * real + 4 * words, "the obstacles");
   arrays_[colliders] = Buffer(device_, std::max<std::uint64_t>(count, 1) * kColliderReals * real, Memory::device_local);
   arrays_[contact_before] = Buffer(device_, obstacles ? 6 * n * real : real, Memory::device_local);
   arrays_[moved] = Buffer(device_, obstacles ? 4 * n : 4, Memory::device_local);

@@ -15,6 +15,7 @@
 
 #include "core/crc32.h"
 #include "io/checkpoint.h"
+#include "io/restored_run.h"
 #include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene_simulation.h"
@@ -24,6 +25,7 @@ namespace clothsim {
 namespace {
 
 namespace fs = std::filesystem;
+using testing::expect_restored_run_matches;
 
 fs::path test_folder() { return checks::fresh_test_folder("checkpoint"); }
 
@@ -175,33 +177,6 @@ TEST(Checkpoint, MessagesNameTheFileAndTheField) {
   EXPECT_TRUE(reals.empty());
 }
 
-// A scene stepped to `split`, saved, and both the saved simulation and one restored into a fresh
-// build stepped on to `end`: the two must agree bit for bit in every frame, and in their counters.
-void expect_restored_run_matches(const SceneSpec& spec, double split, double end, int frames) {
-  const fs::path path = test_folder() / "simulation.ckpt";
-  Simulation original = testing::one_thread_simulation(spec);
-  ASSERT_TRUE(original.advance_to(split));
-  write_checkpoint(path, [&](StateArchive& archive) { original.transfer_state(archive); });
-
-  Simulation restored = testing::one_thread_simulation(spec);
-  CheckpointReader reader(path);
-  restored.transfer_state(reader);
-  reader.finish();
-  checks::expect_same_bits(restored.state(), original.state());
-  for (int k = 1; k <= frames; ++k) {
-    const double t = split + (end - split) * k / frames;
-    ASSERT_TRUE(original.advance_to(t));
-    ASSERT_TRUE(restored.advance_to(t));
-    checks::expect_same_bits(restored.state(), original.state());
-  }
-  EXPECT_EQ(restored.integrator_stats().accepted_steps, original.integrator_stats().accepted_steps);
-  EXPECT_EQ(restored.integrator_stats().rejected_steps, original.integrator_stats().rejected_steps);
-  EXPECT_EQ(restored.energy_balance().error(), original.energy_balance().error());
-  EXPECT_EQ(restored.model_changes().broken_connectors, original.model_changes().broken_connectors);
-  EXPECT_EQ(restored.model_changes().max_plastic_strain, original.model_changes().max_plastic_strain);
-  EXPECT_EQ(restored.event_totals().breaks, original.event_totals().breaks);
-}
-
 TEST(SimulationCheckpoint, EveryIntegratorGoesOnBitForBit) {
   for (IntegratorKind kind : all_integrator_kinds()) {
     SCOPED_TRACE(std::string(to_string(kind)));
@@ -210,6 +185,14 @@ TEST(SimulationCheckpoint, EveryIntegratorGoesOnBitForBit) {
     spec.integrator.time_step = kind == IntegratorKind::implicit_euler ? 1e-3 : 1e-4;
     expect_restored_run_matches(spec, 0.3, 0.6, 6);
   }
+}
+
+TEST(SimulationCheckpoint, Float32SpringsGoOnInFloat32BitForBit) {
+  // The CPU's mixed precision (float32 springs, float64 state): the restored simulation's
+  // integrator is made on the run's backend and precision, as the saved one was.
+  SceneSpec spec = builtin_scene("paper-fig5");
+  spec.backend.precision = PrecisionRequest::float32;
+  expect_restored_run_matches(spec, 0.3, 0.6, 6);
 }
 
 TEST(SimulationCheckpoint, TornAndYieldedSheetGoesOnBitForBit) {
