@@ -46,47 +46,6 @@ std::uint32_t workgroups_of(std::uint64_t items) {
   return static_cast<std::uint32_t>((items + kReduceWorkgroup - 1) / kReduceWorkgroup);
 }
 
-// Sizes of the integrator's own arrays, bytes.
-std::array<std::uint64_t, DeviceIntegrator::array_count> array_bytes(const LatticeCounts& counts, int stages,
-                                                                     Precision precision,
-                                                                     std::uint32_t anchor_capacity,
-                                                                     std::size_t colliders) {
-  using A = DeviceIntegrator;
-  const std::uint64_t real = real_size(precision);
-  const std::uint64_t n = counts.particles;
-  const std::uint64_t elements = counts.connectors + counts.radials;
-  const std::uint64_t s = static_cast<std::uint64_t>(stages);
-  std::array<std::uint64_t, A::array_count> bytes{};
-  bytes[A::state_position] = bytes[A::state_velocity] = bytes[A::trial_position] = bytes[A::trial_velocity] =
-      3 * n * real;
-  bytes[A::acceleration] = s * 3 * n * real;
-  bytes[A::rows] = (s + 2) * kRowReals * real;
-  bytes[A::control_real] = kControlReals * real;
-  bytes[A::control_uint] = kControlUints * 4;
-  bytes[A::particle_anchor] = n * 4;
-  bytes[A::inverse_mass] = n * real;
-  bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kPathReals * real;
-  bytes[A::block_error] = workgroups_of(n) * real;
-  bytes[A::block_particle] = workgroups_of(n) * 4;
-  bytes[A::particle_power] = s * 3 * n * real;
-  bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
-  bytes[A::lattice_params] = n * kLatticeParams * real;
-  bytes[A::lattice_forces] = n * kLatticeForces * real;
-  bytes[A::event_params] = n * kEventParams * real;
-  bytes[A::event_energy] = n * 2 * real;
-  bytes[A::event_flags] = n * 4;
-  bytes[A::block_events] = workgroups_of(n) * 2 * real;
-  // The obstacle pass's arrays: a placeholder each without colliders (a pass binds every array).
-  const bool obstacles = colliders > 0;
-  bytes[A::colliders] = std::max<std::uint64_t>(colliders, 1) * kColliderReals * real;
-  bytes[A::contact_before] = obstacles ? 6 * n * real : real;
-  bytes[A::moved] = obstacles ? n * 4 : 4;
-  bytes[A::block_obstacles] = obstacles ? workgroups_of(n) * kObstacleBlockReals * real : real;
-  bytes[A::mesh_reals] = real;  // the meshes' own sizes besides
-  bytes[A::mesh_uints] = std::max<std::uint64_t>(colliders, 1) * kMeshHeaderUints * 4;
-  return bytes;
-}
-
 std::uint32_t anchor_capacity_for(std::size_t anchors) {
   return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16));
 }
@@ -163,6 +122,46 @@ std::uint64_t state_fingerprint(const ClothState& state, int threads) {
 }
 
 }  // namespace
+
+std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array_bytes(const LatticeCounts& counts,
+                                                                                       int stages, Precision precision,
+                                                                                       std::uint32_t anchor_capacity,
+                                                                                       std::size_t colliders) {
+  using A = DeviceIntegrator;
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t n = counts.particles;
+  const std::uint64_t elements = counts.connectors + counts.radials;
+  const std::uint64_t s = static_cast<std::uint64_t>(stages);
+  std::array<std::uint64_t, A::array_count> bytes{};
+  bytes[A::state_position] = bytes[A::state_velocity] = bytes[A::trial_position] = bytes[A::trial_velocity] =
+      3 * n * real;
+  bytes[A::acceleration] = s * 3 * n * real;
+  bytes[A::rows] = (s + 2) * kRowReals * real;
+  bytes[A::control_real] = kControlReals * real;
+  bytes[A::control_uint] = kControlUints * 4;
+  bytes[A::particle_anchor] = n * 4;
+  bytes[A::inverse_mass] = n * real;
+  bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kPathReals * real;
+  bytes[A::block_error] = workgroups_of(n) * real;
+  bytes[A::block_particle] = workgroups_of(n) * 4;
+  bytes[A::particle_power] = s * 3 * n * real;
+  bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
+  bytes[A::lattice_params] = n * kLatticeParams * real;
+  bytes[A::lattice_forces] = n * kLatticeForces * real;
+  bytes[A::event_params] = n * kEventParams * real;
+  bytes[A::event_energy] = n * 2 * real;
+  bytes[A::event_flags] = n * 4;
+  bytes[A::block_events] = workgroups_of(n) * 2 * real;
+  // The obstacle pass's arrays: a placeholder each without colliders (a pass binds every array).
+  const bool obstacles = colliders > 0;
+  bytes[A::colliders] = std::max<std::uint64_t>(colliders, 1) * kColliderReals * real;
+  bytes[A::contact_before] = obstacles ? 6 * n * real : real;
+  bytes[A::moved] = obstacles ? n * 4 : 4;
+  bytes[A::block_obstacles] = obstacles ? workgroups_of(n) * kObstacleBlockReals * real : real;
+  bytes[A::mesh_reals] = real;  // the meshes' own sizes besides
+  bytes[A::mesh_uints] = std::max<std::uint64_t>(colliders, 1) * kMeshHeaderUints * 4;
+  return bytes;
+}
 
 std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
                                                  Precision precision, DeviceForcePath path, std::size_t colliders) {
@@ -278,11 +277,11 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
   }
   const StagePassConstants solution{particles_, 0, stages, symplectic_ ? 1u : 0u, lattice_cols};
   solution_pass_.dispatch(commands, &solution, particles_);
-  const std::uint32_t obstacles = obstacles_ ? 1u : 0u;
+  const std::uint32_t obstacles = runs_obstacle_contacts() ? 1u : 0u;
   const ReducePassConstants decide{particles_, workgroups_of(particles_), 0, stages, obstacles};
   control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
   timer.mark(commands, StepStage::solution_and_error);
-  if (obstacles_) record_obstacle_passes(commands, timer);
+  if (obstacles != 0u) record_obstacle_passes(commands, timer);
   const std::uint32_t element_items = lattice_ ? 0u : elements_;  // the lattice path's damping is per particle
   const std::uint32_t accept_items = std::max(particles_, element_items);
   const AcceptPassConstants accept{particles_, element_items, stages, workgroups_of(accept_items), lattice_ ? 1u : 0u};
@@ -509,7 +508,7 @@ StepOutcome DeviceIntegrator::take_results(ClothState& state, double t0, double 
   state.fracture_work += reals[kWork + 6] + reals[kWork + 7];
   state.plastic_work += reals[kWork + 8] + reals[kWork + 9];
   state.contact_work += reals[kWork + 2 * kContactWork] + reals[kWork + 2 * kContactWork + 1];
-  if (obstacles_ && uints[kAcceptedSteps] > 0) {
+  if (runs_obstacle_contacts() && uints[kAcceptedSteps] > 0) {
     contacts_.last = uints[kContacts];
     contacts_.steps += uints[kContactSteps];
     contacts_.most = std::max<std::size_t>(contacts_.most, uints[kMostContacts]);
@@ -569,7 +568,7 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
   indices += 1;
   // rk_accept: the trial state in, the state out, every stage's three powers in.
   reals += 12 + 3 * static_cast<double>(stages);
-  if (obstacles_) {
+  if (runs_obstacle_contacts()) {
     // obstacle_contacts: the step's start and the trial state in, the moved flag out and, for a
     // moved particle, its state before the pass and after it (counted as if every particle moved).
     reals += 3 + 6 + 6 + 6;

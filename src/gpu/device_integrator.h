@@ -33,6 +33,7 @@
 // the controller's factors (float, GLSL's pow) and the work sums (per workgroup) are its own.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <memory>
@@ -84,7 +85,7 @@ class DeviceIntegrator final : public Integrator {
   // paths) are resolved on the device after every accepted step, with the CPU's contact law, and
   // their impacts ahead limit the steps (device_obstacles.cpp); take_obstacle_contacts() gives an
   // advance's counts.
-  bool runs_obstacle_contacts() const override { return obstacles_; }
+  bool runs_obstacle_contacts() const override { return collider_count_ > 0; }
   IntegratorContacts take_obstacle_contacts() override;
 
   const DeviceInfo& device_info() const { return device_.info(); }
@@ -152,6 +153,11 @@ class DeviceIntegrator final : public Integrator {
     std::vector<std::uint32_t> uints;  // [kControlUints]
   };
 
+  // Sizes of the integrator's own arrays, bytes, for a model of these counts with `colliders`
+  // obstacles (the obstacle arrays a placeholder each without; the meshes' arrays besides).
+  static std::array<std::uint64_t, array_count> array_bytes(const LatticeCounts& counts, int stages,
+                                                            Precision precision, std::uint32_t anchor_capacity,
+                                                            std::size_t colliders);
   // Advances by accepted steps to t_limit, or by max_accepted of them (0: no limit).
   StepOutcome run(ClothState& state, double t_limit, std::uint32_t max_accepted);
   // Its stages: the first attempt's step (as the CPU's integrators choose it), the control arrays
@@ -208,8 +214,9 @@ class DeviceIntegrator final : public Integrator {
   bool symplectic_;
   bool lattice_;
   std::uint32_t laws_ = 0;   // EventPassConstants::laws of the recorded attempts
-  bool obstacles_ = false;   // the recorded attempts run the obstacle passes (the model has colliders)
-  std::size_t collider_count_ = 0;  // the colliders the obstacle arrays are sized for
+  // The colliders the obstacle arrays are sized for; the recorded attempts run the obstacle passes
+  // when there are any.
+  std::size_t collider_count_ = 0;
   ObstacleContacts first_arrival_;  // the host's pass, for the first step's limit only
   IntegratorContacts contacts_;     // since the last take_obstacle_contacts()
   IntegratorEvents events_;  // since the last take_spring_events()

@@ -93,31 +93,25 @@ void DeviceIntegrator::prepare_obstacles() {
   // recorded again with the obstacle passes. (Colliders are never removed, and a mesh never
   // changes after it is read.)
   CLOTHSIM_ASSERT(lattice_ || count == 0, "obstacles run on the device's lattice path only");
-  const std::uint64_t n = particles_;
-  const std::uint64_t real = real_size(precision_);
-  const bool obstacles = count > 0;
+  const auto bytes = array_bytes(element_counts(model_), tableau_.stages, precision_, anchor_capacity_, count);
+  constexpr std::array<Array, 4> kSized = {colliders, contact_before, moved, block_obstacles};
   const MeshArrays meshes = mesh_arrays(model_.colliders);
-  // The colliders' rows, each particle's state before the pass, flag and share of a block, the meshes.
-  const std::uint64_t reals = count * kColliderReals + (6 + kObstacleBlockReals) * n + meshes.reals.size();
-  const std::uint64_t words = n + meshes.uints.size();
-  if (obstacles) device_.require_memory(reals * real + 4 * words, "the obstacles");
-  arrays_[colliders] = Buffer(device_, std::max<std::uint64_t>(count, 1) * kColliderReals * real, Memory::device_local);
-  arrays_[contact_before] = Buffer(device_, obstacles ? 6 * n * real : real, Memory::device_local);
-  arrays_[moved] = Buffer(device_, obstacles ? 4 * n : 4, Memory::device_local);
-  const std::uint64_t blocks = (n + kReduceWorkgroup - 1) / kReduceWorkgroup;
-  arrays_[block_obstacles] = Buffer(device_, obstacles ? blocks * kObstacleBlockReals * real : real, Memory::device_local);
+  const std::uint64_t real = real_size(precision_);
+  std::uint64_t total = meshes.reals.size() * real + meshes.uints.size() * 4;
+  for (Array a : kSized) total += bytes[a];
+  if (count > 0) device_.require_memory(total, "the obstacles");
+  for (Array a : kSized) arrays_[a] = Buffer(device_, bytes[a], Memory::device_local);
   arrays_[mesh_reals] = Buffer(device_, meshes.reals.size() * real, Memory::device_local);
   arrays_[mesh_uints] = Buffer(device_, meshes.uints.size() * 4, Memory::device_local);
   upload(device_, arrays_[mesh_reals], real_bytes(meshes.reals, precision_));
   upload(device_, arrays_[mesh_uints], std::as_bytes(std::span(meshes.uints)));
   collider_count_ = count;
-  obstacles_ = obstacles;
   bind_passes();
   release_recorded();
 }
 
 void DeviceIntegrator::upload_colliders(double t0) {
-  if (!obstacles_) return;
+  if (!runs_obstacle_contacts()) return;
   std::vector<double> table;
   table.reserve(model_.colliders.size() * kColliderReals);
   for (const Collider& collider : model_.colliders) {
@@ -132,7 +126,7 @@ void DeviceIntegrator::upload_colliders(double t0) {
 }
 
 double DeviceIntegrator::first_arrival(const ClothState& state) {
-  if (!obstacles_) return std::numeric_limits<double>::infinity();
+  if (!runs_obstacle_contacts()) return std::numeric_limits<double>::infinity();
   StageTimer timer(profile_, StepStage::collisions);
   return first_arrival_.begin_step(model_, state, options_.threads);
 }

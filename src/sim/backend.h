@@ -79,9 +79,9 @@ class BackendError : public std::runtime_error {
 };
 
 // Checks, before a model of these counts (and `colliders` obstacles) is built, that `backend` has
-// the device and the device memory for it: opens the device (a Vulkan instance, a few milliseconds) and compares. Nothing
-// to check on the CPU (its memory is checked from the scene: sim/memory_estimate.h). Throws
-// BackendError.
+// the device and the device memory for it: opens the device (a Vulkan instance, a few
+// milliseconds) and compares. Nothing to check on the CPU (its memory is checked from the scene:
+// sim/memory_estimate.h). Throws BackendError.
 void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const IntegratorSettings& integrator,
                         const BackendSettings& backend, std::size_t colliders = 0);
 

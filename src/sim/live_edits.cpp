@@ -59,12 +59,10 @@ void Simulation::set_integrator(const IntegratorSettings& settings) {
 }
 
 void Simulation::restart_integrator() {
-  std::unique_ptr<Integrator> next = make_backend_integrator(
-      *model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel}, settings_.backend);
+  std::unique_ptr<Integrator> next = new_integrator();
   retired_stats_ = integrator_stats();
   retired_profile_ += integrator_->profile();
   integrator_ = std::move(next);
-  integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
 }
 
 void Simulation::pin_particle(std::uint32_t particle) {

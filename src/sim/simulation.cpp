@@ -20,9 +20,7 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   CLOTHSIM_ASSERT(state_.position.size() == model_->particle_count(), "state matches the model");
   CLOTHSIM_ASSERT(state_.velocity.size() == model_->particle_count(), "state matches the model");
   threads_ = resolve_thread_count(settings.threads, model_->particle_count());
-  integrator_ = make_backend_integrator(*model_, settings.integrator,
-                                        ForceOptions{settings.terms, threads_, settings.kernel}, settings.backend);
-  integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
+  integrator_ = new_integrator();
   initial_report_ = energy();
   initial_energy_ = initial_report_.total() - (state_.damping_work + state_.drag_work + state_.anchor_work +
                                                state_.plastic_work + state_.fracture_work + state_.contact_work);
@@ -39,6 +37,13 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   }
   energy_scale_ = std::max(1e-12, mass * norm(model_->environment.gravity) * norm(high - low));
   check_state();
+}
+
+std::unique_ptr<Integrator> Simulation::new_integrator() const {
+  std::unique_ptr<Integrator> integrator = make_backend_integrator(
+      *model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel}, settings_.backend);
+  integrator->set_surface_contacts(&collision_stage_->surface_contacts());
+  return integrator;
 }
 
 bool Simulation::advance_to(double time) {

@@ -180,6 +180,9 @@ class Simulation {
   // The blow-up check on the energy balance, after advance_to()'s steps; false once failed.
   bool check_energy_balance();
   void fail(std::string element, const std::string& message);
+  // A new integrator for the current model on the run's backend and settings (the constructor's,
+  // a restored checkpoint's, a restart's), pointed at the collision stage's surface contacts.
+  std::unique_ptr<Integrator> new_integrator() const;
   // Replaces the integrator with a new one for the current model and settings_.integrator,
   // keeping the statistics of the old one.
   void restart_integrator();

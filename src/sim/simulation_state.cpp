@@ -29,10 +29,8 @@ void Simulation::transfer_state(StateArchive& archive) {
   // the saved one's controller state.
   transfer_model_changes(archive, *model_);
   if (archive.loading()) {
-    // On the run's backend: a Vulkan run resumes on its device, not on the CPU.
-    integrator_ = make_backend_integrator(*model_, settings_.integrator,
-                                          ForceOptions{settings_.terms, threads_, settings_.kernel}, settings_.backend);
-    integrator_->set_surface_contacts(&collision_stage_->surface_contacts());
+    // On the run's backend and precision: a Vulkan run resumes on its device.
+    integrator_ = new_integrator();
   }
   integrator_->transfer_state(archive);
   transfer_fields(archive, "retired", retired_stats_);

@@ -127,6 +127,25 @@ void add_compensated(uint slot, Real value) {
 
 shared Real work_sum[3][kReduceWorkgroup];
 
+// Reduces the workgroup's three partial values per invocation into work_sum[k][0]: sums, or for
+// the third a minimum where `third_is_least`. A tree in shared memory, in a fixed order, so the
+// result does not depend on scheduling. Every invocation calls it.
+void reduce_partials(Real partial[3], bool third_is_least) {
+  const uint i = gl_LocalInvocationID.x;
+  barrier();  // work_sum is free: a reduction before this one has been read
+  for (uint k = 0u; k < 3u; ++k) work_sum[k][i] = partial[k];
+  barrier();
+  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
+    if (i < stride) {
+      work_sum[0][i] += work_sum[0][i + stride];
+      work_sum[1][i] += work_sum[1][i + stride];
+      work_sum[2][i] = third_is_least ? min(work_sum[2][i], work_sum[2][i + stride])
+                                      : work_sum[2][i] + work_sum[2][i + stride];
+    }
+    barrier();
+  }
+}
+
 // Work k of block `block`: phase 1's three from rk_accept, phase 2's two from the events.
 Real block_value(uint block, uint k) {
   return constants.phase == 1u ? block_work[3u * block + k] : block_events[2u * block + k];
@@ -140,14 +159,7 @@ void collect_work() {
   for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
     for (uint k = 0u; k < count; ++k) sums[k] += block_value(block, k);
   }
-  for (uint k = 0u; k < 3u; ++k) work_sum[k][i] = sums[k];
-  barrier();
-  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
-    if (i < stride) {
-      for (uint k = 0u; k < 3u; ++k) work_sum[k][i] += work_sum[k][i + stride];
-    }
-    barrier();
-  }
+  reduce_partials(sums, false);
   if (i == 0u) {
     for (uint k = 0u; k < count; ++k) add_compensated(kWork + 2u * (first + k), work_sum[k][0]);
   }
@@ -158,23 +170,13 @@ void collect_work() {
 // when it rounds to the current time).
 void collect_obstacles() {
   const uint i = gl_LocalInvocationID.x;
-  Real sums[3] = Real[3](Real(0.0), Real(0.0), Real(CLOTHSIM_NO_ARRIVAL));
+  Real partial[3] = Real[3](Real(0.0), Real(0.0), Real(CLOTHSIM_NO_ARRIVAL));
   for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
-    sums[0] += block_obstacles[kObstacleBlockReals * block];
-    sums[1] += block_obstacles[kObstacleBlockReals * block + 1u];
-    sums[2] = min(sums[2], block_obstacles[kObstacleBlockReals * block + 2u]);
+    partial[0] += block_obstacles[kObstacleBlockReals * block];
+    partial[1] += block_obstacles[kObstacleBlockReals * block + 1u];
+    partial[2] = min(partial[2], block_obstacles[kObstacleBlockReals * block + 2u]);
   }
-  barrier();  // work_sum is free again after collect_work()
-  for (uint k = 0u; k < 3u; ++k) work_sum[k][i] = sums[k];
-  barrier();
-  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
-    if (i < stride) {
-      work_sum[0][i] += work_sum[0][i + stride];
-      work_sum[1][i] += work_sum[1][i + stride];
-      work_sum[2][i] = min(work_sum[2][i], work_sum[2][i + stride]);
-    }
-    barrier();
-  }
+  reduce_partials(partial, true);
   if (i == 0u) {
     add_compensated(kWork + 2u * kContactWork, work_sum[0][0]);
     const uint contacts = uint(work_sum[1][0]);
