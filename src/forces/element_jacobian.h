@@ -1,6 +1,8 @@
 // Element Jacobians for implicit integration: the derivatives of the element forces of element.h
 // with respect to positions and velocities, as pure functions of plain values (tested against
-// finite differences in tests/forces/test_element_jacobian.cpp).
+// finite differences in tests/forces/test_element_jacobian.cpp). Their factors are shared text,
+// forces/element_jacobian.inc, which the Vulkan backend's implicit Euler compiles too; this header
+// builds the CPU's 3x3 blocks from them.
 //
 // Sign convention. Implicit Euler needs K = -df/dx (the stiffness matrix, the Hessian of the
 // elastic energy) and C = -df/dv (the damping matrix), because the system it solves is
@@ -54,6 +56,7 @@
 // only slows Newton's convergence inside the fade, not what the step converges to.
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <numbers>
@@ -63,6 +66,9 @@
 #include "forces/element.h"
 
 namespace clothsim::element {
+
+using std::max;
+#include "forces/element_jacobian.inc"
 
 // ---------------------------------------------------------------------------------------------
 // Connector springs
@@ -74,16 +80,12 @@ struct ConnectorJacobian {
 
 inline ConnectorJacobian connector_jacobian(const Vec3& xa, const Vec3& xb, double rest_length, double stiffness,
                                             double damping, bool clamp_compression) {
-  const Vec3 e = xb - xa;
-  const double length = norm(e);
-  if (!(length > 0.0)) return {};  // coincident particles: no direction, as in connector_force
-  const Vec3 u = e / length;
-  const Mat3 along = outer(u, u);
-  double geometric = 1.0 - rest_length / length;
-  if (clamp_compression && geometric < 0.0) geometric = 0.0;
+  const ConnectorLinearization factors =
+      connector_linearization(xa, xb, rest_length, stiffness, damping, clamp_compression);
+  const Mat3 along = outer(factors.direction, factors.direction);
   ConnectorJacobian out;
-  out.stiffness = stiffness * along + (stiffness * geometric) * (Mat3::identity() - along);
-  out.damping = damping * along;
+  out.stiffness = factors.along * along + factors.across * (Mat3::identity() - along);
+  out.damping = factors.damping * along;
   return out;
 }
 
@@ -110,80 +112,23 @@ struct RadialJacobian {
   }
 };
 
-// x / tan(x) for x in [0, pi/2): the series 1 - x^2/3 - x^4/45 near 0 (next term 2 x^6/945).
-inline double x_over_tan(double x) {
-  if (x < 1e-4) {
-    const double x2 = x * x;
-    return 1.0 - x2 * (1.0 / 3.0 + x2 * (1.0 / 45.0));
-  }
-  return x / std::tan(x);
-}
-
-// Eigenvalues of the out-of-plane block of the energy Hessian, clamped at zero (file comment):
-// first along equal tilts of both connectors, second along opposite tilts. N m.
-inline std::array<double, 2> radial_transverse_eigenvalues(const RadialGeometry& g, double rest_angle,
-                                                           double stiffness) {
-  double along_equal = 0.0;
-  double along_opposite = 0.0;
-  if (!g.obtuse) {
-    // tan(theta/2) <= 1 here; cot(theta/2) is large near theta = 0 and written as (x/tan x) / x.
-    along_equal = stiffness * (rest_angle - g.angle) * std::tan(0.5 * g.angle);
-    if (g.angle > rest_angle) {
-      along_opposite = stiffness * (1.0 - rest_angle / g.angle) * 2.0 * x_over_tan(0.5 * g.angle);
-    }
-  } else {
-    // With delta = pi - theta (accurate near straight), tan(theta/2) = cot(delta/2).
-    const double rest_delta = std::numbers::pi - rest_angle;
-    if (g.delta > rest_delta) {
-      along_equal = stiffness * (1.0 - rest_delta / g.delta) * 2.0 * x_over_tan(0.5 * g.delta);
-    }
-    along_opposite = stiffness * (rest_delta - g.delta) * std::tan(0.5 * g.delta);
-  }
-  return {std::max(0.0, along_equal), std::max(0.0, along_opposite)};
-}
-
 // The Jacobians of radial_force() at the same arguments.
 inline RadialJacobian radial_jacobian(const Vec3& xa, const Vec3& xb, const Vec3& xc, const Vec3& va, const Vec3& vb,
                                       const Vec3& vc, double rest_angle, double stiffness, double damping,
                                       double fade_length_b, double fade_length_c) {
-  RadialGeometry g = radial_geometry(xa, xb, xc);
-  resolve_singular_directions(g, va, vb, vc);
+  const RadialLinearization factors =
+      radial_linearization(xa, xb, xc, va, vb, vc, rest_angle, stiffness, damping, fade_length_b, fade_length_c);
   RadialJacobian out;
-  if (g.degenerate) return out;
-  // The fade scales both coefficients (file comment); 1 exactly outside it.
-  const double fade = arm_fade(g.length_b, fade_length_b).value * arm_fade(g.length_c, fade_length_c).value;
-  stiffness *= fade;
-  damping *= fade;
-  out.gradient[1] = radial_gradient_b(g);
-  out.gradient[2] = radial_gradient_c(g);
-  out.gradient[0] = -(out.gradient[1] + out.gradient[2]);
-  out.in_plane_stiffness = stiffness;
-  out.damping = damping;
-
-  // Tilt rates: alpha_b = s_b . (eps_a, eps_b, eps_c), alpha_c = s_c . eps.
-  const std::array<double, 3> tilt_b = {-1.0 / g.length_b, 1.0 / g.length_b, 0.0};
-  const std::array<double, 3> tilt_c = {-1.0 / g.length_c, 0.0, 1.0 / g.length_c};
-  if (g.singular) {
-    if (g.obtuse && rest_angle == std::numbers::pi) {
-      // Straight pair at its rest angle: isotropic bending stiffness across the line.
-      out.in_plane_stiffness = 0.0;
-      out.transverse = Mat3::identity() - outer(g.unit_b, g.unit_b);
-      for (std::size_t i = 0; i < 3; ++i) {
-        for (std::size_t j = 0; j < 3; ++j) {
-          out.transverse_coupling[i][j] = stiffness * (tilt_b[i] + tilt_c[i]) * (tilt_b[j] + tilt_c[j]);
-        }
-      }
-    }
-    return out;
-  }
-  const Vec3 normal = cross(g.unit_b, g.unit_c) / g.sine;
-  out.transverse = outer(normal, normal);
-  const std::array<double, 2> lambda = radial_transverse_eigenvalues(g, rest_angle, stiffness);
-  // mu = lambda_1 q1 q1^T + lambda_2 q2 q2^T with q1,2 = (s_b +- s_c)/sqrt(2).
+  out.gradient = {factors.gradient_a, factors.gradient_b, factors.gradient_c};
+  out.in_plane_stiffness = factors.in_plane_stiffness;
+  out.damping = factors.damping;
+  const Vec3& axis = factors.transverse_axis;
+  out.transverse = factors.straight ? Mat3::identity() - outer(axis, axis) : outer(axis, axis);
+  const std::array<double, 3> s = {factors.sum_tilt.x, factors.sum_tilt.y, factors.sum_tilt.z};
+  const std::array<double, 3> d = {factors.difference_tilt.x, factors.difference_tilt.y, factors.difference_tilt.z};
   for (std::size_t i = 0; i < 3; ++i) {
     for (std::size_t j = 0; j < 3; ++j) {
-      out.transverse_coupling[i][j] = 0.5 * (lambda[0] * (tilt_b[i] + tilt_c[i]) * (tilt_b[j] + tilt_c[j]) +
-                                             lambda[1] * (tilt_b[i] - tilt_c[i]) * (tilt_b[j] - tilt_c[j]));
+      out.transverse_coupling[i][j] = factors.equal_coupling * s[i] * s[j] + factors.opposite_coupling * d[i] * d[j];
     }
   }
   return out;

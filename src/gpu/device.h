@@ -27,6 +27,13 @@ struct DeviceOptions {
   bool validation = kValidationByDefault;  // validation layers, if installed (InstanceOptions::validation)
 };
 
+// Which device an integrator runs on, and in which precision.
+struct DeviceSelection {
+  std::uint32_t index = 0;  // the device, as `clothsim devices` numbers it
+  Precision precision = Precision::float32;
+  bool validation = kValidationByDefault;  // the validation layers, where installed
+};
+
 class Device {
  public:
   // Throws GpuError: "no Vulkan device" (none at all), "no Vulkan device N (there are M)",

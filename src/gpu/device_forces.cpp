@@ -209,6 +209,17 @@ void DeviceForces::record_element_passes(VkCommandBuffer commands, std::uint32_t
   radial_pass_.dispatch(commands, &radial_constants, radials_);
 }
 
+void DeviceForces::record_forces(VkCommandBuffer commands) const {
+  const GatherConstants gather_constants{particles_};
+  const std::uint32_t elements = connectors_ + radials_;
+  const SumConstants block_sums{elements, kReductionBlock, 0};
+  const SumConstants total_sum{elements, kReductionBlock, 1};
+  record_element_passes(commands, 0);
+  gather_pass_.dispatch(commands, &gather_constants, particles_);
+  sum_pass_.dispatch(commands, &block_sums, (elements + kReductionBlock - 1) / kReductionBlock);
+  sum_pass_.dispatch(commands, &total_sum, 1);
+}
+
 double DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> position_in,
                               std::span<const Vec3> velocity_in, std::span<Vec3> force_out) {
   CLOTHSIM_ASSERT(path_ == DeviceForcePath::general, "DeviceForces::evaluate runs the general path");
@@ -219,16 +230,7 @@ double DeviceForces::evaluate(const ClothModel& model, std::span<const Vec3> pos
       "DeviceForces::evaluate: one position, velocity and force per particle");
   upload(device_, arrays_[position], vector_bytes(position_in, precision_));
   upload(device_, arrays_[velocity], vector_bytes(velocity_in, precision_));
-  const GatherConstants gather_constants{particles_};
-  const std::uint32_t elements = connectors_ + radials_;
-  const SumConstants block_sums{elements, kReductionBlock, 0};
-  const SumConstants total_sum{elements, kReductionBlock, 1};
-  device_.submit([&](VkCommandBuffer commands) {
-    record_element_passes(commands, 0);
-    gather_pass_.dispatch(commands, &gather_constants, particles_);
-    sum_pass_.dispatch(commands, &block_sums, (elements + kReductionBlock - 1) / kReductionBlock);
-    sum_pass_.dispatch(commands, &total_sum, 1);
-  });
+  device_.submit([&](VkCommandBuffer commands) { record_forces(commands); });
   std::vector<std::byte> result(std::uint64_t{particles_} * 3 * real_size(precision_));
   download(device_, arrays_[force], result);
   const std::vector<Vec3> forces = vectors_from_bytes(result, precision_);

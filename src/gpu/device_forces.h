@@ -69,6 +69,11 @@ class DeviceForces {
   // slots, and its damping power into element_power's set `power_slot`. The general path only.
   void record_element_passes(VkCommandBuffer commands, std::uint32_t power_slot) const;
 
+  // Records what evaluate() computes on the `position` and `velocity` arrays: the element passes
+  // (power set 0), the gather into `force` and the damping power's sum into `damping_power`. The
+  // general path only.
+  void record_forces(VkCommandBuffer commands) const;
+
   // Device memory for the arrays of a model of these counts (rows and cols unused), the state
   // and the scratch, bytes, on `path`.
   static std::uint64_t bytes_for(const LatticeCounts& counts, Precision precision, std::uint32_t power_slots = 1,

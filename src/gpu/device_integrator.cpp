@@ -17,6 +17,7 @@
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/device_step.h"
+#include "gpu/state_transfer.h"
 #include "integrators/dynamics.h"
 #include "integrators/explicit_runge_kutta.h"
 
@@ -92,33 +93,6 @@ std::span<const std::byte> bytes_of(const std::vector<T>& values) {
 ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
                           std::uint32_t push_bytes, std::uint32_t workgroup = 64) {
   return ComputePipeline(device, embedded_shader(shader_variant(name, precision)), bindings, push_bytes, workgroup);
-}
-
-// A 64-bit fingerprint of the state's positions and velocities (FNV-1a over each block's bytes,
-// the blocks' hashes combined in order): what the host compares, instead of a copy of the state,
-// to see whether a caller changed the state since the device last had it.
-std::uint64_t state_fingerprint(const ClothState& state, int threads) {
-  constexpr std::size_t kBlock = 4096;
-  const std::size_t n = state.position.size();
-  const std::size_t blocks = (n + kBlock - 1) / kBlock;
-  std::vector<std::uint64_t> hashes(blocks);
-  parallel_for(blocks, threads, [&](std::size_t block) {
-    std::uint64_t hash = 1469598103934665603ull;
-    const auto mix = [&hash](const Vec3& v) {
-      std::uint64_t words[3];
-      std::memcpy(words, &v, sizeof words);
-      for (std::uint64_t word : words) hash = (hash ^ word) * 1099511628211ull;
-    };
-    const std::size_t end = std::min(n, (block + 1) * kBlock);
-    for (std::size_t p = block * kBlock; p < end; ++p) {
-      mix(state.position[p]);
-      mix(state.velocity[p]);
-    }
-    hashes[block] = hash;
-  });
-  std::uint64_t hash = n;
-  for (std::uint64_t block_hash : hashes) hash = (hash ^ block_hash) * 1099511628211ull + 0x9e3779b97f4a7c15ull;
-  return hash;
 }
 
 }  // namespace
@@ -365,28 +339,8 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
 }
 
 void DeviceIntegrator::read_state(ClothState& state) {
-  // Both arrays in one submission into the persistent staging buffer, then converted to doubles
-  // by every thread: a 1024 x 1024 sheet's 48 MB each frame.
-  const std::uint64_t bytes = std::uint64_t{particles_} * 3 * real_size(precision_);
-  device_.submit([&](VkCommandBuffer commands) {
-    record_readback(commands, arrays_[state_position], state_readback_, bytes, 0);
-    record_readback(commands, arrays_[state_velocity], state_readback_, bytes, bytes);
-  });
-  const std::byte* mapped = state_readback_.mapped();
-  const auto read = [&](std::uint64_t offset, std::size_t index) {
-    if (precision_ == Precision::float64) {
-      double value = 0.0;
-      std::memcpy(&value, mapped + offset + 8 * index, 8);
-      return value;
-    }
-    float value = 0.0f;
-    std::memcpy(&value, mapped + offset + 4 * index, 4);
-    return static_cast<double>(value);
-  };
-  parallel_for(particles_, options_.threads, [&](std::size_t p) {
-    state.position[p] = {read(0, 3 * p), read(0, 3 * p + 1), read(0, 3 * p + 2)};
-    state.velocity[p] = {read(bytes, 3 * p), read(bytes, 3 * p + 1), read(bytes, 3 * p + 2)};
-  });
+  gpu::read_state(device_, arrays_[state_position], arrays_[state_velocity], state_readback_, precision_,
+                  options_.threads, state);
 }
 
 // An advance, as named stages: what changed goes up, the first step is chosen as on the CPU, the

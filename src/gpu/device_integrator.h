@@ -51,12 +51,6 @@
 
 namespace clothsim::gpu {
 
-struct DeviceSelection {
-  std::uint32_t index = 0;  // the device, as `clothsim devices` numbers it
-  Precision precision = Precision::float32;
-  bool validation = kValidationByDefault;  // the validation layers, where installed
-};
-
 class DeviceIntegrator final : public Integrator {
  public:
   // Opens the device and uploads the model. `settings.kind` is rkf45, rk4 or symplectic_euler.

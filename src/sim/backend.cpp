@@ -1,6 +1,7 @@
 #include "sim/backend.h"
 
 #if CLOTHSIM_HAVE_VULKAN
+#include "gpu/device_implicit_euler.h"
 #include "gpu/device_integrator.h"
 #include "gpu/gpu_error.h"
 #endif
@@ -54,7 +55,11 @@ Precision automatic_precision(const IntegratorSettings& integrator) {
 }
 
 Precision BackendSettings::resolved_precision(const IntegratorSettings& integrator) const {
-  if (!precision) return kind == Backend::cpu ? Precision::float64 : Precision::float32;
+  // The device's default is float32 for the explicit methods; implicit Euler runs float64 on both.
+  if (!precision) {
+    const bool float64 = kind == Backend::cpu || integrator.kind == IntegratorKind::implicit_euler;
+    return float64 ? Precision::float64 : Precision::float32;
+  }
   switch (*precision) {
     case PrecisionRequest::float64: return Precision::float64;
     case PrecisionRequest::float32: return Precision::float32;
@@ -64,18 +69,24 @@ Precision BackendSettings::resolved_precision(const IntegratorSettings& integrat
 }
 
 std::string unsupported_by_backend(const BackendFeatures& features, const BackendSettings& backend) {
+  const bool float32 = backend.resolved_precision(features.integrator) == Precision::float32;
+  const bool implicit_euler = features.integrator.kind == IntegratorKind::implicit_euler;
+  if (float32 && implicit_euler) {
+    return "float32 (precision) with implicit-euler (integrator.method), whose Newton solve needs float64 forces; "
+           "use precision float64 or auto";
+  }
   if (backend.kind == Backend::cpu) {
     // float32 is the lattice kernel's, for the methods that only evaluate forces.
-    if (backend.resolved_precision(features.integrator) == Precision::float64) return "";
-    if (features.integrator.kind == IntegratorKind::implicit_euler) {
-      return "float32 (precision) with implicit-euler (integrator.method), whose Newton solve needs float64 forces; "
-             "use precision float64 or auto";
-    }
-    if (!features.lattice) return "float32 (precision) on a sheet that is not a lattice; use precision float64";
+    if (float32 && !features.lattice) return "float32 (precision) on a sheet that is not a lattice; use precision float64";
     return "";
   }
-  if (features.integrator.kind == IntegratorKind::implicit_euler) return "implicit-euler (integrator.method)";
   if (features.integrator.kind == IntegratorKind::imex) return "imex (integrator.method)";
+  if (implicit_euler) {
+    // Its steps run on the device and its events between them on the host (gpu/device_implicit_euler.h).
+    if (features.colliders) return "obstacles (colliders) with implicit-euler (integrator.method)";
+    if (features.self_collision) return "self-collision (collision.self)";
+    return "";
+  }
   // The laws run on the device's lattice path only (gpu/device_lattice.cpp).
   if (!features.lattice && features.limits.changes_sheet()) {
     return "tearing, permanent stretching or creasing of a sheet that is not a lattice (springs.*)";
@@ -100,9 +111,12 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
     const Precision precision = backend.resolved_precision(integrator);
     const gpu::Device device(gpu::DeviceOptions{backend.device, false});
     device.require_precision(precision);
-    device.require_memory(gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
-                                                                   gpu::DeviceForcePath::lattice, colliders),
-                          "the scene");
+    const std::uint64_t bytes =
+        integrator.kind == IntegratorKind::implicit_euler
+            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision)
+            : gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
+                                                      gpu::DeviceForcePath::lattice, colliders);
+    device.require_memory(bytes, "the scene");
   } catch (const gpu::GpuError& error) {
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
   }
@@ -127,8 +141,11 @@ std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, con
   }
 #if CLOTHSIM_HAVE_VULKAN
   try {
-    return std::make_unique<gpu::DeviceIntegrator>(model, integrator, options,
-                                                   gpu::DeviceSelection{backend.device, precision});
+    const gpu::DeviceSelection selection{backend.device, precision};
+    if (integrator.kind == IntegratorKind::implicit_euler) {
+      return std::make_unique<gpu::DeviceImplicitEuler>(model, integrator, options, selection);
+    }
+    return std::make_unique<gpu::DeviceIntegrator>(model, integrator, options, selection);
   } catch (const gpu::GpuError& error) {
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
   }

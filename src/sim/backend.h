@@ -30,7 +30,7 @@ struct BackendSettings {
   std::optional<PrecisionRequest> precision;  // unset: the backend's default (resolved_precision)
   // The precision the backend computes in for `integrator`: the one asked for; for `auto`,
   // automatic_precision's choice; unset, float64 on the CPU and float32 on a device (twice the
-  // throughput there, and every device has it).
+  // throughput there, and every device has it), but float64 for implicit Euler on either.
   Precision resolved_precision(const IntegratorSettings& integrator) const;
   bool operator==(const BackendSettings&) const = default;
 };
@@ -64,7 +64,8 @@ BackendFeatures features_of(IntegratorKind kind);
 
 // What `backend` cannot run of these features, as a phrase naming the feature and the scene field
 // that asks for it ("tearing (springs.connector.break_strain)"); empty when it runs all of them.
-// The CPU runs everything in float64, and float32 forces for the explicit methods on a lattice.
+// The CPU runs everything in float64, and float32 forces for the explicit methods on a lattice;
+// implicit Euler runs in float64 only, on either backend.
 std::string unsupported_by_backend(const BackendFeatures& features, const BackendSettings& backend);
 
 // "the vulkan backend does not run <unsupported> yet; use backend cpu (...)".

@@ -105,16 +105,23 @@ double Simulation::begin_collisions() {
   return collision_stage_->begin_step(*model_, state_, threads_);
 }
 
+bool Simulation::host_works_between_steps() const {
+  const bool events = model_->limits.changes_sheet() && !integrator_->runs_spring_events();
+  const bool collisions = (!model_->colliders.empty() || model_->collision.self) && !integrator_->runs_obstacle_contacts();
+  return events || collisions;
+}
+
 bool Simulation::integrate(double time) {
   // The whole of the integrator's work; profile() takes its forces out of it.
   StageTimer timer(profile_, StepStage::integration);
   // Anchor events (a driven anchor arriving, an anchor letting go) are never crossed by a step.
-  // One step on the CPU; on a device, every step up to the limit (nothing the host does between
-  // steps applies there: sim/backend.h keeps such features off it).
+  // One step on the CPU; on a device, every step up to the limit, unless the host has work between
+  // steps that the device does not do (host_works_between_steps).
   double end = std::min(time, next_anchor_event(*model_, state_.time));
   // An integrator that resolves the obstacles itself takes their paths one segment at a time.
   if (integrator_->runs_obstacle_contacts()) end = std::min(end, next_collider_event(*model_, state_.time));
-  const StepOutcome outcome = integrator_->advance(state_, end);
+  const StepOutcome outcome =
+      host_works_between_steps() ? integrator_->step(state_, end) : integrator_->advance(state_, end);
 
   if (outcome.status == StepStatus::step_underflow) {
     const std::string where = model_->describe_particle(outcome.particle);

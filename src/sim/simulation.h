@@ -195,6 +195,9 @@ class Simulation {
   // the nearest approaching impact (or +infinity), which the step does not cross.
   double begin_collisions();
   bool integrate(double time);
+  // Whether the host runs a stage between steps that the integrator does not run itself (the event
+  // stage's laws, the collision stage): then a device integrator is asked for one step at a time.
+  bool host_works_between_steps() const;
   void collide();
   void move_anchors();
   void apply_events();

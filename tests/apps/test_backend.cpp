@@ -78,8 +78,11 @@ TEST_F(BackendTest, ARunOnTheDeviceWritesTheCpusFolder) {
 }
 
 TEST_F(BackendTest, WhatTheDeviceDoesNotRunIsRefused) {
-  expect_refused(clothsim({"run", "tear-pull", "--backend", "vulkan", "--render", "none"}),
-                 "field 'backend': the vulkan backend does not run implicit-euler (integrator.method) yet");
+  expect_refused(clothsim({"run", "tablecloth", "--backend", "vulkan", "--render", "none"}),
+                 "field 'backend': the vulkan backend does not run obstacles (colliders) with implicit-euler "
+                 "(integrator.method) yet");
+  expect_refused(clothsim({"run", "tear-pull", "--backend", "vulkan", "--precision", "float32", "--render", "none"}),
+                 "the vulkan backend does not run float32 (precision) with implicit-euler (integrator.method)");
   expect_refused(clothsim({"run", "paper-fig5", "--backend", "vulkan", "--integrator", "imex", "--render", "none"}),
                  "field 'backend': the vulkan backend does not run imex (integrator.method) yet");
   expect_refused(clothsim({"run", "paper-fig4", "--backend", "vulkan", "--render", "none"}),
@@ -115,14 +118,16 @@ TEST_F(BackendTest, TheBenchRunsOnTheDevice) {
       {"bench", "--backend", "vulkan", "--sizes", "9", "--seconds", "0.2", "--sim-cap", "0.05", "--csv", "bench.csv"});
   ASSERT_EQ(result.exit_code, 0) << describe(result);
   const std::string csv = read_text(work_ / "bench.csv");
-  // rkf45, rk4 and symplectic-euler: what the backend runs (implicit-euler is the CPU's).
+  // Every method the backend runs: the explicit ones in its default float32, implicit Euler in
+  // float64 (its only precision); imex is the CPU's.
   EXPECT_TRUE(contains(csv, ",rkf45,vulkan-float32,"));
   EXPECT_TRUE(contains(csv, ",rk4,vulkan-float32,"));
   EXPECT_TRUE(contains(csv, ",symplectic-euler,vulkan-float32,"));
-  EXPECT_FALSE(contains(csv, "implicit-euler"));
-  const Result refused = clothsim({"bench", "--backend", "vulkan", "--integrators", "implicit-euler"});
+  EXPECT_TRUE(contains(csv, ",implicit-euler,vulkan-float64,")) << csv;
+  EXPECT_FALSE(contains(csv, "imex"));
+  const Result refused = clothsim({"bench", "--backend", "vulkan", "--integrators", "imex"});
   EXPECT_EQ(refused.exit_code, 2) << describe(refused);
-  EXPECT_TRUE(contains(refused.err, "does not run implicit-euler"));
+  EXPECT_TRUE(contains(refused.err, "does not run imex"));
 }
 
 #else

@@ -7,9 +7,11 @@
 #if CLOTHSIM_FLOAT64
 #define Real double
 #define Vec3 dvec3
+#define Mat3 dmat3
 #else
 #define Real float
 #define Vec3 vec3
+#define Mat3 mat3
 #endif
 // A literal in Real precision. GLSL's own way for doubles is the lf suffix, which a macro cannot
 // paste (glslang refuses ## on numbers); Real(literal) is a constant conversion that glslang

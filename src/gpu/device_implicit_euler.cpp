@@ -1,0 +1,385 @@
+#include "gpu/device_implicit_euler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <span>
+#include <string>
+
+#include "core/assert.h"
+#include "core/state_archive.h"
+#include "core/step_profile.h"
+#include "gpu/embedded_shaders.h"
+#include "gpu/gpu_error.h"
+#include "gpu/real_arrays.h"
+#include "gpu/state_transfer.h"
+#include "integrators/dynamics.h"
+
+namespace clothsim::gpu {
+namespace {
+
+std::uint32_t reduce_workgroups(std::uint64_t items) {
+  return static_cast<std::uint32_t>((items + kImplicitReduceWorkgroup - 1) / kImplicitReduceWorkgroup);
+}
+
+std::uint32_t anchor_capacity_for(std::size_t anchors) {
+  return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16));
+}
+
+std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const LatticeCounts& counts,
+                                                                        Precision precision,
+                                                                        std::uint32_t anchor_capacity) {
+  using A = DeviceImplicitEuler;
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t n = counts.particles;
+  std::array<std::uint64_t, A::array_count> bytes{};
+  bytes[A::connector_factors] = std::uint64_t{counts.connectors} * kConnectorFactorReals * real;
+  bytes[A::radial_factors] = std::uint64_t{counts.radials} * kRadialFactorReals * real;
+  bytes[A::particle_anchor] = n * 4;
+  for (A::Array a : {A::solution, A::rhs, A::residual, A::preconditioned, A::direction, A::product}) {
+    bytes[a] = 3 * n * real;
+  }
+  bytes[A::jacobi] = 9 * n * real;
+  bytes[A::block_sums] = std::uint64_t{reduce_workgroups(n)} * 3 * real;
+  bytes[A::solve_real] = kSolveReals * real;
+  bytes[A::solve_uint] = kSolveUints * 4;
+  bytes[A::anchor_rows] = std::uint64_t{anchor_capacity} * kAnchorRowReals * real;
+  // A Buffer holds at least 16 bytes (a sheet without radial springs, say).
+  for (std::uint64_t& b : bytes) b = std::max<std::uint64_t>(b, 16);
+  return bytes;
+}
+
+// The checks before anything is allocated: the device, its precision and its memory.
+Device& checked(Device& device, const ClothModel& model, Precision precision) {
+  device.require_precision(precision);
+  device.require_memory(
+      DeviceImplicitEuler::device_bytes_for(element_counts(model), model.anchors.size(), precision), "the scene");
+  return device;
+}
+
+ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
+                          std::uint32_t workgroup = 64) {
+  return ComputePipeline(device, embedded_shader(shader_variant(name, precision)), bindings,
+                         sizeof(ImplicitPassConstants), workgroup);
+}
+
+}  // namespace
+
+std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts, std::size_t anchors,
+                                                    Precision precision) {
+  std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
+  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_capacity_for(anchors))) total += bytes;
+  return total;
+}
+
+DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const IntegratorSettings& settings,
+                                         const ForceOptions& options, const DeviceSelection& selection)
+    : model_(model),
+      settings_(settings),
+      options_(options),
+      precision_(selection.precision),
+      device_(DeviceOptions{selection.index, selection.validation}),
+      forces_(checked(device_, model, selection.precision), model, selection.precision, options.terms, 1,
+              DeviceForcePath::general),
+      particles_(forces_.particle_count()),
+      connectors_(static_cast<std::uint32_t>(model.connector_count())),
+      radials_(static_cast<std::uint32_t>(model.radial_count())),
+      anchor_capacity_(anchor_capacity_for(model.anchors.size())),
+      real_input_(device_, kSolveReals * real_size(precision_), Memory::host_visible),
+      uint_input_(device_, kSolveUints * 4, Memory::host_visible),
+      anchor_input_(device_, std::uint64_t{anchor_capacity_} * kAnchorRowReals * real_size(precision_),
+                    Memory::host_visible),
+      real_output_(device_, kSolveReals * real_size(precision_), Memory::host_visible),
+      uint_output_(device_, kSolveUints * 4, Memory::host_visible),
+      state_readback_(device_, std::uint64_t{particles_} * 6 * real_size(precision_), Memory::host_visible),
+      linearize_pass_(make_pass(device_, "implicit_linearize", precision_, 15)),
+      product_pass_(make_pass(device_, "implicit_product", precision_, 8)),
+      gather_pass_(make_pass(device_, "implicit_gather", precision_, 17, kImplicitReduceWorkgroup)),
+      diagonal_pass_(make_pass(device_, "implicit_diagonal", precision_, 9)),
+      reduce_pass_(make_pass(device_, "implicit_reduce", precision_, 3, kImplicitReduceWorkgroup)),
+      iterate_pass_(make_pass(device_, "implicit_iterate", precision_, 10, kImplicitReduceWorkgroup)),
+      setup_pass_(make_pass(device_, "implicit_setup", precision_, 13, kImplicitReduceWorkgroup)) {
+  CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
+  const std::array<std::uint64_t, array_count> bytes =
+      array_bytes(element_counts(model), precision_, anchor_capacity_);
+  arrays_.reserve(array_count);
+  for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
+  // The warm start of the first solve: no velocity change.
+  upload(device_, arrays_[solution], real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
+  bind_passes();
+  record_buffers();
+}
+
+DeviceImplicitEuler::~DeviceImplicitEuler() { release_buffers(); }
+
+void DeviceImplicitEuler::bind_passes() {
+  const auto bind = [&](ComputePipeline& pipeline, std::initializer_list<const Buffer*> buffers) {
+    pipeline.bind(std::vector<const Buffer*>(buffers));
+  };
+  const auto own = [&](Array a) { return &arrays_[a]; };
+  const auto shared = [&](DeviceForces::Array a) { return &forces_.buffer(a); };
+  using F = DeviceForces;
+  bind(linearize_pass_,
+       {shared(F::position), shared(F::velocity), shared(F::connector_particles), shared(F::connector_rest_length),
+        shared(F::connector_stiffness), shared(F::connector_damping), shared(F::connector_active),
+        shared(F::radial_particles), shared(F::radial_rest_angle), shared(F::radial_stiffness),
+        shared(F::radial_damping), shared(F::radial_fade_length), shared(F::radial_active), own(connector_factors),
+        own(radial_factors)});
+  bind(product_pass_, {own(direction), shared(F::connector_particles), shared(F::radial_particles),
+                       own(connector_factors), own(radial_factors), own(solve_real), own(solve_uint),
+                       shared(F::slot_force)});
+  bind(gather_pass_, {shared(F::gather_offset), shared(F::gather_slot), shared(F::slot_force), shared(F::particle_mass),
+                      shared(F::environment), shared(F::force), own(particle_anchor), own(rhs), own(solution),
+                      own(residual), own(preconditioned), own(direction), own(product), own(jacobi), own(block_sums),
+                      own(solve_real), own(solve_uint)});
+  bind(diagonal_pass_, {shared(F::gather_offset), shared(F::gather_slot), own(connector_factors), own(radial_factors),
+                        shared(F::particle_mass), shared(F::environment), own(particle_anchor), own(solve_real),
+                        own(jacobi)});
+  bind(reduce_pass_, {own(block_sums), own(solve_real), own(solve_uint)});
+  bind(iterate_pass_, {own(solution), own(residual), own(preconditioned), own(direction), own(product), own(jacobi),
+                       own(particle_anchor), own(block_sums), own(solve_real), own(solve_uint)});
+  bind(setup_pass_, {shared(F::position), shared(F::velocity), shared(F::force), shared(F::particle_mass),
+                     shared(F::environment), own(particle_anchor), own(anchor_rows), own(solution), own(direction),
+                     shared(F::damping_power), own(block_sums), own(solve_real), own(solve_uint)});
+}
+
+std::uint32_t DeviceImplicitEuler::workgroups() const { return reduce_workgroups(particles_); }
+
+ImplicitPassConstants DeviceImplicitEuler::constants(std::uint32_t phase) const {
+  return ImplicitPassConstants{particles_,
+                               connectors_,
+                               radials_,
+                               2 * connectors_,
+                               phase,
+                               workgroups(),
+                               connectors_ + radials_,
+                               (options_.terms & kSpringDamping) != 0 ? 1u : 0u};
+}
+
+void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, std::uint32_t iterations) const {
+  const std::uint32_t elements = connectors_ + radials_;
+  const ImplicitPassConstants system_product = constants(kProductSystem);
+  const ImplicitPassConstants gather = constants(kGatherProduct);
+  const ImplicitPassConstants curvature = constants(kReduceCurvature);
+  const ImplicitPassConstants update = constants(kIterateUpdate);
+  const ImplicitPassConstants residual_sums = constants(kReduceResidual);
+  const ImplicitPassConstants next_direction = constants(kIterateDirection);
+  for (std::uint32_t i = 0; i < iterations; ++i) {
+    product_pass_.dispatch(commands, &system_product, elements);
+    gather_pass_.dispatch(commands, &gather, particles_);
+    reduce_pass_.dispatch(commands, &curvature, kImplicitReduceWorkgroup);
+    iterate_pass_.dispatch(commands, &update, particles_);
+    reduce_pass_.dispatch(commands, &residual_sums, kImplicitReduceWorkgroup);
+    iterate_pass_.dispatch(commands, &next_direction, particles_);
+  }
+  record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
+}
+
+void DeviceImplicitEuler::record_buffers() {
+  const std::uint32_t elements = connectors_ + radials_;
+  forces_commands_ = device_.record([&](VkCommandBuffer commands) { forces_.record_forces(commands); });
+  start_commands_ = device_.record([&](VkCommandBuffer commands) {
+    record_upload(commands, real_input_, arrays_[solve_real], real_input_.bytes());
+    record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
+    record_upload(commands, anchor_input_, arrays_[anchor_rows], anchor_input_.bytes());
+    const ImplicitPassConstants linearize = constants(0);
+    linearize_pass_.dispatch(commands, &linearize, elements);
+    const ImplicitPassConstants displacement = constants(kSetupDisplacement);
+    setup_pass_.dispatch(commands, &displacement, particles_);
+    const ImplicitPassConstants stiffness = constants(kProductStiffness);
+    product_pass_.dispatch(commands, &stiffness, elements);
+    const ImplicitPassConstants right_hand_side = constants(kGatherRightHandSide);
+    gather_pass_.dispatch(commands, &right_hand_side, particles_);
+    const ImplicitPassConstants diagonal = constants(0);
+    diagonal_pass_.dispatch(commands, &diagonal, particles_);
+    const ImplicitPassConstants warm_start = constants(kSetupWarmStart);
+    setup_pass_.dispatch(commands, &warm_start, particles_);
+    const ImplicitPassConstants system_product = constants(kProductSystem);
+    product_pass_.dispatch(commands, &system_product, elements);
+    const ImplicitPassConstants first_residual = constants(kGatherResidual);
+    gather_pass_.dispatch(commands, &first_residual, particles_);
+    const ImplicitPassConstants first_sums = constants(kReduceStart);
+    reduce_pass_.dispatch(commands, &first_sums, kImplicitReduceWorkgroup);
+    record_iterations(commands, kFirstIterations);
+  });
+  iteration_commands_ =
+      device_.record([&](VkCommandBuffer commands) { record_iterations(commands, kMoreIterations); });
+  end_commands_ = device_.record([&](VkCommandBuffer commands) {
+    const ImplicitPassConstants check = constants(kSetupCheck);
+    setup_pass_.dispatch(commands, &check, particles_);
+    const ImplicitPassConstants update = constants(kSetupUpdate);
+    setup_pass_.dispatch(commands, &update, particles_);
+    forces_.record_forces(commands);
+    const ImplicitPassConstants powers = constants(kSetupPowers);
+    setup_pass_.dispatch(commands, &powers, particles_);
+    const ImplicitPassConstants power_sums = constants(kReducePowers);
+    reduce_pass_.dispatch(commands, &power_sums, kImplicitReduceWorkgroup);
+    record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
+    record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
+  });
+}
+
+void DeviceImplicitEuler::release_buffers() {
+  for (VkCommandBuffer* commands : {&forces_commands_, &start_commands_, &iteration_commands_, &end_commands_}) {
+    if (*commands != VK_NULL_HANDLE) device_.release(*commands);
+    *commands = VK_NULL_HANDLE;
+  }
+}
+
+std::uint32_t DeviceImplicitEuler::output_uint(std::uint32_t slot) const {
+  std::uint32_t value = 0;
+  std::memcpy(&value, uint_output_.mapped() + 4 * std::size_t{slot}, 4);
+  return value;
+}
+
+double DeviceImplicitEuler::output_real(std::uint32_t slot) const {
+  const std::size_t real = real_size(precision_);
+  return reals_from_bytes(std::span(real_output_.mapped() + real * slot, real), precision_)[0];
+}
+
+void DeviceImplicitEuler::upload_changes(const ClothState& state) {
+  const bool model_changed = model_.revision != model_revision_ || !exchanged_;
+  if (model_changed) {
+    if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
+    upload(device_, arrays_[particle_anchor], index_bytes<std::int32_t>(model_.particle_anchor));
+    model_revision_ = model_.revision;
+    forces_current_ = false;
+  }
+  const std::uint64_t fingerprint = state_fingerprint(state, options_.threads);
+  if (model_changed || fingerprint != exchanged_fingerprint_) {
+    upload(device_, forces_.buffer(DeviceForces::position), vector_bytes(state.position, precision_));
+    upload(device_, forces_.buffer(DeviceForces::velocity), vector_bytes(state.velocity, precision_));
+    exchanged_fingerprint_ = fingerprint;
+    exchanged_ = true;
+    forces_current_ = false;
+  }
+}
+
+void DeviceImplicitEuler::read_state(ClothState& state) {
+  gpu::read_state(device_, forces_.buffer(DeviceForces::position), forces_.buffer(DeviceForces::velocity),
+                  state_readback_, precision_, options_.threads, state);
+  exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
+}
+
+void DeviceImplicitEuler::write_step(double h, double end_time) {
+  if (model_.anchors.size() > anchor_capacity_) {
+    // More anchors than the rows hold (pins added at run time): larger arrays, bound and recorded anew.
+    anchor_capacity_ = 2 * static_cast<std::uint32_t>(model_.anchors.size());
+    const std::uint64_t bytes = std::uint64_t{anchor_capacity_} * kAnchorRowReals * real_size(precision_);
+    arrays_[anchor_rows] = Buffer(device_, bytes, Memory::device_local);
+    anchor_input_ = Buffer(device_, bytes, Memory::host_visible);
+    release_buffers();
+    bind_passes();
+    record_buffers();
+  }
+  std::vector<double> reals(kSolveReals, 0.0);
+  reals[kImplicitStep] = h;
+  reals[kStiffnessScale] = h * h;
+  reals[kDampingScale] = h;
+  reals[kRelativeResidual] = settings_.cg_tolerance;
+  const std::vector<std::byte> real_input = real_bytes(reals, precision_);
+  std::memcpy(real_input_.mapped(), real_input.data(), real_input.size());
+  std::vector<std::uint32_t> uints(kSolveUints, 0u);
+  uints[kSolveConverged] = 1;
+  uints[kMaxIterations] = static_cast<std::uint32_t>(settings_.cg_max_iterations);
+  uints[kNonFiniteParticle] = kNoParticle;
+  std::memcpy(uint_input_.mapped(), uints.data(), uints.size() * 4);
+  // Each anchor's path at the step's end: where its particle ends, how fast, and the acceleration
+  // its power is taken with (ImplicitEuler::evaluate at the end).
+  std::vector<double> rows;
+  rows.reserve(model_.anchors.size() * kAnchorRowReals);
+  for (const Anchor& anchor : model_.anchors) {
+    for (const Vec3& v :
+         {anchor.path.position(end_time), anchor.path.velocity_at(end_time), anchor.path.acceleration(end_time)}) {
+      rows.insert(rows.end(), {v.x, v.y, v.z});
+    }
+  }
+  if (!rows.empty()) {
+    const std::vector<std::byte> anchor_input = real_bytes(rows, precision_);
+    std::memcpy(anchor_input_.mapped(), anchor_input.data(), anchor_input.size());
+  }
+}
+
+int DeviceImplicitEuler::solve() {
+  device_.run(start_commands_);
+  while (output_uint(kSolveDone) == 0) device_.run(iteration_commands_);
+  const int iterations = static_cast<int>(output_uint(kIterations));
+  if (output_uint(kSolveConverged) == 0) ++stats_.cg_unconverged_solves;
+  return iterations;
+}
+
+std::uint32_t DeviceImplicitEuler::take_step(double h, double end_time) {
+  if (!forces_current_) {
+    // f0 at the state the host uploaded (the steps' ends evaluate it themselves).
+    StageTimer timer(profile_, StepStage::forces);
+    device_.run(forces_commands_);
+    if (!uncounted_evaluation_) ++stats_.force_evaluations;
+    uncounted_evaluation_ = false;
+    forces_current_ = true;
+  }
+  write_step(h, end_time);
+  StageTimer timer(profile_, StepStage::device_steps);
+  last_iterations_ = solve();
+  device_.run(end_commands_);
+  ++stats_.force_evaluations;
+  stats_.cg_iterations += static_cast<std::uint64_t>(last_iterations_);
+  stats_.cg_max_iterations_in_a_step =
+      std::max(stats_.cg_max_iterations_in_a_step, static_cast<std::uint64_t>(last_iterations_));
+  return output_uint(kNonFiniteParticle);
+}
+
+// Steps as named stages: what changed goes up, each step runs on the device with the host reading
+// only the solve's counters, the work integrals are booked from the step's end powers, and the
+// state comes back once.
+StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uint32_t max_steps) {
+  CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
+  {
+    StageTimer timer(profile_, StepStage::device_transfers);
+    upload_changes(state);
+  }
+  StepOutcome outcome{StepStatus::ok, 0.0, 0, false};
+  std::uint32_t steps = 0;
+  while (state.time < t_limit && (max_steps == 0 || steps < max_steps)) {
+    bool clipped = false;
+    const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
+    const double end_time = clipped ? t_limit : state.time + h;
+    const std::uint32_t failed = take_step(h, end_time);
+    outcome.step = h;
+    if (failed != kNoParticle) {
+      // The device's state is the step's start; the next solve starts from no velocity change.
+      upload(device_, arrays_[solution],
+             real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
+      outcome = {StepStatus::non_finite, h, failed, true};
+      break;
+    }
+    // Work integrals with the end-of-step powers (backward Euler quadrature), as on the CPU.
+    state.damping_work += h * output_real(kDampingPower);
+    state.drag_work += h * output_real(kDragPower);
+    state.anchor_work += h * output_real(kAnchorPower);
+    state.time = end_time;
+    record_accepted_step(h);
+    ++steps;
+  }
+  StageTimer timer(profile_, StepStage::device_transfers);
+  read_state(state);
+  return outcome;
+}
+
+void DeviceImplicitEuler::transfer_state(StateArchive& archive) {
+  Integrator::transfer_state(archive);
+  std::vector<std::byte> bytes(std::uint64_t{particles_} * 3 * real_size(precision_));
+  if (!archive.loading()) download(device_, arrays_[solution], bytes);
+  std::vector<Vec3> dv = vectors_from_bytes(bytes, precision_);
+  archive.array("implicit_euler.dv", dv);
+  // Whether the next step reuses the forces of the last one's end: the restored run evaluates them
+  // again (the same values), without counting them again.
+  bool reused = forces_current_;
+  archive.value("implicit_euler.evaluated_valid", reused);
+  if (archive.loading()) {
+    upload(device_, arrays_[solution], vector_bytes(dv, precision_));
+    uncounted_evaluation_ = reused;
+    forces_current_ = false;
+  }
+}
+
+}  // namespace clothsim::gpu

@@ -1,0 +1,144 @@
+// Implicit Euler on the Vulkan backend: the CPU's method (integrators/implicit_euler.h, one
+// Newton step of backward Euler, Baraff and Witkin 1998) with the state, the linearisation and the
+// conjugate gradients on the device. Per step, as named stages (docs/gpu.md, "Implicit Euler on
+// the device"):
+//   forces             f0 = f(x0, v0), the element passes and the gather of gpu/device_forces.h
+//                      (reused from the last step's end when the state is that one)
+//   implicit_linearize each element's Jacobian factors at (x0, v0) (forces/element_jacobian.inc,
+//                      the CPU's text)
+//   implicit_setup     z (h v, or an anchor's path displacement), anchors' known dv
+//   implicit_product, implicit_gather   b = h (f0 - K z)
+//   implicit_diagonal  the block Jacobi preconditioner: each particle's diagonal block, inverted
+//   the solve          r = b - A u from the last step's dv, then iterations of
+//                      q = A p (implicit_product + implicit_gather), alpha (implicit_reduce),
+//                      u, r, z (implicit_iterate), beta (implicit_reduce), p (implicit_iterate)
+//   implicit_setup     the check for a non-finite dv; v += dv, x += h v; anchors on their paths
+//   forces             f(x1, v1), and the step's end powers for the work integrals
+// The matrix A = M + h (C + drag) + h^2 K is never assembled: its products are matrix-free from the
+// element factors, each particle's row summed in the gather table's order. The reductions add per
+// workgroup and then over the workgroups in a fixed order: the same bits on every run on a device.
+//
+// The host drives the steps: it writes a step's scalars and anchor rows into host-visible staging,
+// which the step's first submission copies in, submits the step's passes with a first batch of
+// iterations, reads the solve's progress (a few words each submission copies back) and submits
+// more iterations until it stops, then the step's end. The state stays on the device; it comes
+// back when an advance ends.
+//
+// What differs from the CPU: the preconditioner is block Jacobi (the CPU's multigrid and two-level
+// corrections are not on the device; the scene's cg_two_level and cg_multigrid are the CPU's
+// alone), so a stiff sheet takes more iterations than on the CPU's defaults and as many as the CPU
+// with cg_two_level false. Particles resting on obstacles are not held (the Vulkan backend refuses
+// implicit Euler with obstacles, sim/backend.cpp). The results match the CPU's within the solve's
+// tolerance, not bit for bit: the matrix-free products round differently from assembled blocks.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "gpu/buffer.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/device.h"
+#include "gpu/device_forces.h"
+#include "gpu/shaders/implicit_step.h"
+#include "integrators/integrator.h"
+
+namespace clothsim::gpu {
+
+class DeviceImplicitEuler final : public Integrator {
+ public:
+  // Opens the device and uploads the model. Throws GpuError, before allocating anything on the
+  // device, when there is no such device, it lacks the precision, or the scene needs more memory
+  // than it has.
+  DeviceImplicitEuler(const ClothModel& model, const IntegratorSettings& settings, const ForceOptions& options,
+                      const DeviceSelection& selection);
+  ~DeviceImplicitEuler() override;
+  DeviceImplicitEuler(const DeviceImplicitEuler&) = delete;
+  DeviceImplicitEuler& operator=(const DeviceImplicitEuler&) = delete;
+
+  IntegratorKind kind() const override { return IntegratorKind::implicit_euler; }
+  StepOutcome step(ClothState& state, double t_limit) override { return run(state, t_limit, 1); }
+  StepOutcome advance(ClothState& state, double t_limit) override { return run(state, t_limit, 0); }
+  // The warm start of the next solve (the last step's dv) and the statistics, by the CPU's names.
+  void transfer_state(StateArchive& archive) override;
+
+  const DeviceInfo& device_info() const { return device_.info(); }
+  // CG iterations of the last step.
+  int last_iterations() const { return last_iterations_; }
+
+  // Device memory for a model of these counts, bytes: DeviceForces' general path and the arrays below.
+  static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, Precision precision);
+  // The iterations recorded into the step's first submission, and into each further one.
+  static constexpr std::uint32_t kFirstIterations = 8;
+  static constexpr std::uint32_t kMoreIterations = 32;
+
+  enum Array : std::uint32_t {
+    connector_factors,  // [connectors][kConnectorFactorReals]
+    radial_factors,     // [radials][kRadialFactorReals]
+    particle_anchor,    // [particles], int: anchor row or -1
+    solution,           // [3 particles], dv, m/s (the warm start between steps)
+    rhs,                // [3 particles], b, N s
+    residual,           // [3 particles]
+    preconditioned,     // [3 particles], z = P^-1 r
+    direction,          // [3 particles], p (and the vector implicit_product multiplies)
+    product,            // [3 particles], q = A p
+    jacobi,             // [particles][9], the inverse diagonal blocks
+    block_sums,         // [workgroups][3], partial sums
+    solve_real,         // [kSolveReals] (implicit_step.h)
+    solve_uint,         // [kSolveUints]
+    anchor_rows,        // [anchor capacity][kAnchorRowReals]
+    array_count
+  };
+
+ private:
+  // Steps to t_limit, or max_steps of them (0: no limit), as named stages.
+  StepOutcome run(ClothState& state, double t_limit, std::uint32_t max_steps);
+  // One step of h ending at end_time: its scalars and anchor rows written, the passes before the
+  // solve, the solve, the update and the end's forces and powers. Returns the first free particle
+  // whose dv is not finite, or kNoParticle (the state is then unchanged).
+  std::uint32_t take_step(double h, double end_time);
+  void write_step(double h, double end_time);
+  // The solve's counters and scalars as the last submission copied them back.
+  std::uint32_t output_uint(std::uint32_t slot) const;
+  double output_real(std::uint32_t slot) const;
+  // Submits iterations until the solve stops; returns its iterations.
+  int solve();
+  // Uploads what changed on the host since the last exchange: the model, the state.
+  void upload_changes(const ClothState& state);
+  void read_state(ClothState& state);
+  void bind_passes();
+  // Command buffers recorded once: the forces at the current state; the passes before the solve
+  // with a first batch of iterations; a batch of iterations; the step's end.
+  void record_buffers();
+  void release_buffers();
+  void record_iterations(VkCommandBuffer commands, std::uint32_t iterations) const;
+  std::uint32_t workgroups() const;
+  ImplicitPassConstants constants(std::uint32_t phase) const;
+
+  const ClothModel& model_;
+  IntegratorSettings settings_;
+  ForceOptions options_;
+  Precision precision_;
+  Device device_;
+  DeviceForces forces_;
+  std::uint32_t particles_, connectors_, radials_;
+  std::vector<Buffer> arrays_;  // [array_count]
+  std::uint32_t anchor_capacity_;
+  // Host-visible: what the host writes for a step, and what the submissions copy back.
+  Buffer real_input_, uint_input_, anchor_input_, real_output_, uint_output_, state_readback_;
+  ComputePipeline linearize_pass_, product_pass_, gather_pass_, diagonal_pass_, reduce_pass_, iterate_pass_,
+      setup_pass_;
+  VkCommandBuffer forces_commands_ = VK_NULL_HANDLE, start_commands_ = VK_NULL_HANDLE,
+                  iteration_commands_ = VK_NULL_HANDLE, end_commands_ = VK_NULL_HANDLE;
+
+  // Whether forces_'s force array holds f at the device's state (the last step's end).
+  bool forces_current_ = false;
+  // A restored run's first f0 is the one the saved run had reused: not counted again.
+  bool uncounted_evaluation_ = false;
+  bool exchanged_ = false;
+  std::uint64_t exchanged_fingerprint_ = 0;
+  std::uint64_t model_revision_ = 0;
+  int last_iterations_ = 0;
+};
+
+}  // namespace clothsim::gpu

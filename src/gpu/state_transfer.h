@@ -1,0 +1,24 @@
+// The state between the host and a device integrator (device_integrator.h, device_implicit_euler.h),
+// which keep it on the device between advances: the fingerprint the host compares to see whether a
+// caller changed the state since the device last had it, and the read-back of positions and
+// velocities.
+#pragma once
+
+#include <cstdint>
+
+#include "gpu/buffer.h"
+#include "gpu/device.h"
+#include "model/cloth_model.h"
+
+namespace clothsim::gpu {
+
+// A 64-bit fingerprint of the state's positions and velocities (FNV-1a over each block's bytes,
+// the blocks' hashes combined in order), instead of a copy of the state.
+std::uint64_t state_fingerprint(const ClothState& state, int threads);
+
+// Copies `position` and `velocity` (3 Reals per particle each) into `staging` (host-visible, both
+// arrays' bytes) in one submission and converts them into the state's doubles on `threads` threads.
+void read_state(Device& device, const Buffer& position, const Buffer& velocity, const Buffer& staging,
+                Precision precision, int threads, ClothState& state);
+
+}  // namespace clothsim::gpu
