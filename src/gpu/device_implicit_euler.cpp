@@ -9,6 +9,7 @@
 #include "core/assert.h"
 #include "core/state_archive.h"
 #include "core/step_profile.h"
+#include "model/surface_contacts.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
@@ -26,9 +27,10 @@ std::uint32_t anchor_capacity_for(std::size_t anchors) {
   return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16));
 }
 
+// `contacts`: whether the surface contacts' arrays are sized for the particles (placeholders else).
 std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const LatticeCounts& counts,
                                                                         Precision precision,
-                                                                        std::uint32_t anchor_capacity) {
+                                                                        std::uint32_t anchor_capacity, bool contacts) {
   using A = DeviceImplicitEuler;
   const std::uint64_t real = real_size(precision);
   const std::uint64_t n = counts.particles;
@@ -44,6 +46,9 @@ std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const La
   bytes[A::solve_real] = kSolveReals * real;
   bytes[A::solve_uint] = kSolveUints * 4;
   bytes[A::anchor_rows] = std::uint64_t{anchor_capacity} * kAnchorRowReals * real;
+  bytes[A::hold] = bytes[A::slipped] = n * 4;
+  bytes[A::surface_contacts] = contacts ? n * kContactReals * real : 0;
+  bytes[A::impulse] = contacts ? 3 * n * real : 0;
   // A Buffer holds at least 16 bytes (a sheet without radial springs, say).
   for (std::uint64_t& b : bytes) b = std::max<std::uint64_t>(b, 16);
   return bytes;
@@ -52,8 +57,9 @@ std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const La
 // The checks before anything is allocated: the device, its precision and its memory.
 Device& checked(Device& device, const ClothModel& model, Precision precision) {
   device.require_precision(precision);
-  device.require_memory(
-      DeviceImplicitEuler::device_bytes_for(element_counts(model), model.anchors.size(), precision), "the scene");
+  device.require_memory(DeviceImplicitEuler::device_bytes_for(element_counts(model), model.anchors.size(), precision,
+                                                              !model.colliders.empty()),
+                        "the scene");
   return device;
 }
 
@@ -66,9 +72,9 @@ ComputePipeline make_pass(Device& device, const char* name, Precision precision,
 }  // namespace
 
 std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts, std::size_t anchors,
-                                                    Precision precision) {
+                                                    Precision precision, bool colliders) {
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
-  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_capacity_for(anchors))) total += bytes;
+  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_capacity_for(anchors), colliders)) total += bytes;
   return total;
 }
 
@@ -94,18 +100,20 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       state_readback_(device_, std::uint64_t{particles_} * 6 * real_size(precision_), Memory::host_visible),
       linearize_pass_(make_pass(device_, "implicit_linearize", precision_, 15)),
       product_pass_(make_pass(device_, "implicit_product", precision_, 8)),
-      gather_pass_(make_pass(device_, "implicit_gather", precision_, 17, kImplicitReduceWorkgroup)),
-      diagonal_pass_(make_pass(device_, "implicit_diagonal", precision_, 9)),
+      gather_pass_(make_pass(device_, "implicit_gather", precision_, 20, kImplicitReduceWorkgroup)),
+      diagonal_pass_(make_pass(device_, "implicit_diagonal", precision_, 17)),
       reduce_pass_(make_pass(device_, "implicit_reduce", precision_, 3, kImplicitReduceWorkgroup)),
-      iterate_pass_(make_pass(device_, "implicit_iterate", precision_, 10, kImplicitReduceWorkgroup)),
-      setup_pass_(make_pass(device_, "implicit_setup", precision_, 13, kImplicitReduceWorkgroup)) {
+      iterate_pass_(make_pass(device_, "implicit_iterate", precision_, 12, kImplicitReduceWorkgroup)),
+      setup_pass_(make_pass(device_, "implicit_setup", precision_, 13, kImplicitReduceWorkgroup)),
+      impulse_readback_(device_, 16, Memory::host_visible) {
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
   const std::array<std::uint64_t, array_count> bytes =
-      array_bytes(element_counts(model), precision_, anchor_capacity_);
+      array_bytes(element_counts(model), precision_, anchor_capacity_, false);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
-  // The warm start of the first solve: no velocity change.
+  // The warm start of the first solve: no velocity change; nothing slipped.
   upload(device_, arrays_[solution], real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
+  upload(device_, arrays_[slipped], index_bytes<std::uint32_t>(std::vector<std::uint32_t>(particles_, 0u)));
   bind_passes();
   record_buffers();
 }
@@ -131,13 +139,15 @@ void DeviceImplicitEuler::bind_passes() {
   bind(gather_pass_, {shared(F::gather_offset), shared(F::gather_slot), shared(F::slot_force), shared(F::particle_mass),
                       shared(F::environment), shared(F::force), own(particle_anchor), own(rhs), own(solution),
                       own(residual), own(preconditioned), own(direction), own(product), own(jacobi), own(block_sums),
-                      own(solve_real), own(solve_uint)});
+                      own(solve_real), own(solve_uint), own(hold), own(surface_contacts), own(impulse)});
   bind(diagonal_pass_, {shared(F::gather_offset), shared(F::gather_slot), own(connector_factors), own(radial_factors),
                         shared(F::particle_mass), shared(F::environment), own(particle_anchor), own(solve_real),
-                        own(jacobi)});
+                        own(jacobi), own(surface_contacts), own(hold), own(slipped), shared(F::force),
+                        shared(F::velocity), own(solution), own(impulse), own(solve_uint)});
   bind(reduce_pass_, {own(block_sums), own(solve_real), own(solve_uint)});
   bind(iterate_pass_, {own(solution), own(residual), own(preconditioned), own(direction), own(product), own(jacobi),
-                       own(particle_anchor), own(block_sums), own(solve_real), own(solve_uint)});
+                       own(particle_anchor), own(block_sums), own(solve_real), own(solve_uint), own(hold),
+                       own(surface_contacts)});
   bind(setup_pass_, {shared(F::position), shared(F::velocity), shared(F::force), shared(F::particle_mass),
                      shared(F::environment), own(particle_anchor), own(anchor_rows), own(solution), own(direction),
                      shared(F::damping_power), own(block_sums), own(solve_real), own(solve_uint)});
@@ -153,13 +163,15 @@ ImplicitPassConstants DeviceImplicitEuler::constants(std::uint32_t phase) const 
                                phase,
                                workgroups(),
                                connectors_ + radials_,
-                               (options_.terms & kSpringDamping) != 0 ? 1u : 0u};
+                               (options_.terms & kSpringDamping) != 0 ? 1u : 0u,
+                               0u};
 }
 
 void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, std::uint32_t iterations) const {
   const std::uint32_t elements = connectors_ + radials_;
-  const ImplicitPassConstants system_product = constants(kProductSystem);
-  const ImplicitPassConstants gather = constants(kGatherProduct);
+  ImplicitPassConstants system_product = constants(kProductSystem);
+  ImplicitPassConstants gather = constants(kGatherProduct);
+  system_product.iteration = gather.iteration = 1;
   const ImplicitPassConstants curvature = constants(kReduceCurvature);
   const ImplicitPassConstants update = constants(kIterateUpdate);
   const ImplicitPassConstants residual_sums = constants(kReduceResidual);
@@ -173,6 +185,26 @@ void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, std::uint3
     iterate_pass_.dispatch(commands, &next_direction, particles_);
   }
   record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
+}
+
+void DeviceImplicitEuler::record_first_residual(VkCommandBuffer commands) const {
+  const ImplicitPassConstants warm_start = constants(kSetupWarmStart);
+  setup_pass_.dispatch(commands, &warm_start, particles_);
+  const ImplicitPassConstants system_product = constants(kProductSystem);
+  product_pass_.dispatch(commands, &system_product, connectors_ + radials_);
+  const ImplicitPassConstants first_residual = constants(kGatherResidual);
+  gather_pass_.dispatch(commands, &first_residual, particles_);
+  const ImplicitPassConstants first_sums = constants(kReduceStart);
+  reduce_pass_.dispatch(commands, &first_sums, kImplicitReduceWorkgroup);
+}
+
+void DeviceImplicitEuler::record_surface_impulses(VkCommandBuffer commands) const {
+  const ImplicitPassConstants warm_start = constants(kSetupWarmStart);
+  setup_pass_.dispatch(commands, &warm_start, particles_);
+  const ImplicitPassConstants system_product = constants(kProductSystem);
+  product_pass_.dispatch(commands, &system_product, connectors_ + radials_);
+  const ImplicitPassConstants surface_impulses = constants(kGatherImpulse);
+  gather_pass_.dispatch(commands, &surface_impulses, particles_);
 }
 
 void DeviceImplicitEuler::record_buffers() {
@@ -190,17 +222,25 @@ void DeviceImplicitEuler::record_buffers() {
     product_pass_.dispatch(commands, &stiffness, elements);
     const ImplicitPassConstants right_hand_side = constants(kGatherRightHandSide);
     gather_pass_.dispatch(commands, &right_hand_side, particles_);
-    const ImplicitPassConstants diagonal = constants(0);
+    const ImplicitPassConstants diagonal = constants(kDiagonalHold);
     diagonal_pass_.dispatch(commands, &diagonal, particles_);
-    const ImplicitPassConstants warm_start = constants(kSetupWarmStart);
-    setup_pass_.dispatch(commands, &warm_start, particles_);
-    const ImplicitPassConstants system_product = constants(kProductSystem);
-    product_pass_.dispatch(commands, &system_product, elements);
-    const ImplicitPassConstants first_residual = constants(kGatherResidual);
-    gather_pass_.dispatch(commands, &first_residual, particles_);
-    const ImplicitPassConstants first_sums = constants(kReduceStart);
-    reduce_pass_.dispatch(commands, &first_sums, kImplicitReduceWorkgroup);
+    record_first_residual(commands);
     record_iterations(commands, kFirstIterations);
+  });
+  restart_commands_ = device_.record([&](VkCommandBuffer commands) {
+    record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
+    record_first_residual(commands);
+    record_iterations(commands, kFirstIterations);
+  });
+  release_commands_ = device_.record([&](VkCommandBuffer commands) {
+    record_surface_impulses(commands);
+    const ImplicitPassConstants release = constants(kDiagonalRelease);
+    diagonal_pass_.dispatch(commands, &release, particles_);
+    record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
+  });
+  impulse_commands_ = device_.record([&](VkCommandBuffer commands) {
+    record_surface_impulses(commands);
+    record_readback(commands, arrays_[impulse], impulse_readback_, impulse_readback_.bytes());
   });
   iteration_commands_ =
       device_.record([&](VkCommandBuffer commands) { record_iterations(commands, kMoreIterations); });
@@ -220,7 +260,8 @@ void DeviceImplicitEuler::record_buffers() {
 }
 
 void DeviceImplicitEuler::release_buffers() {
-  for (VkCommandBuffer* commands : {&forces_commands_, &start_commands_, &iteration_commands_, &end_commands_}) {
+  for (VkCommandBuffer* commands : {&forces_commands_, &start_commands_, &iteration_commands_, &end_commands_,
+                                    &release_commands_, &restart_commands_, &impulse_commands_}) {
     if (*commands != VK_NULL_HANDLE) device_.release(*commands);
     *commands = VK_NULL_HANDLE;
   }
@@ -279,11 +320,7 @@ void DeviceImplicitEuler::write_step(double h, double end_time) {
   reals[kRelativeResidual] = settings_.cg_tolerance;
   const std::vector<std::byte> real_input = real_bytes(reals, precision_);
   std::memcpy(real_input_.mapped(), real_input.data(), real_input.size());
-  std::vector<std::uint32_t> uints(kSolveUints, 0u);
-  uints[kSolveConverged] = 1;
-  uints[kMaxIterations] = static_cast<std::uint32_t>(settings_.cg_max_iterations);
-  uints[kNonFiniteParticle] = kNoParticle;
-  std::memcpy(uint_input_.mapped(), uints.data(), uints.size() * 4);
+  write_solve_counters();
   // Each anchor's path at the step's end: where its particle ends, how fast, and the acceleration
   // its power is taken with (ImplicitEuler::evaluate at the end).
   std::vector<double> rows;
@@ -300,8 +337,17 @@ void DeviceImplicitEuler::write_step(double h, double end_time) {
   }
 }
 
-int DeviceImplicitEuler::solve() {
-  device_.run(start_commands_);
+void DeviceImplicitEuler::write_solve_counters() {
+  std::vector<std::uint32_t> uints(kSolveUints, 0u);
+  uints[kSolveConverged] = 1;
+  uints[kMaxIterations] = static_cast<std::uint32_t>(settings_.cg_max_iterations);
+  uints[kNonFiniteParticle] = kNoParticle;
+  uints[kHolding] = holding_ ? 1 : 0;
+  std::memcpy(uint_input_.mapped(), uints.data(), uints.size() * 4);
+}
+
+int DeviceImplicitEuler::solve(VkCommandBuffer first) {
+  device_.run(first);
   while (output_uint(kSolveDone) == 0) device_.run(iteration_commands_);
   const int iterations = static_cast<int>(output_uint(kIterations));
   if (output_uint(kSolveConverged) == 0) ++stats_.cg_unconverged_solves;
@@ -317,9 +363,20 @@ std::uint32_t DeviceImplicitEuler::take_step(double h, double end_time) {
     uncounted_evaluation_ = false;
     forces_current_ = true;
   }
+  holding_ = surface_contacts_ != nullptr && surface_contacts_->any;
+  if (holding_) upload_surface_contacts();
   write_step(h, end_time);
   StageTimer timer(profile_, StepStage::device_steps);
-  last_iterations_ = solve();
+  last_iterations_ = solve(start_commands_);
+  if (holding_) {
+    // A surface cannot pull: let go of the particles it would have to, and solve again for them.
+    device_.run(release_commands_);
+    if (output_uint(kReleased) != 0) {
+      write_solve_counters();
+      last_iterations_ += solve(restart_commands_);
+    }
+    device_.run(impulse_commands_);
+  }
   device_.run(end_commands_);
   ++stats_.force_evaluations;
   stats_.cg_iterations += static_cast<std::uint64_t>(last_iterations_);
@@ -359,10 +416,54 @@ StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uin
     state.time = end_time;
     record_accepted_step(h);
     ++steps;
+    // The surface contacts are the step's start's: the host refreshes them before the next step.
+    if (holding_) break;
   }
   StageTimer timer(profile_, StepStage::device_transfers);
   read_state(state);
+  if (holding_ && outcome.status == StepStatus::ok) book_surface_impulses(state);
   return outcome;
+}
+
+void DeviceImplicitEuler::upload_surface_contacts() {
+  const std::uint64_t real = real_size(precision_);
+  if (arrays_[surface_contacts].bytes() < std::uint64_t{particles_} * kContactReals * real) {
+    // The first step that holds particles: the contacts' arrays at their size, bound and recorded anew.
+    arrays_[surface_contacts] = Buffer(device_, std::uint64_t{particles_} * kContactReals * real, Memory::device_local);
+    arrays_[impulse] = Buffer(device_, std::uint64_t{particles_} * 3 * real, Memory::device_local);
+    impulse_readback_ = Buffer(device_, std::uint64_t{particles_} * 3 * real, Memory::host_visible);
+    release_buffers();
+    bind_passes();
+    record_buffers();
+  }
+  const SurfaceContacts& contacts = *surface_contacts_;
+  std::vector<double> rows(std::size_t{particles_} * kContactReals, 0.0);
+  for (std::size_t p = 0; p < particles_; ++p) {
+    if (contacts.collider[p] == SurfaceContacts::kNone) continue;
+    double* row = &rows[kContactReals * p];
+    const Vec3& n = contacts.normal[p];
+    const Vec3& v = contacts.velocity[p];
+    std::copy_n(std::array<double, kContactReals>{n.x, n.y, n.z, v.x, v.y, v.z, contacts.friction[p], 1.0}.data(),
+                kContactReals, row);
+  }
+  upload(device_, arrays_[surface_contacts], real_bytes(rows, precision_));
+}
+
+void DeviceImplicitEuler::book_surface_impulses(ClothState& state) {
+  // The impulse each held particle's surface exerted over the step (its normal part where held
+  // along the normal; zero where not held), back to the collision stage for friction, and its work
+  // with the end-of-step velocity like the other work integrals (ImplicitEuler::book_surface_impulses).
+  const std::vector<Vec3> impulses = vectors_from_bytes(
+      std::span(impulse_readback_.mapped(), std::size_t{particles_} * 3 * real_size(precision_)), precision_);
+  SurfaceContacts& contacts = *surface_contacts_;
+  double work = 0.0;
+  for (std::size_t p = 0; p < particles_; ++p) {
+    const Vec3& surface_impulse = impulses[p];
+    if (surface_impulse == Vec3{}) continue;
+    contacts.impulse[p] = std::max(0.0, dot(contacts.normal[p], surface_impulse));
+    work += dot(surface_impulse, state.velocity[p]);
+  }
+  state.contact_work += work;
 }
 
 void DeviceImplicitEuler::transfer_state(StateArchive& archive) {
@@ -371,12 +472,18 @@ void DeviceImplicitEuler::transfer_state(StateArchive& archive) {
   if (!archive.loading()) download(device_, arrays_[solution], bytes);
   std::vector<Vec3> dv = vectors_from_bytes(bytes, precision_);
   archive.array("implicit_euler.dv", dv);
+  std::vector<std::uint32_t> slipped_words(particles_, 0u);
+  if (!archive.loading()) download(device_, arrays_[slipped], std::as_writable_bytes(std::span(slipped_words)));
+  std::vector<std::uint8_t> slipped_flags(slipped_words.begin(), slipped_words.end());
+  archive.array("implicit_euler.slipped", slipped_flags);
   // Whether the next step reuses the forces of the last one's end: the restored run evaluates them
   // again (the same values), without counting them again.
   bool reused = forces_current_;
   archive.value("implicit_euler.evaluated_valid", reused);
   if (archive.loading()) {
     upload(device_, arrays_[solution], vector_bytes(dv, precision_));
+    slipped_words.assign(slipped_flags.begin(), slipped_flags.end());
+    upload(device_, arrays_[slipped], index_bytes<std::uint32_t>(slipped_words));
     uncounted_evaluation_ = reused;
     forces_current_ = false;
   }

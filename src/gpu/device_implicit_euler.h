@@ -24,12 +24,18 @@
 // more iterations until it stops, then the step's end. The state stays on the device; it comes
 // back when an advance ends.
 //
+// Obstacles: the host's collision stage runs between the steps, as on the CPU (the Simulation then
+// asks for one step at a time), and fills the surface contacts (model/surface_contacts.h), which go
+// up with the step. The device holds the particles resting on a surface as the CPU does
+// (implicit_diagonal: along the normal or in all directions, the held directions filtered out of
+// the solve), lets go of those the surface would pull and solves again, and hands the surface
+// impulses back to the collision stage for Coulomb friction; their work is booked on the host.
+//
 // What differs from the CPU: the preconditioner is block Jacobi (the CPU's multigrid and two-level
 // corrections are not on the device; the scene's cg_two_level and cg_multigrid are the CPU's
 // alone), so a stiff sheet takes more iterations than on the CPU's defaults and as many as the CPU
-// with cg_two_level false. Particles resting on obstacles are not held (the Vulkan backend refuses
-// implicit Euler with obstacles, sim/backend.cpp). The results match the CPU's within the solve's
-// tolerance, not bit for bit: the matrix-free products round differently from assembled blocks.
+// with cg_two_level false. The results match the CPU's within the solve's tolerance, not bit for
+// bit: the matrix-free products round differently from assembled blocks.
 #pragma once
 
 #include <array>
@@ -67,7 +73,9 @@ class DeviceImplicitEuler final : public Integrator {
   int last_iterations() const { return last_iterations_; }
 
   // Device memory for a model of these counts, bytes: DeviceForces' general path and the arrays below.
-  static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, Precision precision);
+  // `colliders`: whether the model has obstacles (the surface contacts' arrays).
+  static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, Precision precision,
+                                        bool colliders = false);
   // The iterations recorded into the step's first submission, and into each further one.
   static constexpr std::uint32_t kFirstIterations = 8;
   static constexpr std::uint32_t kMoreIterations = 32;
@@ -87,6 +95,10 @@ class DeviceImplicitEuler final : public Integrator {
     solve_real,         // [kSolveReals] (implicit_step.h)
     solve_uint,         // [kSolveUints]
     anchor_rows,        // [anchor capacity][kAnchorRowReals]
+    hold,               // [particles], uint: kHold*
+    slipped,            // [particles], uint: 1 where held stuck by more than friction in the last step
+    surface_contacts,   // [particles][kContactReals] (a placeholder until a step holds particles)
+    impulse,            // [3 particles], N s: the surface impulses (a placeholder likewise)
     array_count
   };
 
@@ -98,11 +110,16 @@ class DeviceImplicitEuler final : public Integrator {
   // whose dv is not finite, or kNoParticle (the state is then unchanged).
   std::uint32_t take_step(double h, double end_time);
   void write_step(double h, double end_time);
+  void write_solve_counters();
   // The solve's counters and scalars as the last submission copied them back.
   std::uint32_t output_uint(std::uint32_t slot) const;
   double output_real(std::uint32_t slot) const;
   // Submits iterations until the solve stops; returns its iterations.
-  int solve();
+  int solve(VkCommandBuffer first);
+  // The surface contacts of the step's start uploaded (the arrays grown to hold them, first time);
+  // after the step, the surface impulses into them and their work into the state.
+  void upload_surface_contacts();
+  void book_surface_impulses(ClothState& state);
   // Uploads what changed on the host since the last exchange: the model, the state.
   void upload_changes(const ClothState& state);
   void read_state(ClothState& state);
@@ -112,6 +129,9 @@ class DeviceImplicitEuler final : public Integrator {
   void record_buffers();
   void release_buffers();
   void record_iterations(VkCommandBuffer commands, std::uint32_t iterations) const;
+  // The first residual from the warm start, and the start's sums; the held particles' surface impulses.
+  void record_first_residual(VkCommandBuffer commands) const;
+  void record_surface_impulses(VkCommandBuffer commands) const;
   std::uint32_t workgroups() const;
   ImplicitPassConstants constants(std::uint32_t phase) const;
 
@@ -130,6 +150,12 @@ class DeviceImplicitEuler final : public Integrator {
       setup_pass_;
   VkCommandBuffer forces_commands_ = VK_NULL_HANDLE, start_commands_ = VK_NULL_HANDLE,
                   iteration_commands_ = VK_NULL_HANDLE, end_commands_ = VK_NULL_HANDLE;
+  // With held particles: the surface impulses and the release of those a surface would pull; the
+  // solve again from where it stopped; the final impulses, copied back.
+  VkCommandBuffer release_commands_ = VK_NULL_HANDLE, restart_commands_ = VK_NULL_HANDLE,
+                  impulse_commands_ = VK_NULL_HANDLE;
+  Buffer impulse_readback_;  // host-visible, sized with the impulse array
+  bool holding_ = false;     // the last step held particles
 
   // Whether forces_'s force array holds f at the device's state (the last step's end).
   bool forces_current_ = false;

@@ -82,8 +82,8 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
   }
   if (features.integrator.kind == IntegratorKind::imex) return "imex (integrator.method)";
   if (implicit_euler) {
-    // Its steps run on the device and its events between them on the host (gpu/device_implicit_euler.h).
-    if (features.colliders) return "obstacles (colliders) with implicit-euler (integrator.method)";
+    // Its steps run on the device, its events and obstacle passes between them on the host
+    // (gpu/device_implicit_euler.h).
     if (features.self_collision) return "self-collision (collision.self)";
     return "";
   }
@@ -113,7 +113,7 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
     device.require_precision(precision);
     const std::uint64_t bytes =
         integrator.kind == IntegratorKind::implicit_euler
-            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision)
+            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders > 0)
             : gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
                                                       gpu::DeviceForcePath::lattice, colliders);
     device.require_memory(bytes, "the scene");

@@ -2,7 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // The conjugate gradients' vector updates on the device (BlockSystem::solve), one invocation per
 // particle, the anchored ones left out:
-//   kIterateUpdate     u += alpha p, r -= alpha q, z = P^-1 r; each workgroup's partial r.z and r.r
+//   kIterateUpdate     u += alpha p, r -= alpha q, z = P^-1 r (its held directions filtered out);
+//                      each workgroup's partial r.z and r.r
 //   kIterateDirection  p = z + beta p
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/implicit_step.h"
@@ -21,10 +22,13 @@ layout(std430, binding = 6) readonly buffer ParticleAnchor { int particle_anchor
 layout(std430, binding = 7) writeonly buffer BlockSums { Real block_sums[]; };  // [workgroups][3]
 layout(std430, binding = 8) readonly buffer SolveReal { Real solve_real[]; };
 layout(std430, binding = 9) readonly buffer SolveUint { uint solve_uint[]; };
+layout(std430, binding = 10) readonly buffer Hold { uint hold[]; };  // [particle_count], kHold*
+layout(std430, binding = 11) readonly buffer SurfaceContacts { Real surface_contacts[]; };  // [particles][kContactReals]
 
 layout(push_constant) uniform Constants { ImplicitPassConstants constants; };
 
 #include "gpu/shaders/workgroup_sums.glsl"
+#include "gpu/shaders/held_directions.glsl"
 
 Mat3 jacobi_block(uint p) {
   const uint i = 9 * p;
@@ -51,7 +55,7 @@ void main() {
       r[k] = residual[3 * p + k] - alpha * product[3 * p + k];
       residual[3 * p + k] = r[k];
     }
-    const Vec3 z = jacobi_block(p) * r;
+    const Vec3 z = held(p, jacobi_block(p) * r);
     for (uint k = 0u; k < 3u; ++k) preconditioned[3 * p + k] = z[k];
     partial[0] = dot(r, z);
     partial[1] = dot(r, r);

@@ -34,7 +34,7 @@ void store_slot(uint slot, Vec3 v) {
 }
 
 void main() {
-  if (solve_uint[kSolveDone] != 0u) return;
+  if (constants.iteration != 0u && solve_uint[kSolveDone] != 0u) return;
   const uint index = invocation_index();
   const bool system = constants.phase == kProductSystem;
   const Real stiffness_scale = system ? solve_real[kStiffnessScale] : Real(1.0);

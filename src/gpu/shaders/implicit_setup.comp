@@ -34,15 +34,20 @@ layout(push_constant) uniform Constants { ImplicitPassConstants constants; };
 
 #include "gpu/shaders/workgroup_sums.glsl"
 
+// The arrays read3() reads and write3() writes.
+const uint kReadPosition = 0u, kReadVelocity = 1u, kReadForce = 2u, kReadSolution = 3u;
+const uint kWritePosition = 0u, kWriteVelocity = 1u, kWriteSolution = 2u, kWriteDirection = 3u;
+
 Vec3 read3(uint p, uint array) {
   const uint i = 3 * p;
-  if (array == 0u) return Vec3(position[i], position[i + 1], position[i + 2]);
-  if (array == 1u) return Vec3(velocity[i], velocity[i + 1], velocity[i + 2]);
-  if (array == 2u) return Vec3(force[i], force[i + 1], force[i + 2]);
+  if (array == kReadPosition) return Vec3(position[i], position[i + 1], position[i + 2]);
+  if (array == kReadVelocity) return Vec3(velocity[i], velocity[i + 1], velocity[i + 2]);
+  if (array == kReadForce) return Vec3(force[i], force[i + 1], force[i + 2]);
   return Vec3(solution[i], solution[i + 1], solution[i + 2]);
 }
 
-// Row `row`'s path position (0), velocity (1) or acceleration (2) at the step's end.
+// Row `row`'s path position (kPathPosition), velocity or acceleration at the step's end.
+const uint kPathPosition = 0u, kPathVelocity = 1u, kPathAcceleration = 2u;
 Vec3 anchor_value(int row, uint which) {
   const uint i = kAnchorRowReals * uint(row) + 3u * which;
   return Vec3(anchor_rows[i], anchor_rows[i + 1], anchor_rows[i + 2]);
@@ -50,10 +55,10 @@ Vec3 anchor_value(int row, uint which) {
 
 void write3(uint p, Vec3 v, uint array) {
   for (uint k = 0u; k < 3u; ++k) {
-    if (array == 0u) position[3 * p + k] = v[k];
-    if (array == 1u) velocity[3 * p + k] = v[k];
-    if (array == 2u) solution[3 * p + k] = v[k];
-    if (array == 3u) direction[3 * p + k] = v[k];
+    if (array == kWritePosition) position[3 * p + k] = v[k];
+    if (array == kWriteVelocity) velocity[3 * p + k] = v[k];
+    if (array == kWriteSolution) solution[3 * p + k] = v[k];
+    if (array == kWriteDirection) direction[3 * p + k] = v[k];
   }
 }
 
@@ -61,11 +66,11 @@ void powers(uint p) {
   Real partial[3] = Real[3](Real(0.0), Real(0.0), Real(0.0));
   if (p < constants.particle_count) {
     if (p == 0u) partial[0] = damping_power[0];
-    const Vec3 v = read3(p, 1u);
+    const Vec3 v = read3(p, kReadVelocity);
     partial[1] = -environment[3] * dot(v, v);
     const int row = particle_anchor[p];
     // The force the anchor exerts to keep its particle on the path, m a - f, times its velocity.
-    if (row >= 0) partial[2] = dot(v, particle_mass[p] * anchor_value(row, 2u) - read3(p, 2u));
+    if (row >= 0) partial[2] = dot(v, particle_mass[p] * anchor_value(row, kPathAcceleration) - read3(p, kReadForce));
   }
   sum_over_workgroup(partial);
   if (gl_LocalInvocationID.x == 0u) {
@@ -85,24 +90,24 @@ void main() {
   const Real h = solve_real[kImplicitStep];
   if (constants.phase == kSetupDisplacement) {
     if (row < 0) {
-      write3(p, h * read3(p, 1u), 3u);
+      write3(p, h * read3(p, kReadVelocity), kWriteDirection);
     } else {
-      write3(p, anchor_value(row, 0u) - read3(p, 0u), 3u);
-      write3(p, anchor_value(row, 1u) - read3(p, 1u), 2u);
+      write3(p, anchor_value(row, kPathPosition) - read3(p, kReadPosition), kWriteDirection);
+      write3(p, anchor_value(row, kPathVelocity) - read3(p, kReadVelocity), kWriteSolution);
     }
   } else if (constants.phase == kSetupWarmStart) {
-    write3(p, read3(p, 3u), 3u);
+    write3(p, read3(p, kReadSolution), kWriteDirection);
   } else if (constants.phase == kSetupCheck) {
-    const Vec3 dv = read3(p, 3u);
+    const Vec3 dv = read3(p, kReadSolution);
     if (row < 0 && (any(isnan(dv)) || any(isinf(dv)))) atomicMin(solve_uint[kNonFiniteParticle], p);
   } else if (solve_uint[kNonFiniteParticle] == kNoParticle) {
     if (row < 0) {
-      const Vec3 v = read3(p, 1u) + read3(p, 3u);
-      write3(p, v, 1u);
-      write3(p, read3(p, 0u) + h * v, 0u);
+      const Vec3 v = read3(p, kReadVelocity) + read3(p, kReadSolution);
+      write3(p, v, kWriteVelocity);
+      write3(p, read3(p, kReadPosition) + h * v, kWritePosition);
     } else {
-      write3(p, anchor_value(row, 0u), 0u);
-      write3(p, anchor_value(row, 1u), 1u);
+      write3(p, anchor_value(row, kPathPosition), kWritePosition);
+      write3(p, anchor_value(row, kPathVelocity), kWriteVelocity);
     }
   }
 }

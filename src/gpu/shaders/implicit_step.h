@@ -36,7 +36,9 @@ CLOTHSIM_SLOT kSolveDone = 1;      // 1: the solve has stopped (the passes of fu
 CLOTHSIM_SLOT kSolveConverged = 2; // 1: it stopped at the tolerance (or on a breakdown), 0: at kMaxIterations
 CLOTHSIM_SLOT kMaxIterations = 3;  // cg_max_iterations
 CLOTHSIM_SLOT kNonFiniteParticle = 4;  // the first free particle whose velocity change is not finite; kNoParticle: none
-CLOTHSIM_SLOT kSolveUints = 5;
+CLOTHSIM_SLOT kHolding = 5;        // 1: the step holds particles resting on obstacles (the host's surface contacts)
+CLOTHSIM_SLOT kReleased = 6;       // 1: a held particle was let go after the solve (the surface would pull it)
+CLOTHSIM_SLOT kSolveUints = 7;
 CLOTHSIM_SLOT kNoParticle = 0xffffffffu;
 
 // The element factors (forces/element_jacobian.inc), Reals per element.
@@ -45,6 +47,15 @@ CLOTHSIM_SLOT kConnectorFactorReals = 6;
 // Radial spring: gradients of the centre, b and c (9), in-plane stiffness, damping, transverse axis
 // (3), straight (1 or 0), sum and difference tilts (3 each), equal and opposite couplings.
 CLOTHSIM_SLOT kRadialFactorReals = 23;
+
+// surface_contacts: per particle, the surface it rests on at the step's start (model/surface_contacts.h):
+// its unit normal (3), the surface's velocity (3), the friction coefficient, and 1 where it rests on
+// one (0 where not, and for anchored particles).
+CLOTHSIM_SLOT kContactReals = 8;
+// hold: per particle, the directions the step holds (integrators/held_directions.h's Hold).
+CLOTHSIM_SLOT kHoldNone = 0;
+CLOTHSIM_SLOT kHoldNormal = 1;
+CLOTHSIM_SLOT kHoldAll = 2;
 
 // anchor_rows: per anchor, its particle's position, velocity and acceleration on the path at the
 // step's end, written by the host.
@@ -61,10 +72,16 @@ CLOTHSIM_SLOT kSetupPowers = 4;        // each workgroup's damping, drag and anc
 CLOTHSIM_SLOT kGatherRightHandSide = 0;  // b = h (f0 - K z) from the product K z
 CLOTHSIM_SLOT kGatherResidual = 1;       // r = b - A u, z = P r, direction = z; partials r.z, r.r, b.b
 CLOTHSIM_SLOT kGatherProduct = 2;        // q = A p; partial p.q
+CLOTHSIM_SLOT kGatherImpulse = 3;        // a held particle's surface impulse A dv - b (its normal part where
+                                         // held along the normal), zero where not held
 
 // implicit_product's operators.
 CLOTHSIM_SLOT kProductStiffness = 0;  // K alone (for K z)
 CLOTHSIM_SLOT kProductSystem = 1;     // A's element part, h C + h^2 K (mass and drag are the gather's)
+
+// implicit_diagonal's phases.
+CLOTHSIM_SLOT kDiagonalHold = 0;     // the block Jacobi inverses, and which particles the step holds on their surface
+CLOTHSIM_SLOT kDiagonalRelease = 1;  // after the solve: let go of those the surface would pull, mark those that slip
 
 // implicit_iterate's phases, and implicit_reduce's.
 CLOTHSIM_SLOT kIterateUpdate = 0;     // u += alpha p, r -= alpha q, z = P r; partials r.z, r.r
@@ -83,6 +100,7 @@ struct ImplicitPassConstants {
   uint blocks;            // workgroups of the partial sums' pass (implicit_reduce), or of this pass
   uint element_count;     // connectors + radial springs (kSetupPowers sums their damping powers)
   uint damped;            // 1: the springs' damping acts (kSpringDamping)
+  uint iteration;         // 1: a pass of a CG iteration, which returns at once once the solve has stopped
 };
 
 // The workgroup size of the passes that write partial sums (implicit_gather, implicit_iterate,
