@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -11,6 +12,7 @@
 #include "scene/scene.h"
 #include "scene/scene_model.h"
 #include "scene/scene_simulation.h"
+#include "sim/backend.h"
 #include "sim/simulation.h"
 
 namespace clothsim::testing {
@@ -23,6 +25,16 @@ inline Simulation one_thread_simulation(SceneSpec spec, ClothModel model) {
 
 inline Simulation one_thread_simulation(const SceneSpec& spec) {
   return one_thread_simulation(spec, build_model(spec));
+}
+
+// The BackendError a scene's simulation is refused with, or "no refusal".
+inline std::string refusal_of(const SceneSpec& spec) {
+  try {
+    Simulation simulation = make_simulation(spec);
+  } catch (const BackendError& error) {
+    return std::string(error.what());
+  }
+  return "no refusal";
 }
 
 // Where a run ended: the state, the energy balance and the integrator's statistics.

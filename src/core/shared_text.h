@@ -2,6 +2,7 @@
 // backend's compute shaders compile, so that a law both sides compute is written once.
 //
 //   forces/element_math.inc     the connector and radial spring forces and energies, x / sin x
+//   forces/element_jacobian.inc the element Jacobians' factors (implicit Euler's matrix)
 //   forces/arctangent.inc       the arctangent of the lattice kernel and of the shaders
 //   events/spring_laws.inc      tearing, the return mapping of permanent stretching, the crease law
 //   integrators/step_control.inc  the PI step-size controller and the clipping of a step to a target

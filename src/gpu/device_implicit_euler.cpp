@@ -167,44 +167,39 @@ ImplicitPassConstants DeviceImplicitEuler::constants(std::uint32_t phase) const 
                                0u};
 }
 
+void DeviceImplicitEuler::dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase,
+                                   std::uint32_t invocations, bool iteration) const {
+  ImplicitPassConstants pass_constants = constants(phase);
+  pass_constants.iteration = iteration ? 1u : 0u;
+  pass.dispatch(commands, &pass_constants, invocations);
+}
+
 void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, std::uint32_t iterations) const {
-  const std::uint32_t elements = connectors_ + radials_;
-  ImplicitPassConstants system_product = constants(kProductSystem);
-  ImplicitPassConstants gather = constants(kGatherProduct);
-  system_product.iteration = gather.iteration = 1;
-  const ImplicitPassConstants curvature = constants(kReduceCurvature);
-  const ImplicitPassConstants update = constants(kIterateUpdate);
-  const ImplicitPassConstants residual_sums = constants(kReduceResidual);
-  const ImplicitPassConstants next_direction = constants(kIterateDirection);
   for (std::uint32_t i = 0; i < iterations; ++i) {
-    product_pass_.dispatch(commands, &system_product, elements);
-    gather_pass_.dispatch(commands, &gather, particles_);
-    reduce_pass_.dispatch(commands, &curvature, kImplicitReduceWorkgroup);
-    iterate_pass_.dispatch(commands, &update, particles_);
-    reduce_pass_.dispatch(commands, &residual_sums, kImplicitReduceWorkgroup);
-    iterate_pass_.dispatch(commands, &next_direction, particles_);
+    dispatch(commands, product_pass_, kProductSystem, connectors_ + radials_, true);
+    dispatch(commands, gather_pass_, kGatherProduct, particles_, true);
+    dispatch(commands, reduce_pass_, kReduceCurvature, kImplicitReduceWorkgroup);
+    dispatch(commands, iterate_pass_, kIterateUpdate, particles_);
+    dispatch(commands, reduce_pass_, kReduceResidual, kImplicitReduceWorkgroup);
+    dispatch(commands, iterate_pass_, kIterateDirection, particles_);
   }
   record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
 }
 
+void DeviceImplicitEuler::record_solution_product(VkCommandBuffer commands) const {
+  dispatch(commands, setup_pass_, kSetupWarmStart, particles_);
+  dispatch(commands, product_pass_, kProductSystem, connectors_ + radials_);
+}
+
 void DeviceImplicitEuler::record_first_residual(VkCommandBuffer commands) const {
-  const ImplicitPassConstants warm_start = constants(kSetupWarmStart);
-  setup_pass_.dispatch(commands, &warm_start, particles_);
-  const ImplicitPassConstants system_product = constants(kProductSystem);
-  product_pass_.dispatch(commands, &system_product, connectors_ + radials_);
-  const ImplicitPassConstants first_residual = constants(kGatherResidual);
-  gather_pass_.dispatch(commands, &first_residual, particles_);
-  const ImplicitPassConstants first_sums = constants(kReduceStart);
-  reduce_pass_.dispatch(commands, &first_sums, kImplicitReduceWorkgroup);
+  record_solution_product(commands);
+  dispatch(commands, gather_pass_, kGatherResidual, particles_);
+  dispatch(commands, reduce_pass_, kReduceStart, kImplicitReduceWorkgroup);
 }
 
 void DeviceImplicitEuler::record_surface_impulses(VkCommandBuffer commands) const {
-  const ImplicitPassConstants warm_start = constants(kSetupWarmStart);
-  setup_pass_.dispatch(commands, &warm_start, particles_);
-  const ImplicitPassConstants system_product = constants(kProductSystem);
-  product_pass_.dispatch(commands, &system_product, connectors_ + radials_);
-  const ImplicitPassConstants surface_impulses = constants(kGatherImpulse);
-  gather_pass_.dispatch(commands, &surface_impulses, particles_);
+  record_solution_product(commands);
+  dispatch(commands, gather_pass_, kGatherImpulse, particles_);
 }
 
 void DeviceImplicitEuler::record_buffers() {
@@ -214,16 +209,11 @@ void DeviceImplicitEuler::record_buffers() {
     record_upload(commands, real_input_, arrays_[solve_real], real_input_.bytes());
     record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
     record_upload(commands, anchor_input_, arrays_[anchor_rows], anchor_input_.bytes());
-    const ImplicitPassConstants linearize = constants(0);
-    linearize_pass_.dispatch(commands, &linearize, elements);
-    const ImplicitPassConstants displacement = constants(kSetupDisplacement);
-    setup_pass_.dispatch(commands, &displacement, particles_);
-    const ImplicitPassConstants stiffness = constants(kProductStiffness);
-    product_pass_.dispatch(commands, &stiffness, elements);
-    const ImplicitPassConstants right_hand_side = constants(kGatherRightHandSide);
-    gather_pass_.dispatch(commands, &right_hand_side, particles_);
-    const ImplicitPassConstants diagonal = constants(kDiagonalHold);
-    diagonal_pass_.dispatch(commands, &diagonal, particles_);
+    dispatch(commands, linearize_pass_, 0, elements);
+    dispatch(commands, setup_pass_, kSetupDisplacement, particles_);
+    dispatch(commands, product_pass_, kProductStiffness, elements);
+    dispatch(commands, gather_pass_, kGatherRightHandSide, particles_);
+    dispatch(commands, diagonal_pass_, kDiagonalHold, particles_);
     record_first_residual(commands);
     record_iterations(commands, kFirstIterations);
   });
@@ -234,8 +224,7 @@ void DeviceImplicitEuler::record_buffers() {
   });
   release_commands_ = device_.record([&](VkCommandBuffer commands) {
     record_surface_impulses(commands);
-    const ImplicitPassConstants release = constants(kDiagonalRelease);
-    diagonal_pass_.dispatch(commands, &release, particles_);
+    dispatch(commands, diagonal_pass_, kDiagonalRelease, particles_);
     record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
   });
   impulse_commands_ = device_.record([&](VkCommandBuffer commands) {
@@ -245,15 +234,11 @@ void DeviceImplicitEuler::record_buffers() {
   iteration_commands_ =
       device_.record([&](VkCommandBuffer commands) { record_iterations(commands, kMoreIterations); });
   end_commands_ = device_.record([&](VkCommandBuffer commands) {
-    const ImplicitPassConstants check = constants(kSetupCheck);
-    setup_pass_.dispatch(commands, &check, particles_);
-    const ImplicitPassConstants update = constants(kSetupUpdate);
-    setup_pass_.dispatch(commands, &update, particles_);
+    dispatch(commands, setup_pass_, kSetupCheck, particles_);
+    dispatch(commands, setup_pass_, kSetupUpdate, particles_);
     forces_.record_forces(commands);
-    const ImplicitPassConstants powers = constants(kSetupPowers);
-    setup_pass_.dispatch(commands, &powers, particles_);
-    const ImplicitPassConstants power_sums = constants(kReducePowers);
-    reduce_pass_.dispatch(commands, &power_sums, kImplicitReduceWorkgroup);
+    dispatch(commands, setup_pass_, kSetupPowers, particles_);
+    dispatch(commands, reduce_pass_, kReducePowers, kImplicitReduceWorkgroup);
     record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
     record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
   });

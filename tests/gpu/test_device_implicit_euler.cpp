@@ -231,14 +231,7 @@ TEST(DeviceImplicitEuler, ARestoredRunGoesOnBitForBit) {
 }
 
 TEST(DeviceImplicitEuler, RefusesWhatItCannotRun) {
-  const auto refusal = [](const SceneSpec& spec) {
-    try {
-      Simulation simulation = make_simulation(spec);
-    } catch (const BackendError& error) {
-      return std::string(error.what());
-    }
-    return std::string("no refusal");
-  };
+  const auto refusal = [](const SceneSpec& spec) { return testing::refusal_of(spec); };
   // float32, as on the CPU; unset, the backend gives implicit Euler float64.
   SceneSpec float32 = cotton(8, BackendSettings{Backend::vulkan, 0, request(Precision::float32)}, true);
   EXPECT_NE(refusal(float32).find("float32 (precision) with implicit-euler"), std::string::npos)

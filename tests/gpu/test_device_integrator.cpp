@@ -447,14 +447,7 @@ TEST(DeviceIntegrator, TheProfileNamesTheCpusStagesAndTheTraffic) {
 // What the backend does not run is refused with the feature and its field, before anything runs;
 // so are a device that does not exist and a scene larger than the device's memory.
 TEST(DeviceIntegrator, RefusesWhatItCannotRun) {
-  const auto refusal = [](const SceneSpec& spec) {
-    try {
-      Simulation simulation = make_simulation(spec);
-    } catch (const BackendError& error) {
-      return std::string(error.what());
-    }
-    return std::string("no refusal");
-  };
+  const auto refusal = [](const SceneSpec& spec) { return testing::refusal_of(spec); };
   SceneSpec implicit = device_scene("paper-fig5", vulkan(Precision::float32));
   implicit.integrator.kind = IntegratorKind::implicit_euler;
   EXPECT_NE(refusal(implicit).find("implicit-euler"), std::string::npos);

@@ -43,14 +43,16 @@ layout(push_constant) uniform Constants { ImplicitPassConstants constants; };
 #include "gpu/shaders/implicit_factors.glsl"
 #include "gpu/shaders/held_directions.glsl"
 
+// The arrays vector3() reads.
+const uint kForce = 0u, kVelocity = 1u, kSolution = 2u, kImpulse = 3u;
+
 Vec3 vector3(uint p, uint array) {
   const uint i = 3 * p;
-  if (array == 0u) return Vec3(force[i], force[i + 1], force[i + 2]);
-  if (array == 1u) return Vec3(velocity[i], velocity[i + 1], velocity[i + 2]);
-  if (array == 2u) return Vec3(solution[i], solution[i + 1], solution[i + 2]);
+  if (array == kForce) return Vec3(force[i], force[i + 1], force[i + 2]);
+  if (array == kVelocity) return Vec3(velocity[i], velocity[i + 1], velocity[i + 2]);
+  if (array == kSolution) return Vec3(solution[i], solution[i + 1], solution[i + 2]);
   return Vec3(impulse[i], impulse[i + 1], impulse[i + 2]);
 }
-const uint kForce = 0u, kVelocity = 1u, kSolution = 2u, kImpulse = 3u;
 
 Mat3 diagonal_block(uint p) {
   const Real stiffness_scale = solve_real[kStiffnessScale];
