@@ -6,8 +6,10 @@
 
 namespace clothsim {
 
-double CollisionStage::begin_step(const ClothModel& model, const ClothState& state, int threads) {
-  active_ = !model.colliders.empty() || model.collision.self;
+double CollisionStage::begin_step(const ClothModel& model, const ClothState& state, int threads,
+                                  CollisionPasses passes) {
+  passes_ = passes;
+  active_ = passes == CollisionPasses::all ? !model.colliders.empty() || model.collision.self : model.collision.self;
   if (!active_) {
     obstacles_.surface_contacts().any = false;
     return std::numeric_limits<double>::infinity();
@@ -15,13 +17,16 @@ double CollisionStage::begin_step(const ClothModel& model, const ClothState& sta
   start_time_ = state.time;
   start_position_.resize(state.position.size());
   parallel_for(state.position.size(), threads, [&](std::size_t p) { start_position_[p] = state.position[p]; });
+  if (passes == CollisionPasses::self_only) return std::numeric_limits<double>::infinity();
   return obstacles_.begin_step(model, state, threads);
 }
 
 CollisionCounts CollisionStage::apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads) {
   CollisionCounts counts;
   if (!active_) return counts;
-  counts.obstacles = obstacles_.apply(model, state, start_position_, start_time_, terms, threads);
+  if (passes_ == CollisionPasses::all) {
+    counts.obstacles = obstacles_.apply(model, state, start_position_, start_time_, terms, threads);
+  }
   counts.self = self_.apply(model, state, start_position_, state.time - start_time_, terms, threads);
   return counts;
 }

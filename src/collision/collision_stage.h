@@ -5,6 +5,8 @@
 //               returns the time the step may not pass (an impact on an obstacle ahead)
 //   apply       after the step: the obstacle pass (collision/obstacle_contacts.h), then the
 //               self-collision pass (collision/self_contacts.h)
+// An integrator that resolves the obstacles itself (a device integrator, gpu/device_integrator.h)
+// leaves the stage the self pass alone: CollisionPasses::self_only.
 //
 // The self pass has the last word, because it is the one that guarantees something across steps
 // (no crossing), which any later move could break. It may push a particle lying on an obstacle
@@ -16,6 +18,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "collision/obstacle_contacts.h"
@@ -26,6 +29,9 @@
 
 namespace clothsim {
 
+// Which passes the stage runs: both, or the self pass alone (the obstacles resolved by the integrator).
+enum class CollisionPasses : std::uint8_t { all, self_only };
+
 struct CollisionCounts {
   ContactCounts obstacles;
   SelfContactCounts self;
@@ -33,10 +39,11 @@ struct CollisionCounts {
 
 class CollisionStage {
  public:
-  // Before a step; +infinity when nothing limits it.
-  double begin_step(const ClothModel& model, const ClothState& state, int threads);
-  // After the step begun by begin_step(); both passes' energy changes are booked in
-  // state.contact_work.
+  // Before a step; +infinity when nothing limits it (always, self_only).
+  double begin_step(const ClothModel& model, const ClothState& state, int threads,
+                    CollisionPasses passes = CollisionPasses::all);
+  // After the step begun by begin_step(), the passes it was begun for; their energy changes are
+  // booked in state.contact_work.
   CollisionCounts apply(const ClothModel& model, ClothState& state, ForceTerms terms, int threads);
   std::size_t bytes() const;
   // The bytes the stage holds on the lattice of `counts` with colliders (`obstacles`) and
@@ -52,6 +59,7 @@ class CollisionStage {
 
  private:
   bool active_ = false;  // begin_step() found colliders or self-collision
+  CollisionPasses passes_ = CollisionPasses::all;
   double start_time_ = 0.0;
   std::vector<Vec3> start_position_;  // [particles] m, at the step's start
   ObstacleContacts obstacles_;

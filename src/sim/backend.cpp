@@ -81,19 +81,15 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
     return "";
   }
   if (features.integrator.kind == IntegratorKind::imex) return "imex (integrator.method)";
-  if (implicit_euler) {
-    // Its steps run on the device, its events and obstacle passes between them on the host
-    // (gpu/device_implicit_euler.h).
-    if (features.self_collision) return "self-collision (collision.self)";
-    return "";
-  }
+  // Self-collision runs on the host between the device's steps (Simulation::host_works_between_steps),
+  // and so do implicit Euler's events and obstacle passes (gpu/device_implicit_euler.h).
+  if (implicit_euler) return "";
   // The laws run on the device's lattice path only (gpu/device_lattice.cpp).
   if (!features.lattice && features.limits.changes_sheet()) {
     return "tearing, permanent stretching or creasing of a sheet that is not a lattice (springs.*)";
   }
   // The obstacle pass runs on the device's lattice path (gpu/device_obstacles.cpp).
   if (features.colliders && !features.lattice) return "obstacles (colliders) on a sheet that is not a lattice";
-  if (features.self_collision) return "self-collision (collision.self)";
   return "";
 }
 

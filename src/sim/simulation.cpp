@@ -53,7 +53,7 @@ bool Simulation::advance_to(double time) {
     // The collision stage's swept tests start from the positions before the step, and an
     // approaching impact limits the step (collision/obstacle_contacts.h); an integrator that
     // resolves the obstacles itself limits its own steps.
-    const double step_end = integrator_->runs_obstacle_contacts() ? time : std::min(time, begin_collisions());
+    const double step_end = std::min(time, begin_collisions());
     if (!integrate(step_end)) return false;
     collide();
     move_anchors();
@@ -102,13 +102,15 @@ bool Simulation::check_energy_balance() {
 
 double Simulation::begin_collisions() {
   StageTimer timer(profile_, StepStage::collisions);
-  return collision_stage_->begin_step(*model_, state_, threads_);
+  const CollisionPasses passes =
+      integrator_->runs_obstacle_contacts() ? CollisionPasses::self_only : CollisionPasses::all;
+  return collision_stage_->begin_step(*model_, state_, threads_, passes);
 }
 
 bool Simulation::host_works_between_steps() const {
   const bool events = model_->limits.changes_sheet() && !integrator_->runs_spring_events();
-  const bool collisions = (!model_->colliders.empty() || model_->collision.self) && !integrator_->runs_obstacle_contacts();
-  return events || collisions;
+  const bool obstacles = !model_->colliders.empty() && !integrator_->runs_obstacle_contacts();
+  return events || obstacles || model_->collision.self;
 }
 
 bool Simulation::integrate(double time) {
@@ -156,19 +158,20 @@ bool Simulation::integrate(double time) {
 
 void Simulation::collide() {
   ContactStatistics& statistics = contact_statistics_;
+  StageTimer timer(profile_, StepStage::collisions);
+  // The obstacles: the integrator's advance resolved them (a device), or the stage's pass; then the
+  // stage's self pass, which has the last word.
+  const CollisionCounts counts = collision_stage_->apply(*model_, state_, settings_.terms, threads_);
   if (integrator_->runs_obstacle_contacts()) {
-    // The integrator's advance resolved them (the device: self-collision does not run there).
     const IntegratorContacts contacts = integrator_->take_obstacle_contacts();
     statistics.contacts = contacts.last;
     statistics.contact_steps += contacts.steps;
     statistics.max_in_a_step = std::max(statistics.max_in_a_step, contacts.most);
-    return;
+  } else {
+    statistics.contacts = counts.obstacles.contacts;
+    statistics.contact_steps += counts.obstacles.contacts;
+    statistics.max_in_a_step = std::max(statistics.max_in_a_step, counts.obstacles.contacts);
   }
-  StageTimer timer(profile_, StepStage::collisions);
-  const CollisionCounts counts = collision_stage_->apply(*model_, state_, settings_.terms, threads_);
-  statistics.contacts = counts.obstacles.contacts;
-  statistics.contact_steps += counts.obstacles.contacts;
-  statistics.max_in_a_step = std::max(statistics.max_in_a_step, counts.obstacles.contacts);
   statistics.self_contacts = counts.self.contacts;
   statistics.self_contact_steps += counts.self.contacts;
   statistics.self_max_in_a_step = std::max(statistics.self_max_in_a_step, counts.self.contacts);

@@ -78,14 +78,10 @@ TEST_F(BackendTest, ARunOnTheDeviceWritesTheCpusFolder) {
 }
 
 TEST_F(BackendTest, WhatTheDeviceDoesNotRunIsRefused) {
-  expect_refused(clothsim({"run", "pile", "--backend", "vulkan", "--render", "none"}),
-                 "field 'backend': the vulkan backend does not run self-collision (collision.self) yet");
   expect_refused(clothsim({"run", "tear-pull", "--backend", "vulkan", "--precision", "float32", "--render", "none"}),
                  "the vulkan backend does not run float32 (precision) with implicit-euler (integrator.method)");
   expect_refused(clothsim({"run", "paper-fig5", "--backend", "vulkan", "--integrator", "imex", "--render", "none"}),
                  "field 'backend': the vulkan backend does not run imex (integrator.method) yet");
-  expect_refused(clothsim({"run", "paper-fig4", "--backend", "vulkan", "--render", "none"}),
-                 "does not run self-collision (collision.self) yet");
   expect_refused(clothsim({"run", "tear-pull", "--precision", "float32", "--render", "none"}),
                  "the cpu backend does not run float32 (precision) with implicit-euler (integrator.method)");
   expect_refused(clothsim({"run", "paper-fig5", "--precision", "float16", "--render", "none"}),

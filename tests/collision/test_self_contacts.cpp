@@ -15,6 +15,7 @@
 #include "collision/self_contacts.h"
 #include "core/closest_points.h"
 #include "model/cloth_model.h"
+#include "folded_sheet.h"
 #include "sheet_crossings.h"
 #include "sim/simulation.h"
 #include "test_checks.h"
@@ -223,39 +224,13 @@ TEST(SelfContacts, PairDistanceIsTheLeastOverSampledPoints) {
   }
 }
 
-// A soft 16 x 16 sheet folded in half, its upper half 6 mm above the lower, above a floor, with
-// self-collision on (thickness 4 mm): it falls onto the floor and onto itself.
-Simulation folded_sheet(IntegratorKind kind, double time_step, int threads) {
-  ClothModel model = sheet(16, 16, 0.03);
-  model.environment.gravity = {0.0, -9.81, 0.0};
-  Collider floor;
-  floor.shape = ColliderShape::plane;
-  floor.point = {0.0, -0.005, 0.0};
-  floor.normal = {0.0, 1.0, 0.0};
-  model.colliders = {floor};
-  model.collision.self = true;
-  model.collision.thickness = 0.004;
-  SimulationSettings settings;
-  settings.integrator.kind = kind;
-  settings.integrator.time_step = time_step;
-  settings.threads = threads;
-  ClothState initial = make_rest_state(model);
-  for (int row = 8; row < 16; ++row) {
-    for (int col = 0; col < 16; ++col) {
-      Vec3& x = initial.position[static_cast<std::size_t>(row * 16 + col)];
-      x = {x.x, 0.006, initial.position[static_cast<std::size_t>((15 - row) * 16 + col)].z};
-    }
-  }
-  return Simulation(std::move(model), std::move(initial), settings);
-}
-
 // With self-collision on the results must be the same bits for any thread count, and contact
 // never adds energy to the falling sheet.
 TEST(SelfContacts, RunsAreBitIdenticalAcrossThreadCounts) {
   std::vector<ClothState> results;
   std::vector<ContactStatistics> statistics;
   for (int threads : {1, 2, 3}) {
-    Simulation simulation = folded_sheet(IntegratorKind::implicit_euler, 1e-3, threads);
+    Simulation simulation = testing::folded_sheet(IntegratorKind::implicit_euler, 1e-3, threads);
     const double start_energy = simulation.energy().total();
     for (int frame = 1; frame <= 20; ++frame) {
       ASSERT_TRUE(simulation.advance_to(0.01 * frame));
@@ -276,7 +251,7 @@ TEST(SelfContacts, RunsAreBitIdenticalAcrossThreadCounts) {
 TEST(SelfContacts, EveryIntegratorKeepsAFoldedSheetUncrossed) {
   for (IntegratorKind kind : all_integrator_kinds()) {
     SCOPED_TRACE(std::string(to_string(kind)));
-    Simulation simulation = folded_sheet(kind, kind == IntegratorKind::implicit_euler ? 1e-3 : 2e-4, 1);
+    Simulation simulation = testing::folded_sheet(kind, kind == IntegratorKind::implicit_euler ? 1e-3 : 2e-4, 1);
     const double start_energy = simulation.energy().total();
     for (int frame = 1; frame <= 15; ++frame) {
       ASSERT_TRUE(simulation.advance_to(0.01 * frame)) << simulation.failure()->message;
