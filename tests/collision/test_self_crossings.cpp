@@ -18,6 +18,7 @@
 #include "scene/scene_model.h"
 #include "scene_simulation.h"
 #include "sheet_crossings.h"
+#include "tear_crumple_run.h"
 #include "sim/simulation.h"
 
 namespace clothsim {
@@ -311,6 +312,12 @@ TEST(SelfCrossings, TornSheetCornersBroughtTogetherCrossWithoutSelfCollision) {
   spec.cuts = {CutSpec{{10.5, -1.0}, {10.5, 14.0}}};
   const CrossingRun run = run_counting_crossings(spec, kCornerChecks);
   EXPECT_GT(run.most(), 0u) << "so the torn test above can fail";
+}
+
+// tear-crumple, whole (0.6 s): it tears, creases, folds onto itself and never crosses itself.
+TEST(SelfCollision, TearCrumpleTearsCreasesAndNeverCrosses) {
+  const SceneSpec spec = builtin_scene("tear-crumple");
+  testing::expect_tear_crumple_run(spec, spec.output.duration, 30);
 }
 
 }  // namespace

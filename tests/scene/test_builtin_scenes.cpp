@@ -47,7 +47,7 @@ TEST(BuiltinScenes, ListsTheScenes) {
   }
   EXPECT_EQ(names, (std::vector<std::string>{"paper-fig4", "paper-fig5", "paper-fig6", "drape-corners", "free-spin",
                                              "cotton-drape", "tear-pull", "paper-crease", "film-stretch", "cloth-shake",
-                                             "drape-sphere", "tablecloth", "sphere-sweep", "pile"}));
+                                             "drape-sphere", "tablecloth", "sphere-sweep", "pile", "tear-crumple"}));
   EXPECT_FALSE(is_builtin_scene("paper-fig7"));
   expect_input_error([] { builtin_scene("paper-fig7"); }, {"paper-fig7", "not a built-in scene", "paper-fig4"});
 }
