@@ -7,14 +7,15 @@
 #include <string>
 
 #include "core/assert.h"
+#include "core/parallel.h"
 #include "core/state_archive.h"
 #include "core/step_profile.h"
-#include "model/surface_contacts.h"
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
 #include "gpu/state_transfer.h"
 #include "integrators/dynamics.h"
+#include "model/surface_contacts.h"
 
 namespace clothsim::gpu {
 namespace {
@@ -105,7 +106,8 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       reduce_pass_(make_pass(device_, "implicit_reduce", precision_, 3, kImplicitReduceWorkgroup)),
       iterate_pass_(make_pass(device_, "implicit_iterate", precision_, 12, kImplicitReduceWorkgroup)),
       setup_pass_(make_pass(device_, "implicit_setup", precision_, 13, kImplicitReduceWorkgroup)),
-      impulse_readback_(device_, 16, Memory::host_visible) {
+      impulse_readback_(device_, 16, Memory::host_visible),
+      contacts_input_(device_, 16, Memory::host_visible) {
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
   const std::array<std::uint64_t, array_count> bytes =
       array_bytes(element_counts(model), precision_, anchor_capacity_, false);
@@ -209,6 +211,7 @@ void DeviceImplicitEuler::record_buffers() {
     record_upload(commands, real_input_, arrays_[solve_real], real_input_.bytes());
     record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
     record_upload(commands, anchor_input_, arrays_[anchor_rows], anchor_input_.bytes());
+    record_upload(commands, contacts_input_, arrays_[surface_contacts], contacts_input_.bytes());
     dispatch(commands, linearize_pass_, 0, elements);
     dispatch(commands, setup_pass_, kSetupDisplacement, particles_);
     dispatch(commands, product_pass_, kProductStiffness, elements);
@@ -259,8 +262,7 @@ std::uint32_t DeviceImplicitEuler::output_uint(std::uint32_t slot) const {
 }
 
 double DeviceImplicitEuler::output_real(std::uint32_t slot) const {
-  const std::size_t real = real_size(precision_);
-  return reals_from_bytes(std::span(real_output_.mapped() + real * slot, real), precision_)[0];
+  return load_real(real_output_.mapped(), slot, precision_);
 }
 
 void DeviceImplicitEuler::upload_changes(const ClothState& state) {
@@ -298,37 +300,33 @@ void DeviceImplicitEuler::write_step(double h, double end_time) {
     bind_passes();
     record_buffers();
   }
-  std::vector<double> reals(kSolveReals, 0.0);
-  reals[kImplicitStep] = h;
-  reals[kStiffnessScale] = h * h;
-  reals[kDampingScale] = h;
-  reals[kRelativeResidual] = settings_.cg_tolerance;
-  const std::vector<std::byte> real_input = real_bytes(reals, precision_);
-  std::memcpy(real_input_.mapped(), real_input.data(), real_input.size());
+  // Written in place into the staging the step's first submission copies from: no allocation.
+  std::byte* reals = real_input_.mapped();
+  for (std::uint32_t slot = 0; slot < kSolveReals; ++slot) store_real(reals, slot, 0.0, precision_);
+  store_real(reals, kImplicitStep, h, precision_);
+  store_real(reals, kStiffnessScale, h * h, precision_);
+  store_real(reals, kDampingScale, h, precision_);
+  store_real(reals, kRelativeResidual, settings_.cg_tolerance, precision_);
   write_solve_counters();
   // Each anchor's path at the step's end: where its particle ends, how fast, and the acceleration
   // its power is taken with (ImplicitEuler::evaluate at the end).
-  std::vector<double> rows;
-  rows.reserve(model_.anchors.size() * kAnchorRowReals);
+  std::byte* rows = anchor_input_.mapped();
+  std::size_t index = 0;
   for (const Anchor& anchor : model_.anchors) {
     for (const Vec3& v :
          {anchor.path.position(end_time), anchor.path.velocity_at(end_time), anchor.path.acceleration(end_time)}) {
-      rows.insert(rows.end(), {v.x, v.y, v.z});
+      for (double component : {v.x, v.y, v.z}) store_real(rows, index++, component, precision_);
     }
-  }
-  if (!rows.empty()) {
-    const std::vector<std::byte> anchor_input = real_bytes(rows, precision_);
-    std::memcpy(anchor_input_.mapped(), anchor_input.data(), anchor_input.size());
   }
 }
 
 void DeviceImplicitEuler::write_solve_counters() {
-  std::vector<std::uint32_t> uints(kSolveUints, 0u);
+  std::array<std::uint32_t, kSolveUints> uints{};
   uints[kSolveConverged] = 1;
   uints[kMaxIterations] = static_cast<std::uint32_t>(settings_.cg_max_iterations);
   uints[kNonFiniteParticle] = kNoParticle;
   uints[kHolding] = holding_ ? 1 : 0;
-  std::memcpy(uint_input_.mapped(), uints.data(), uints.size() * 4);
+  std::memcpy(uint_input_.mapped(), uints.data(), sizeof uints);
 }
 
 int DeviceImplicitEuler::solve(VkCommandBuffer first) {
@@ -417,33 +415,34 @@ void DeviceImplicitEuler::upload_surface_contacts() {
     arrays_[surface_contacts] = Buffer(device_, std::uint64_t{particles_} * kContactReals * real, Memory::device_local);
     arrays_[impulse] = Buffer(device_, std::uint64_t{particles_} * 3 * real, Memory::device_local);
     impulse_readback_ = Buffer(device_, std::uint64_t{particles_} * 3 * real, Memory::host_visible);
+    contacts_input_ = Buffer(device_, std::uint64_t{particles_} * kContactReals * real, Memory::host_visible);
     release_buffers();
     bind_passes();
     record_buffers();
   }
+  // Into the staging the step's first submission copies from.
   const SurfaceContacts& contacts = *surface_contacts_;
-  std::vector<double> rows(std::size_t{particles_} * kContactReals, 0.0);
-  for (std::size_t p = 0; p < particles_; ++p) {
-    if (contacts.collider[p] == SurfaceContacts::kNone) continue;
-    double* row = &rows[kContactReals * p];
-    const Vec3& n = contacts.normal[p];
-    const Vec3& v = contacts.velocity[p];
-    std::copy_n(std::array<double, kContactReals>{n.x, n.y, n.z, v.x, v.y, v.z, contacts.friction[p], 1.0}.data(),
-                kContactReals, row);
-  }
-  upload(device_, arrays_[surface_contacts], real_bytes(rows, precision_));
+  std::byte* rows = contacts_input_.mapped();
+  parallel_for(particles_, options_.threads, [&](std::size_t p) {
+    const bool resting = contacts.collider[p] != SurfaceContacts::kNone;
+    const Vec3 n = resting ? contacts.normal[p] : Vec3{};
+    const Vec3 v = resting ? contacts.velocity[p] : Vec3{};
+    const std::array<double, kContactReals> row{
+        n.x, n.y, n.z, v.x, v.y, v.z, resting ? contacts.friction[p] : 0.0, resting ? 1.0 : 0.0};
+    for (std::size_t k = 0; k < kContactReals; ++k) store_real(rows, kContactReals * p + k, row[k], precision_);
+  });
 }
 
 void DeviceImplicitEuler::book_surface_impulses(ClothState& state) {
   // The impulse each held particle's surface exerted over the step (its normal part where held
   // along the normal; zero where not held), back to the collision stage for friction, and its work
   // with the end-of-step velocity like the other work integrals (ImplicitEuler::book_surface_impulses).
-  const std::vector<Vec3> impulses = vectors_from_bytes(
-      std::span(impulse_readback_.mapped(), std::size_t{particles_} * 3 * real_size(precision_)), precision_);
+  const std::byte* impulses = impulse_readback_.mapped();
   SurfaceContacts& contacts = *surface_contacts_;
   double work = 0.0;
   for (std::size_t p = 0; p < particles_; ++p) {
-    const Vec3& surface_impulse = impulses[p];
+    const Vec3 surface_impulse{load_real(impulses, 3 * p, precision_), load_real(impulses, 3 * p + 1, precision_),
+                               load_real(impulses, 3 * p + 2, precision_)};
     if (surface_impulse == Vec3{}) continue;
     contacts.impulse[p] = std::max(0.0, dot(contacts.normal[p], surface_impulse));
     work += dot(surface_impulse, state.velocity[p]);

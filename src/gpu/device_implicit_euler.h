@@ -161,6 +161,7 @@ class DeviceImplicitEuler final : public Integrator {
   VkCommandBuffer release_commands_ = VK_NULL_HANDLE, restart_commands_ = VK_NULL_HANDLE,
                   impulse_commands_ = VK_NULL_HANDLE;
   Buffer impulse_readback_;  // host-visible, sized with the impulse array
+  Buffer contacts_input_;    // host-visible, the surface contacts of the step's start (sized with them)
   bool holding_ = false;     // the last step held particles
 
   // Whether forces_'s force array holds f at the device's state (the last step's end).

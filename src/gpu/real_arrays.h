@@ -41,6 +41,28 @@ std::vector<std::byte> index_bytes(std::span<const Index> indices) {
   return bytes;
 }
 
+// The index-th Real of an array in the device's layout (a mapped host-visible buffer, say), in
+// place: no copy of the array.
+inline double load_real(const std::byte* reals, std::size_t index, Precision precision) {
+  if (precision == Precision::float64) {
+    double value = 0.0;
+    std::memcpy(&value, reals + 8 * index, 8);
+    return value;
+  }
+  float value = 0.0f;
+  std::memcpy(&value, reals + 4 * index, 4);
+  return static_cast<double>(value);
+}
+
+inline void store_real(std::byte* reals, std::size_t index, double value, Precision precision) {
+  if (precision == Precision::float64) {
+    std::memcpy(reals + 8 * index, &value, 8);
+  } else {
+    const float single = static_cast<float>(value);
+    std::memcpy(reals + 4 * index, &single, 4);
+  }
+}
+
 inline std::vector<double> reals_from_bytes(std::span<const std::byte> bytes, Precision precision) {
   std::vector<double> values(bytes.size() / real_size(precision));
   for (std::size_t i = 0; i < values.size(); ++i) {

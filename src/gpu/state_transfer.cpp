@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "core/parallel.h"
+#include "gpu/real_arrays.h"
 
 namespace clothsim::gpu {
 
@@ -43,16 +44,7 @@ void read_state(Device& device, const Buffer& position, const Buffer& velocity, 
     record_readback(commands, velocity, staging, bytes, bytes);
   });
   const std::byte* mapped = staging.mapped();
-  const auto read = [&](std::uint64_t offset, std::size_t index) {
-    if (precision == Precision::float64) {
-      double value = 0.0;
-      std::memcpy(&value, mapped + offset + 8 * index, 8);
-      return value;
-    }
-    float value = 0.0f;
-    std::memcpy(&value, mapped + offset + 4 * index, 4);
-    return static_cast<double>(value);
-  };
+  const auto read = [&](std::uint64_t offset, std::size_t index) { return load_real(mapped + offset, index, precision); };
   parallel_for(particles, threads, [&](std::size_t p) {
     state.position[p] = {read(0, 3 * p), read(0, 3 * p + 1), read(0, 3 * p + 2)};
     state.velocity[p] = {read(bytes, 3 * p), read(bytes, 3 * p + 1), read(bytes, 3 * p + 2)};
