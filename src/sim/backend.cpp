@@ -95,7 +95,9 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
 
 std::string backend_refusal(const std::string& unsupported, const BackendSettings& backend) {
   std::string message = "the " + std::string(to_string(backend.kind)) + " backend does not run " + unsupported;
-  if (backend.kind == Backend::vulkan) message += " yet; use backend cpu (docs/gpu.md lists what runs where)";
+  // A phrase with its own advice (after "; ") names what no backend runs; the rest the CPU runs.
+  const bool advised = unsupported.find("; ") != std::string::npos;
+  if (backend.kind == Backend::vulkan && !advised) message += " yet; use backend cpu (docs/gpu.md lists what runs where)";
   return message;
 }
 

@@ -68,7 +68,8 @@ BackendFeatures features_of(IntegratorKind kind);
 // implicit Euler runs in float64 only, on either backend.
 std::string unsupported_by_backend(const BackendFeatures& features, const BackendSettings& backend);
 
-// "the vulkan backend does not run <unsupported> yet; use backend cpu (...)".
+// "the vulkan backend does not run <unsupported> yet; use backend cpu (...)"; a phrase that carries
+// its own advice ("...; use precision float64 or auto") ends with it, on either backend.
 std::string backend_refusal(const std::string& unsupported, const BackendSettings& backend);
 
 // Thrown by make_backend_integrator for a backend that cannot run the simulation: a feature it
