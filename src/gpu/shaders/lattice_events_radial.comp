@@ -35,7 +35,7 @@ bool arm_broke(uint d, LatticeCell cell, uint p) {
   return (event_flags[cell.neighbour[d]] & (1u << (d - 2u))) != 0u;
 }
 
-shared Real sums[2][kReduceWorkgroup];
+#include "gpu/shaders/workgroup_sums.glsl"
 
 void main() {
   if (control_uint[kAccepted] == 0u) return;  // the same for the whole dispatch
@@ -74,20 +74,11 @@ void main() {
       atomicAdd(control_uint[kCreases], 1u);
     }
   }
-  const uint i = gl_LocalInvocationID.x;
-  sums[0][i] = fracture;
-  sums[1][i] = plastic;
-  barrier();
-  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
-    if (i < stride) {
-      sums[0][i] += sums[0][i + stride];
-      sums[1][i] += sums[1][i + stride];
-    }
-    barrier();
-  }
+  Real works[3] = Real[3](fracture, plastic, Real(0.0));
+  sum_over_workgroup(works);
   const uint group = workgroup_index();
-  if (i == 0u && group < constants.blocks) {
-    block_events[2u * group] = sums[0][0];
-    block_events[2u * group + 1u] = sums[1][0];
+  if (gl_LocalInvocationID.x == 0u && group < constants.blocks) {
+    block_events[2u * group] = workgroup_sum[0][0];
+    block_events[2u * group + 1u] = workgroup_sum[1][0];
   }
 }

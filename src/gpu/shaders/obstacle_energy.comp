@@ -111,31 +111,23 @@ Real earliest_arrival(uint p) {
   return arrival;
 }
 
-shared Real block_sum[3][kReduceWorkgroup];
+#include "gpu/shaders/workgroup_sums.glsl"
 
 void main() {
   if (control_uint[kAccepted] == 0u) return;  // the same for the whole dispatch
   const uint p = invocation_index();
-  const uint i = gl_LocalInvocationID.x;
-  block_sum[0][i] = Real(0.0);
-  block_sum[1][i] = Real(0.0);
-  block_sum[2][i] = kNoArrival;
+  // The energy change, the particles moved, the earliest arrival.
+  Real partial[3] = Real[3](Real(0.0), Real(0.0), kNoArrival);
   if (p < constants.particle_count) {
-    block_sum[0][i] = energy_change(p);
-    block_sum[1][i] = Real(moved[p]);
-    if (particle_anchor[p] < 0) block_sum[2][i] = earliest_arrival(p);
+    partial[0] = energy_change(p);
+    partial[1] = Real(moved[p]);
+    if (particle_anchor[p] < 0) partial[2] = earliest_arrival(p);
   }
-  barrier();
-  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
-    if (i < stride) {
-      block_sum[0][i] += block_sum[0][i + stride];
-      block_sum[1][i] += block_sum[1][i + stride];
-      block_sum[2][i] = min(block_sum[2][i], block_sum[2][i + stride]);
-    }
-    barrier();
-  }
-  if (i == 0u) {
+  reduce_over_workgroup(partial, true);
+  if (gl_LocalInvocationID.x == 0u) {
     const uint block = workgroup_index();
-    for (uint k = 0u; k < kObstacleBlockReals; ++k) block_obstacles[kObstacleBlockReals * block + k] = block_sum[k][0];
+    for (uint k = 0u; k < kObstacleBlockReals; ++k) {
+      block_obstacles[kObstacleBlockReals * block + k] = workgroup_sum[k][0];
+    }
   }
 }

@@ -26,7 +26,8 @@ layout(std430, binding = 9) writeonly buffer BlockWork { Real block_work[]; };  
 
 layout(push_constant) uniform Constants { AcceptPassConstants constants; };
 
-shared Real work_sum[3][kReduceWorkgroup];
+#include "gpu/shaders/workgroup_sums.glsl"
+
 
 void main() {
   if (control_uint[kAccepted] == 0u) return;  // the same for the whole dispatch
@@ -52,19 +53,10 @@ void main() {
     for (uint l = 0u; l < constants.stages; ++l) damping += rows[weights + l] * element_power[l * elements + index];
   }
   const Real h = control_real[kTakenStep];
-  const uint i = gl_LocalInvocationID.x;
-  work_sum[0][i] = h * damping;
-  work_sum[1][i] = h * drag;
-  work_sum[2][i] = h * anchor;
-  barrier();
-  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
-    if (i < stride) {
-      for (uint k = 0u; k < 3u; ++k) work_sum[k][i] += work_sum[k][i + stride];
-    }
-    barrier();
-  }
+  Real works[3] = Real[3](h * damping, h * drag, h * anchor);
+  sum_over_workgroup(works);
   const uint group = workgroup_index();
-  if (i == 0u && group < constants.blocks) {
-    for (uint k = 0u; k < 3u; ++k) block_work[3 * group + k] = work_sum[k][0];
+  if (gl_LocalInvocationID.x == 0u && group < constants.blocks) {
+    for (uint k = 0u; k < 3u; ++k) block_work[3 * group + k] = workgroup_sum[k][0];
   }
 }

@@ -125,26 +125,7 @@ void add_compensated(uint slot, Real value) {
   control_real[slot] = t;
 }
 
-shared Real work_sum[3][kReduceWorkgroup];
-
-// Reduces the workgroup's three partial values per invocation into work_sum[k][0]: sums, or for
-// the third a minimum where `third_is_least`. A tree in shared memory, in a fixed order, so the
-// result does not depend on scheduling. Every invocation calls it.
-void reduce_partials(Real partial[3], bool third_is_least) {
-  const uint i = gl_LocalInvocationID.x;
-  barrier();  // work_sum is free: a reduction before this one has been read
-  for (uint k = 0u; k < 3u; ++k) work_sum[k][i] = partial[k];
-  barrier();
-  for (uint stride = kReduceWorkgroup / 2u; stride > 0u; stride /= 2u) {
-    if (i < stride) {
-      work_sum[0][i] += work_sum[0][i + stride];
-      work_sum[1][i] += work_sum[1][i + stride];
-      work_sum[2][i] = third_is_least ? min(work_sum[2][i], work_sum[2][i + stride])
-                                      : work_sum[2][i] + work_sum[2][i + stride];
-    }
-    barrier();
-  }
-}
+#include "gpu/shaders/workgroup_sums.glsl"
 
 // Work k of block `block`: phase 1's three from rk_accept, phase 2's two from the events.
 Real block_value(uint block, uint k) {
@@ -159,9 +140,9 @@ void collect_work() {
   for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
     for (uint k = 0u; k < count; ++k) sums[k] += block_value(block, k);
   }
-  reduce_partials(sums, false);
+  reduce_over_workgroup(sums, false);
   if (i == 0u) {
-    for (uint k = 0u; k < count; ++k) add_compensated(kWork + 2u * (first + k), work_sum[k][0]);
+    for (uint k = 0u; k < count; ++k) add_compensated(kWork + 2u * (first + k), workgroup_sum[k][0]);
   }
 }
 
@@ -176,15 +157,15 @@ void collect_obstacles() {
     partial[1] += block_obstacles[kObstacleBlockReals * block + 1u];
     partial[2] = min(partial[2], block_obstacles[kObstacleBlockReals * block + 2u]);
   }
-  reduce_partials(partial, true);
+  reduce_over_workgroup(partial, true);
   if (i == 0u) {
-    add_compensated(kWork + 2u * kContactWork, work_sum[0][0]);
-    const uint contacts = uint(work_sum[1][0]);
+    add_compensated(kWork + 2u * kContactWork, workgroup_sum[0][0]);
+    const uint contacts = uint(workgroup_sum[1][0]);
     control_uint[kContacts] = contacts;
     control_uint[kContactSteps] += contacts;
     control_uint[kMostContacts] = max(control_uint[kMostContacts], contacts);
     const Real elapsed = control_real[kElapsed];
-    const Real earliest = work_sum[2][0];  // s from now
+    const Real earliest = workgroup_sum[2][0];  // s from now
     const Real arrival = elapsed + earliest;
     const bool limits = earliest < Real(CLOTHSIM_NO_ARRIVAL) && arrival > elapsed;
     control_real[kArrival] = limits ? arrival : Real(CLOTHSIM_NO_ARRIVAL);
