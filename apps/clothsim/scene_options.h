@@ -52,9 +52,9 @@ inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
      "files for other tools, comma-separated: pc2 (animation.pc2 and rest.obj), obj-sequence (frames/*.obj), gltf "
      "(final.glb), gltf-animation (animation.glb: every frame, as glTF morph targets); none"},
     {"--backend", "backend", "cpu|vulkan",
-     "where the steps run: cpu (every feature), or vulkan (rkf45, rk4 and symplectic-euler on a Vulkan device, "
-     "tearing, plasticity and creasing included; implicit-euler, imex and collisions run on the cpu only: "
-     "docs/gpu.md)"},
+     "where the steps run: cpu (every feature), or vulkan (rkf45, rk4, symplectic-euler and implicit-euler on a "
+     "Vulkan device, with tearing, plasticity, creasing and obstacles; self-collision runs on the cpu between the "
+     "device's steps, imex on the cpu only: docs/gpu.md)"},
     {"--device", "device", "N", "the Vulkan device of --backend vulkan, as 'clothsim devices' lists them"},
     {"--precision", "precision", "float64|float32|auto",
      "arithmetic of the forces: float64 (the cpu default), float32 (the vulkan default; on the cpu, float32 springs "

@@ -72,6 +72,10 @@ std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(con
   contents[A::particle_mass] = real_bytes(model.particle_mass, precision);
   contents[A::environment] = real_bytes(environment_values, precision);
   if (path == DeviceForcePath::lattice) return contents;
+  if (precision == Precision::float32) {
+    contents[A::origin_position] = contents[A::origin_velocity] =
+        std::vector<std::byte>(std::size_t{3} * model.particle_count() * real_size(precision));
+  }
   GatherTable gather;
   gather.build(model);
   contents[A::gather_offset] = index_bytes(std::span<const std::uint32_t>(gather.offset));
@@ -118,6 +122,9 @@ std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const LatticeCo
   bytes[A::radial_fade_length] = 2 * radials * real;
   bytes[A::radial_active] = radials * 4;
   bytes[A::position] = bytes[A::velocity] = bytes[A::force] = particles * 3 * real;
+  // Read in float32 only (gpu/shaders/stage_offsets.glsl).
+  bytes[A::origin_position] = bytes[A::origin_velocity] =
+      precision == Precision::float32 ? particles * 3 * real : kPlaceholderBytes;
   bytes[A::slot_force] = slots * 3 * real;
   bytes[A::element_power] = (connectors + radials) * power_slots * real;
   bytes[A::block_power] = (connectors + radials + kReductionBlock - 1) / kReductionBlock * real;
@@ -160,9 +167,9 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
       particles_(count32(model.particle_count(), "particles")),
       connectors_(count32(model.connector_count(), "connectors")),
       radials_(count32(model.radial_count(), "radial springs")),
-      connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)), 9,
+      connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)), 11,
                       sizeof(ElementPassConstants)),
-      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), 10,
+      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), 12,
                    sizeof(ElementPassConstants)),
       gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
       sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
@@ -175,12 +182,21 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
     for (Array a : list) buffers.push_back(&arrays_[a]);
     pipeline.bind(buffers);
   };
-  bind(connector_pass_, {position, velocity, connector_particles, connector_rest_length, connector_stiffness,
-                         connector_damping, connector_active, slot_force, element_power});
-  bind(radial_pass_, {position, velocity, radial_particles, radial_rest_angle, radial_stiffness, radial_damping,
-                      radial_fade_length, radial_active, slot_force, element_power});
+  read_origin_from(arrays_[origin_position], arrays_[origin_velocity]);
   bind(gather_pass_, {velocity, particle_mass, environment, gather_offset, gather_slot, slot_force, force});
   bind(sum_pass_, {element_power, block_power, damping_power});
+}
+
+void DeviceForces::read_origin_from(const Buffer& origin_position_array, const Buffer& origin_velocity_array) {
+  const auto own = [&](Array a) { return &arrays_[a]; };
+  connector_pass_.bind(std::vector<const Buffer*>{
+      own(position), own(velocity), own(connector_particles), own(connector_rest_length), own(connector_stiffness),
+      own(connector_damping), own(connector_active), own(slot_force), own(element_power), &origin_position_array,
+      &origin_velocity_array});
+  radial_pass_.bind(std::vector<const Buffer*>{
+      own(position), own(velocity), own(radial_particles), own(radial_rest_angle), own(radial_stiffness),
+      own(radial_damping), own(radial_fade_length), own(radial_active), own(slot_force), own(element_power),
+      &origin_position_array, &origin_velocity_array});
 }
 
 void DeviceForces::upload_model(const ClothModel& model) {

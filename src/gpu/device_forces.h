@@ -11,7 +11,9 @@
 // evaluate() uploads a state and reads the forces back: what tests/gpu holds against the CPU.
 // The device step (device_integrator.h) keeps its state on the device instead: it writes each
 // stage's state into this class's `position` and `velocity` arrays, records the element passes
-// into its own command buffers (record_element_passes), and gathers the slots itself.
+// into its own command buffers (record_element_passes), and gathers the slots itself. In float32
+// the stage arrays hold offsets from the step's start, which the element passes then read from
+// the step's own state arrays (read_origin_from; gpu/shaders/stage_offsets.glsl).
 //
 // The lattice path of the device step (lattice_elements, device_integrator.h) evaluates each
 // particle's springs from its own arrays and reads only the stage state, the masses and the
@@ -65,6 +67,11 @@ class DeviceForces {
   // device itself (the lattice path's events), in arrays this class's general path does not share.
   void adopt_revision(std::uint64_t revision) { model_revision_ = revision; }
 
+  // The arrays the element passes add the stage arrays to in float32 (gpu/shaders/stage_offsets.glsl):
+  // a device step's state at the step's start. Until then, and for evaluate(), arrays of zeros
+  // here, so that `position` and `velocity` are the state itself.
+  void read_origin_from(const Buffer& origin_position, const Buffer& origin_velocity);
+
   // Records the connector and radial passes on `position` and `velocity`: every element's force
   // slots, and its damping power into element_power's set `power_slot`. The general path only.
   void record_element_passes(VkCommandBuffer commands, std::uint32_t power_slot) const;
@@ -83,6 +90,8 @@ class DeviceForces {
   enum Array : std::uint32_t {
     position,
     velocity,
+    origin_position,  // zeros (float32, the general path; else a placeholder): read_origin_from()
+    origin_velocity,
     particle_mass,
     environment,
     gather_offset,

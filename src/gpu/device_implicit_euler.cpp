@@ -284,7 +284,7 @@ void DeviceImplicitEuler::upload_changes(const ClothState& state) {
 }
 
 void DeviceImplicitEuler::read_state(ClothState& state) {
-  gpu::read_state(device_, forces_.buffer(DeviceForces::position), forces_.buffer(DeviceForces::velocity),
+  gpu::read_state(device_, {&forces_.buffer(DeviceForces::position)}, {&forces_.buffer(DeviceForces::velocity)},
                   state_readback_, precision_, options_.threads, state);
   exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
 }

@@ -109,6 +109,7 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   std::array<std::uint64_t, A::array_count> bytes{};
   bytes[A::state_position] = bytes[A::state_velocity] = bytes[A::trial_position] = bytes[A::trial_velocity] =
       3 * n * real;
+  bytes[A::state_position_low] = bytes[A::state_velocity_low] = precision == Precision::float32 ? 3 * n * real : real;
   bytes[A::acceleration] = s * 3 * n * real;
   bytes[A::rows] = (s + 2) * kRowReals * real;
   bytes[A::control_real] = kControlReals * real;
@@ -118,7 +119,7 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kPathReals * real;
   bytes[A::block_error] = workgroups_of(n) * real;
   bytes[A::block_particle] = workgroups_of(n) * 4;
-  bytes[A::particle_power] = s * 3 * n * real;
+  bytes[A::particle_power] = 3 * n * real;
   bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
   bytes[A::lattice_params] = n * kLatticeParams * real;
   bytes[A::lattice_forces] = n * kLatticeForces * real;
@@ -166,18 +167,20 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       anchor_capacity_(anchor_capacity_for(model.anchors.size())),
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
-      state_readback_(device_, std::uint64_t{particles_} * 6 * real_size(precision_), Memory::host_visible),
-      stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 10, sizeof(StagePassConstants))),
-      lattice_pass_(make_pass(device_, "lattice_elements", precision_, 7, sizeof(LatticePassConstants))),
-      acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 15, sizeof(StagePassConstants))),
-      solution_pass_(make_pass(device_, "rk_solution", precision_, 12, sizeof(StagePassConstants), kReduceWorkgroup)),
+      state_readback_(device_, std::uint64_t{particles_} * (precision_ == Precision::float32 ? 12 : 6) *
+                                   real_size(precision_),
+                      Memory::host_visible),
+      stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
+      lattice_pass_(make_pass(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
+      acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 16, sizeof(StagePassConstants))),
+      solution_pass_(make_pass(device_, "rk_solution", precision_, 16, sizeof(StagePassConstants), kReduceWorkgroup)),
       control_pass_(make_pass(device_, "rk_control", precision_, 7, sizeof(ReducePassConstants), kReduceWorkgroup)),
       events_connectors_pass_(
           make_pass(device_, "lattice_events_connectors", precision_, 7, sizeof(EventPassConstants))),
       events_radial_pass_(
           make_pass(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants), kReduceWorkgroup)),
-      accept_pass_(make_pass(device_, "rk_accept", precision_, 10, sizeof(AcceptPassConstants), kReduceWorkgroup)),
-      obstacle_contacts_pass_(make_pass(device_, "obstacle_contacts", precision_, 11, sizeof(ObstaclePassConstants))),
+      accept_pass_(make_pass(device_, "rk_accept", precision_, 14, sizeof(AcceptPassConstants), kReduceWorkgroup)),
+      obstacle_contacts_pass_(make_pass(device_, "obstacle_contacts", precision_, 13, sizeof(ObstaclePassConstants))),
       obstacle_energy_pass_(
           make_pass(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants), kReduceWorkgroup)) {
   if (!lattice_ && model.limits.changes_sheet()) {
@@ -200,23 +203,31 @@ void DeviceIntegrator::bind_passes() {
   };
   const auto own = [&](Array a) { return &arrays_[a]; };
   const auto forces = [&](F::Array a) { return &forces_.buffer(a); };
+  // float32: the trial state's low parts, in the stage arrays (free from rk_solution on).
+  const auto trial_low = forces;
   bind(stage_state_pass_,
        {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real), own(control_uint),
-        own(particle_anchor), own(anchor_paths), forces(F::position), forces(F::velocity)});
+        own(particle_anchor), own(anchor_paths), forces(F::position), forces(F::velocity), own(state_position_low),
+        own(state_velocity_low)});
   bind(acceleration_pass_, {forces(F::velocity), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
                             forces(F::gather_offset), forces(F::gather_slot), forces(F::slot_force), own(rows),
                             own(control_real), own(control_uint), own(particle_anchor), own(anchor_paths),
-                            own(acceleration), own(particle_power), own(lattice_forces)});
+                            own(acceleration), own(particle_power), own(lattice_forces), own(state_velocity)});
+  // The force passes read the stage as offsets from the state in float32 (shaders/stage_offsets.glsl).
   bind(lattice_pass_, {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces),
-                       own(particle_power), own(control_uint), own(event_params)});
+                       own(particle_power), own(control_uint), own(event_params), own(state_position),
+                       own(state_velocity), own(rows)});
+  if (!lattice_) forces_.read_origin_from(arrays_[state_position], arrays_[state_velocity]);
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
-                        own(trial_velocity), own(block_error), own(block_particle)});
+                        own(trial_velocity), own(block_error), own(block_particle), own(state_position_low),
+                        own(state_velocity_low), trial_low(F::position), trial_low(F::velocity)});
   bind(control_pass_, {own(control_real), own(control_uint), own(block_error), own(block_particle), own(block_work),
                        own(block_events), own(block_obstacles)});
   bind(obstacle_contacts_pass_, {own(control_real), own(control_uint), own(state_position), own(trial_position),
                                  own(trial_velocity), own(particle_anchor), own(colliders), own(contact_before),
-                                 own(moved), own(mesh_reals), own(mesh_uints)});
+                                 own(moved), own(mesh_reals), own(mesh_uints), trial_low(F::position),
+                                 trial_low(F::velocity)});
   bind(obstacle_energy_pass_, {own(control_real), own(control_uint), own(trial_position), own(trial_velocity),
                                own(contact_before), own(moved), own(particle_anchor), own(colliders),
                                forces(F::particle_mass), forces(F::environment), own(lattice_params),
@@ -227,7 +238,8 @@ void DeviceIntegrator::bind_passes() {
                              own(event_flags), own(control_uint), own(block_events)});
   bind(accept_pass_,
        {own(control_real), own(control_uint), own(trial_position), own(trial_velocity), own(state_position),
-        own(state_velocity), forces(F::element_power), own(particle_power), own(rows), own(block_work)});
+        own(state_velocity), forces(F::element_power), own(particle_power), own(rows), own(block_work),
+        trial_low(F::position), trial_low(F::velocity), own(state_position_low), own(state_velocity_low)});
 }
 
 DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with the device's pool
@@ -241,7 +253,8 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
     stage_state_pass_.dispatch(commands, &stage, particles_);
     timer.mark(commands, StepStage::stage_sums);
     if (lattice_) {
-      const LatticePassConstants lattice{particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i};
+      const LatticePassConstants lattice{particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i,
+                                         stages};
       lattice_pass_.dispatch(commands, &lattice, particles_);
     } else {
       forces_.record_element_passes(commands, i);
@@ -315,8 +328,18 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
   }
   const std::uint64_t fingerprint = state_fingerprint(state, options_.threads);
   if (model_changed || fingerprint != exchanged_fingerprint_) {
-    upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
-    upload(device_, arrays_[state_velocity], vector_bytes(state.velocity, precision_));
+    if (precision_ == Precision::float32) {
+      // Two floats a coordinate (shaders/split_state.glsl).
+      const SplitVectors position = split_vectors(state.position);
+      const SplitVectors velocity = split_vectors(state.velocity);
+      upload(device_, arrays_[state_position], position.high);
+      upload(device_, arrays_[state_position_low], position.low);
+      upload(device_, arrays_[state_velocity], velocity.high);
+      upload(device_, arrays_[state_velocity_low], velocity.low);
+    } else {
+      upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
+      upload(device_, arrays_[state_velocity], vector_bytes(state.velocity, precision_));
+    }
     exchanged_fingerprint_ = fingerprint;
     exchanged_ = true;
   }
@@ -339,8 +362,10 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
 }
 
 void DeviceIntegrator::read_state(ClothState& state) {
-  gpu::read_state(device_, arrays_[state_position], arrays_[state_velocity], state_readback_, precision_,
-                  options_.threads, state);
+  const bool split = precision_ == Precision::float32;
+  gpu::read_state(device_, {&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr},
+                  {&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr}, state_readback_,
+                  precision_, options_.threads, state);
 }
 
 // An advance, as named stages: what changed goes up, the first step is chosen as on the CPU, the
@@ -497,6 +522,10 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
   const double index = 4.0;
   const auto stages = static_cast<std::size_t>(tableau_.stages);
   const std::vector<double> row_reals = nystrom_rows(tableau_);
+  // float32: the stages as offsets from the state (shaders/stage_offsets.glsl), the state as two
+  // floats a coordinate (shaders/split_state.glsl).
+  const double origin = precision_ == Precision::float32 ? 6.0 : 0.0;
+  const double low = precision_ == Precision::float32 ? 6.0 : 0.0;
   double reals = 0.0;
   double indices = 0.0;
   for (std::size_t i = 0; i < stages; ++i) {
@@ -507,21 +536,23 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
       const std::size_t row = i * kRowReals;
       if (row_reals[row + 1 + l] != 0.0 || row_reals[row + 1 + kMaxDeviceStages + l] != 0.0) ++weighed;
     }
-    reals += 6 + 6 + 3 * static_cast<double>(weighed);
+    reals += 6 + low + 6 + 3 * static_cast<double>(weighed);
     indices += 1;  // the particle's anchor
-    // lattice_elements: the stage state, the particle's spring parameters and its two connectors'
-    // original lengths in; its force and its four neighbours' shares, and its damping power, out.
-    reals += 6 + kLatticeParams + 2 + kLatticeForces + 1;
-    // stage_acceleration: the stage velocity, mass and inverse mass, the forces gathered, the
-    // acceleration out, the drag and anchor powers out and the damping power read.
-    reals += 3 + 1 + 1 + kLatticeForces + 3 + 3;
+    // lattice_elements: the stage state (in float32 its offsets, and the state they are from), the
+    // particle's spring parameters and its two connectors' original lengths in; its force and its
+    // four neighbours' shares out, and its damping power sum read and written.
+    reals += 6 + origin + kLatticeParams + 2 + kLatticeForces + 2;
+    // stage_acceleration: the stage velocity (in float32 its offset and the state's), mass and
+    // inverse mass, the forces gathered, the acceleration out, the drag and anchor power sums
+    // read and written.
+    reals += 3 + origin / 2 + 1 + 1 + kLatticeForces + 3 + 4;
     indices += 1;
   }
   // rk_solution: the state and every stage's acceleration in, the trial state out.
-  reals += 12 + 3 * static_cast<double>(stages);
+  reals += 12 + 2 * low + 3 * static_cast<double>(stages);
   indices += 1;
-  // rk_accept: the trial state in, the state out, every stage's three powers in.
-  reals += 12 + 3 * static_cast<double>(stages);
+  // rk_accept: the trial state in, the state out, the three power sums in.
+  reals += 12 + 2 * low + 3;
   if (runs_obstacle_contacts()) {
     // obstacle_contacts: the step's start and the trial state in, the moved flag out and, for a
     // moved particle, its state before the pass and after it (counted as if every particle moved).

@@ -123,7 +123,8 @@ class DeviceIntegrator final : public Integrator {
     trial_velocity,   // [3 particles]
     block_error,      // [solution workgroups]
     block_particle,   // [solution workgroups], uint
-    particle_power,   // [stages][3][particles], W: drag, anchor, damping (the lattice path)
+    particle_power,   // [3][particles], W: drag, anchor, damping (the lattice path), each weighed by the
+                      // solution row and summed over the stages (shaders/device_step.h)
     block_work,       // [accept workgroups][3], J
     lattice_params,   // [particles][kLatticeParams] (the lattice path)
     lattice_forces,   // [particles][kLatticeForces] (the lattice path)
@@ -137,6 +138,10 @@ class DeviceIntegrator final : public Integrator {
     block_obstacles,  // [workgroups][kObstacleBlockReals] (one Real without colliders)
     mesh_reals,       // mesh colliders' vectors (device_step.h, kMeshHeaderUints; one Real without)
     mesh_uints,       // [colliders][kMeshHeaderUints], then mesh colliders' indices (one word without colliders)
+    // float32: the state's low parts (shaders/split_state.glsl; one Real in float64). The trial
+    // state's are DeviceForces' stage arrays, free from rk_solution to the next attempt's stages.
+    state_position_low,
+    state_velocity_low,
     array_count
   };
 

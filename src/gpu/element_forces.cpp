@@ -11,9 +11,11 @@
 namespace clothsim::gpu {
 namespace {
 
-// The shaders' binding lists: the inputs, the active flags, then 2 outputs.
-constexpr std::uint32_t kConnectorBindings = 9;
-constexpr std::uint32_t kRadialBindings = 10;
+// The shaders' binding lists: the inputs, the active flags, 2 outputs, then the state the stage
+// arrays are offsets from in float32 (shaders/stage_offsets.glsl): zeros here, so that the
+// positions and velocities are read as they are.
+constexpr std::uint32_t kConnectorBindings = 11;
+constexpr std::uint32_t kRadialBindings = 12;
 
 std::uint32_t element_count(std::size_t count, bool arrays_agree, const char* what) {
   if (!arrays_agree) throw GpuError(std::string(what) + ": the element arrays differ in length");
@@ -43,10 +45,10 @@ ElementForces ElementForcePasses::run(ComputePipeline& pipeline, std::span<const
   const std::uint64_t power_bytes = std::uint64_t{count} * real;
   std::uint64_t total = slot_bytes + power_bytes;
   for (const std::vector<std::byte>& input : inputs) total += input.size();
-  total += std::uint64_t{count} * 4;  // the active flags
+  total += std::uint64_t{count} * 4 + 2 * inputs[0].size();  // the active flags, the zero origins
   device_.require_memory(total, "the element force pass");
 
-  const std::size_t bindings = inputs.size() + 3;
+  const std::size_t bindings = inputs.size() + 5;
   std::vector<Buffer> buffers;
   buffers.reserve(bindings);
   for (const std::vector<std::byte>& input : inputs) {
@@ -59,6 +61,11 @@ ElementForces ElementForcePasses::run(ComputePipeline& pipeline, std::span<const
   upload(device_, buffers.back(), std::as_bytes(std::span(active)));
   buffers.emplace_back(device_, slot_bytes, Memory::device_local);
   buffers.emplace_back(device_, power_bytes, Memory::device_local);
+  const std::vector<std::byte> zeros(inputs[0].size());  // as many as the positions
+  for (int origin = 0; origin < 2; ++origin) {
+    buffers.emplace_back(device_, zeros.size(), Memory::device_local);
+    upload(device_, buffers.back(), zeros);
+  }
   std::vector<const Buffer*> bound;
   for (const Buffer& buffer : buffers) bound.push_back(&buffer);
   pipeline.bind(bound);
@@ -68,8 +75,8 @@ ElementForces ElementForcePasses::run(ComputePipeline& pipeline, std::span<const
 
   std::vector<std::byte> slot_result(slot_bytes);
   std::vector<std::byte> power_result(power_bytes);
-  download(device_, buffers[bindings - 2], slot_result);
-  download(device_, buffers[bindings - 1], power_result);
+  download(device_, buffers[inputs.size() + 1], slot_result);
+  download(device_, buffers[inputs.size() + 2], power_result);
   ElementForces forces;
   forces.slot_force = vectors_from_bytes(slot_result, precision_);
   forces.element_power = reals_from_bytes(power_result, precision_);

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <cstring>
@@ -82,6 +83,47 @@ inline std::vector<Vec3> vectors_from_bytes(std::span<const std::byte> bytes, Pr
   std::vector<Vec3> vectors(reals.size() / 3);
   for (std::size_t i = 0; i < vectors.size(); ++i) vectors[i] = {reals[3 * i], reals[3 * i + 1], reals[3 * i + 2]};
   return vectors;
+}
+
+// x as the device's float32 state holds it (shaders/split_state.glsl's canonical_split): the
+// float nearest x, and the rest on the 2^-48 grid of its binade. For a double that came from the
+// device (high + low), the same two floats.
+struct SplitFloat {
+  float high;
+  float low;
+};
+
+inline SplitFloat split_real(double x) {
+  float high = static_cast<float>(x);
+  if (std::abs(high) < 0x1p-60f) return {high, 0.0f};
+  int binade = 0;
+  std::frexp(high, &binade);
+  const double rest = x - static_cast<double>(high);  // exact
+  double low = std::ldexp(std::nearbyint(std::ldexp(rest, 48 - binade)), binade - 48);
+  const auto nearest = static_cast<float>(static_cast<double>(high) + low);  // the sum is exact
+  if (nearest != high) {
+    low -= static_cast<double>(nearest) - static_cast<double>(high);
+    high = nearest;
+  }
+  return {high, static_cast<float>(low)};
+}
+
+// Vectors split into two float arrays in the device's layout (3 floats a vector each).
+struct SplitVectors {
+  std::vector<std::byte> high, low;
+};
+
+inline SplitVectors split_vectors(std::span<const Vec3> vectors) {
+  SplitVectors split{std::vector<std::byte>(vectors.size() * 12), std::vector<std::byte>(vectors.size() * 12)};
+  for (std::size_t i = 0; i < vectors.size(); ++i) {
+    const double components[3] = {vectors[i].x, vectors[i].y, vectors[i].z};
+    for (std::size_t k = 0; k < 3; ++k) {
+      const SplitFloat value = split_real(components[k]);
+      std::memcpy(split.high.data() + 4 * (3 * i + k), &value.high, 4);
+      std::memcpy(split.low.data() + 4 * (3 * i + k), &value.low, 4);
+    }
+  }
+  return split;
 }
 
 }  // namespace clothsim::gpu

@@ -33,18 +33,28 @@ std::uint64_t state_fingerprint(const ClothState& state, int threads) {
   return hash;
 }
 
-void read_state(Device& device, const Buffer& position, const Buffer& velocity, const Buffer& staging,
-                Precision precision, int threads, ClothState& state) {
-  // Both arrays in one submission into the persistent staging buffer, then converted to doubles
-  // by every thread: a 1024 x 1024 sheet's 48 MB each frame.
+void read_state(Device& device, StateArray position, StateArray velocity, const Buffer& staging, Precision precision,
+                int threads, ClothState& state) {
+  // Every array in one submission into the persistent staging buffer (highs, then the low parts
+  // where there are any), then converted to doubles by every thread: a 1024 x 1024 sheet's 48 MB
+  // each frame.
   const std::size_t particles = state.position.size();
   const std::uint64_t bytes = std::uint64_t{particles} * 3 * real_size(precision);
+  const bool split = position.low != nullptr && velocity.low != nullptr;
   device.submit([&](VkCommandBuffer commands) {
-    record_readback(commands, position, staging, bytes, 0);
-    record_readback(commands, velocity, staging, bytes, bytes);
+    record_readback(commands, *position.high, staging, bytes, 0);
+    record_readback(commands, *velocity.high, staging, bytes, bytes);
+    if (split) {
+      record_readback(commands, *position.low, staging, bytes, 2 * bytes);
+      record_readback(commands, *velocity.low, staging, bytes, 3 * bytes);
+    }
   });
   const std::byte* mapped = staging.mapped();
-  const auto read = [&](std::uint64_t offset, std::size_t index) { return load_real(mapped + offset, index, precision); };
+  // high + low is exact in double (split_state.glsl).
+  const auto read = [&](std::uint64_t offset, std::size_t index) {
+    const double high = load_real(mapped + offset, index, precision);
+    return split ? high + load_real(mapped + offset + 2 * bytes, index, precision) : high;
+  };
   parallel_for(particles, threads, [&](std::size_t p) {
     state.position[p] = {read(0, 3 * p), read(0, 3 * p + 1), read(0, 3 * p + 2)};
     state.velocity[p] = {read(bytes, 3 * p), read(bytes, 3 * p + 1), read(bytes, 3 * p + 2)};

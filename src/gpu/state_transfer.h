@@ -16,9 +16,16 @@ namespace clothsim::gpu {
 // the blocks' hashes combined in order), instead of a copy of the state.
 std::uint64_t state_fingerprint(const ClothState& state, int threads);
 
-// Copies `position` and `velocity` (3 Reals per particle each) into `staging` (host-visible, both
-// arrays' bytes) in one submission and converts them into the state's doubles on `threads` threads.
-void read_state(Device& device, const Buffer& position, const Buffer& velocity, const Buffer& staging,
-                Precision precision, int threads, ClothState& state);
+// A state array on the device: 3 Reals per particle, and in float32 optionally their low parts
+// (shaders/split_state.glsl), the value being high + low.
+struct StateArray {
+  const Buffer* high = nullptr;
+  const Buffer* low = nullptr;
+};
+
+// Copies `position` and `velocity` into `staging` (host-visible, every array's bytes) in one
+// submission and converts them into the state's doubles on `threads` threads.
+void read_state(Device& device, StateArray position, StateArray velocity, const Buffer& staging, Precision precision,
+                int threads, ClothState& state);
 
 }  // namespace clothsim::gpu

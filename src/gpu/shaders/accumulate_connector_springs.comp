@@ -21,11 +21,13 @@ layout(std430, binding = 5) readonly buffer Damping { Real connector_damping[]; 
 layout(std430, binding = 6) readonly buffer Active { uint connector_active[]; };  // 1: live and its term on
 layout(std430, binding = 7) writeonly buffer SlotForce { Real slot_force[]; };  // [3 force_slot_count], N
 layout(std430, binding = 8) writeonly buffer ElementPower { Real element_power[]; };  // [connectors + radials], W
+layout(std430, binding = 9) readonly buffer OriginPosition { Real origin_position[]; };  // the step's start, m
+layout(std430, binding = 10) readonly buffer OriginVelocity { Real origin_velocity[]; };  // m/s
 
 layout(push_constant) uniform Constants { ElementPassConstants constants; };
 
-Vec3 particle_position(uint i) { return Vec3(position[3 * i], position[3 * i + 1], position[3 * i + 2]); }
-Vec3 particle_velocity(uint i) { return Vec3(velocity[3 * i], velocity[3 * i + 1], velocity[3 * i + 2]); }
+#include "gpu/shaders/stage_offsets.glsl"
+
 void store_slot(uint slot, Vec3 force) {
   slot_force[3 * slot] = force.x;
   slot_force[3 * slot + 1] = force.y;
@@ -45,8 +47,10 @@ void main() {
   const uint a = connector_particles[2 * e];
   const uint b = connector_particles[2 * e + 1];
   const Real damping = constants.damped != 0u ? connector_damping[e] : Real(0.0);
-  const ConnectorForce f = connector_force(particle_position(a), particle_position(b), particle_velocity(a),
-                                           particle_velocity(b), connector_rest_length[e], connector_stiffness[e], damping);
+  // Near a: in float32, relative to a (stage_offsets.glsl).
+  const ConnectorForce f =
+      connector_force(stage_position_near(a, a), stage_position_near(b, a), stage_velocity_near(a, a),
+                      stage_velocity_near(b, a), connector_rest_length[e], connector_stiffness[e], damping);
   store_slot(slot, f.force_on_a);
   store_slot(slot + 1, -f.force_on_a);
   element_power[constants.power_base + e] = f.damping_power;

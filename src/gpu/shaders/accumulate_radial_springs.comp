@@ -23,11 +23,13 @@ layout(std430, binding = 6) readonly buffer FadeLength { Real radial_fade_length
 layout(std430, binding = 7) readonly buffer Active { uint radial_active[]; };  // 1: live and its term on
 layout(std430, binding = 8) writeonly buffer SlotForce { Real slot_force[]; };  // [3 force_slot_count], N
 layout(std430, binding = 9) writeonly buffer ElementPower { Real element_power[]; };  // [connectors + radials], W
+layout(std430, binding = 10) readonly buffer OriginPosition { Real origin_position[]; };  // the step's start, m
+layout(std430, binding = 11) readonly buffer OriginVelocity { Real origin_velocity[]; };  // m/s
 
 layout(push_constant) uniform Constants { ElementPassConstants constants; };
 
-Vec3 particle_position(uint i) { return Vec3(position[3 * i], position[3 * i + 1], position[3 * i + 2]); }
-Vec3 particle_velocity(uint i) { return Vec3(velocity[3 * i], velocity[3 * i + 1], velocity[3 * i + 2]); }
+#include "gpu/shaders/stage_offsets.glsl"
+
 void store_slot(uint slot, Vec3 force) {
   slot_force[3 * slot] = force.x;
   slot_force[3 * slot + 1] = force.y;
@@ -49,8 +51,10 @@ void main() {
   const uint b = radial_particles[3 * r + 1];
   const uint c = radial_particles[3 * r + 2];
   const Real damping = constants.damped != 0u ? radial_damping[r] : Real(0.0);
-  const RadialForce f = radial_force(particle_position(centre), particle_position(b), particle_position(c),
-                                     particle_velocity(centre), particle_velocity(b), particle_velocity(c),
+  // Near the centre: in float32, relative to it (stage_offsets.glsl).
+  const RadialForce f = radial_force(stage_position_near(centre, centre), stage_position_near(b, centre),
+                                     stage_position_near(c, centre), stage_velocity_near(centre, centre),
+                                     stage_velocity_near(b, centre), stage_velocity_near(c, centre),
                                      radial_rest_angle[r], radial_stiffness[r], damping, radial_fade_length[2 * r],
                                      radial_fade_length[2 * r + 1]);
   store_slot(slot, -(f.force_on_b + f.force_on_c));

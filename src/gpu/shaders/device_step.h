@@ -6,6 +6,8 @@
 // that a step never waits for the host: `control_real` (Reals, the shader's precision) and
 // `control_uint` (32-bit words). The host writes them before an advance and reads them back after
 // each submission (DeviceIntegrator::advance); in between, only the shaders touch them.
+#ifndef CLOTHSIM_DEVICE_STEP_H
+#define CLOTHSIM_DEVICE_STEP_H
 #if defined(__cplusplus)
 #pragma once
 #include <cstdint>
@@ -14,6 +16,9 @@ using uint = std::uint32_t;
 #define CLOTHSIM_SLOT inline constexpr uint
 #else
 #define CLOTHSIM_SLOT const uint
+// 1 where the stage arrays hold offsets from the step's start rather than the stage state itself:
+// float32 (stage_offsets.glsl says why).
+#define CLOTHSIM_STAGE_OFFSETS (!CLOTHSIM_FLOAT64)
 #endif
 
 // control_real: times are relative to the advance's start (the host adds them to its double time).
@@ -151,7 +156,8 @@ struct LatticePassConstants {
   uint rows;
   uint cols;
   uint damped;  // 1: the springs' damping acts (kSpringDamping)
-  uint stage;   // where the damping power goes in particle_power
+  uint stage;   // the stage whose damping power is weighed into particle_power
+  uint stages;  // the method's stages (where its solution row is in `rows`)
 };
 
 struct EventPassConstants {
@@ -193,3 +199,11 @@ CLOTHSIM_SLOT kReduceWorkgroup = 256;
 #undef CLOTHSIM_SLOT
 }  // namespace clothsim::gpu
 #endif
+#if !defined(__cplusplus)
+// Where the solution row's velocity weight b_stage of a method of `stages` stages is in `rows` (the
+// Nystrom rows: the stages' rows, then the solution's, then the error's). particle_power holds
+// each particle's powers weighed by these and summed over the stages so far, [3][particles]: drag,
+// anchor, damping (stage_acceleration and lattice_elements add, rk_accept multiplies by h).
+uint solution_weight_slot(uint stages, uint stage) { return stages * kRowReals + 1u + kMaxDeviceStages + stage; }
+#endif
+#endif  // CLOTHSIM_DEVICE_STEP_H

@@ -17,19 +17,20 @@ layout(local_size_x_id = 0) in;
 #include "gpu/shaders/invocation.glsl"
 
 layout(std430, binding = 0) readonly buffer Position { Real position[]; };    // stage state [3 particles], m
-layout(std430, binding = 1) readonly buffer Velocity { Real velocity[]; };    // m/s
+layout(std430, binding = 1) readonly buffer Velocity { Real velocity[]; };    // m/s (float32: offsets)
 layout(std430, binding = 2) readonly buffer Params { Real lattice_params[]; };  // [particles][kLatticeParams]
 layout(std430, binding = 3) writeonly buffer Forces { Real lattice_forces[]; };  // [particles][kLatticeForces]
-layout(std430, binding = 4) writeonly buffer ParticlePower { Real particle_power[]; };  // [stages][3][particles]
+layout(std430, binding = 4) buffer ParticlePower { Real particle_power[]; };  // [3][particles], W (device_step.h)
 layout(std430, binding = 5) readonly buffer ControlUint { uint control_uint[]; };
 layout(std430, binding = 6) readonly buffer EventParams { Real event_params[]; };  // [particles][kEventParams]
+layout(std430, binding = 7) readonly buffer OriginPosition { Real origin_position[]; };  // the step's start, m
+layout(std430, binding = 8) readonly buffer OriginVelocity { Real origin_velocity[]; };  // m/s
+layout(std430, binding = 9) readonly buffer Rows { Real rows[]; };  // the method's Nystrom rows
 
 layout(push_constant) uniform Constants { LatticePassConstants constants; };
 
 #include "gpu/shaders/lattice_cell.glsl"
-
-Vec3 load_position(uint i) { return Vec3(position[3 * i], position[3 * i + 1], position[3 * i + 2]); }
-Vec3 load_velocity(uint i) { return Vec3(velocity[3 * i], velocity[3 * i + 1], velocity[3 * i + 2]); }
+#include "gpu/shaders/stage_offsets.glsl"
 
 void main() {
   const uint p = invocation_index();
@@ -38,14 +39,15 @@ void main() {
   const LatticeCell cell = lattice_cell(p, constants.rows, constants.cols);
   const bool has[4] = cell.has;
   const uint neighbour[4] = cell.neighbour;
-  const Vec3 x = load_position(p);
-  const Vec3 v = load_velocity(p);
+  // Near p: in float32, relative to p (stage_offsets.glsl).
+  const Vec3 x = stage_position_near(p, p);
+  const Vec3 v = stage_velocity_near(p, p);
   Vec3 arm_x[4];
   Vec3 arm_v[4];
   Real fade_length[4];
   for (uint d = 0u; d < 4u; ++d) {
-    arm_x[d] = has[d] ? load_position(neighbour[d]) : x;
-    arm_v[d] = has[d] ? load_velocity(neighbour[d]) : v;
+    arm_x[d] = has[d] ? stage_position_near(neighbour[d], p) : x;
+    arm_v[d] = has[d] ? stage_velocity_near(neighbour[d], p) : v;
     fade_length[d] =
         has[d] ? kRadialFadeFraction * event_params[arm_event_params(d, cell, p) + kEventOriginalLength] : Real(0.0);
   }
@@ -89,5 +91,7 @@ void main() {
     lattice_forces[slot + 4u + 3u * d] = to[d].y;
     lattice_forces[slot + 5u + 3u * d] = to[d].z;
   }
-  particle_power[(3u * constants.stage + 2u) * n + p] = power;
+  // Weighed by the solution row, summed over the stages (device_step.h).
+  const Real weight = rows[solution_weight_slot(constants.stages, constants.stage)];
+  particle_power[2u * n + p] = (constants.stage == 0u ? Real(0.0) : particle_power[2u * n + p]) + weight * power;
 }

@@ -25,6 +25,8 @@ layout(std430, binding = 7) writeonly buffer ContactBefore { Real contact_before
 layout(std430, binding = 8) writeonly buffer Moved { uint moved[]; };                  // [particles]
 layout(std430, binding = 9) readonly buffer MeshReals { Real mesh_reals[]; };  // device_step.h, kMeshHeaderUints
 layout(std430, binding = 10) readonly buffer MeshUints { uint mesh_uints[]; };
+layout(std430, binding = 11) writeonly buffer TrialPositionLow { Real trial_position_low[]; };  // float32
+layout(std430, binding = 12) writeonly buffer TrialVelocityLow { Real trial_velocity_low[]; };
 
 layout(push_constant) uniform Constants { ObstaclePassConstants constants; };
 
@@ -59,5 +61,10 @@ void main() {
     contact_before[6 * p + 3 + k] = v[k];
     trial_position[3 * p + k] = particle.position[k];
     trial_velocity[3 * p + k] = particle.velocity[k];
+#if CLOTHSIM_STAGE_OFFSETS
+    // A moved particle's state is the contact's, in float (split_state.glsl: low parts of zero).
+    trial_position_low[3 * p + k] = Real(0.0);
+    trial_velocity_low[3 * p + k] = Real(0.0);
+#endif
   }
 }

@@ -2,10 +2,11 @@
 #extension GL_GOOGLE_include_directive : require
 // An accepted step on the device (ExplicitRungeKutta::accept and combine_solution's work
 // integrals on the CPU): when rk_control accepted the attempt, each particle takes its trial
-// state, and each particle and element its share of the step's work, h sum_i b_i P_i (damping
-// power per element, or per particle on the lattice path; drag and anchor power per particle),
-// summed per workgroup in shared memory for rk_control's phase 1. Invocations cover max(particles,
-// elements).
+// state (in float32 its low parts too: split_state.glsl), and each particle and element its share
+// of the step's work, h sum_i b_i P_i (damping power per element, or per particle on the lattice
+// path; drag and anchor power per particle, those two and the lattice path's damping power summed
+// over the stages already), summed per workgroup in shared memory for rk_control's phase 1.
+// Invocations cover max(particles, elements).
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
@@ -20,9 +21,13 @@ layout(std430, binding = 3) readonly buffer TrialVelocity { Real trial_velocity[
 layout(std430, binding = 4) writeonly buffer Position { Real position[]; };
 layout(std430, binding = 5) writeonly buffer Velocity { Real velocity[]; };
 layout(std430, binding = 6) readonly buffer ElementPower { Real element_power[]; };    // [stages][elements], W
-layout(std430, binding = 7) readonly buffer ParticlePower { Real particle_power[]; };  // [stages][3][particles], W
+layout(std430, binding = 7) readonly buffer ParticlePower { Real particle_power[]; };  // [3][particles], W, weighed
 layout(std430, binding = 8) readonly buffer Rows { Real rows[]; };
 layout(std430, binding = 9) writeonly buffer BlockWork { Real block_work[]; };  // [blocks][3], J
+layout(std430, binding = 10) readonly buffer TrialPositionLow { Real trial_position_low[]; };  // float32
+layout(std430, binding = 11) readonly buffer TrialVelocityLow { Real trial_velocity_low[]; };
+layout(std430, binding = 12) writeonly buffer PositionLow { Real position_low[]; };
+layout(std430, binding = 13) writeonly buffer VelocityLow { Real velocity_low[]; };
 
 layout(push_constant) uniform Constants { AcceptPassConstants constants; };
 
@@ -34,7 +39,7 @@ void main() {
   const uint index = invocation_index();
   const uint n = constants.particle_count;
   const uint elements = constants.element_count;
-  const uint weights = constants.stages * kRowReals + 1u + kMaxDeviceStages;  // the row b's velocity weights
+  const uint weights = solution_weight_slot(constants.stages, 0u);  // the row b's velocity weights
   Real damping = Real(0.0);
   Real drag = Real(0.0);
   Real anchor = Real(0.0);
@@ -42,12 +47,15 @@ void main() {
     for (uint k = 0u; k < 3u; ++k) {
       position[3 * index + k] = trial_position[3 * index + k];
       velocity[3 * index + k] = trial_velocity[3 * index + k];
+#if CLOTHSIM_STAGE_OFFSETS
+      position_low[3 * index + k] = trial_position_low[3 * index + k];
+      velocity_low[3 * index + k] = trial_velocity_low[3 * index + k];
+#endif
     }
-    for (uint l = 0u; l < constants.stages; ++l) {
-      drag += rows[weights + l] * particle_power[3 * l * n + index];
-      anchor += rows[weights + l] * particle_power[(3 * l + 1) * n + index];
-      if (constants.particle_damping != 0u) damping += rows[weights + l] * particle_power[(3 * l + 2) * n + index];
-    }
+    // Summed over the stages already, weighed by the solution row (device_step.h).
+    drag = particle_power[index];
+    anchor = particle_power[n + index];
+    if (constants.particle_damping != 0u) damping = particle_power[2 * n + index];
   }
   if (index < elements) {
     for (uint l = 0u; l < constants.stages; ++l) damping += rows[weights + l] * element_power[l * elements + index];

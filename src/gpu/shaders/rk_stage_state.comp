@@ -4,7 +4,8 @@
 // y_i = y + h sum_{j<i} a_ij (V_j, K_j) in Nystrom form (rows of device_step.h), term by term in
 // the CPU's order, zero coefficients skipped; an anchored particle is put on its path at the stage
 // time instead (ClothDynamics::constrain). Stage 0 is the state itself. Writes the arrays the
-// force passes read.
+// force passes read: in float32 as offsets from the state's high parts, starting from its low
+// parts (stage_offsets.glsl, split_state.glsl).
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
@@ -22,6 +23,8 @@ layout(std430, binding = 6) readonly buffer ParticleAnchor { int particle_anchor
 layout(std430, binding = 7) readonly buffer AnchorPaths { Real anchor_paths[]; };
 layout(std430, binding = 8) writeonly buffer StagePosition { Real stage_position[]; };
 layout(std430, binding = 9) writeonly buffer StageVelocity { Real stage_velocity[]; };
+layout(std430, binding = 10) readonly buffer PositionLow { Real position_low[]; };  // float32: the state's low parts
+layout(std430, binding = 11) readonly buffer VelocityLow { Real velocity_low[]; };
 
 layout(push_constant) uniform Constants { StagePassConstants constants; };
 
@@ -30,6 +33,11 @@ layout(push_constant) uniform Constants { StagePassConstants constants; };
 Vec3 load(uint array, uint p) {
   if (array == 0u) return Vec3(position[3 * p], position[3 * p + 1], position[3 * p + 2]);
   return Vec3(velocity[3 * p], velocity[3 * p + 1], velocity[3 * p + 2]);
+}
+
+Vec3 load_low(uint array, uint p) {
+  if (array == 0u) return Vec3(position_low[3 * p], position_low[3 * p + 1], position_low[3 * p + 2]);
+  return Vec3(velocity_low[3 * p], velocity_low[3 * p + 1], velocity_low[3 * p + 2]);
 }
 
 Vec3 stage_acceleration(uint l, uint p) {
@@ -50,11 +58,21 @@ void main() {
     const PathMotion motion = anchor_motion(uint(anchor), control_real[kElapsed] + rows[row] * h);
     x = motion.position;
     v = motion.velocity;
+#if CLOTHSIM_STAGE_OFFSETS
+    x = (x - load(0u, p)) - load_low(0u, p);
+    v = (v - load(1u, p)) - load_low(1u, p);
+#endif
   } else {
     const Vec3 v0 = load(1u, p);
+#if CLOTHSIM_STAGE_OFFSETS
+    x = load_low(0u, p);
+    v = load_low(1u, p);
+    if (rows[row] != Real(0.0)) x += (h * rows[row]) * v0 + (h * rows[row]) * v;
+#else
     x = load(0u, p);
     v = v0;
     if (rows[row] != Real(0.0)) x += (h * rows[row]) * v0;
+#endif
     for (uint l = 0u; l < constants.stage; ++l) {
       const Real position_weight = rows[row + 1u + l];
       const Real velocity_weight = rows[row + 1u + kMaxDeviceStages + l];

@@ -26,8 +26,12 @@ layout(std430, binding = 9) readonly buffer ControlUint { uint control_uint[]; }
 layout(std430, binding = 10) readonly buffer ParticleAnchor { int particle_anchor[]; };
 layout(std430, binding = 11) readonly buffer AnchorPaths { Real anchor_paths[]; };
 layout(std430, binding = 12) writeonly buffer Acceleration { Real acceleration[]; };  // [stages][3 particles]
-layout(std430, binding = 13) buffer ParticlePower { Real particle_power[]; };  // [stages][3][particles], W
+layout(std430, binding = 13) buffer ParticlePower { Real particle_power[]; };  // [3][particles], W (device_step.h)
 layout(std430, binding = 14) readonly buffer LatticeForces { Real lattice_forces[]; };  // the lattice path's
+layout(std430, binding = 15) readonly buffer OriginVelocity { Real origin_velocity[]; };  // the step's start, m/s
+
+#define CLOTHSIM_STAGE_VELOCITY_ONLY
+#include "gpu/shaders/stage_offsets.glsl"
 
 layout(push_constant) uniform Constants { StagePassConstants constants; };
 
@@ -67,7 +71,7 @@ void main() {
   const uint p = invocation_index();
   const uint n = constants.particle_count;
   if (p >= n || control_uint[kActive] == 0u) return;
-  const Vec3 v = Vec3(velocity[3 * p], velocity[3 * p + 1], velocity[3 * p + 2]);
+  const Vec3 v = stage_velocity(p);
   const Vec3 force = constants.lattice_cols == 0u ? gathered_force(p, v) : lattice_force(p, v);
   Vec3 a = inverse_mass[p] * force;
   Real anchor_power = Real(0.0);
@@ -81,6 +85,9 @@ void main() {
   acceleration[base] = a.x;
   acceleration[base + 1] = a.y;
   acceleration[base + 2] = a.z;
-  particle_power[3 * constants.stage * n + p] = -environment[3] * dot(v, v);
-  particle_power[(3 * constants.stage + 1) * n + p] = anchor_power;
+  // The powers weighed by the solution row, summed over the stages (device_step.h).
+  const Real weight = rows[solution_weight_slot(constants.stages, constants.stage)];
+  const bool first = constants.stage == 0u;
+  particle_power[p] = (first ? Real(0.0) : particle_power[p]) + weight * (-environment[3] * dot(v, v));
+  particle_power[n + p] = (first ? Real(0.0) : particle_power[n + p]) + weight * anchor_power;
 }

@@ -1,0 +1,70 @@
+// How the force passes read a Runge-Kutta stage's state (docs/gpu.md, "float32: the stage as
+// offsets").
+//
+// float64: the stage arrays hold the stage's positions and velocities, y_i = y + h sum_j a_ij K_j,
+// as on the CPU.
+//
+// float32: they hold the offsets y_i - y from the step's start y (the state arrays), and a pass
+// forms what it needs near a particle `origin` of its element as (y[q] - y[origin]) + (offset[q] -
+// offset[origin]). Stored whole, a stage's coordinates would be rounded to float each stage, by
+// up to 1e-6 m at 16 m from the origin: noise of a different draw in every stage, which the
+// error estimate (a weighted difference of the stages' accelerations) sees as error, so that
+// RKF45 took 1.1 to 1.7 times the steps of float64 on the paper's scenes. As offsets, each stage
+// is rounded to float at the scale of its own motion (about 1e-10 m), and the step's start, the
+// same in every stage, drops out of the error estimate. The element formulas see positions and
+// velocities relative to the origin; they depend only on differences (and the damping power on
+// relative velocities), so the forces are the same.
+//
+// The includer declares the stage arrays `position` and `velocity` and the state arrays
+// `origin_position` and `origin_velocity` (bound in both precisions; float64 reads only the first
+// two), or, with CLOTHSIM_STAGE_VELOCITY_ONLY defined, the velocities alone.
+#ifndef CLOTHSIM_STAGE_OFFSETS_GLSL
+#define CLOTHSIM_STAGE_OFFSETS_GLSL
+
+#include "gpu/shaders/device_step.h"  // CLOTHSIM_STAGE_OFFSETS
+
+// GLSL passes no buffer to a function: one reader per array.
+#ifndef CLOTHSIM_STAGE_VELOCITY_ONLY
+Vec3 stage_offset_position(uint q) { return Vec3(position[3 * q], position[3 * q + 1], position[3 * q + 2]); }
+Vec3 origin_position_of(uint q) {
+  return Vec3(origin_position[3 * q], origin_position[3 * q + 1], origin_position[3 * q + 2]);
+}
+
+// Particle q's stage position, relative to particle `origin`'s in float32.
+Vec3 stage_position_near(uint q, uint origin) {
+#if CLOTHSIM_STAGE_OFFSETS
+  if (q == origin) return Vec3(0.0);
+  return (origin_position_of(q) - origin_position_of(origin)) +
+         (stage_offset_position(q) - stage_offset_position(origin));
+#else
+  return stage_offset_position(q);
+#endif
+}
+#endif
+
+Vec3 stage_offset_velocity(uint q) { return Vec3(velocity[3 * q], velocity[3 * q + 1], velocity[3 * q + 2]); }
+Vec3 origin_velocity_of(uint q) {
+  return Vec3(origin_velocity[3 * q], origin_velocity[3 * q + 1], origin_velocity[3 * q + 2]);
+}
+
+// Particle q's stage velocity, relative to particle `origin`'s in float32.
+Vec3 stage_velocity_near(uint q, uint origin) {
+#if CLOTHSIM_STAGE_OFFSETS
+  if (q == origin) return Vec3(0.0);
+  return (origin_velocity_of(q) - origin_velocity_of(origin)) +
+         (stage_offset_velocity(q) - stage_offset_velocity(origin));
+#else
+  return stage_offset_velocity(q);
+#endif
+}
+
+// Particle q's stage velocity itself (for drag and the anchors' power).
+Vec3 stage_velocity(uint q) {
+#if CLOTHSIM_STAGE_OFFSETS
+  return origin_velocity_of(q) + stage_offset_velocity(q);
+#else
+  return stage_offset_velocity(q);
+#endif
+}
+
+#endif
