@@ -4,6 +4,7 @@
 #include <string>
 #include <vector>
 
+#include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 
 namespace clothsim::gpu {
@@ -114,7 +115,14 @@ void ComputePipeline::bind(std::span<const Buffer* const> buffers) {
 }
 
 std::uint32_t ComputePipeline::workgroups(std::uint32_t invocations) const {
-  return (invocations + workgroup_size_ - 1) / workgroup_size_;
+  return workgroups_for(invocations, workgroup_size_);
+}
+
+ComputePipeline shader_pipeline(Device& device, std::string_view name, Precision precision,
+                                std::uint32_t binding_count, std::uint32_t push_constant_bytes,
+                                std::uint32_t workgroup_size) {
+  return ComputePipeline(device, embedded_shader(shader_variant(name, precision)), binding_count, push_constant_bytes,
+                         workgroup_size);
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer commands, const void* push_constants, std::uint32_t invocations) const {

@@ -9,6 +9,7 @@
 
 #include <cstdint>
 #include <span>
+#include <string_view>
 
 #include <vulkan/vulkan.h>
 
@@ -50,5 +51,16 @@ class ComputePipeline {
   VkDescriptorPool pool_ = VK_NULL_HANDLE;
   VkDescriptorSet set_ = VK_NULL_HANDLE;
 };
+
+// The pipeline of the embedded shader `name` in `precision` (embedded_shaders.h).
+ComputePipeline shader_pipeline(Device& device, std::string_view name, Precision precision,
+                                std::uint32_t binding_count, std::uint32_t push_constant_bytes,
+                                std::uint32_t workgroup_size = 64);
+
+// The workgroups of `workgroup_size` that cover `items` invocations: what arrays of per-workgroup
+// results hold, sized before any pipeline exists.
+constexpr std::uint32_t workgroups_for(std::uint64_t items, std::uint32_t workgroup_size) {
+  return static_cast<std::uint32_t>((items + workgroup_size - 1) / workgroup_size);
+}
 
 }  // namespace clothsim::gpu

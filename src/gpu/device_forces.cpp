@@ -5,7 +5,6 @@
 
 #include "core/assert.h"
 #include "forces/forces.h"
-#include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/element_pass.h"
@@ -167,12 +166,11 @@ DeviceForces::DeviceForces(Device& device, const ClothModel& model, Precision pr
       particles_(count32(model.particle_count(), "particles")),
       connectors_(count32(model.connector_count(), "connectors")),
       radials_(count32(model.radial_count(), "radial springs")),
-      connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)), 11,
-                      sizeof(ElementPassConstants)),
-      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), 12,
-                   sizeof(ElementPassConstants)),
-      gather_pass_(device, embedded_shader(shader_variant("gather_forces", precision)), 7, sizeof(GatherConstants)),
-      sum_pass_(device, embedded_shader(shader_variant("deterministic_sum", precision)), 3, sizeof(SumConstants)) {
+      connector_pass_(
+          shader_pipeline(device, "accumulate_connector_springs", precision, 11, sizeof(ElementPassConstants))),
+      radial_pass_(shader_pipeline(device, "accumulate_radial_springs", precision, 12, sizeof(ElementPassConstants))),
+      gather_pass_(shader_pipeline(device, "gather_forces", precision, 7, sizeof(GatherConstants))),
+      sum_pass_(shader_pipeline(device, "deterministic_sum", precision, 3, sizeof(SumConstants))) {
   const std::array<std::uint64_t, array_count> bytes = array_bytes(element_counts(model), precision, power_slots, path);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);

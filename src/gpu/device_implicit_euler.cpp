@@ -10,7 +10,7 @@
 #include "core/parallel.h"
 #include "core/state_archive.h"
 #include "core/step_profile.h"
-#include "gpu/embedded_shaders.h"
+#include "gpu/device_paths.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
 #include "gpu/state_transfer.h"
@@ -20,13 +20,7 @@
 namespace clothsim::gpu {
 namespace {
 
-std::uint32_t reduce_workgroups(std::uint64_t items) {
-  return static_cast<std::uint32_t>((items + kImplicitReduceWorkgroup - 1) / kImplicitReduceWorkgroup);
-}
-
-std::uint32_t anchor_capacity_for(std::size_t anchors) {
-  return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16));
-}
+std::uint32_t reduce_workgroups(std::uint64_t items) { return workgroups_for(items, kImplicitReduceWorkgroup); }
 
 // `contacts`: whether the surface contacts' arrays are sized for the particles (placeholders else).
 std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const LatticeCounts& counts,
@@ -66,8 +60,7 @@ Device& checked(Device& device, const ClothModel& model, Precision precision) {
 
 ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
                           std::uint32_t workgroup = 64) {
-  return ComputePipeline(device, embedded_shader(shader_variant(name, precision)), bindings,
-                         sizeof(ImplicitPassConstants), workgroup);
+  return shader_pipeline(device, name, precision, bindings, sizeof(ImplicitPassConstants), workgroup);
 }
 
 }  // namespace
@@ -75,7 +68,7 @@ ComputePipeline make_pass(Device& device, const char* name, Precision precision,
 std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts, std::size_t anchors,
                                                     Precision precision, bool colliders) {
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
-  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_capacity_for(anchors), colliders)) total += bytes;
+  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders)) total += bytes;
   return total;
 }
 
@@ -91,7 +84,7 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       particles_(forces_.particle_count()),
       connectors_(static_cast<std::uint32_t>(model.connector_count())),
       radials_(static_cast<std::uint32_t>(model.radial_count())),
-      anchor_capacity_(anchor_capacity_for(model.anchors.size())),
+      anchor_capacity_(anchor_row_capacity(model.anchors.size())),
       real_input_(device_, kSolveReals * real_size(precision_), Memory::host_visible),
       uint_input_(device_, kSolveUints * 4, Memory::host_visible),
       anchor_input_(device_, std::uint64_t{anchor_capacity_} * kAnchorRowReals * real_size(precision_),

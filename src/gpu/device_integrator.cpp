@@ -12,7 +12,6 @@
 #include "core/parallel.h"
 #include "core/step_profile.h"
 #include "core/timer.h"
-#include "gpu/embedded_shaders.h"
 #include "gpu/device_paths.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
@@ -43,13 +42,7 @@ const ButcherTableau& tableau_for(IntegratorKind kind) {
 // small enough that the attempts left over after the target cost little (each returns at once).
 constexpr std::uint32_t kMaxAttemptsPerSubmission = 256;
 
-std::uint32_t workgroups_of(std::uint64_t items) {
-  return static_cast<std::uint32_t>((items + kReduceWorkgroup - 1) / kReduceWorkgroup);
-}
-
-std::uint32_t anchor_capacity_for(std::size_t anchors) {
-  return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16));
-}
+std::uint32_t workgroups_of(std::uint64_t items) { return workgroups_for(items, kReduceWorkgroup); }
 
 // The checks before anything is allocated: the device, its precision and its memory.
 Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision,
@@ -88,11 +81,6 @@ std::vector<double> nystrom_rows(const ButcherTableau& tableau) {
 template <typename T>
 std::span<const std::byte> bytes_of(const std::vector<T>& values) {
   return std::as_bytes(std::span(values));
-}
-
-ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
-                          std::uint32_t push_bytes, std::uint32_t workgroup = 64) {
-  return ComputePipeline(device, embedded_shader(shader_variant(name, precision)), bindings, push_bytes, workgroup);
 }
 
 }  // namespace
@@ -142,7 +130,7 @@ std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, st
                                                  Precision precision, DeviceForcePath path, std::size_t colliders) {
   const int stages = tableau_for(kind).stages;
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, static_cast<std::uint32_t>(stages), path);
-  for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_capacity_for(anchors), colliders)) {
+  for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_row_capacity(anchors), colliders)) {
     total += bytes;
   }
   return total;
@@ -164,25 +152,25 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
               force_path(model, options)),
       particles_(forces_.particle_count()),
       elements_(forces_.element_count()),
-      anchor_capacity_(anchor_capacity_for(model.anchors.size())),
+      anchor_capacity_(anchor_row_capacity(model.anchors.size())),
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
       state_readback_(device_, std::uint64_t{particles_} * (precision_ == Precision::float32 ? 12 : 6) *
                                    real_size(precision_),
                       Memory::host_visible),
-      stage_state_pass_(make_pass(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
-      lattice_pass_(make_pass(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
-      acceleration_pass_(make_pass(device_, "stage_acceleration", precision_, 16, sizeof(StagePassConstants))),
-      solution_pass_(make_pass(device_, "rk_solution", precision_, 16, sizeof(StagePassConstants), kReduceWorkgroup)),
-      control_pass_(make_pass(device_, "rk_control", precision_, 7, sizeof(ReducePassConstants), kReduceWorkgroup)),
+      stage_state_pass_(shader_pipeline(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
+      lattice_pass_(shader_pipeline(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
+      acceleration_pass_(shader_pipeline(device_, "stage_acceleration", precision_, 16, sizeof(StagePassConstants))),
+      solution_pass_(shader_pipeline(device_, "rk_solution", precision_, 16, sizeof(StagePassConstants), kReduceWorkgroup)),
+      control_pass_(shader_pipeline(device_, "rk_control", precision_, 7, sizeof(ReducePassConstants), kReduceWorkgroup)),
       events_connectors_pass_(
-          make_pass(device_, "lattice_events_connectors", precision_, 7, sizeof(EventPassConstants))),
+          shader_pipeline(device_, "lattice_events_connectors", precision_, 7, sizeof(EventPassConstants))),
       events_radial_pass_(
-          make_pass(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants), kReduceWorkgroup)),
-      accept_pass_(make_pass(device_, "rk_accept", precision_, 14, sizeof(AcceptPassConstants), kReduceWorkgroup)),
-      obstacle_contacts_pass_(make_pass(device_, "obstacle_contacts", precision_, 13, sizeof(ObstaclePassConstants))),
+          shader_pipeline(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants), kReduceWorkgroup)),
+      accept_pass_(shader_pipeline(device_, "rk_accept", precision_, 14, sizeof(AcceptPassConstants), kReduceWorkgroup)),
+      obstacle_contacts_pass_(shader_pipeline(device_, "obstacle_contacts", precision_, 13, sizeof(ObstaclePassConstants))),
       obstacle_energy_pass_(
-          make_pass(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants), kReduceWorkgroup)) {
+          shader_pipeline(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants), kReduceWorkgroup)) {
   if (!lattice_ && model.limits.changes_sheet()) {
     throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
   }

@@ -6,7 +6,10 @@
 // give their positions; colliders' rows give their shapes' offsets, x0 measured from `origin`.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <cstdint>
 #include <numbers>
 #include <vector>
 
@@ -15,6 +18,12 @@
 #include "model/anchor.h"
 
 namespace clothsim::gpu {
+
+// The anchors' path rows a device integrator allocates for `anchors`: at least 16, so that pins
+// added at run time rarely make it grow the table (and record its passes again).
+inline std::uint32_t anchor_row_capacity(std::size_t anchors) {
+  return static_cast<std::uint32_t>(std::max<std::size_t>(anchors, 16));
+}
 
 // Appends the kPathReals of `path` over an advance from t0, its position measured from `origin`.
 // theta0 is reduced to [-pi, pi], so that the device's sine sees a small argument.

@@ -3,7 +3,6 @@
 #include <cstring>
 #include <string>
 
-#include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/element_pass.h"
@@ -33,10 +32,10 @@ Device& with_precision(Device& device, Precision precision) {
 ElementForcePasses::ElementForcePasses(Device& device, Precision precision)
     : device_(with_precision(device, precision)),
       precision_(precision),
-      connector_pass_(device, embedded_shader(shader_variant("accumulate_connector_springs", precision)),
-                      kConnectorBindings, sizeof(ElementPassConstants)),
-      radial_pass_(device, embedded_shader(shader_variant("accumulate_radial_springs", precision)), kRadialBindings,
-                   sizeof(ElementPassConstants)) {}
+      connector_pass_(shader_pipeline(device, "accumulate_connector_springs", precision, kConnectorBindings,
+                                      sizeof(ElementPassConstants))),
+      radial_pass_(shader_pipeline(device, "accumulate_radial_springs", precision, kRadialBindings,
+                                   sizeof(ElementPassConstants))) {}
 
 ElementForces ElementForcePasses::run(ComputePipeline& pipeline, std::span<const std::vector<std::byte>> inputs,
                                       std::uint32_t count, std::uint32_t slots_per_element, bool damped) {
