@@ -48,3 +48,23 @@ for rep in 1 2 3; do
   done
 done
 "$bin/clothsim" bench --integrators rkf45 --sizes 128,256,512,1024 --seconds 3 --csv "$out/cpu.csv"
+
+# Issue 23: implicit Euler on the device (cotton at the frame step) and self-collision on the host
+# between the device's steps (tear-crumple), against the CPU backend on all the machine's cores;
+# each run bounded, so that the script keeps to the device time a session has.
+for n in 256 512; do
+  for backend in vulkan cpu; do
+    timeout 150 "$bin/clothsim" run cotton-drape --set lattice.rows=$n --set lattice.cols=$n --anchor edge-corners \
+      --backend "$backend" --duration 0.25 --render none --profile --out "/tmp/clothsim-cotton-$n-$backend" \
+      >"$out/cotton-$n-$backend.txt" 2>&1
+    echo "cotton-drape $n x $n on $backend: exit $?"; grep -E '^(steps|forces|integration|collisions|total)' "$out/cotton-$n-$backend.txt"
+  done
+done
+for n in 128 256; do
+  for backend in vulkan cpu; do
+    timeout 150 "$bin/clothsim" run tear-crumple --set lattice.rows=$n --set lattice.cols=$n --backend "$backend" \
+      --duration 0.1 --render none --profile --out "/tmp/clothsim-crumple-$n-$backend" \
+      >"$out/tear-crumple-$n-$backend.txt" 2>&1
+    echo "tear-crumple $n x $n on $backend: exit $?"; grep -E '^(steps|forces|integration|collisions|total)' "$out/tear-crumple-$n-$backend.txt"
+  done
+done
