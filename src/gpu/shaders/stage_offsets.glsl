@@ -1,10 +1,11 @@
-// How the force passes read a Runge-Kutta stage's state (docs/gpu.md, "float32: the stage as
-// offsets").
+// How the force passes read a Runge-Kutta stage's state (docs/gpu.md, "float32 that keeps its
+// accuracy").
 //
 // float64: the stage arrays hold the stage's positions and velocities, y_i = y + h sum_j a_ij K_j,
 // as on the CPU.
 //
-// float32: they hold the offsets y_i - y from the step's start y (the state arrays), and a pass
+// float32: they hold the offsets y_i - y from the step's start y (the state arrays' high parts;
+// the offsets start from the low parts, split_state.glsl), and a pass
 // forms what it needs near a particle `origin` of its element as (y[q] - y[origin]) + (offset[q] -
 // offset[origin]). Stored whole, a stage's coordinates would be rounded to float each stage, by
 // up to 1e-6 m at 16 m from the origin: noise of a different draw in every stage, which the
