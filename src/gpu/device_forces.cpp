@@ -71,7 +71,7 @@ std::array<std::vector<std::byte>, DeviceForces::array_count> model_contents(con
   contents[A::particle_mass] = real_bytes(model.particle_mass, precision);
   contents[A::environment] = real_bytes(environment_values, precision);
   if (path == DeviceForcePath::lattice) return contents;
-  if (precision == Precision::float32) {
+  if (splits_state(precision)) {
     contents[A::origin_position] = contents[A::origin_velocity] =
         std::vector<std::byte>(std::size_t{3} * model.particle_count() * real_size(precision));
   }
@@ -123,7 +123,7 @@ std::array<std::uint64_t, DeviceForces::array_count> array_bytes(const LatticeCo
   bytes[A::position] = bytes[A::velocity] = bytes[A::force] = particles * 3 * real;
   // Read in float32 only (gpu/shaders/stage_offsets.glsl).
   bytes[A::origin_position] = bytes[A::origin_velocity] =
-      precision == Precision::float32 ? particles * 3 * real : kPlaceholderBytes;
+      splits_state(precision) ? particles * 3 * real : kPlaceholderBytes;
   bytes[A::slot_force] = slots * 3 * real;
   bytes[A::element_power] = (connectors + radials) * power_slots * real;
   bytes[A::block_power] = (connectors + radials + kReductionBlock - 1) / kReductionBlock * real;

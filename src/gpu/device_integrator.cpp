@@ -97,7 +97,7 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   std::array<std::uint64_t, A::array_count> bytes{};
   bytes[A::state_position] = bytes[A::state_velocity] = bytes[A::trial_position] = bytes[A::trial_velocity] =
       3 * n * real;
-  bytes[A::state_position_low] = bytes[A::state_velocity_low] = precision == Precision::float32 ? 3 * n * real : real;
+  bytes[A::state_position_low] = bytes[A::state_velocity_low] = splits_state(precision) ? 3 * n * real : real;
   bytes[A::acceleration] = s * 3 * n * real;
   bytes[A::rows] = (s + 2) * kRowReals * real;
   bytes[A::control_real] = kControlReals * real;
@@ -155,22 +155,25 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       anchor_capacity_(anchor_row_capacity(model.anchors.size())),
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
-      state_readback_(device_, std::uint64_t{particles_} * (precision_ == Precision::float32 ? 12 : 6) *
-                                   real_size(precision_),
+      state_readback_(device_, std::uint64_t{particles_} * (splits_state(precision_) ? 12 : 6) * real_size(precision_),
                       Memory::host_visible),
       stage_state_pass_(shader_pipeline(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
       lattice_pass_(shader_pipeline(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
       acceleration_pass_(shader_pipeline(device_, "stage_acceleration", precision_, 16, sizeof(StagePassConstants))),
-      solution_pass_(shader_pipeline(device_, "rk_solution", precision_, 16, sizeof(StagePassConstants), kReduceWorkgroup)),
-      control_pass_(shader_pipeline(device_, "rk_control", precision_, 7, sizeof(ReducePassConstants), kReduceWorkgroup)),
+      solution_pass_(
+          shader_pipeline(device_, "rk_solution", precision_, 16, sizeof(StagePassConstants), kReduceWorkgroup)),
+      control_pass_(
+          shader_pipeline(device_, "rk_control", precision_, 7, sizeof(ReducePassConstants), kReduceWorkgroup)),
       events_connectors_pass_(
           shader_pipeline(device_, "lattice_events_connectors", precision_, 7, sizeof(EventPassConstants))),
-      events_radial_pass_(
-          shader_pipeline(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants), kReduceWorkgroup)),
-      accept_pass_(shader_pipeline(device_, "rk_accept", precision_, 14, sizeof(AcceptPassConstants), kReduceWorkgroup)),
-      obstacle_contacts_pass_(shader_pipeline(device_, "obstacle_contacts", precision_, 13, sizeof(ObstaclePassConstants))),
-      obstacle_energy_pass_(
-          shader_pipeline(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants), kReduceWorkgroup)) {
+      events_radial_pass_(shader_pipeline(device_, "lattice_events_radial", precision_, 7, sizeof(EventPassConstants),
+                                          kReduceWorkgroup)),
+      accept_pass_(
+          shader_pipeline(device_, "rk_accept", precision_, 14, sizeof(AcceptPassConstants), kReduceWorkgroup)),
+      obstacle_contacts_pass_(
+          shader_pipeline(device_, "obstacle_contacts", precision_, 13, sizeof(ObstaclePassConstants))),
+      obstacle_energy_pass_(shader_pipeline(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants),
+                                            kReduceWorkgroup)) {
   if (!lattice_ && model.limits.changes_sheet()) {
     throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
   }
@@ -316,7 +319,7 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
   }
   const std::uint64_t fingerprint = state_fingerprint(state, options_.threads);
   if (model_changed || fingerprint != exchanged_fingerprint_) {
-    if (precision_ == Precision::float32) {
+    if (splits_state(precision_)) {
       // Two floats a coordinate (shaders/split_state.glsl).
       const SplitVectors position = split_vectors(state.position);
       const SplitVectors velocity = split_vectors(state.velocity);
@@ -350,7 +353,7 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
 }
 
 void DeviceIntegrator::read_state(ClothState& state) {
-  const bool split = precision_ == Precision::float32;
+  const bool split = splits_state(precision_);
   gpu::read_state(device_, {&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr},
                   {&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr}, state_readback_,
                   precision_, options_.threads, state);
@@ -512,8 +515,8 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
   const std::vector<double> row_reals = nystrom_rows(tableau_);
   // float32: the stages as offsets from the state (shaders/stage_offsets.glsl), the state as two
   // floats a coordinate (shaders/split_state.glsl).
-  const double origin = precision_ == Precision::float32 ? 6.0 : 0.0;
-  const double low = precision_ == Precision::float32 ? 6.0 : 0.0;
+  const double origin = splits_state(precision_) ? 6.0 : 0.0;
+  const double low = splits_state(precision_) ? 6.0 : 0.0;
   double reals = 0.0;
   double indices = 0.0;
   for (std::size_t i = 0; i < stages; ++i) {

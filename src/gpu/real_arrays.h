@@ -85,6 +85,11 @@ inline std::vector<Vec3> vectors_from_bytes(std::span<const std::byte> bytes, Pr
   return vectors;
 }
 
+// Whether the device keeps the state as two floats a coordinate and the stages as offsets from
+// it: float32 (the shaders' CLOTHSIM_STAGE_OFFSETS, shaders/device_step.h; stage_offsets.glsl and
+// split_state.glsl say why).
+inline bool splits_state(Precision precision) { return precision == Precision::float32; }
+
 // x as the device's float32 state holds it (shaders/split_state.glsl's canonical_split): the
 // float nearest x, and the rest on the 2^-48 grid of its binade. For a double that came from the
 // device (high + low), the same two floats.
