@@ -143,6 +143,11 @@ LatticeCounts element_counts(const ClothModel& model) {
   counts.particles = model.particle_count();
   counts.connectors = model.connector_count();
   counts.radials = model.radial_count();
+  if (model.rows > 0 && model.cols > 0 &&
+      static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == counts.particles) {
+    counts.rows = static_cast<std::size_t>(model.rows);
+    counts.cols = static_cast<std::size_t>(model.cols);
+  }
   CLOTHSIM_ASSERT(model.force_slot_count() == 2 * counts.connectors + 3 * counts.radials,
                   "two force slots per connector, three per radial spring");
   return counts;

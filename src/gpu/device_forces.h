@@ -133,7 +133,8 @@ class DeviceForces {
   ComputePipeline connector_pass_, radial_pass_, gather_pass_, sum_pass_;
 };
 
-// A model's particle, connector and radial spring counts (rows and cols 0).
+// A model's particle, connector and radial spring counts, and its rows and cols where they number
+// its particles (0 else).
 LatticeCounts element_counts(const ClothModel& model);
 
 }  // namespace clothsim::gpu

@@ -1,6 +1,7 @@
 #include "gpu/device_implicit_euler.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <span>
@@ -14,6 +15,7 @@
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
 #include "gpu/state_transfer.h"
+#include "integrators/block_system.h"
 #include "integrators/dynamics.h"
 #include "model/surface_contacts.h"
 
@@ -50,10 +52,10 @@ std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const La
 }
 
 // The checks before anything is allocated: the device, its precision and its memory.
-Device& checked(Device& device, const ClothModel& model, Precision precision) {
+Device& checked(Device& device, const ClothModel& model, Precision precision, const IntegratorSettings& settings) {
   device.require_precision(precision);
   device.require_memory(DeviceImplicitEuler::device_bytes_for(element_counts(model), model.anchors.size(), precision,
-                                                              !model.colliders.empty()),
+                                                              !model.colliders.empty(), settings),
                         "the scene");
   return device;
 }
@@ -66,9 +68,14 @@ ComputePipeline make_pass(Device& device, const char* name, Precision precision,
 }  // namespace
 
 std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts, std::size_t anchors,
-                                                    Precision precision, bool colliders) {
+                                                    Precision precision, bool colliders,
+                                                    const IntegratorSettings& settings) {
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
   for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders)) total += bytes;
+  if (DeviceMultigrid::applies(counts, settings)) {
+    total += DeviceMultigrid::bytes_for(static_cast<std::uint32_t>(counts.rows), static_cast<std::uint32_t>(counts.cols),
+                                        precision);
+  }
   return total;
 }
 
@@ -79,7 +86,7 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       options_(options),
       precision_(selection.precision),
       device_(DeviceOptions{selection.index, selection.validation}),
-      forces_(checked(device_, model, selection.precision), model, selection.precision, options.terms, 1,
+      forces_(checked(device_, model, selection.precision, settings), model, selection.precision, options.terms, 1,
               DeviceForcePath::general),
       particles_(forces_.particle_count()),
       connectors_(static_cast<std::uint32_t>(model.connector_count())),
@@ -97,7 +104,7 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       gather_pass_(make_pass(device_, "implicit_gather", precision_, 20, kImplicitReduceWorkgroup)),
       diagonal_pass_(make_pass(device_, "implicit_diagonal", precision_, 17)),
       reduce_pass_(make_pass(device_, "implicit_reduce", precision_, 3, kImplicitReduceWorkgroup)),
-      iterate_pass_(make_pass(device_, "implicit_iterate", precision_, 12, kImplicitReduceWorkgroup)),
+      iterate_pass_(make_pass(device_, "implicit_iterate", precision_, 13, kImplicitReduceWorkgroup)),
       setup_pass_(make_pass(device_, "implicit_setup", precision_, 13, kImplicitReduceWorkgroup)),
       impulse_readback_(device_, 16, Memory::host_visible),
       contacts_input_(device_, 16, Memory::host_visible) {
@@ -106,6 +113,11 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       array_bytes(element_counts(model), precision_, anchor_capacity_, false);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
+  const LatticeCounts counts = element_counts(model);
+  if (DeviceMultigrid::applies(counts, settings)) {
+    multigrid_.emplace(device_, static_cast<std::uint32_t>(counts.rows), static_cast<std::uint32_t>(counts.cols),
+                       connectors_, precision_);
+  }
   // The warm start of the first solve: no velocity change; nothing slipped.
   upload(device_, arrays_[solution], real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
   upload(device_, arrays_[slipped], index_bytes<std::uint32_t>(std::vector<std::uint32_t>(particles_, 0u)));
@@ -142,10 +154,17 @@ void DeviceImplicitEuler::bind_passes() {
   bind(reduce_pass_, {own(block_sums), own(solve_real), own(solve_uint)});
   bind(iterate_pass_, {own(solution), own(residual), own(preconditioned), own(direction), own(product), own(jacobi),
                        own(particle_anchor), own(block_sums), own(solve_real), own(solve_uint), own(hold),
-                       own(surface_contacts)});
+                       own(surface_contacts), own(rhs)});
   bind(setup_pass_, {shared(F::position), shared(F::velocity), shared(F::force), shared(F::particle_mass),
                      shared(F::environment), own(particle_anchor), own(anchor_rows), own(solution), own(direction),
                      shared(F::damping_power), own(block_sums), own(solve_real), own(solve_uint)});
+  if (multigrid_) {
+    multigrid_->bind(MultigridInputs{shared(F::gather_offset), shared(F::gather_slot), shared(F::connector_particles),
+                                     shared(F::radial_particles), shared(F::particle_mass), shared(F::environment),
+                                     own(connector_factors), own(radial_factors), own(particle_anchor), own(hold),
+                                     own(surface_contacts), own(jacobi), own(residual), own(preconditioned),
+                                     own(solve_real), own(solve_uint)});
+  }
 }
 
 std::uint32_t DeviceImplicitEuler::workgroups() const { return reduce_workgroups(particles_); }
@@ -169,12 +188,16 @@ void DeviceImplicitEuler::dispatch(VkCommandBuffer commands, const ComputePipeli
   pass.dispatch(commands, &pass_constants, invocations);
 }
 
-void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, std::uint32_t iterations) const {
+void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, bool vcycle, std::uint32_t iterations) const {
   for (std::uint32_t i = 0; i < iterations; ++i) {
     dispatch(commands, product_pass_, kProductSystem, connectors_ + radials_, true);
     dispatch(commands, gather_pass_, kGatherProduct, particles_, true);
     dispatch(commands, reduce_pass_, kReduceCurvature, kImplicitReduceWorkgroup);
     dispatch(commands, iterate_pass_, kIterateUpdate, particles_);
+    if (vcycle) {
+      multigrid_->record_apply(commands, true);
+      dispatch(commands, iterate_pass_, kIterateSums, particles_);
+    }
     dispatch(commands, reduce_pass_, kReduceResidual, kImplicitReduceWorkgroup);
     dispatch(commands, iterate_pass_, kIterateDirection, particles_);
   }
@@ -186,9 +209,13 @@ void DeviceImplicitEuler::record_solution_product(VkCommandBuffer commands) cons
   dispatch(commands, product_pass_, kProductSystem, connectors_ + radials_);
 }
 
-void DeviceImplicitEuler::record_first_residual(VkCommandBuffer commands) const {
+void DeviceImplicitEuler::record_first_residual(VkCommandBuffer commands, bool vcycle) const {
   record_solution_product(commands);
   dispatch(commands, gather_pass_, kGatherResidual, particles_);
+  if (vcycle) {
+    multigrid_->record_apply(commands, false);
+    dispatch(commands, iterate_pass_, kIterateStart, particles_);
+  }
   dispatch(commands, reduce_pass_, kReduceStart, kImplicitReduceWorkgroup);
 }
 
@@ -200,7 +227,7 @@ void DeviceImplicitEuler::record_surface_impulses(VkCommandBuffer commands) cons
 void DeviceImplicitEuler::record_buffers() {
   const std::uint32_t elements = connectors_ + radials_;
   forces_commands_ = device_.record([&](VkCommandBuffer commands) { forces_.record_forces(commands); });
-  start_commands_ = device_.record([&](VkCommandBuffer commands) {
+  prepare_commands_ = device_.record([&](VkCommandBuffer commands) {
     record_upload(commands, real_input_, arrays_[solve_real], real_input_.bytes());
     record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
     record_upload(commands, anchor_input_, arrays_[anchor_rows], anchor_input_.bytes());
@@ -210,14 +237,31 @@ void DeviceImplicitEuler::record_buffers() {
     dispatch(commands, product_pass_, kProductStiffness, elements);
     dispatch(commands, gather_pass_, kGatherRightHandSide, particles_);
     dispatch(commands, diagonal_pass_, kDiagonalHold, particles_);
-    record_first_residual(commands);
-    record_iterations(commands, kFirstIterations);
+    if (multigrid_) {
+      multigrid_->record_assemble(commands);
+      record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
+    }
   });
-  restart_commands_ = device_.record([&](VkCommandBuffer commands) {
-    record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
-    record_first_residual(commands);
-    record_iterations(commands, kFirstIterations);
-  });
+  for (const bool vcycle : {false, true}) {
+    if (vcycle && !multigrid_) continue;
+    first_commands_[vcycle] = device_.record([&](VkCommandBuffer commands) {
+      if (vcycle) multigrid_->record_setup(commands);
+      record_first_residual(commands, vcycle);
+      record_iterations(commands, vcycle, kFirstIterations);
+    });
+    // After a release the held set is another: the V-cycle's levels again.
+    restart_commands_[vcycle] = device_.record([&](VkCommandBuffer commands) {
+      record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
+      if (vcycle) {
+        multigrid_->record_assemble(commands);
+        multigrid_->record_setup(commands);
+      }
+      record_first_residual(commands, vcycle);
+      record_iterations(commands, vcycle, kFirstIterations);
+    });
+    iteration_commands_[vcycle] =
+        device_.record([&](VkCommandBuffer commands) { record_iterations(commands, vcycle, kMoreIterations); });
+  }
   release_commands_ = device_.record([&](VkCommandBuffer commands) {
     record_surface_impulses(commands);
     dispatch(commands, diagonal_pass_, kDiagonalRelease, particles_);
@@ -227,8 +271,6 @@ void DeviceImplicitEuler::record_buffers() {
     record_surface_impulses(commands);
     record_readback(commands, arrays_[impulse], impulse_readback_, impulse_readback_.bytes());
   });
-  iteration_commands_ =
-      device_.record([&](VkCommandBuffer commands) { record_iterations(commands, kMoreIterations); });
   end_commands_ = device_.record([&](VkCommandBuffer commands) {
     dispatch(commands, setup_pass_, kSetupCheck, particles_);
     dispatch(commands, setup_pass_, kSetupUpdate, particles_);
@@ -241,10 +283,16 @@ void DeviceImplicitEuler::record_buffers() {
 }
 
 void DeviceImplicitEuler::release_buffers() {
-  for (VkCommandBuffer* commands : {&forces_commands_, &start_commands_, &iteration_commands_, &end_commands_,
-                                    &release_commands_, &restart_commands_, &impulse_commands_}) {
-    if (*commands != VK_NULL_HANDLE) device_.release(*commands);
-    *commands = VK_NULL_HANDLE;
+  const auto release = [&](VkCommandBuffer& commands) {
+    if (commands != VK_NULL_HANDLE) device_.release(commands);
+    commands = VK_NULL_HANDLE;
+  };
+  for (VkCommandBuffer* commands : {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_,
+                                    &impulse_commands_}) {
+    release(*commands);
+  }
+  for (std::array<VkCommandBuffer, 2>* buffers : {&first_commands_, &iteration_commands_, &restart_commands_}) {
+    for (VkCommandBuffer& commands : *buffers) release(commands);
   }
 }
 
@@ -322,9 +370,15 @@ void DeviceImplicitEuler::write_solve_counters() {
   std::memcpy(uint_input_.mapped(), uints.data(), sizeof uints);
 }
 
+bool DeviceImplicitEuler::choose_vcycle() const {
+  if (!multigrid_) return false;
+  const float ratio = std::bit_cast<float>(output_uint(kStiffnessRatio));
+  return vcycle_pays(jacobi_iterations_estimate(ratio, model_.rows, model_.cols), settings_.cg_vcycle_threshold);
+}
+
 int DeviceImplicitEuler::solve(VkCommandBuffer first) {
   device_.run(first);
-  while (output_uint(kSolveDone) == 0) device_.run(iteration_commands_);
+  while (output_uint(kSolveDone) == 0) device_.run(iteration_commands_[vcycle_]);
   const int iterations = static_cast<int>(output_uint(kIterations));
   if (output_uint(kSolveConverged) == 0) ++stats_.cg_unconverged_solves;
   return iterations;
@@ -343,13 +397,15 @@ std::uint32_t DeviceImplicitEuler::take_step(double h, double end_time) {
   if (holding_) upload_surface_contacts();
   write_step(h, end_time);
   StageTimer timer(profile_, StepStage::device_steps);
-  last_iterations_ = solve(start_commands_);
+  device_.run(prepare_commands_);
+  vcycle_ = choose_vcycle();
+  last_iterations_ = solve(first_commands_[vcycle_]);
   if (holding_) {
     // A surface cannot pull: let go of the particles it would have to, and solve again for them.
     device_.run(release_commands_);
     if (output_uint(kReleased) != 0) {
       write_solve_counters();
-      last_iterations_ += solve(restart_commands_);
+      last_iterations_ += solve(restart_commands_[vcycle_]);
     }
     device_.run(impulse_commands_);
   }

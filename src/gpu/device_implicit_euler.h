@@ -9,9 +9,11 @@
 //   implicit_setup     z (h v, or an anchor's path displacement), anchors' known dv
 //   implicit_product, implicit_gather   b = h (f0 - K z)
 //   implicit_diagonal  the block Jacobi preconditioner: each particle's diagonal block, inverted
+//   multigrid_*        with the V-cycle: level 0's matrix, the coarse levels, the coarsest factor
 //   the solve          r = b - A u from the last step's dv, then iterations of
 //                      q = A p (implicit_product + implicit_gather), alpha (implicit_reduce),
-//                      u, r, z (implicit_iterate), beta (implicit_reduce), p (implicit_iterate)
+//                      u, r, z (implicit_iterate; with the V-cycle, z from it), beta (implicit_reduce),
+//                      p (implicit_iterate)
 //   implicit_setup     the check for a non-finite dv; v += dv, x += h v; anchors on their paths
 //   forces             f(x1, v1), and the step's end powers for the work integrals
 // The matrix A = M + h (C + drag) + h^2 K is never assembled: its products are matrix-free from the
@@ -31,21 +33,26 @@
 // the solve), lets go of those the surface would pull and solves again, and hands the surface
 // impulses back to the collision stage for Coulomb friction; their work is booked on the host.
 //
-// What differs from the CPU: the preconditioner is block Jacobi (the CPU's multigrid and two-level
-// corrections are not on the device; the scene's cg_two_level and cg_multigrid are the CPU's
-// alone), so a stiff sheet takes more iterations than on the CPU's defaults and as many as the CPU
-// with cg_two_level false. The results match the CPU's within the solve's tolerance, not bit for
-// bit: the matrix-free products round differently from assembled blocks.
+// The preconditioner is the CPU's: on a lattice with cg_two_level and cg_multigrid (the defaults),
+// the multigrid V-cycle (gpu/device_multigrid.h) where block Jacobi would take more than
+// cg_vcycle_threshold iterations by the CPU's estimate, read from the device after the passes
+// before the solve; block Jacobi else, and on a model that is not a lattice or with cg_two_level
+// false (the CPU's two-level aggregates without the multigrid are not on the device: block Jacobi
+// there too). The results match the CPU's within the solve's tolerance, not bit for bit: the
+// matrix-free products round differently from assembled blocks, and the V-cycle's sweeps visit
+// the nodes in 9 colours where the CPU's go in bands of rows.
 #pragma once
 
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
+#include "gpu/device_multigrid.h"
 #include "gpu/shaders/implicit_step.h"
 #include "integrators/integrator.h"
 
@@ -73,9 +80,12 @@ class DeviceImplicitEuler final : public Integrator {
   int last_iterations() const { return last_iterations_; }
 
   // Device memory for a model of these counts, bytes: DeviceForces' general path and the arrays below.
-  // `colliders`: whether the model has obstacles (the surface contacts' arrays).
+  // `colliders`: whether the model has obstacles (the surface contacts' arrays); the V-cycle's
+  // levels where DeviceMultigrid::applies(counts, settings).
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, Precision precision,
-                                        bool colliders = false);
+                                        bool colliders, const IntegratorSettings& settings);
+  // Whether the last step's solve took the V-cycle.
+  bool last_solve_took_vcycle() const { return vcycle_; }
   // The iterations recorded into the step's first submission, and into each further one.
   static constexpr std::uint32_t kFirstIterations = 8;
   static constexpr std::uint32_t kMoreIterations = 32;
@@ -116,6 +126,8 @@ class DeviceImplicitEuler final : public Integrator {
   double output_real(std::uint32_t slot) const;
   // Submits iterations until the solve stops; returns its iterations.
   int solve(VkCommandBuffer first);
+  // Whether this step's solve takes the V-cycle, from the stiffness ratio the passes before it read.
+  bool choose_vcycle() const;
   // The surface contacts of the step's start uploaded (the arrays grown to hold them, first time);
   // after the step, the surface impulses into them and their work into the state.
   void upload_surface_contacts();
@@ -124,11 +136,13 @@ class DeviceImplicitEuler final : public Integrator {
   void upload_changes(const ClothState& state);
   void read_state(ClothState& state);
   void bind_passes();
-  // Command buffers recorded once: the forces at the current state; the passes before the solve
-  // with a first batch of iterations; a batch of iterations; the step's end.
+  // Command buffers recorded once: the forces at the current state; the passes before the solve;
+  // for each preconditioner, the first residual with a first batch of iterations, and a batch of
+  // iterations; the step's end.
   void record_buffers();
   void release_buffers();
-  void record_iterations(VkCommandBuffer commands, std::uint32_t iterations) const;
+  // `vcycle`: z from the V-cycle, else from block Jacobi.
+  void record_iterations(VkCommandBuffer commands, bool vcycle, std::uint32_t iterations) const;
   // Records `pass` in `phase` over `invocations`; `iteration`: a CG iteration's pass, which returns
   // at once once the solve has stopped.
   void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase,
@@ -136,7 +150,7 @@ class DeviceImplicitEuler final : public Integrator {
   // direction = dv, and the element part of A dv into the force slots; the first residual from
   // there (the warm start) and the start's sums; the held particles' surface impulses A dv - b.
   void record_solution_product(VkCommandBuffer commands) const;
-  void record_first_residual(VkCommandBuffer commands) const;
+  void record_first_residual(VkCommandBuffer commands, bool vcycle) const;
   void record_surface_impulses(VkCommandBuffer commands) const;
   std::uint32_t workgroups() const;
   ImplicitPassConstants constants(std::uint32_t phase) const;
@@ -154,12 +168,15 @@ class DeviceImplicitEuler final : public Integrator {
   Buffer real_input_, uint_input_, anchor_input_, real_output_, uint_output_, state_readback_;
   ComputePipeline linearize_pass_, product_pass_, gather_pass_, diagonal_pass_, reduce_pass_, iterate_pass_,
       setup_pass_;
-  VkCommandBuffer forces_commands_ = VK_NULL_HANDLE, start_commands_ = VK_NULL_HANDLE,
-                  iteration_commands_ = VK_NULL_HANDLE, end_commands_ = VK_NULL_HANDLE;
+  std::optional<DeviceMultigrid> multigrid_;  // on a lattice with the CPU's multigrid settings
+  bool vcycle_ = false;                       // this step's solve takes the V-cycle
+  VkCommandBuffer forces_commands_ = VK_NULL_HANDLE, prepare_commands_ = VK_NULL_HANDLE, end_commands_ = VK_NULL_HANDLE;
+  // Per preconditioner (block Jacobi, the V-cycle): the first residual and iterations; more
+  // iterations; with held particles, the solve again after a release, from where it stopped.
+  std::array<VkCommandBuffer, 2> first_commands_{}, iteration_commands_{}, restart_commands_{};
   // With held particles: the surface impulses and the release of those a surface would pull; the
-  // solve again from where it stopped; the final impulses, copied back.
-  VkCommandBuffer release_commands_ = VK_NULL_HANDLE, restart_commands_ = VK_NULL_HANDLE,
-                  impulse_commands_ = VK_NULL_HANDLE;
+  // final impulses, copied back.
+  VkCommandBuffer release_commands_ = VK_NULL_HANDLE, impulse_commands_ = VK_NULL_HANDLE;
   Buffer impulse_readback_;  // host-visible, sized with the impulse array
   Buffer contacts_input_;    // host-visible, the surface contacts of the step's start (sized with them)
   bool holding_ = false;     // the last step held particles

@@ -471,15 +471,23 @@ double BlockSystem::stiffness_ratio() {
   return *std::max_element(block_sum_a_.begin(), block_sum_a_.begin() + static_cast<std::ptrdiff_t>(blocks));
 }
 
-double BlockSystem::jacobi_iterations_estimate() {
+double jacobi_iterations_estimate(double stiffness_ratio, int rows, int cols) {
   constexpr double kIterationsPerLatticeSide = 6.5;
-  const double side = std::max(model_.rows, model_.cols);
-  return std::min(std::sqrt(stiffness_ratio()), kIterationsPerLatticeSide * side);
+  const double side = std::max(rows, cols);
+  return std::min(std::sqrt(stiffness_ratio), kIterationsPerLatticeSide * side);
+}
+
+bool vcycle_pays(double jacobi_iterations, double vcycle_threshold) {
+  return vcycle_threshold <= 0.0 || jacobi_iterations > vcycle_threshold;
+}
+
+double BlockSystem::jacobi_iterations_estimate() {
+  return clothsim::jacobi_iterations_estimate(stiffness_ratio(), model_.rows, model_.cols);
 }
 
 void BlockSystem::setup_preconditioner() {
   if (multigrid_) {
-    vcycle_ = vcycle_threshold_ <= 0.0 || jacobi_iterations_estimate() > vcycle_threshold_;
+    vcycle_ = vcycle_pays(jacobi_iterations_estimate(), vcycle_threshold_);
     if (vcycle_) {
       multigrid_->setup({row_offset, column, block, preconditioner, free, hold, held_normal, holding}, threads_);
     }

@@ -35,6 +35,16 @@
 
 namespace clothsim {
 
+// Block Jacobi's CG iterations per solve at the default tolerance, roughly, for a system of
+// stiffness ratio s (BlockSystem::stiffness_ratio) on a rows x cols lattice: min(sqrt(s),
+// 6.5 max(rows, cols)). Its condition number grows with s until the lattice bounds it (the
+// smoothest mode's stiffness falls as the lattice's side squared). Fitted on the built-in scenes
+// (docs/performance.md, "A cheaper implicit Euler step"), within a factor of about 1.5.
+double jacobi_iterations_estimate(double stiffness_ratio, int rows, int cols);
+// Whether a solve takes the V-cycle rather than block Jacobi: where block Jacobi's estimate is
+// above IntegratorSettings::cg_vcycle_threshold (always, for a threshold of 0).
+bool vcycle_pays(double jacobi_iterations, double vcycle_threshold);
+
 class BlockSystem {
  public:
   BlockSystem(const ClothModel& model, const IntegratorSettings& settings, int threads);
@@ -61,10 +71,7 @@ class BlockSystem {
   // The system's stiffness relative to its mass: the largest over the free particles of
   // s = (trace A_pp - 3 m_p) / m_p, what the step's damping and stiffness add to the diagonal.
   double stiffness_ratio();
-  // Block Jacobi's CG iterations per solve at the default tolerance, roughly: min(sqrt(s),
-  // 6.5 max(rows, cols)). Its condition number grows with s until the lattice bounds it (the
-  // smoothest mode's stiffness falls as the lattice's side squared). Fitted on the built-in scenes
-  // (docs/performance.md, "A cheaper implicit Euler step"), within a factor of about 1.5.
+  // jacobi_iterations_estimate(stiffness_ratio(), rows, cols) for the model's lattice.
   double jacobi_iterations_estimate();
   struct Solve {
     int iterations = 0;

@@ -60,6 +60,8 @@ class ImplicitEuler final : public Integrator {
   const std::vector<std::uint32_t>& column() const { return system_.column; }
   // CG iterations of the last step.
   int last_iterations() const { return last_iterations_; }
+  // Whether the last step's solve took the multigrid V-cycle (BlockSystem::setup_preconditioner).
+  bool last_solve_took_vcycle() const { return system_.vcycle_chosen(); }
   // The statistics, the warm start of the next solve (the last step's velocity change) and which
   // particles slipped on their surface in the last step.
   void transfer_state(StateArchive& archive) override;

@@ -5,17 +5,29 @@
 #include "core/assert.h"
 #include "core/multiversion.h"
 #include "core/parallel.h"
+#include "core/shared_text.h"
 
 namespace clothsim {
 namespace {
 
+// The stencil's slots and the prolongation's parents, shared with the device's V-cycle
+// (gpu/device_multigrid.h).
+namespace stencil {
+#include "integrators/multigrid_stencil.inc"
+}  // namespace stencil
+
+constexpr auto kSlots = static_cast<std::size_t>(stencil::kStencilSlots);
+
 // A coarse row's blocks: the offsets (di, dj) in [-2, 2]^2 but the corners, in ascending node order.
-constexpr std::array<std::array<int, 2>, 21> kOffsets = {{{-2, -1}, {-2, 0},  {-2, 1},                    //
-                                                          {-1, -2}, {-1, -1}, {-1, 0}, {-1, 1}, {-1, 2},  //
-                                                          {0, -2},  {0, -1},  {0, 0},  {0, 1},  {0, 2},   //
-                                                          {1, -2},  {1, -1},  {1, 0},  {1, 1},  {1, 2},   //
-                                                          {2, -1},  {2, 0},   {2, 1}}};
-constexpr std::size_t kDiagonalSlot = 10;  // the coarse rows' upper half: the slots from here on
+const std::array<SymmetricStencilMatrix::Offset, kSlots> kOffsets = [] {
+  std::array<SymmetricStencilMatrix::Offset, kSlots> offsets{};
+  for (int slot = 0; slot < stencil::kStencilSlots; ++slot) {
+    offsets[static_cast<std::size_t>(slot)] = {stencil::stencil_row_offset(slot), stencil::stencil_column_offset(slot)};
+  }
+  return offsets;
+}();
+// The coarse rows' upper half: the slots from here on.
+constexpr auto kDiagonalSlot = static_cast<std::size_t>(stencil::kStencilDiagonal);
 
 // The fine lattice's upper stencil: the elements join particles one row or column apart
 // (connectors, adjacent radial springs: (1, -1), (1, 1)) or two along a row or column (opposite
@@ -24,18 +36,7 @@ constexpr std::array<SymmetricStencilMatrix::Offset, 7> kFineUpper = {
     {{0, 0}, {0, 1}, {0, 2}, {1, -1}, {1, 0}, {1, 1}, {2, 0}}};
 
 // The slot of offset (di, dj), both in [-2, 2], not a corner.
-constexpr std::size_t stencil_slot(int di, int dj) {
-  constexpr int kRowStart[5] = {0, 3, 8, 13, 18};  // first slot of each di
-  constexpr int kRowFirst[5] = {-1, -2, -2, -2, -1};
-  return static_cast<std::size_t>(kRowStart[di + 2] + dj - kRowFirst[di + 2]);
-}
-
-// Gauss-Seidel sweeps on each side of the coarse correction, on the fine level and on the coarse
-// ones. Cotton at 128 x 128, 1 s (docs/performance.md), CG iterations per step (most in one):
-// 1 and 1 sweeps 18.5 (26); 2 and 1, 14.0 (19), the least time per step; 2 and 2, 12.0 (16);
-// 3 and 3, 9.6 (14).
-constexpr int kFineSweeps = 2;
-constexpr int kCoarseSweeps = 1;
+std::size_t stencil_slot(int di, int dj) { return static_cast<std::size_t>(stencil::stencil_slot(di, dj)); }
 
 // Rows per band of the Gauss-Seidel sweeps (at least 2: bands two apart must share no matrix entry).
 constexpr std::size_t kBandRows = 4;
@@ -54,10 +55,9 @@ struct Parents {
 };
 
 Parents parents_1d(std::size_t fine, std::size_t coarse_count) {
-  if (fine % 2 == 0) return {1, {fine / 2, 0}, {1.0, 0.0}};
-  const std::size_t right = (fine + 1) / 2;
-  if (right >= coarse_count) return {1, {fine / 2, 0}, {1.0, 0.0}};  // past the last coarse node
-  return {2, {fine / 2, right}, {0.5, 0.5}};
+  const auto count = stencil::parent_count(static_cast<int>(fine), static_cast<int>(coarse_count));
+  const double weight = 0.5 * stencil::twice_parent_weight(static_cast<int>(fine), static_cast<int>(coarse_count));
+  return {static_cast<std::size_t>(count), {fine / 2, fine / 2 + 1}, {weight, count == 2 ? weight : 0.0}};
 }
 
 // Calls body(fine node, weight) for the fine nodes that coarse node `coarse` interpolates to
@@ -78,6 +78,7 @@ void for_each_child_1d(std::size_t coarse, std::size_t fine_count, std::size_t c
 
 LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols)
     : rows_(rows), cols_(cols), fine_stencil_(rows, cols, kFineUpper) {
+  static_assert(kStencil == kSlots, "multigrid_stencil.inc's slots");
   CLOTHSIM_ASSERT(rows > 0 && cols > 0, "a lattice");
   fine_residual_.assign(rows * cols, Vec3{});
   std::size_t level_rows = rows;

@@ -78,6 +78,12 @@ class LatticeMultigrid {
  public:
   // Nodes per level at most for the exact solve that ends the V-cycle.
   static constexpr std::size_t kCoarsestNodes = 64;
+  // Gauss-Seidel sweeps on each side of the coarse correction, on the fine level and on the coarse
+  // ones. Cotton at 128 x 128, 1 s (docs/performance.md), CG iterations per step (most in one):
+  // 1 and 1 sweeps 18.5 (26); 2 and 1, 14.0 (19), the least time per step; 2 and 2, 12.0 (16);
+  // 3 and 3, 9.6 (14).
+  static constexpr int kFineSweeps = 2;
+  static constexpr int kCoarseSweeps = 1;
 
   // The hierarchy's structure for a rows x cols lattice (particle (i, j) at index i cols + j):
   // at least one coarse level.

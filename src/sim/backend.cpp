@@ -111,7 +111,7 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
     device.require_precision(precision);
     const std::uint64_t bytes =
         integrator.kind == IntegratorKind::implicit_euler
-            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders > 0)
+            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders > 0, integrator)
             : gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
                                                       gpu::DeviceForcePath::lattice, colliders);
     device.require_memory(bytes, "the scene");

@@ -48,7 +48,7 @@ Vec3 connector_product(ConnectorLinearization f, Real stiffness_scale, Real damp
          (stiffness_scale * f.across) * (w - along_w * u);
 }
 
-// The diagonal block of the same on a or b.
+// The diagonal block of the same on a or b (the off-diagonal blocks are its negative).
 Mat3 connector_diagonal(ConnectorLinearization f, Real stiffness_scale, Real damping_scale) {
   const Mat3 along = outerProduct(f.direction, f.direction);
   return (stiffness_scale * f.along + damping_scale * f.damping) * along +
@@ -70,13 +70,18 @@ Vec3 radial_gradient(RadialLinearization f, uint i) {
   return i == 0u ? f.gradient_a : (i == 1u ? f.gradient_b : f.gradient_c);
 }
 
-// The diagonal block (i, i) of k_s K + d_s C.
+// The block (i, j) of k_s K + d_s C: the coefficient of V_j in row i.
+Mat3 radial_block(RadialLinearization f, uint i, uint j, Real stiffness_scale, Real damping_scale) {
+  const Real coupling =
+      f.equal_coupling * f.sum_tilt[i] * f.sum_tilt[j] + f.opposite_coupling * f.difference_tilt[i] * f.difference_tilt[j];
+  return (stiffness_scale * f.in_plane_stiffness + damping_scale * f.damping) *
+             outerProduct(radial_gradient(f, i), radial_gradient(f, j)) +
+         (stiffness_scale * coupling) * transverse_projector(f);
+}
+
+// The diagonal block (i, i).
 Mat3 radial_diagonal(RadialLinearization f, uint i, Real stiffness_scale, Real damping_scale) {
-  const Vec3 g = radial_gradient(f, i);
-  const Real s = f.sum_tilt[i];
-  const Real d = f.difference_tilt[i];
-  return (stiffness_scale * f.in_plane_stiffness + damping_scale * f.damping) * outerProduct(g, g) +
-         (stiffness_scale * (f.equal_coupling * s * s + f.opposite_coupling * d * d)) * transverse_projector(f);
+  return radial_block(f, i, i, stiffness_scale, damping_scale);
 }
 
 #endif

@@ -5,6 +5,10 @@
 //   kIterateUpdate     u += alpha p, r -= alpha q, z = P^-1 r (its held directions filtered out);
 //                      each workgroup's partial r.z and r.r
 //   kIterateDirection  p = z + beta p
+// and, where the V-cycle (gpu/device_multigrid.h) has replaced z = P^-1 r after the first residual
+// or an update:
+//   kIterateStart      the first direction p = z; partials r.z, r.r, b.b
+//   kIterateSums       partials r.z, r.r
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/implicit_step.h"
 
@@ -24,6 +28,7 @@ layout(std430, binding = 8) readonly buffer SolveReal { Real solve_real[]; };
 layout(std430, binding = 9) readonly buffer SolveUint { uint solve_uint[]; };
 layout(std430, binding = 10) readonly buffer Hold { uint hold[]; };  // [particle_count], kHold*
 layout(std430, binding = 11) readonly buffer SurfaceContacts { Real surface_contacts[]; };  // [particles][kContactReals]
+layout(std430, binding = 12) readonly buffer Rhs { Real rhs[]; };
 
 layout(push_constant) uniform Constants { ImplicitPassConstants constants; };
 
@@ -47,7 +52,18 @@ void main() {
     return;
   }
   Real partial[3] = Real[3](Real(0.0), Real(0.0), Real(0.0));
-  if (free) {
+  if (free && constants.phase != kIterateUpdate) {
+    Vec3 r, z, b;
+    for (uint k = 0u; k < 3u; ++k) {
+      r[k] = residual[3 * p + k];
+      z[k] = preconditioned[3 * p + k];
+      b[k] = rhs[3 * p + k];
+      if (constants.phase == kIterateStart) direction[3 * p + k] = z[k];
+    }
+    partial[0] = dot(r, z);
+    partial[1] = dot(r, r);
+    partial[2] = constants.phase == kIterateStart ? dot(b, b) : Real(0.0);
+  } else if (free) {
     const Real alpha = solve_real[kAlpha];
     Vec3 r;
     for (uint k = 0u; k < 3u; ++k) {

@@ -38,7 +38,8 @@ CLOTHSIM_SLOT kMaxIterations = 3;  // cg_max_iterations
 CLOTHSIM_SLOT kNonFiniteParticle = 4;  // the first free particle whose velocity change is not finite; kNoParticle: none
 CLOTHSIM_SLOT kHolding = 5;        // 1: the step holds particles resting on obstacles (the host's surface contacts)
 CLOTHSIM_SLOT kReleased = 6;       // 1: a held particle was let go after the solve (the surface would pull it)
-CLOTHSIM_SLOT kSolveUints = 7;
+CLOTHSIM_SLOT kStiffnessRatio = 7; // the V-cycle's level 0: the largest (trace A_pp - 3 m) / m, a float's bits
+CLOTHSIM_SLOT kSolveUints = 8;
 CLOTHSIM_SLOT kNoParticle = 0xffffffffu;
 
 // The element factors (forces/element_jacobian.inc), Reals per element.
@@ -86,6 +87,8 @@ CLOTHSIM_SLOT kDiagonalRelease = 1;  // after the solve: let go of those the sur
 // implicit_iterate's phases, and implicit_reduce's.
 CLOTHSIM_SLOT kIterateUpdate = 0;     // u += alpha p, r -= alpha q, z = P r; partials r.z, r.r
 CLOTHSIM_SLOT kIterateDirection = 1;  // p = z + beta p
+CLOTHSIM_SLOT kIterateStart = 2;      // with the V-cycle's z (gpu/device_multigrid.h): p = z; partials r.z, r.r, b.b
+CLOTHSIM_SLOT kIterateSums = 3;       // with the V-cycle's z: partials r.z, r.r
 CLOTHSIM_SLOT kReduceStart = 0;       // r.z, r.r, b.b of the first residual: the target, or done
 CLOTHSIM_SLOT kReduceCurvature = 1;   // p.q: alpha (or done on a breakdown)
 CLOTHSIM_SLOT kReduceResidual = 2;    // r.z, r.r: done, or beta

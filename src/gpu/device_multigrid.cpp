@@ -1,0 +1,147 @@
+#include "gpu/device_multigrid.h"
+
+#include <algorithm>
+#include <array>
+
+#include "core/assert.h"
+#include "gpu/real_arrays.h"
+#include "gpu/shaders/implicit_step.h"
+#include "gpu/shaders/multigrid_step.h"
+#include "integrators/multigrid.h"
+
+namespace clothsim::gpu {
+namespace {
+
+constexpr std::uint32_t kSlots = 21;  // integrators/multigrid_stencil.inc's kStencilSlots
+static_assert(3 * LatticeMultigrid::kCoarsestNodes == kCoarsestDofs, "the coarsest level fits multigrid_coarsest");
+
+ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
+                          std::uint32_t workgroup = 64) {
+  return shader_pipeline(device, name, precision, bindings, sizeof(MultigridPassConstants), workgroup);
+}
+
+struct LevelBytes {
+  std::uint64_t blocks, diagonal_inverse, vector, factor;
+};
+
+LevelBytes level_bytes(std::uint64_t nodes, std::uint64_t coarsest_nodes, Precision precision) {
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t coarsest_dofs = 3 * coarsest_nodes;
+  return {nodes * kSlots * 9 * real, nodes * 9 * real, nodes * 3 * real, coarsest_dofs * coarsest_dofs * real};
+}
+
+}  // namespace
+
+std::vector<DeviceMultigrid::Level> DeviceMultigrid::levels_for(std::uint32_t rows, std::uint32_t cols) {
+  // LatticeMultigrid's levels: halved (rounding up) until kCoarsestNodes nodes or fewer, at least one coarse level.
+  std::vector<Level> levels{{rows, cols, 0}};
+  do {
+    const Level& last = levels.back();
+    levels.push_back({(last.rows + 1) / 2, (last.cols + 1) / 2, last.base + last.nodes()});
+  } while (levels.back().nodes() > LatticeMultigrid::kCoarsestNodes);
+  return levels;
+}
+
+bool DeviceMultigrid::applies(const LatticeCounts& counts, const IntegratorSettings& settings) {
+  return settings.cg_two_level && settings.cg_multigrid && counts.rows > 0 && counts.cols > 0 &&
+         counts.rows * counts.cols == counts.particles;
+}
+
+std::uint64_t DeviceMultigrid::bytes_for(std::uint32_t rows, std::uint32_t cols, Precision precision) {
+  const std::vector<Level> levels = levels_for(rows, cols);
+  const LevelBytes bytes = level_bytes(levels.back().base + levels.back().nodes(), levels.back().nodes(), precision);
+  return bytes.blocks + bytes.diagonal_inverse + 3 * bytes.vector + bytes.factor;
+}
+
+DeviceMultigrid::DeviceMultigrid(Device& device, std::uint32_t rows, std::uint32_t cols, std::uint32_t connectors,
+                                 Precision precision)
+    : levels_(levels_for(rows, cols)),
+      radial_slot_base_(2 * connectors),
+      blocks_(device, level_bytes(levels_.back().base + levels_.back().nodes(), 0, precision).blocks,
+              Memory::device_local),
+      diagonal_inverse_(device, level_bytes(levels_.back().base + levels_.back().nodes(), 0, precision).diagonal_inverse,
+                        Memory::device_local),
+      rhs_(device, level_bytes(levels_.back().base + levels_.back().nodes(), 0, precision).vector, Memory::device_local),
+      solution_(device, rhs_.bytes(), Memory::device_local),
+      residual_(device, rhs_.bytes(), Memory::device_local),
+      factor_(device, level_bytes(0, levels_.back().nodes(), precision).factor, Memory::device_local),
+      assemble_pass_(make_pass(device, "multigrid_assemble", precision, 14)),
+      galerkin_pass_(make_pass(device, "multigrid_galerkin", precision, 2)),
+      cycle_pass_(make_pass(device, "multigrid_cycle", precision, 12)),
+      coarsest_pass_(make_pass(device, "multigrid_coarsest", precision, 5, kCoarsestWorkgroup)) {
+  CLOTHSIM_ASSERT(levels_.size() >= 2, "at least one coarse level");
+}
+
+void DeviceMultigrid::bind(const MultigridInputs& in) {
+  assemble_pass_.bind(std::vector<const Buffer*>{
+      in.gather_offset, in.gather_slot, in.connector_particles, in.radial_particles, in.connector_factors,
+      in.radial_factors, in.particle_mass, in.environment, in.particle_anchor, in.solve_real, in.solve_uint, in.hold,
+      in.surface_contacts, &blocks_});
+  galerkin_pass_.bind(std::vector<const Buffer*>{&blocks_, &diagonal_inverse_});
+  cycle_pass_.bind(std::vector<const Buffer*>{&blocks_, &diagonal_inverse_, in.jacobi, &rhs_, &solution_, &residual_,
+                                              in.residual, in.preconditioned, in.particle_anchor, in.hold,
+                                              in.surface_contacts, in.solve_uint});
+  coarsest_pass_.bind(std::vector<const Buffer*>{&blocks_, &factor_, &rhs_, &solution_, in.solve_uint});
+}
+
+MultigridPassConstants DeviceMultigrid::constants(std::uint32_t phase, std::size_t level, bool iteration) const {
+  const Level& here = levels_[level];
+  const Level next = level + 1 < levels_.size() ? levels_[level + 1] : Level{};
+  return MultigridPassConstants{phase,     static_cast<std::uint32_t>(level),
+                                here.base, here.rows,
+                                here.cols, next.base,
+                                next.rows, next.cols,
+                                0u,        iteration ? 1u : 0u,
+                                radial_slot_base_};
+}
+
+void DeviceMultigrid::record_assemble(VkCommandBuffer commands) const {
+  const MultigridPassConstants pass = constants(0, 0, false);
+  assemble_pass_.dispatch(commands, &pass, levels_[0].nodes());
+}
+
+void DeviceMultigrid::record_setup(VkCommandBuffer commands) const {
+  for (std::size_t level = 0; level + 1 < levels_.size(); ++level) {
+    const MultigridPassConstants pass = constants(0, level, false);
+    galerkin_pass_.dispatch(commands, &pass, levels_[level + 1].nodes());
+  }
+  const MultigridPassConstants pass = constants(kCoarsestFactor, levels_.size() - 1, false);
+  coarsest_pass_.dispatch(commands, &pass, kCoarsestWorkgroup);
+}
+
+void DeviceMultigrid::sweep(VkCommandBuffer commands, std::size_t level, bool ascending, bool iteration) const {
+  const Level& here = levels_[level];
+  for (std::uint32_t k = 0; k < kSmootherColours; ++k) {
+    MultigridPassConstants pass = constants(kCycleSmooth, level, iteration);
+    pass.colour = ascending ? k : kSmootherColours - 1 - k;
+    const std::uint32_t colour_rows = (here.rows + 2 - pass.colour / 3) / 3;
+    const std::uint32_t colour_cols = (here.cols + 2 - pass.colour % 3) / 3;
+    if (colour_rows * colour_cols > 0) cycle_pass_.dispatch(commands, &pass, colour_rows * colour_cols);
+  }
+}
+
+void DeviceMultigrid::record_apply(VkCommandBuffer commands, bool iteration) const {
+  const std::size_t coarsest = levels_.size() - 1;
+  const auto pass = [&](std::uint32_t phase, std::size_t level, std::uint32_t invocations) {
+    const MultigridPassConstants values = constants(phase, level, iteration);
+    cycle_pass_.dispatch(commands, &values, invocations);
+  };
+  // Down: level 0 from zero, each coarse level from zero (the restriction clears it).
+  pass(kCycleClear, 0, levels_[0].nodes());
+  for (std::size_t level = 0; level < coarsest; ++level) {
+    const int sweeps = level == 0 ? LatticeMultigrid::kFineSweeps : LatticeMultigrid::kCoarseSweeps;
+    for (int s = 0; s < sweeps; ++s) sweep(commands, level, true, iteration);
+    pass(kCycleResidual, level, levels_[level].nodes());
+    pass(kCycleRestrict, level, levels_[level + 1].nodes());
+  }
+  const MultigridPassConstants solve = constants(kCoarsestSolve, coarsest, iteration);
+  coarsest_pass_.dispatch(commands, &solve, kCoarsestWorkgroup);
+  // Up: the correction, then the sweeps in the reverse order.
+  for (std::size_t level = coarsest; level-- > 0;) {
+    pass(kCycleProlong, level, levels_[level].nodes());
+    const int sweeps = level == 0 ? LatticeMultigrid::kFineSweeps : LatticeMultigrid::kCoarseSweeps;
+    for (int s = 0; s < sweeps; ++s) sweep(commands, level, false, iteration);
+  }
+}
+
+}  // namespace clothsim::gpu

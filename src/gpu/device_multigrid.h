@@ -1,0 +1,106 @@
+// The multigrid V-cycle on the device: the preconditioner of implicit Euler's conjugate gradients
+// (gpu/device_implicit_euler.h) on a lattice, the CPU's LatticeMultigrid (integrators/multigrid.h)
+// with the same levels, transfer, Galerkin coarse matrices, sweeps and exact coarsest solve. What
+// differs is the order of the Gauss-Seidel sweeps: the CPU sweeps bands of rows, each band in
+// order, which a GPU cannot do in parallel; here the nodes take 9 colours, (i mod 3, j mod 3), no
+// two of which share a matrix entry (the stencil reaches 2 nodes), and each colour is one pass.
+// The CPU measured the same iterations with 9 colours as with its bands (multigrid.h).
+//
+// Per step, as named stages (docs/gpu.md, "Implicit Euler's multigrid on the device"):
+//   multigrid_assemble  level 0: each particle's row of A = M + h (C + drag) + h^2 K in the
+//                       lattice's stencil, from implicit_linearize's factors (the matrix-free
+//                       products do not need it; the smoother and Galerkin's product do); the
+//                       largest stiffness ratio, from which the host chooses the V-cycle or block
+//                       Jacobi for the solve as the CPU does (BlockSystem::setup_preconditioner)
+//   multigrid_galerkin  each coarse level's matrix P^T A P and its smoother's blocks, level by level
+//   multigrid_coarsest  the coarsest level's dense Cholesky factor (one workgroup)
+// and per CG iteration, z = V-cycle(r):
+//   multigrid_cycle     z = 0; 2 sweeps of 9 colours on level 0; the residual; its restriction;
+//                       on each coarse level 1 sweep, the residual, the restriction;
+//   multigrid_coarsest  the coarsest level exactly;
+//   multigrid_cycle     up again: the prolongation and the sweeps with the colours descending.
+//
+// Memory: every level's 21 blocks a node (the lattice's 13 would do on level 0; one layout for
+// all levels keeps one pass per stage), about 2 kB a particle in float64 over all levels.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/precision.h"
+#include "gpu/buffer.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/device.h"
+#include "gpu/shaders/multigrid_step.h"
+#include "integrators/integrator.h"
+#include "model/cloth_model.h"
+
+namespace clothsim::gpu {
+
+// What the V-cycle reads and writes of implicit Euler's arrays.
+struct MultigridInputs {
+  // The model (gpu/device_forces.h): the gather table, the elements' particles, masses, environment.
+  const Buffer* gather_offset;
+  const Buffer* gather_slot;
+  const Buffer* connector_particles;
+  const Buffer* radial_particles;
+  const Buffer* particle_mass;
+  const Buffer* environment;
+  // The step's (gpu/device_implicit_euler.h): the element factors, anchors, holds, block Jacobi
+  // inverses, the CG residual r and preconditioned residual z, the solve's scalars and counters.
+  const Buffer* connector_factors;
+  const Buffer* radial_factors;
+  const Buffer* particle_anchor;
+  const Buffer* hold;
+  const Buffer* surface_contacts;
+  const Buffer* jacobi;
+  const Buffer* residual;
+  const Buffer* preconditioned;
+  const Buffer* solve_real;
+  const Buffer* solve_uint;
+};
+
+class DeviceMultigrid {
+ public:
+  // Whether implicit Euler on the device preconditions with the V-cycle: on a lattice (rows and
+  // cols filled in `counts`), with the CPU's settings that choose it (cg_two_level, cg_multigrid).
+  static bool applies(const LatticeCounts& counts, const IntegratorSettings& settings);
+  // Device memory of the levels for a rows x cols lattice, bytes.
+  static std::uint64_t bytes_for(std::uint32_t rows, std::uint32_t cols, Precision precision);
+
+  // The levels of a rows x cols lattice whose model has `connectors` connectors (its radial springs'
+  // force slots follow the connectors' two each).
+  DeviceMultigrid(Device& device, std::uint32_t rows, std::uint32_t cols, std::uint32_t connectors,
+                  Precision precision);
+  // Binds the passes to implicit Euler's arrays (again whenever one of them is replaced).
+  void bind(const MultigridInputs& inputs);
+
+  // Level 0's matrix and the stiffness ratio (into the solve's counters, kStiffnessRatio).
+  void record_assemble(VkCommandBuffer commands) const;
+  // The coarse levels' matrices and the coarsest factor, from level 0's.
+  void record_setup(VkCommandBuffer commands) const;
+  // preconditioned = V-cycle applied to residual. `iteration`: passes of a CG iteration, which
+  // return at once once the solve has stopped.
+  void record_apply(VkCommandBuffer commands, bool iteration) const;
+
+  std::size_t level_count() const { return levels_.size(); }
+
+ private:
+  struct Level {
+    std::uint32_t rows = 0;
+    std::uint32_t cols = 0;
+    std::uint32_t base = 0;  // the first node in the level arrays
+    std::uint32_t nodes() const { return rows * cols; }
+  };
+  static std::vector<Level> levels_for(std::uint32_t rows, std::uint32_t cols);
+  // The push constants of a pass on level l (with level l + 1 as the next where there is one).
+  MultigridPassConstants constants(std::uint32_t phase, std::size_t level, bool iteration) const;
+  void sweep(VkCommandBuffer commands, std::size_t level, bool ascending, bool iteration) const;
+
+  std::vector<Level> levels_;
+  std::uint32_t radial_slot_base_;
+  Buffer blocks_, diagonal_inverse_, rhs_, solution_, residual_, factor_;
+  ComputePipeline assemble_pass_, galerkin_pass_, cycle_pass_, coarsest_pass_;
+};
+
+}  // namespace clothsim::gpu

@@ -1,0 +1,57 @@
+// The layout shared by the V-cycle on the device (gpu/device_multigrid.h) and its shaders
+// multigrid_*.comp: the push constants and the phases, read by C++ and by GLSL.
+//
+// The level arrays hold every level one after another, level 0 (the lattice, one node a particle)
+// first: node n of a level starting at `base` is entry base + n. A node's matrix row is
+// kStencilSlots 3x3 blocks (integrators/multigrid_stencil.inc), column by column; its vectors
+// three Reals. Level 0's right-hand side and solution are the conjugate gradients' residual and
+// preconditioned residual, and its smoother's blocks implicit Euler's block Jacobi inverses; its
+// entries in `level_rhs`, `level_solution` and `level_diagonal_inverse` are unused.
+#if defined(__cplusplus)
+#pragma once
+#include <cstdint>
+namespace clothsim::gpu {
+using uint = std::uint32_t;
+#define CLOTHSIM_SLOT inline constexpr uint
+#else
+#define CLOTHSIM_SLOT const uint
+#endif
+
+// multigrid_cycle's phases.
+CLOTHSIM_SLOT kCycleClear = 0;     // level 0's solution = 0
+CLOTHSIM_SLOT kCycleSmooth = 1;    // one colour of a Gauss-Seidel sweep on the level
+CLOTHSIM_SLOT kCycleResidual = 2;  // the level's residual rhs - A x
+CLOTHSIM_SLOT kCycleRestrict = 3;  // the next level's rhs = P^T residual, its solution = 0
+CLOTHSIM_SLOT kCycleProlong = 4;   // x += P (the next level's solution)
+
+// multigrid_coarsest's phases (one workgroup).
+CLOTHSIM_SLOT kCoarsestFactor = 0;  // the coarsest level's matrix, dense, factored by Cholesky
+CLOTHSIM_SLOT kCoarsestSolve = 1;   // its solution from its right-hand side by the factor
+
+// The colours of the Gauss-Seidel sweeps: node (i, j) has colour 3 (i mod 3) + (j mod 3). No two
+// nodes of a colour share a matrix entry (the stencil reaches 2 nodes), so a colour is one pass.
+CLOTHSIM_SLOT kSmootherColours = 9;
+
+// The coarsest level's unknowns at most: 3 per node, LatticeMultigrid::kCoarsestNodes nodes.
+CLOTHSIM_SLOT kCoarsestDofs = 192;
+// multigrid_coarsest's workgroup: fixed, the one workgroup that factors and solves.
+CLOTHSIM_SLOT kCoarsestWorkgroup = 256;
+
+struct MultigridPassConstants {
+  uint phase;           // the pass's phase (above)
+  uint level;           // the level it works on (0: the lattice)
+  uint base;            // the level's first node in the level arrays
+  uint rows;            // the level's nodes in each direction
+  uint cols;
+  uint next_base;       // the next coarser level's (restriction, prolongation, Galerkin's product)
+  uint next_rows;
+  uint next_cols;
+  uint colour;          // kCycleSmooth: the colour swept
+  uint iteration;       // 1: a pass of a CG iteration, which returns at once once the solve has stopped
+  uint radial_slot_base;  // multigrid_assemble: the first radial spring's force slot
+};
+
+#if defined(__cplusplus)
+#undef CLOTHSIM_SLOT
+}  // namespace clothsim::gpu
+#endif

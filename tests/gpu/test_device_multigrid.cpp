@@ -1,0 +1,213 @@
+// The multigrid V-cycle on the Vulkan device (gpu/device_multigrid.h), the preconditioner of
+// implicit Euler's conjugate gradients there, against the CPU's (integrators/multigrid.h): one
+// solve converged far below the default tolerance on lattices with one and with several coarse
+// levels, odd and even sides; cotton-drape's iterations and frames; the choice between the V-cycle
+// and block Jacobi; particles held on a table; a sheet that tears; checkpoints.
+#include "gpu/device_multigrid.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "gpu/device_implicit_euler.h"
+#include "implicit_scenes.h"
+#include "integrators/implicit_euler.h"
+#include "io/restored_run.h"
+#include "scene/scene_simulation.h"
+#include "scene_simulation.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+using testing::cotton;
+using testing::kCpu;
+using testing::kVulkan;
+using testing::largest_distance;
+using testing::table_scene;
+
+gpu::DeviceSelection device0() { return gpu::DeviceSelection{0, Precision::float64, true}; }
+
+// A moving cotton sheet held by two corners, as test_device_implicit_euler.cpp starts its step.
+ClothState moving_state(const ClothModel& model) {
+  ClothState state;
+  state.position = model.particle_rest_position;
+  state.velocity.assign(model.particle_count(), Vec3{});
+  for (std::size_t p = 0; p < state.velocity.size(); ++p) state.velocity[p] = {0.01 * double(p % 7), -0.2, 0.03};
+  return state;
+}
+
+// Whether a and b are within `share` of each other (of the larger).
+void expect_within(double a, double b, double share) {
+  EXPECT_LE(std::abs(a - b), share * std::max(a, b)) << a << " against " << b;
+}
+
+TEST(DeviceMultigrid, OneSolveIsTheCpusSolve) {
+  // One step of 1/60 s, the solve converged to 1e-12 with the V-cycle on both sides (threshold 0):
+  // 12 x 12 (one coarse level, 6 x 6, solved exactly), 33 x 20 (odd and even sides: 17 x 10, then
+  // 9 x 5) and 40 x 40 (three coarse levels). The same matrix and the same cycle up to the sweeps'
+  // order (9 colours here, bands of rows on the CPU): the same velocity change, in about as many
+  // iterations.
+  for (const auto& [rows, cols] : {std::pair{12, 12}, std::pair{33, 20}, std::pair{40, 40}}) {
+    const SceneSpec spec = cotton(rows, cols, kCpu, true);
+    const ClothModel model = build_model(spec);
+    IntegratorSettings settings = spec.integrator;
+    settings.cg_tolerance = 1e-12;
+    settings.cg_max_iterations = 5000;
+    settings.cg_vcycle_threshold = 0.0;
+    ClothState cpu = moving_state(model);
+    ClothState device = cpu;
+    ForceOptions options;
+    ImplicitEuler reference(model, settings, options);
+    gpu::DeviceImplicitEuler integrator(model, settings, options, device0());
+    ASSERT_EQ(reference.step(cpu, 1.0).status, StepStatus::ok);
+    ASSERT_EQ(integrator.step(device, 1.0).status, StepStatus::ok);
+    EXPECT_TRUE(reference.last_solve_took_vcycle());
+    EXPECT_TRUE(integrator.last_solve_took_vcycle());
+    EXPECT_LT(largest_distance(cpu.velocity, device.velocity), 1e-9) << rows << " x " << cols;
+    EXPECT_LT(largest_distance(cpu.position, device.position), 1e-9 / 60.0) << rows << " x " << cols;
+    expect_within(integrator.last_iterations(), reference.last_iterations(), 0.2);
+    // Block Jacobi takes many times as many on the same system.
+    settings.cg_two_level = false;
+    ClothState jacobi_state = moving_state(model);
+    gpu::DeviceImplicitEuler jacobi(model, settings, options, device0());
+    ASSERT_EQ(jacobi.step(jacobi_state, 1.0).status, StepStatus::ok);
+    EXPECT_FALSE(jacobi.last_solve_took_vcycle());
+    EXPECT_GT(jacobi.last_iterations(), 3 * integrator.last_iterations()) << rows << " x " << cols;
+  }
+}
+
+TEST(DeviceMultigrid, CottonDrapeTakesTheCpusIterations) {
+  // cotton-drape on 24 x 24 for half a second (30 steps of 1/60 s) at the default CG tolerance,
+  // with the defaults on both sides: the V-cycle, which both choose at every step (block Jacobi
+  // would take about 12 times the iterations: test_device_implicit_euler.cpp).
+  Simulation device = testing::one_thread_simulation(cotton(24, kVulkan, true));
+  Simulation cpu = testing::one_thread_simulation(cotton(24, kCpu, true));
+  Simulation jacobi = testing::one_thread_simulation(cotton(24, kCpu, false));
+  for (int frame = 1; frame <= 30; ++frame) {
+    for (Simulation* simulation : {&device, &cpu, &jacobi}) {
+      ASSERT_TRUE(simulation->advance_to(frame / 60.0)) << simulation->failure()->message;
+    }
+    if (frame != 6) continue;
+    // Each solve stops at 1e-3 of its right-hand side, so runs that precondition differently part
+    // by about that share of a step's velocity change, which grows where the sheet wrinkles (the
+    // two cycles sweep in different orders): less than the CPU's own two preconditioners part.
+    const double cpu_spread = largest_distance(cpu.state().position, jacobi.state().position);
+    EXPECT_LT(largest_distance(device.state().position, cpu.state().position), cpu_spread);
+  }
+  EXPECT_EQ(device.integrator_stats().accepted_steps, 30u);
+  EXPECT_EQ(device.integrator_stats().cg_unconverged_solves, 0u);
+  expect_within(static_cast<double>(device.integrator_stats().cg_iterations),
+                static_cast<double>(cpu.integrator_stats().cg_iterations), 0.2);
+  expect_within(static_cast<double>(device.integrator_stats().cg_max_iterations_in_a_step),
+                static_cast<double>(cpu.integrator_stats().cg_max_iterations_in_a_step), 0.2);
+  EXPECT_GT(jacobi.integrator_stats().cg_iterations, 5 * device.integrator_stats().cg_iterations);
+}
+
+TEST(DeviceMultigrid, CottonDrapesAsOnTheCpuWithConvergedSolves) {
+  // The same sheet for 10 steps with the solves converged to 1e-8 of their right-hand sides: the
+  // runs then part by rounding and the solves' remainders alone, and the energy balance's error is
+  // backward Euler's, the same on both sides.
+  SceneSpec device_spec = cotton(24, kVulkan, true);
+  SceneSpec cpu_spec = cotton(24, kCpu, true);
+  device_spec.integrator.cg_tolerance = cpu_spec.integrator.cg_tolerance = 1e-8;
+  Simulation device = testing::one_thread_simulation(device_spec);
+  Simulation cpu = testing::one_thread_simulation(cpu_spec);
+  ASSERT_TRUE(device.advance_to(10 / 60.0)) << device.failure()->message;
+  ASSERT_TRUE(cpu.advance_to(10 / 60.0)) << cpu.failure()->message;
+  EXPECT_LT(largest_distance(device.state().position, cpu.state().position), 1e-6);
+  const double balance = device.energy_balance().error();
+  const double cpu_balance = cpu.energy_balance().error();
+  EXPECT_NEAR(balance, cpu_balance, 1e-3 * std::abs(cpu_balance));
+  expect_within(static_cast<double>(device.integrator_stats().cg_iterations),
+                static_cast<double>(cpu.integrator_stats().cg_iterations), 0.2);
+}
+
+TEST(DeviceMultigrid, ChoosesBetweenTheVcycleAndJacobiAsTheCpu) {
+  // The CPU's rule (BlockSystem::setup_preconditioner): the V-cycle where block Jacobi would take
+  // more than cg_vcycle_threshold iterations by its estimate. At a frame's step cotton is stiff
+  // against its mass (the V-cycle); at 0.1 ms it is mass-dominated (block Jacobi).
+  const SceneSpec spec = cotton(24, kCpu, true);
+  const ClothModel model = build_model(spec);
+  for (const auto& [step, vcycle] : {std::pair{1.0 / 60.0, true}, std::pair{1e-4, false}}) {
+    IntegratorSettings settings = spec.integrator;
+    settings.time_step = step;
+    ClothState cpu = moving_state(model);
+    ClothState device = cpu;
+    ForceOptions options;
+    ImplicitEuler reference(model, settings, options);
+    gpu::DeviceImplicitEuler integrator(model, settings, options, device0());
+    ASSERT_EQ(reference.step(cpu, 1.0).status, StepStatus::ok);
+    ASSERT_EQ(integrator.step(device, 1.0).status, StepStatus::ok);
+    EXPECT_EQ(reference.last_solve_took_vcycle(), vcycle) << step;
+    EXPECT_EQ(integrator.last_solve_took_vcycle(), vcycle) << step;
+    EXPECT_NEAR(integrator.last_iterations(), reference.last_iterations(), 0.2 * reference.last_iterations());
+  }
+}
+
+TEST(DeviceMultigrid, HoldsParticlesOnTheTableAsTheCpu) {
+  // tablecloth on 15 x 15 for 0.3 s with the V-cycle at every step (threshold 0) on both sides:
+  // level 0's rows and columns filtered in the held directions, the coarse levels built from them,
+  // and built again after a release. The solves are converged to 1e-8, so that the two cycles'
+  // sweeps, in different orders, do not decide differently whether a particle lands a step earlier.
+  SceneSpec device_spec = table_scene(kVulkan, true);
+  SceneSpec cpu_spec = table_scene(kCpu, true);
+  device_spec.integrator.cg_vcycle_threshold = cpu_spec.integrator.cg_vcycle_threshold = 0.0;
+  device_spec.integrator.cg_tolerance = cpu_spec.integrator.cg_tolerance = 1e-8;
+  Simulation device = testing::one_thread_simulation(device_spec);
+  Simulation cpu = testing::one_thread_simulation(cpu_spec);
+  for (int frame = 1; frame <= 6; ++frame) {
+    ASSERT_TRUE(device.advance_to(frame * 0.05)) << device.failure()->message;
+    ASSERT_TRUE(cpu.advance_to(frame * 0.05)) << cpu.failure()->message;
+  }
+  EXPECT_LT(largest_distance(device.state().position, cpu.state().position), 1e-6);
+  EXPECT_GT(device.contact_statistics().contact_steps, 0u);
+  EXPECT_EQ(device.contact_statistics().contact_steps, cpu.contact_statistics().contact_steps);
+  EXPECT_NEAR(device.state().contact_work, cpu.state().contact_work, 1e-5 * std::abs(cpu.state().contact_work));
+  expect_within(static_cast<double>(device.integrator_stats().cg_iterations),
+                static_cast<double>(cpu.integrator_stats().cg_iterations), 0.2);
+  // Nothing inside the table: the particles over its top (y = -0.05) rest on it.
+  std::size_t on_top = 0;
+  for (const Vec3& x : device.state().position) {
+    if (std::abs(x.x) > 0.34 || std::abs(x.z) > 0.34) continue;
+    EXPECT_GT(x.y, -0.05 - 1e-6);
+    ++on_top;
+  }
+  EXPECT_GT(on_top, 50u);
+}
+
+TEST(DeviceMultigrid, ASheetTearsAsOnTheCpu) {
+  // tear-pull's paper, pulled apart by its anchors, with the V-cycle at every step and the solves
+  // converged far below the default tolerance: springs break between the steps (the model's edits
+  // reach level 0's rows through the element factors), the same ones as on the CPU.
+  SceneSpec spec = builtin_scene("tear-pull");
+  spec.integrator.kind = IntegratorKind::implicit_euler;
+  spec.integrator.cg_vcycle_threshold = 0.0;
+  spec.integrator.cg_tolerance = 1e-8;
+  spec.collision.self = false;
+  spec.colliders.clear();
+  SceneSpec on_device = spec;
+  on_device.backend = kVulkan;
+  Simulation cpu = testing::one_thread_simulation(spec);
+  Simulation device = testing::one_thread_simulation(on_device);
+  ASSERT_TRUE(cpu.advance_to(0.08)) << cpu.failure()->message;
+  ASSERT_TRUE(device.advance_to(0.08)) << device.failure()->message;
+  EXPECT_GT(cpu.model_changes().broken_connectors, 10u);
+  EXPECT_EQ(device.model_changes().broken_connectors, cpu.model_changes().broken_connectors);
+  EXPECT_NEAR(device.model_changes().max_plastic_strain, cpu.model_changes().max_plastic_strain,
+              1e-6 * cpu.model_changes().max_plastic_strain);
+  EXPECT_LT(largest_distance(cpu.state().position, device.state().position), 1e-3);
+  expect_within(static_cast<double>(device.integrator_stats().cg_iterations),
+                static_cast<double>(cpu.integrator_stats().cg_iterations), 0.2);
+}
+
+TEST(DeviceMultigrid, ARestoredRunGoesOnBitForBit) {
+  SceneSpec spec = cotton(12, kVulkan, true);
+  spec.integrator.cg_vcycle_threshold = 0.0;
+  testing::expect_restored_run_matches(spec, 0.1, 0.2, 2);
+}
+
+}  // namespace
+}  // namespace clothsim
