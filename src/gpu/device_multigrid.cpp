@@ -13,7 +13,8 @@ namespace clothsim::gpu {
 namespace {
 
 constexpr std::uint32_t kSlots = 21;  // integrators/multigrid_stencil.inc's kStencilSlots
-static_assert(3 * LatticeMultigrid::kCoarsestNodes == kCoarsestDofs, "the coarsest level fits multigrid_coarsest");
+static_assert(LatticeMultigrid::kCoarsestNodes == kCoarsestNodes && LatticeMultigrid::kCoarseSweeps == kCoarseSweeps,
+              "the shaders' levels and sweeps are LatticeMultigrid's");
 
 ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
                           std::uint32_t workgroup = 64) {
@@ -68,8 +69,11 @@ DeviceMultigrid::DeviceMultigrid(Device& device, std::uint32_t rows, std::uint32
       assemble_pass_(make_pass(device, "multigrid_assemble", precision, 14)),
       galerkin_pass_(make_pass(device, "multigrid_galerkin", precision, 2)),
       cycle_pass_(make_pass(device, "multigrid_cycle", precision, 12)),
-      coarsest_pass_(make_pass(device, "multigrid_coarsest", precision, 5, kCoarsestWorkgroup)) {
-  CLOTHSIM_ASSERT(levels_.size() >= 2, "at least one coarse level");
+      coarse_pass_(make_pass(device, "multigrid_coarse", precision, 7, kCoarseWorkgroup)) {
+  CLOTHSIM_ASSERT(levels_.size() >= 2 && levels_.size() <= kMaxLevels, "at least one coarse level");
+  // The first coarse level small enough for one workgroup, or the coarsest.
+  tail_ = 1;
+  while (tail_ + 1 < levels_.size() && levels_[tail_].nodes() > kTailNodes) ++tail_;
 }
 
 void DeviceMultigrid::bind(const MultigridInputs& in) {
@@ -81,7 +85,8 @@ void DeviceMultigrid::bind(const MultigridInputs& in) {
   cycle_pass_.bind(std::vector<const Buffer*>{&blocks_, &diagonal_inverse_, in.jacobi, &rhs_, &solution_, &residual_,
                                               in.residual, in.preconditioned, in.particle_anchor, in.hold,
                                               in.surface_contacts, in.solve_uint});
-  coarsest_pass_.bind(std::vector<const Buffer*>{&blocks_, &factor_, &rhs_, &solution_, in.solve_uint});
+  coarse_pass_.bind(std::vector<const Buffer*>{&blocks_, &diagonal_inverse_, &rhs_, &solution_, &residual_, &factor_,
+                                               in.solve_uint});
 }
 
 MultigridPassConstants DeviceMultigrid::constants(std::uint32_t phase, std::size_t level, bool iteration) const {
@@ -105,8 +110,8 @@ void DeviceMultigrid::record_setup(VkCommandBuffer commands) const {
     const MultigridPassConstants pass = constants(0, level, false);
     galerkin_pass_.dispatch(commands, &pass, levels_[level + 1].nodes());
   }
-  const MultigridPassConstants pass = constants(kCoarsestFactor, levels_.size() - 1, false);
-  coarsest_pass_.dispatch(commands, &pass, kCoarsestWorkgroup);
+  const MultigridPassConstants pass = constants(kCoarseFactor, levels_.size() - 1, false);
+  coarse_pass_.dispatch(commands, &pass, kCoarseWorkgroup);
 }
 
 void DeviceMultigrid::sweep(VkCommandBuffer commands, std::size_t level, bool ascending, bool iteration) const {
@@ -121,23 +126,23 @@ void DeviceMultigrid::sweep(VkCommandBuffer commands, std::size_t level, bool as
 }
 
 void DeviceMultigrid::record_apply(VkCommandBuffer commands, bool iteration) const {
-  const std::size_t coarsest = levels_.size() - 1;
   const auto pass = [&](std::uint32_t phase, std::size_t level, std::uint32_t invocations) {
     const MultigridPassConstants values = constants(phase, level, iteration);
     cycle_pass_.dispatch(commands, &values, invocations);
   };
   // Down: level 0 from zero, each coarse level from zero (the restriction clears it).
   pass(kCycleClear, 0, levels_[0].nodes());
-  for (std::size_t level = 0; level < coarsest; ++level) {
+  for (std::size_t level = 0; level < tail_; ++level) {
     const int sweeps = level == 0 ? LatticeMultigrid::kFineSweeps : LatticeMultigrid::kCoarseSweeps;
     for (int s = 0; s < sweeps; ++s) sweep(commands, level, true, iteration);
     pass(kCycleResidual, level, levels_[level].nodes());
     pass(kCycleRestrict, level, levels_[level + 1].nodes());
   }
-  const MultigridPassConstants solve = constants(kCoarsestSolve, coarsest, iteration);
-  coarsest_pass_.dispatch(commands, &solve, kCoarsestWorkgroup);
+  // The small levels and the coarsest, down and up, in one workgroup.
+  const MultigridPassConstants small = constants(kCoarseCycle, tail_, iteration);
+  coarse_pass_.dispatch(commands, &small, kCoarseWorkgroup);
   // Up: the correction, then the sweeps in the reverse order.
-  for (std::size_t level = coarsest; level-- > 0;) {
+  for (std::size_t level = tail_; level-- > 0;) {
     pass(kCycleProlong, level, levels_[level].nodes());
     const int sweeps = level == 0 ? LatticeMultigrid::kFineSweeps : LatticeMultigrid::kCoarseSweeps;
     for (int s = 0; s < sweeps; ++s) sweep(commands, level, false, iteration);

@@ -13,11 +13,13 @@
 //                       largest stiffness ratio, from which the host chooses the V-cycle or block
 //                       Jacobi for the solve as the CPU does (BlockSystem::setup_preconditioner)
 //   multigrid_galerkin  each coarse level's matrix P^T A P and its smoother's blocks, level by level
-//   multigrid_coarsest  the coarsest level's dense Cholesky factor (one workgroup)
+//   multigrid_coarse    the coarsest level's dense Cholesky factor (one workgroup)
 // and per CG iteration, z = V-cycle(r):
-//   multigrid_cycle     z = 0; 2 sweeps of 9 colours on level 0; the residual; its restriction;
-//                       on each coarse level 1 sweep, the residual, the restriction;
-//   multigrid_coarsest  the coarsest level exactly;
+//   multigrid_cycle     z = 0; 2 sweeps of 9 colours on level 0, the residual, its restriction;
+//                       on each coarse level of more than kTailNodes nodes 1 sweep, the residual,
+//                       the restriction (a pass each);
+//   multigrid_coarse    the smaller levels down, the coarsest exactly, and back up, in one workgroup
+//                       (their passes would cost more to start than to run);
 //   multigrid_cycle     up again: the prolongation and the sweeps with the colours descending.
 //
 // Memory: every level's 21 blocks a node (the lattice's 13 would do on level 0; one layout for
@@ -98,9 +100,10 @@ class DeviceMultigrid {
   void sweep(VkCommandBuffer commands, std::size_t level, bool ascending, bool iteration) const;
 
   std::vector<Level> levels_;
+  std::size_t tail_ = 1;  // the first level multigrid_coarse's one workgroup cycles over
   std::uint32_t radial_slot_base_;
   Buffer blocks_, diagonal_inverse_, rhs_, solution_, residual_, factor_;
-  ComputePipeline assemble_pass_, galerkin_pass_, cycle_pass_, coarsest_pass_;
+  ComputePipeline assemble_pass_, galerkin_pass_, cycle_pass_, coarse_pass_;
 };
 
 }  // namespace clothsim::gpu

@@ -148,7 +148,7 @@ TEST(DeviceMultigrid, ChoosesBetweenTheVcycleAndJacobiAsTheCpu) {
 }
 
 TEST(DeviceMultigrid, HoldsParticlesOnTheTableAsTheCpu) {
-  // tablecloth on 15 x 15 for 0.3 s with the V-cycle at every step (threshold 0) on both sides:
+  // tablecloth on 15 x 15 for 0.2 s (it lands at 0.1 s) with the V-cycle at every step (threshold 0) on both sides:
   // level 0's rows and columns filtered in the held directions, the coarse levels built from them,
   // and built again after a release. The solves are converged to 1e-8, so that the two cycles'
   // sweeps, in different orders, do not decide differently whether a particle lands a step earlier.
@@ -158,7 +158,7 @@ TEST(DeviceMultigrid, HoldsParticlesOnTheTableAsTheCpu) {
   device_spec.integrator.cg_tolerance = cpu_spec.integrator.cg_tolerance = 1e-8;
   Simulation device = testing::one_thread_simulation(device_spec);
   Simulation cpu = testing::one_thread_simulation(cpu_spec);
-  for (int frame = 1; frame <= 6; ++frame) {
+  for (int frame = 1; frame <= 4; ++frame) {
     ASSERT_TRUE(device.advance_to(frame * 0.05)) << device.failure()->message;
     ASSERT_TRUE(cpu.advance_to(frame * 0.05)) << cpu.failure()->message;
   }

@@ -1,6 +1,7 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// The V-cycle's passes on one level (gpu/device_multigrid.h; LatticeMultigrid::apply on the CPU):
+// The V-cycle's passes on one level of more than kTailNodes nodes (gpu/device_multigrid.h;
+// LatticeMultigrid::apply on the CPU), one invocation per node:
 //   kCycleClear     level 0's solution (the preconditioned residual z) = 0, where the cycle starts
 //   kCycleSmooth    one colour of a Gauss-Seidel sweep, one invocation per node of the colour:
 //                   x += D^-1 (rhs - A x) (level 0: the held directions filtered out, anchored
@@ -9,8 +10,9 @@
 //   kCycleResidual  the level's residual rhs - A x (zero where anchored)
 //   kCycleRestrict  one invocation per node of the next level: its rhs = P^T residual, its solution 0
 //   kCycleProlong   x += P (the next level's solution) (level 0: filtered, anchored particles left out)
-// Level 0's rhs and solution are the conjugate gradients' residual r and preconditioned residual z.
-// The passes of a CG iteration return at once once the solve has stopped.
+// Level 0's rhs and solution are the conjugate gradients' residual r and preconditioned residual z,
+// its smoother's blocks implicit Euler's block Jacobi inverses. The passes of a CG iteration return
+// at once once the solve has stopped.
 #include "gpu/shaders/shared_text.glsl"
 #include "gpu/shaders/implicit_step.h"
 #include "gpu/shaders/multigrid_step.h"
@@ -35,132 +37,67 @@ layout(std430, binding = 11) readonly buffer SolveUint { uint solve_uint[]; };
 layout(push_constant) uniform Constants { MultigridPassConstants constants; };
 
 #include "gpu/shaders/held_directions.glsl"
+#define CLOTHSIM_COARSE_LEVELS
 #include "gpu/shaders/multigrid_levels.glsl"
 
-bool fine() { return constants.level == 0u; }
+// Level 0, the lattice: the CG's vectors, implicit Euler's smoother blocks, anchors and holds.
 
-Vec3 rhs_at(uint node) {
-  if (fine()) return Vec3(residual[3u * node], residual[3u * node + 1u], residual[3u * node + 2u]);
-  const uint i = 3u * (constants.base + node);
-  return Vec3(level_rhs[i], level_rhs[i + 1u], level_rhs[i + 2u]);
+Vec3 fine_rhs(uint p) { return Vec3(residual[3u * p], residual[3u * p + 1u], residual[3u * p + 2u]); }
+Vec3 fine_solution(uint p) {
+  return Vec3(preconditioned[3u * p], preconditioned[3u * p + 1u], preconditioned[3u * p + 2u]);
+}
+void set_fine_solution(uint p, Vec3 z) {
+  for (uint k = 0u; k < 3u; ++k) preconditioned[3u * p + k] = z[k];
 }
 
-Vec3 solution_at(uint node) {
-  if (fine()) return Vec3(preconditioned[3u * node], preconditioned[3u * node + 1u], preconditioned[3u * node + 2u]);
-  const uint i = 3u * (constants.base + node);
-  return Vec3(level_solution[i], level_solution[i + 1u], level_solution[i + 2u]);
-}
-
-void set_solution(uint node, Vec3 x) {
-  for (uint k = 0u; k < 3u; ++k) {
-    if (fine()) {
-      preconditioned[3u * node + k] = x[k];
-    } else {
-      level_solution[3u * (constants.base + node) + k] = x[k];
-    }
-  }
-}
-
-Mat3 smoother_block(uint node) {
-  const uint i = 9u * (fine() ? node : constants.base + node);
-  if (fine()) {
-    return Mat3(jacobi[i], jacobi[i + 1], jacobi[i + 2], jacobi[i + 3], jacobi[i + 4], jacobi[i + 5], jacobi[i + 6],
-                jacobi[i + 7], jacobi[i + 8]);
-  }
-  return Mat3(level_diagonal_inverse[i], level_diagonal_inverse[i + 1], level_diagonal_inverse[i + 2],
-              level_diagonal_inverse[i + 3], level_diagonal_inverse[i + 4], level_diagonal_inverse[i + 5],
-              level_diagonal_inverse[i + 6], level_diagonal_inverse[i + 7], level_diagonal_inverse[i + 8]);
-}
-
-// Level 0's rows of anchored particles are outside the system.
-bool outside(uint node) { return fine() && particle_anchor[node] >= 0; }
-
-// rhs - A x at a node of the level (its matrix already filtered on level 0, multigrid_assemble).
-Vec3 node_residual(uint node) {
-  const uint i = node / constants.cols;
-  const uint j = node % constants.cols;
+// rhs - A z at particle p (level 0's matrix is filtered in the held directions, multigrid_assemble).
+Vec3 fine_residual(Level level, uint p) {
+  const uint i = p / level.cols;
+  const uint j = p % level.cols;
   Vec3 product = Vec3(0.0);
   for (int s = 0; s < kStencilSlots; ++s) {
     uint q;
-    if (stencil_neighbour(i, j, s, constants.rows, constants.cols, q)) {
-      product += level_block(constants.base + node, s) * solution_at(q);
-    }
+    if (stencil_neighbour(i, j, s, level.rows, level.cols, q)) product += level_block(p, s) * fine_solution(q);
   }
-  return rhs_at(node) - product;
+  return fine_rhs(p) - product;
 }
 
-void smooth_colour() {
-  const uint colour_row = constants.colour / 3u;
-  const uint colour_col = constants.colour % 3u;
-  const uint colour_cols = (constants.cols + 2u - colour_col) / 3u;
-  const uint colour_rows = (constants.rows + 2u - colour_row) / 3u;
-  const uint k = invocation_index();
-  if (k >= colour_rows * colour_cols) return;
-  const uint node = (colour_row + 3u * (k / colour_cols)) * constants.cols + colour_col + 3u * (k % colour_cols);
-  if (outside(node)) return;
-  const Vec3 change = smoother_block(node) * node_residual(node);
-  set_solution(node, solution_at(node) + (fine() ? held(node, change) : change));
+Mat3 jacobi_block(uint p) {
+  const uint i = 9u * p;
+  return Mat3(jacobi[i], jacobi[i + 1], jacobi[i + 2], jacobi[i + 3], jacobi[i + 4], jacobi[i + 5], jacobi[i + 6],
+              jacobi[i + 7], jacobi[i + 8]);
 }
 
-void restrict_residual() {
-  const uint node = invocation_index();
-  if (node >= constants.next_rows * constants.next_cols) return;
-  const uint row = node / constants.next_cols;
-  const uint col = node % constants.next_cols;
-  Vec3 sum = Vec3(0.0);
-  for (uint i = first_child(row); i <= last_child(row, constants.rows); ++i) {
-    const Real row_weight = parent_weight(i, row, constants.next_rows);
-    if (row_weight == Real(0.0)) continue;
-    for (uint j = first_child(col); j <= last_child(col, constants.cols); ++j) {
-      const Real col_weight = parent_weight(j, col, constants.next_cols);
-      if (col_weight == Real(0.0)) continue;
-      const uint child = 3u * (constants.base + i * constants.cols + j);
-      sum += (row_weight * col_weight) * Vec3(level_residual[child], level_residual[child + 1u], level_residual[child + 2u]);
-    }
-  }
-  const uint coarse = 3u * (constants.next_base + node);
-  for (uint k = 0u; k < 3u; ++k) {
-    level_rhs[coarse + k] = sum[k];
-    level_solution[coarse + k] = Real(0.0);
-  }
-}
-
-void prolong() {
-  const uint node = invocation_index();
-  if (node >= constants.rows * constants.cols || outside(node)) return;
-  const uint row = node / constants.cols;
-  const uint col = node % constants.cols;
-  Vec3 sum = Vec3(0.0);
-  for (int a = 0; a < parent_count(int(row), int(constants.next_rows)); ++a) {
-    const uint parent_row = row / 2u + uint(a);
-    const Real weight_a = parent_weight(row, parent_row, constants.next_rows);
-    for (int b = 0; b < parent_count(int(col), int(constants.next_cols)); ++b) {
-      const uint parent_col = col / 2u + uint(b);
-      const Real weight_b = parent_weight(col, parent_col, constants.next_cols);
-      const uint i = 3u * (constants.next_base + parent_row * constants.next_cols + parent_col);
-      sum += (weight_a * weight_b) * Vec3(level_solution[i], level_solution[i + 1u], level_solution[i + 2u]);
-    }
-  }
-  set_solution(node, solution_at(node) + (fine() ? held(node, sum) : sum));
-}
+bool anchored(uint p) { return particle_anchor[p] >= 0; }
 
 void main() {
   if (constants.iteration != 0u && solve_uint[kSolveDone] != 0u) return;
+  const Level level = Level(constants.base, constants.rows, constants.cols);
+  const Level next = Level(constants.next_base, constants.next_rows, constants.next_cols);
+  const bool fine = constants.level == 0u;
+  const uint k = invocation_index();
   if (constants.phase == kCycleSmooth) {
-    smooth_colour();
-  } else if (constants.phase == kCycleRestrict) {
-    restrict_residual();
-  } else if (constants.phase == kCycleProlong) {
-    prolong();
-  } else {
-    const uint node = invocation_index();
-    if (node >= constants.rows * constants.cols) return;
-    if (constants.phase == kCycleClear) {
-      set_solution(node, Vec3(0.0));
-      return;
+    if (k >= colour_nodes(level, constants.colour)) return;
+    const uint node = colour_node(level, constants.colour, k);
+    if (!fine) {
+      coarse_smooth(level, node);
+    } else if (!anchored(node)) {
+      set_fine_solution(node, fine_solution(node) + held(node, jacobi_block(node) * fine_residual(level, node)));
     }
-    const Vec3 r = outside(node) ? Vec3(0.0) : node_residual(node);
-    const uint i = 3u * (constants.base + node);
-    for (uint k = 0u; k < 3u; ++k) level_residual[i + k] = r[k];
+  } else if (constants.phase == kCycleRestrict) {
+    if (k < node_count(next)) restrict_to(level, next, k);
+  } else if (k < node_count(level)) {
+    if (constants.phase == kCycleClear) {
+      set_fine_solution(k, Vec3(0.0));
+    } else if (constants.phase == kCycleResidual && !fine) {
+      store_coarse_residual(level, k);
+    } else if (constants.phase == kCycleResidual) {
+      const Vec3 r = anchored(k) ? Vec3(0.0) : fine_residual(level, k);
+      for (uint c = 0u; c < 3u; ++c) level_residual[3u * k + c] = r[c];
+    } else if (!fine) {
+      set_level_solution(level.base + k, level_vector3(kLevelSolution, level.base + k) + interpolated(level, next, k));
+    } else if (!anchored(k)) {
+      set_fine_solution(k, fine_solution(k) + held(k, interpolated(level, next, k)));
+    }
   }
 }

@@ -24,18 +24,26 @@ CLOTHSIM_SLOT kCycleResidual = 2;  // the level's residual rhs - A x
 CLOTHSIM_SLOT kCycleRestrict = 3;  // the next level's rhs = P^T residual, its solution = 0
 CLOTHSIM_SLOT kCycleProlong = 4;   // x += P (the next level's solution)
 
-// multigrid_coarsest's phases (one workgroup).
-CLOTHSIM_SLOT kCoarsestFactor = 0;  // the coarsest level's matrix, dense, factored by Cholesky
-CLOTHSIM_SLOT kCoarsestSolve = 1;   // its solution from its right-hand side by the factor
+// multigrid_coarse's phases (one workgroup).
+CLOTHSIM_SLOT kCoarseFactor = 0;  // the coarsest level's matrix, dense, factored by Cholesky
+CLOTHSIM_SLOT kCoarseCycle = 1;   // the V-cycle from a level of at most kTailNodes nodes down and up
 
 // The colours of the Gauss-Seidel sweeps: node (i, j) has colour 3 (i mod 3) + (j mod 3). No two
 // nodes of a colour share a matrix entry (the stencil reaches 2 nodes), so a colour is one pass.
 CLOTHSIM_SLOT kSmootherColours = 9;
 
-// The coarsest level's unknowns at most: 3 per node, LatticeMultigrid::kCoarsestNodes nodes.
-CLOTHSIM_SLOT kCoarsestDofs = 192;
-// multigrid_coarsest's workgroup: fixed, the one workgroup that factors and solves.
-CLOTHSIM_SLOT kCoarsestWorkgroup = 256;
+// LatticeMultigrid's: the coarsest level's nodes at most, solved exactly (3 unknowns a node), and
+// the sweeps on each side of a coarse level's correction.
+CLOTHSIM_SLOT kCoarsestNodes = 64;
+CLOTHSIM_SLOT kCoarsestDofs = 3 * kCoarsestNodes;
+CLOTHSIM_SLOT kCoarseSweeps = 1;
+// The levels (but the lattice) of at most this many nodes run in one workgroup, the rest of the
+// cycle in one pass (multigrid_coarse): passes over them cost more in their start than in their work.
+CLOTHSIM_SLOT kTailNodes = 1024;
+// multigrid_coarse's workgroup: fixed, the one workgroup that factors, and cycles over the small levels.
+CLOTHSIM_SLOT kCoarseWorkgroup = 256;
+// The levels at most: a side of 2^16 nodes halves 16 times to one node.
+CLOTHSIM_SLOT kMaxLevels = 18;
 
 struct MultigridPassConstants {
   uint phase;           // the pass's phase (above)
