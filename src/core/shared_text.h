@@ -6,6 +6,7 @@
 //   forces/arctangent.inc       the arctangent of the lattice kernel and of the shaders
 //   events/spring_laws.inc      tearing, the return mapping of permanent stretching, the crease law
 //   integrators/step_control.inc  the PI step-size controller and the clipping of a step to a target
+//   integrators/multigrid_stencil.inc  the lattice multigrid's stencil slots and prolongation weights
 //   model/lattice_springs.inc   the order of a lattice particle's radial springs
 //   model/collider_shapes.inc   the signed distances of the analytic collider shapes
 //   model/mesh_distance.inc     the signed distance of a triangle mesh collider, through its hierarchy

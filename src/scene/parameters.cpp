@@ -173,7 +173,8 @@ constexpr std::array kScalarParameters = {
     ScalarParameter{"integrator.cg_multigrid", ParameterType::boolean, "", closed_range(0.0, 1.0),
                     "implicit Euler and imex, with cg_two_level: the coarse-grid correction is a multigrid V-cycle "
                     "(bilinear interpolation, Gauss-Seidel smoothing) instead of an exact solve on 4 x 4 aggregates; "
-                    "implicit Euler sets it up only where the system is stiff",
+                    "implicit Euler sets it up only where the system is stiff (on either backend; the vulkan "
+                    "backend takes block Jacobi where this is off)",
                     [](const SceneSpec& s) { return s.integrator.cg_multigrid ? 1.0 : 0.0; },
                     [](SceneSpec& s, double v) { s.integrator.cg_multigrid = v != 0.0; }},
     // Output.
