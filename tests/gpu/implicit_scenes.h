@@ -2,6 +2,13 @@
 // test_device_multigrid.cpp), on lattices small enough for lavapipe.
 #pragma once
 
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <span>
+
+#include "core/vec3.h"
 #include "scene/builtin_scenes.h"
 #include "scene/scene.h"
 #include "scene/validate_scene.h"
@@ -36,6 +43,17 @@ inline SceneSpec table_scene(const BackendSettings& backend, bool two_level = fa
   spec.integrator.cg_two_level = two_level;
   spec.backend = backend;
   return spec;
+}
+
+// Nothing inside table_scene's table: the particles over its top (y = -0.05) rest on it, more than 50.
+inline void expect_resting_on_the_table(std::span<const Vec3> positions) {
+  std::size_t on_top = 0;
+  for (const Vec3& x : positions) {
+    if (std::abs(x.x) > 0.34 || std::abs(x.z) > 0.34) continue;
+    EXPECT_GT(x.y, -0.05 - 1e-6);
+    ++on_top;
+  }
+  EXPECT_GT(on_top, 50u);
 }
 
 }  // namespace clothsim::testing

@@ -39,6 +39,22 @@ ClothState moving_state(const ClothModel& model) {
   return state;
 }
 
+// One step from moving_state() on the CPU and on the device, with `settings`.
+struct OneStep {
+  ImplicitEuler cpu;
+  gpu::DeviceImplicitEuler device;
+  ClothState cpu_state;
+  ClothState device_state;
+  OneStep(const ClothModel& model, const IntegratorSettings& settings)
+      : cpu(model, settings, ForceOptions{}),
+        device(model, settings, ForceOptions{}, device0()),
+        cpu_state(moving_state(model)),
+        device_state(cpu_state) {
+    EXPECT_EQ(cpu.step(cpu_state, 1.0).status, StepStatus::ok);
+    EXPECT_EQ(device.step(device_state, 1.0).status, StepStatus::ok);
+  }
+};
+
 // Whether a and b are within `share` of each other (of the larger).
 void expect_within(double a, double b, double share) {
   EXPECT_LE(std::abs(a - b), share * std::max(a, b)) << a << " against " << b;
@@ -57,25 +73,20 @@ TEST(DeviceMultigrid, OneSolveIsTheCpusSolve) {
     settings.cg_tolerance = 1e-12;
     settings.cg_max_iterations = 5000;
     settings.cg_vcycle_threshold = 0.0;
-    ClothState cpu = moving_state(model);
-    ClothState device = cpu;
-    ForceOptions options;
-    ImplicitEuler reference(model, settings, options);
-    gpu::DeviceImplicitEuler integrator(model, settings, options, device0());
-    ASSERT_EQ(reference.step(cpu, 1.0).status, StepStatus::ok);
-    ASSERT_EQ(integrator.step(device, 1.0).status, StepStatus::ok);
-    EXPECT_TRUE(reference.last_solve_took_vcycle());
-    EXPECT_TRUE(integrator.last_solve_took_vcycle());
-    EXPECT_LT(largest_distance(cpu.velocity, device.velocity), 1e-9) << rows << " x " << cols;
-    EXPECT_LT(largest_distance(cpu.position, device.position), 1e-9 / 60.0) << rows << " x " << cols;
-    expect_within(integrator.last_iterations(), reference.last_iterations(), 0.2);
+    const OneStep step(model, settings);
+    EXPECT_TRUE(step.cpu.last_solve_took_vcycle());
+    EXPECT_TRUE(step.device.last_solve_took_vcycle());
+    EXPECT_LT(largest_distance(step.cpu_state.velocity, step.device_state.velocity), 1e-9) << rows << " x " << cols;
+    EXPECT_LT(largest_distance(step.cpu_state.position, step.device_state.position), 1e-9 / 60.0)
+        << rows << " x " << cols;
+    expect_within(step.device.last_iterations(), step.cpu.last_iterations(), 0.2);
     // Block Jacobi takes many times as many on the same system.
     settings.cg_two_level = false;
     ClothState jacobi_state = moving_state(model);
-    gpu::DeviceImplicitEuler jacobi(model, settings, options, device0());
+    gpu::DeviceImplicitEuler jacobi(model, settings, ForceOptions{}, device0());
     ASSERT_EQ(jacobi.step(jacobi_state, 1.0).status, StepStatus::ok);
     EXPECT_FALSE(jacobi.last_solve_took_vcycle());
-    EXPECT_GT(jacobi.last_iterations(), 3 * integrator.last_iterations()) << rows << " x " << cols;
+    EXPECT_GT(jacobi.last_iterations(), 3 * step.device.last_iterations()) << rows << " x " << cols;
   }
 }
 
@@ -134,16 +145,10 @@ TEST(DeviceMultigrid, ChoosesBetweenTheVcycleAndJacobiAsTheCpu) {
   for (const auto& [step, vcycle] : {std::pair{1.0 / 60.0, true}, std::pair{1e-4, false}}) {
     IntegratorSettings settings = spec.integrator;
     settings.time_step = step;
-    ClothState cpu = moving_state(model);
-    ClothState device = cpu;
-    ForceOptions options;
-    ImplicitEuler reference(model, settings, options);
-    gpu::DeviceImplicitEuler integrator(model, settings, options, device0());
-    ASSERT_EQ(reference.step(cpu, 1.0).status, StepStatus::ok);
-    ASSERT_EQ(integrator.step(device, 1.0).status, StepStatus::ok);
-    EXPECT_EQ(reference.last_solve_took_vcycle(), vcycle) << step;
-    EXPECT_EQ(integrator.last_solve_took_vcycle(), vcycle) << step;
-    EXPECT_NEAR(integrator.last_iterations(), reference.last_iterations(), 0.2 * reference.last_iterations());
+    const OneStep one(model, settings);
+    EXPECT_EQ(one.cpu.last_solve_took_vcycle(), vcycle) << step;
+    EXPECT_EQ(one.device.last_solve_took_vcycle(), vcycle) << step;
+    EXPECT_NEAR(one.device.last_iterations(), one.cpu.last_iterations(), 0.2 * one.cpu.last_iterations());
   }
 }
 
@@ -168,14 +173,7 @@ TEST(DeviceMultigrid, HoldsParticlesOnTheTableAsTheCpu) {
   EXPECT_NEAR(device.state().contact_work, cpu.state().contact_work, 1e-5 * std::abs(cpu.state().contact_work));
   expect_within(static_cast<double>(device.integrator_stats().cg_iterations),
                 static_cast<double>(cpu.integrator_stats().cg_iterations), 0.2);
-  // Nothing inside the table: the particles over its top (y = -0.05) rest on it.
-  std::size_t on_top = 0;
-  for (const Vec3& x : device.state().position) {
-    if (std::abs(x.x) > 0.34 || std::abs(x.z) > 0.34) continue;
-    EXPECT_GT(x.y, -0.05 - 1e-6);
-    ++on_top;
-  }
-  EXPECT_GT(on_top, 50u);
+  testing::expect_resting_on_the_table(device.state().position);
 }
 
 TEST(DeviceMultigrid, ASheetTearsAsOnTheCpu) {
