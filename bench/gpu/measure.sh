@@ -60,6 +60,13 @@ for n in 256 512; do
     echo "cotton-drape $n x $n on $backend: exit $?"; grep -E '^(steps|forces|integration|collisions|total)' "$out/cotton-$n-$backend.txt"
   done
 done
+# The device's V-cycle against its block Jacobi at 256 x 256 (docs/gpu.md, "Implicit Euler's
+# multigrid on the device"): CG iterations per step and the time per step.
+timeout 150 "$bin/clothsim" run cotton-drape --set lattice.rows=256 --set lattice.cols=256 --anchor edge-corners \
+  --backend vulkan --duration 0.1 --render none --profile --set integrator.cg_two_level=false \
+  --out /tmp/clothsim-cotton-jacobi >"$out/cotton-256-vulkan-jacobi.txt" 2>&1
+echo "cotton-drape 256 x 256 on vulkan, block Jacobi: exit $?"
+grep -E '^(steps|integration|total)' "$out/cotton-256-vulkan-jacobi.txt"
 for n in 128 256; do
   for backend in vulkan cpu; do
     timeout 150 "$bin/clothsim" run tear-crumple --set lattice.rows=$n --set lattice.cols=$n --backend "$backend" \
