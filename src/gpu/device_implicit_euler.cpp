@@ -109,11 +109,10 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       impulse_readback_(device_, 16, Memory::host_visible),
       contacts_input_(device_, 16, Memory::host_visible) {
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
-  const std::array<std::uint64_t, array_count> bytes =
-      array_bytes(element_counts(model), precision_, anchor_capacity_, false);
+  const LatticeCounts counts = element_counts(model);
+  const std::array<std::uint64_t, array_count> bytes = array_bytes(counts, precision_, anchor_capacity_, false);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
-  const LatticeCounts counts = element_counts(model);
   if (DeviceMultigrid::applies(counts, settings)) {
     multigrid_.emplace(device_, static_cast<std::uint32_t>(counts.rows), static_cast<std::uint32_t>(counts.cols),
                        connectors_, precision_);
@@ -193,10 +192,12 @@ void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, bool vcycl
     dispatch(commands, product_pass_, kProductSystem, connectors_ + radials_, true);
     dispatch(commands, gather_pass_, kGatherProduct, particles_, true);
     dispatch(commands, reduce_pass_, kReduceCurvature, kImplicitReduceWorkgroup);
-    dispatch(commands, iterate_pass_, kIterateUpdate, particles_);
     if (vcycle) {
+      dispatch(commands, iterate_pass_, kIterateAdvance, particles_);
       multigrid_->record_apply(commands, true);
       dispatch(commands, iterate_pass_, kIterateSums, particles_);
+    } else {
+      dispatch(commands, iterate_pass_, kIterateUpdate, particles_);
     }
     dispatch(commands, reduce_pass_, kReduceResidual, kImplicitReduceWorkgroup);
     dispatch(commands, iterate_pass_, kIterateDirection, particles_);

@@ -1,8 +1,5 @@
 #include "gpu/device_multigrid.h"
 
-#include <algorithm>
-#include <array>
-
 #include "core/assert.h"
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/implicit_step.h"
@@ -12,23 +9,12 @@
 namespace clothsim::gpu {
 namespace {
 
-constexpr std::uint32_t kSlots = 21;  // integrators/multigrid_stencil.inc's kStencilSlots
 static_assert(LatticeMultigrid::kCoarsestNodes == kCoarsestNodes && LatticeMultigrid::kCoarseSweeps == kCoarseSweeps,
               "the shaders' levels and sweeps are LatticeMultigrid's");
 
 ComputePipeline make_pass(Device& device, const char* name, Precision precision, std::uint32_t bindings,
                           std::uint32_t workgroup = 64) {
   return shader_pipeline(device, name, precision, bindings, sizeof(MultigridPassConstants), workgroup);
-}
-
-struct LevelBytes {
-  std::uint64_t blocks, diagonal_inverse, vector, factor;
-};
-
-LevelBytes level_bytes(std::uint64_t nodes, std::uint64_t coarsest_nodes, Precision precision) {
-  const std::uint64_t real = real_size(precision);
-  const std::uint64_t coarsest_dofs = 3 * coarsest_nodes;
-  return {nodes * kSlots * 9 * real, nodes * 9 * real, nodes * 3 * real, coarsest_dofs * coarsest_dofs * real};
 }
 
 }  // namespace
@@ -48,9 +34,16 @@ bool DeviceMultigrid::applies(const LatticeCounts& counts, const IntegratorSetti
          counts.rows * counts.cols == counts.particles;
 }
 
+DeviceMultigrid::LevelBytes DeviceMultigrid::level_bytes(const std::vector<Level>& levels, Precision precision) {
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t nodes = levels.back().base + levels.back().nodes();
+  const std::uint64_t coarsest_dofs = 3 * std::uint64_t{levels.back().nodes()};
+  return {nodes * LatticeMultigrid::kStencil * 9 * real, nodes * 9 * real, nodes * 3 * real,
+          coarsest_dofs * coarsest_dofs * real};
+}
+
 std::uint64_t DeviceMultigrid::bytes_for(std::uint32_t rows, std::uint32_t cols, Precision precision) {
-  const std::vector<Level> levels = levels_for(rows, cols);
-  const LevelBytes bytes = level_bytes(levels.back().base + levels.back().nodes(), levels.back().nodes(), precision);
+  const LevelBytes bytes = level_bytes(levels_for(rows, cols), precision);
   return bytes.blocks + bytes.diagonal_inverse + 3 * bytes.vector + bytes.factor;
 }
 
@@ -58,14 +51,12 @@ DeviceMultigrid::DeviceMultigrid(Device& device, std::uint32_t rows, std::uint32
                                  Precision precision)
     : levels_(levels_for(rows, cols)),
       radial_slot_base_(2 * connectors),
-      blocks_(device, level_bytes(levels_.back().base + levels_.back().nodes(), 0, precision).blocks,
-              Memory::device_local),
-      diagonal_inverse_(device, level_bytes(levels_.back().base + levels_.back().nodes(), 0, precision).diagonal_inverse,
-                        Memory::device_local),
-      rhs_(device, level_bytes(levels_.back().base + levels_.back().nodes(), 0, precision).vector, Memory::device_local),
+      blocks_(device, level_bytes(levels_, precision).blocks, Memory::device_local),
+      diagonal_inverse_(device, level_bytes(levels_, precision).diagonal_inverse, Memory::device_local),
+      rhs_(device, level_bytes(levels_, precision).vector, Memory::device_local),
       solution_(device, rhs_.bytes(), Memory::device_local),
       residual_(device, rhs_.bytes(), Memory::device_local),
-      factor_(device, level_bytes(0, levels_.back().nodes(), precision).factor, Memory::device_local),
+      factor_(device, level_bytes(levels_, precision).factor, Memory::device_local),
       assemble_pass_(make_pass(device, "multigrid_assemble", precision, 14)),
       galerkin_pass_(make_pass(device, "multigrid_galerkin", precision, 2)),
       cycle_pass_(make_pass(device, "multigrid_cycle", precision, 12)),

@@ -85,8 +85,6 @@ class DeviceMultigrid {
   // return at once once the solve has stopped.
   void record_apply(VkCommandBuffer commands, bool iteration) const;
 
-  std::size_t level_count() const { return levels_.size(); }
-
  private:
   struct Level {
     std::uint32_t rows = 0;
@@ -95,6 +93,11 @@ class DeviceMultigrid {
     std::uint32_t nodes() const { return rows * cols; }
   };
   static std::vector<Level> levels_for(std::uint32_t rows, std::uint32_t cols);
+  // The arrays' sizes for `levels`: the blocks, the smoother's blocks, each vector, the coarsest factor.
+  struct LevelBytes {
+    std::uint64_t blocks, diagonal_inverse, vector, factor;
+  };
+  static LevelBytes level_bytes(const std::vector<Level>& levels, Precision precision);
   // The push constants of a pass on level l (with level l + 1 as the next where there is one).
   MultigridPassConstants constants(std::uint32_t phase, std::size_t level, bool iteration) const;
   void sweep(VkCommandBuffer commands, std::size_t level, bool ascending, bool iteration) const;

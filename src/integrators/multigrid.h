@@ -78,6 +78,8 @@ class LatticeMultigrid {
  public:
   // Nodes per level at most for the exact solve that ends the V-cycle.
   static constexpr std::size_t kCoarsestNodes = 64;
+  // Blocks per coarse row: offsets in [-2, 2]^2 but the corners (multigrid_stencil.inc's slots).
+  static constexpr std::size_t kStencil = 21;
   // Gauss-Seidel sweeps on each side of the coarse correction, on the fine level and on the coarse
   // ones. Cotton at 128 x 128, 1 s (docs/performance.md), CG iterations per step (most in one):
   // 1 and 1 sweeps 18.5 (26); 2 and 1, 14.0 (19), the least time per step; 2 and 2, 12.0 (16);
@@ -100,7 +102,6 @@ class LatticeMultigrid {
   static std::size_t bytes_for(std::size_t rows, std::size_t cols);
 
  private:
-  static constexpr std::size_t kStencil = 21;  // blocks per coarse row: offsets in [-2, 2]^2 but the corners
 
   struct CoarseLevel {
     std::size_t rows = 0;  // nodes

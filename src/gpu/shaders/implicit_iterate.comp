@@ -5,10 +5,10 @@
 //   kIterateUpdate     u += alpha p, r -= alpha q, z = P^-1 r (its held directions filtered out);
 //                      each workgroup's partial r.z and r.r
 //   kIterateDirection  p = z + beta p
-// and, where the V-cycle (gpu/device_multigrid.h) has replaced z = P^-1 r after the first residual
-// or an update:
-//   kIterateStart      the first direction p = z; partials r.z, r.r, b.b
-//   kIterateSums       partials r.z, r.r
+// and, with the V-cycle (gpu/device_multigrid.h) for P^-1:
+//   kIterateAdvance    u += alpha p, r -= alpha q (the V-cycle then makes z)
+//   kIterateStart      after the first residual's V-cycle: the first direction p = z; partials r.z, r.r, b.b
+//   kIterateSums       after an iteration's V-cycle: partials r.z, r.r
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/implicit_step.h"
 
@@ -41,6 +41,18 @@ Mat3 jacobi_block(uint p) {
               jacobi[i + 7], jacobi[i + 8]);
 }
 
+// u += alpha p, r -= alpha q at a free particle; returns r.
+Vec3 advance(uint p) {
+  const Real alpha = solve_real[kAlpha];
+  Vec3 r;
+  for (uint k = 0u; k < 3u; ++k) {
+    solution[3 * p + k] += alpha * direction[3 * p + k];
+    r[k] = residual[3 * p + k] - alpha * product[3 * p + k];
+    residual[3 * p + k] = r[k];
+  }
+  return r;
+}
+
 void main() {
   if (solve_uint[kSolveDone] != 0u) return;
   const uint p = invocation_index();
@@ -51,8 +63,18 @@ void main() {
     for (uint k = 3 * p; k < 3 * p + 3; ++k) direction[k] = preconditioned[k] + beta * direction[k];
     return;
   }
+  if (constants.phase == kIterateAdvance) {
+    if (free) advance(p);
+    return;
+  }
   Real partial[3] = Real[3](Real(0.0), Real(0.0), Real(0.0));
-  if (free && constants.phase != kIterateUpdate) {
+  if (free && constants.phase == kIterateUpdate) {
+    const Vec3 r = advance(p);
+    const Vec3 z = held(p, jacobi_block(p) * r);
+    for (uint k = 0u; k < 3u; ++k) preconditioned[3 * p + k] = z[k];
+    partial[0] = dot(r, z);
+    partial[1] = dot(r, r);
+  } else if (free) {
     Vec3 r, z, b;
     for (uint k = 0u; k < 3u; ++k) {
       r[k] = residual[3 * p + k];
@@ -63,18 +85,6 @@ void main() {
     partial[0] = dot(r, z);
     partial[1] = dot(r, r);
     partial[2] = constants.phase == kIterateStart ? dot(b, b) : Real(0.0);
-  } else if (free) {
-    const Real alpha = solve_real[kAlpha];
-    Vec3 r;
-    for (uint k = 0u; k < 3u; ++k) {
-      solution[3 * p + k] += alpha * direction[3 * p + k];
-      r[k] = residual[3 * p + k] - alpha * product[3 * p + k];
-      residual[3 * p + k] = r[k];
-    }
-    const Vec3 z = held(p, jacobi_block(p) * r);
-    for (uint k = 0u; k < 3u; ++k) preconditioned[3 * p + k] = z[k];
-    partial[0] = dot(r, z);
-    partial[1] = dot(r, r);
   }
   sum_over_workgroup(partial);
   if (gl_LocalInvocationID.x == 0u) {

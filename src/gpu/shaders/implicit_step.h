@@ -89,6 +89,7 @@ CLOTHSIM_SLOT kIterateUpdate = 0;     // u += alpha p, r -= alpha q, z = P r; pa
 CLOTHSIM_SLOT kIterateDirection = 1;  // p = z + beta p
 CLOTHSIM_SLOT kIterateStart = 2;      // with the V-cycle's z (gpu/device_multigrid.h): p = z; partials r.z, r.r, b.b
 CLOTHSIM_SLOT kIterateSums = 3;       // with the V-cycle's z: partials r.z, r.r
+CLOTHSIM_SLOT kIterateAdvance = 4;    // with the V-cycle: u += alpha p, r -= alpha q (no z, no partials)
 CLOTHSIM_SLOT kReduceStart = 0;       // r.z, r.r, b.b of the first residual: the target, or done
 CLOTHSIM_SLOT kReduceCurvature = 1;   // p.q: alpha (or done on a breakdown)
 CLOTHSIM_SLOT kReduceResidual = 2;    // r.z, r.r: done, or beta
