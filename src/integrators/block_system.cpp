@@ -118,7 +118,8 @@ BlockSystem::BlockSystem(const ClothModel& model, const IntegratorSettings& sett
                        static_cast<std::size_t>(model.rows) * static_cast<std::size_t>(model.cols) == n;
   if (settings.cg_two_level && settings.cg_multigrid && lattice) {
     vcycle_threshold_ = settings.cg_vcycle_threshold;
-    multigrid_.emplace(static_cast<std::size_t>(model.rows), static_cast<std::size_t>(model.cols));
+    multigrid_.emplace(static_cast<std::size_t>(model.rows), static_cast<std::size_t>(model.cols),
+                       settings.cg_line_smoother);
   } else if (settings.cg_two_level && lattice) {
     // Aggregates of kAggregateSize x kAggregateSize particles, numbered row by row.
     const std::size_t aggregate_cols = (static_cast<std::size_t>(model.cols) + kAggregateSize - 1) / kAggregateSize;
@@ -190,7 +191,7 @@ std::size_t BlockSystem::bytes_for(const LatticeCounts& counts, const Integrator
   total += n * sizeof(Hold);
   total += 3 * block_count(n) * sizeof(double);
   if (settings.cg_two_level && settings.cg_multigrid && n > 0) {
-    total += LatticeMultigrid::bytes_for(rows, cols);
+    total += LatticeMultigrid::bytes_for(rows, cols, settings.cg_line_smoother);
   } else if (settings.cg_two_level && n > 0) {
     const std::size_t aggregate_cols = (cols + kAggregateSize - 1) / kAggregateSize;
     const std::size_t aggregate_rows = (rows + kAggregateSize - 1) / kAggregateSize;

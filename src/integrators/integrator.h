@@ -62,6 +62,10 @@ struct IntegratorSettings {
   // Galerkin coarse matrices down to 8 x 8 nodes, Gauss-Seidel smoothing; integrators/multigrid.h)
   // instead of the exact solve on 4 x 4 aggregates.
   bool cg_multigrid = true;
+  // With cg_multigrid: the V-cycle's fine-level smoother solves whole lattice rows and columns
+  // (block line Gauss-Seidel) instead of one particle at a time; integrators/multigrid.h. The
+  // vulkan backend's V-cycle smooths points either way.
+  bool cg_line_smoother = true;
   // With cg_multigrid: the V-cycle is set up for a solve only where block Jacobi alone would take
   // more than this many iterations by BlockSystem::jacobi_iterations_estimate(); below, Jacobi
   // is cheaper than the V-cycle's setup and passes (0: the V-cycle always). Not a scene key: the

@@ -46,6 +46,29 @@ constexpr std::size_t kParallelNodes = 1024;
 
 int level_threads(std::size_t nodes, int threads) { return nodes >= kParallelNodes ? threads : 1; }
 
+// Calls body(first, end) for the bands of kBandRows of `count` rows (or lines): the even bands in
+// parallel, then the odd ones (the reverse when descending).
+template <typename Body>
+void for_each_band(std::size_t count, bool ascending, int threads, Body&& body) {
+  const std::size_t bands = (count + kBandRows - 1) / kBandRows;
+  for (std::size_t step = 0; step < 2; ++step) {
+    const std::size_t parity = ascending ? step : 1 - step;
+    parallel_for((bands + 1 - parity) / 2, threads, [&](std::size_t k) {
+      const std::size_t band = parity + 2 * k;
+      body(band * kBandRows, std::min(count, (band + 1) * kBandRows));
+    });
+  }
+}
+
+// a b^T.
+Mat3 times_transposed(const Mat3& a, const Mat3& b) {
+  return {Vec3{dot(a.row0, b.row0), dot(a.row0, b.row1), dot(a.row0, b.row2)},
+          Vec3{dot(a.row1, b.row0), dot(a.row1, b.row1), dot(a.row1, b.row2)},
+          Vec3{dot(a.row2, b.row0), dot(a.row2, b.row1), dot(a.row2, b.row2)}};
+}
+// a^T v.
+Vec3 transposed_times(const Mat3& a, const Vec3& v) { return v.x * a.row0 + v.y * a.row1 + v.z * a.row2; }
+
 // Bilinear interpolation along one lattice direction: fine node f's coarse parents (up to 2) and
 // their weights, on a coarse level of `coarse_count` nodes, node I sitting on fine node 2I.
 struct Parents {
@@ -76,11 +99,19 @@ void for_each_child_1d(std::size_t coarse, std::size_t fine_count, std::size_t c
 
 }  // namespace
 
-LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols)
-    : rows_(rows), cols_(cols), fine_stencil_(rows, cols, kFineUpper) {
+LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols, bool lines)
+    : rows_(rows), cols_(cols), fine_stencil_(rows, cols, kFineUpper), lines_(lines) {
   static_assert(kStencil == kSlots, "multigrid_stencil.inc's slots");
   CLOTHSIM_ASSERT(rows > 0 && cols > 0, "a lattice");
   fine_residual_.assign(rows * cols, Vec3{});
+  if (lines_) {
+    for (LineFactor& factor : line_factor_) {
+      for (std::vector<Mat3>* blocks : {&factor.below, &factor.two_below, &factor.diagonal_inverse}) {
+        blocks->assign(rows * cols, Mat3{});
+      }
+    }
+    line_vector_.assign(rows * cols, Vec3{});
+  }
   std::size_t level_rows = rows;
   std::size_t level_cols = cols;
   do {
@@ -106,7 +137,10 @@ LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols)
 
 std::size_t LatticeMultigrid::bytes() const {
   std::size_t total = fine_residual_.capacity() * sizeof(Vec3) + fine_stencil_.bytes() + coarsest_.bytes();
-  total += coarsest_vector_.capacity() * sizeof(double);
+  total += coarsest_vector_.capacity() * sizeof(double) + line_vector_.capacity() * sizeof(Vec3);
+  for (const LineFactor& factor : line_factor_) {
+    total += (factor.below.capacity() + factor.two_below.capacity() + factor.diagonal_inverse.capacity()) * sizeof(Mat3);
+  }
   for (const CoarseLevel& level : coarse_) {
     total += (level.block.capacity() + level.diagonal_inverse.capacity()) * sizeof(Mat3) + level.stencil.bytes();
     total += (level.rhs.capacity() + level.solution.capacity() + level.residual.capacity()) * sizeof(Vec3);
@@ -114,8 +148,9 @@ std::size_t LatticeMultigrid::bytes() const {
   return total;
 }
 
-std::size_t LatticeMultigrid::bytes_for(std::size_t rows, std::size_t cols) {
+std::size_t LatticeMultigrid::bytes_for(std::size_t rows, std::size_t cols, bool lines) {
   std::size_t total = rows * cols * sizeof(Vec3) + SymmetricStencilMatrix::bytes_for(rows * cols, kFineUpper.size());
+  if (lines) total += rows * cols * (2 * 3 * sizeof(Mat3) + sizeof(Vec3));  // 2 factors of 3 blocks, the vector
   std::size_t level_rows = rows;
   std::size_t level_cols = cols;
   do {
@@ -168,15 +203,102 @@ void LatticeMultigrid::smooth(std::size_t level, bool ascending, std::span<const
                               int threads) {
   const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
   const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
-  const std::size_t bands = (rows + kBandRows - 1) / kBandRows;
-  const int loop_threads = level_threads(rows * cols, threads);
-  for (std::size_t step = 0; step < 2; ++step) {
-    const std::size_t parity = ascending ? step : 1 - step;
-    parallel_for((bands + 1 - parity) / 2, loop_threads, [&](std::size_t k) {
-      const std::size_t band = parity + 2 * k;
-      smooth_nodes(level, band * kBandRows * cols, std::min(rows, (band + 1) * kBandRows) * cols, ascending, rhs, x);
-    });
+  for_each_band(rows, ascending, level_threads(rows * cols, threads), [&](std::size_t first, std::size_t end) {
+    smooth_nodes(level, first * cols, end * cols, ascending, rhs, x);
+  });
+}
+
+std::array<Mat3, 3> LatticeMultigrid::line_blocks(std::size_t node, int direction) const {
+  std::array<Mat3, 3> blocks{};
+  if (!fine_.free[node]) return blocks;
+  const auto row = static_cast<std::ptrdiff_t>(node / cols_);
+  const auto col = static_cast<std::ptrdiff_t>(node % cols_);
+  for (std::uint32_t k = fine_.row_offset[node]; k < fine_.row_offset[node + 1]; ++k) {
+    const std::uint32_t q = fine_.column[k];
+    const std::ptrdiff_t di = static_cast<std::ptrdiff_t>(q / cols_) - row;
+    const std::ptrdiff_t dj = static_cast<std::ptrdiff_t>(q % cols_) - col;
+    const std::ptrdiff_t along = direction == 0 ? dj : di;
+    const std::ptrdiff_t across = direction == 0 ? di : dj;
+    if (across != 0 || along > 0 || !fine_.free[q]) continue;
+    Mat3 block = fine_.block[k];
+    if (fine_.holding && (fine_.hold[node] != Hold::none || fine_.hold[q] != Hold::none)) {
+      block = held_block(block, fine_.hold[node], fine_.normal[node], fine_.hold[q], fine_.normal[q]);
+      if (along == 0 && fine_.hold[node] == Hold::normal) {
+        const double mean = (fine_.block[k](0, 0) + fine_.block[k](1, 1) + fine_.block[k](2, 2)) / 3.0;
+        block += mean * outer(fine_.normal[node], fine_.normal[node]);
+      }
+    }
+    blocks[static_cast<std::size_t>(-along)] = block;
   }
+  return blocks;
+}
+
+void LatticeMultigrid::factor_lines(int direction, int threads) {
+  const std::size_t count = direction == 0 ? rows_ : cols_;
+  const std::size_t length = direction == 0 ? cols_ : rows_;
+  LineFactor& factor = line_factor_[static_cast<std::size_t>(direction)];
+  parallel_for(count, level_threads(rows_ * cols_, threads), [&](std::size_t line) {
+    // A = L D L^T, block by block along the line: with A's blocks a0 (to itself), a1, a2 (to the
+    // nodes 1 and 2 before) and w = a1 - a2 L1(t-1)^T = L1(t) D(t-1):
+    //   L2(t) = a2 D(t-2)^-1,  L1(t) = w D(t-1)^-1,  D(t) = a0 - w L1(t)^T - a2 L2(t)^T.
+    Mat3* below = &factor.below[line * length];
+    Mat3* two_below = &factor.two_below[line * length];
+    Mat3* diagonal_inverse = &factor.diagonal_inverse[line * length];
+    for (std::size_t t = 0; t < length; ++t) {
+      const std::array<Mat3, 3> a = line_blocks(direction == 0 ? line * cols_ + t : t * cols_ + line, direction);
+      const Mat3 w = t >= 2 ? a[1] - times_transposed(a[2], below[t - 1]) : a[1];
+      // D's inverses are symmetric, so a D^-1 = a (D^-1)^T.
+      two_below[t] = t >= 2 ? times_transposed(a[2], diagonal_inverse[t - 2]) : Mat3{};
+      below[t] = t >= 1 ? times_transposed(w, diagonal_inverse[t - 1]) : Mat3{};
+      Mat3 d = a[0];
+      if (t >= 1) d -= times_transposed(w, below[t]);
+      if (t >= 2) d -= times_transposed(a[2], two_below[t]);
+      // A node outside the system (anchored, or held in every direction) has no equation: a zero
+      // inverse, and so a zero solution. D is symmetrised against rounding.
+      const double trace = d(0, 0) + d(1, 1) + d(2, 2);
+      diagonal_inverse[t] = trace > 0.0 ? inverse(0.5 * (d + times_transposed(Mat3::diagonal(1.0), d))) : Mat3{};
+    }
+  });
+}
+
+// Compiled for each instruction set (core/multiversion.h), as smooth_nodes.
+CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_lines(int direction, bool ascending, std::span<const Vec3> rhs,
+                                                          std::span<Vec3> x, int threads) {
+  const std::size_t count = direction == 0 ? rows_ : cols_;
+  const std::size_t length = direction == 0 ? cols_ : rows_;
+  const LineFactor& factor = line_factor_[static_cast<std::size_t>(direction)];
+  const auto node_at = [&](std::size_t line, std::size_t t) { return direction == 0 ? line * cols_ + t : t * cols_ + line; };
+  // x += A_line^-1 (rhs - A x) on one line: the residual, then L, D and L^T solved in turn.
+  const auto solve_line = [&](std::size_t line) {
+    const Mat3* below = &factor.below[line * length];
+    const Mat3* two_below = &factor.two_below[line * length];
+    const Mat3* diagonal_inverse = &factor.diagonal_inverse[line * length];
+    Vec3* v = &line_vector_[line * length];
+    for (std::size_t t = 0; t < length; ++t) {
+      const std::size_t node = node_at(line, t);
+      Vec3 y = fine_.free[node] ? rhs[node] - row_product(0, node, x) : Vec3{};
+      if (t >= 1) y -= below[t] * v[t - 1];
+      if (t >= 2) y -= two_below[t] * v[t - 2];
+      v[t] = y;
+    }
+    for (std::size_t t = length; t-- > 0;) {
+      Vec3 z = diagonal_inverse[t] * v[t];
+      if (t + 1 < length) z -= transposed_times(below[t + 1], v[t + 1]);
+      if (t + 2 < length) z -= transposed_times(two_below[t + 2], v[t + 2]);
+      v[t] = z;
+    }
+    for (std::size_t t = 0; t < length; ++t) {
+      const std::size_t node = node_at(line, t);
+      if (fine_.free[node]) x[node] += fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], v[t]) : v[t];
+    }
+  };
+  for_each_band(count, ascending, level_threads(rows_ * cols_, threads), [&](std::size_t first, std::size_t end) {
+    if (ascending) {
+      for (std::size_t line = first; line < end; ++line) solve_line(line);
+    } else {
+      for (std::size_t line = end; line-- > first;) solve_line(line);
+    }
+  });
 }
 
 void LatticeMultigrid::restrict_residual(std::size_t level, std::span<const Vec3> rhs, std::span<const Vec3> x,
@@ -302,6 +424,9 @@ void LatticeMultigrid::setup(const MultigridFineSystem& fine, int threads) {
     }
   });
   for (std::size_t level = 0; level < coarse_.size(); ++level) galerkin(level, threads);
+  if (lines_) {
+    for (int direction = 0; direction < 2; ++direction) factor_lines(direction, threads);
+  }
   // The coarsest matrix's lower triangle into the banded factor.
   const CoarseLevel& last = coarse_.back();
   coarsest_.clear();
@@ -329,8 +454,16 @@ void LatticeMultigrid::setup(const MultigridFineSystem& fine, int threads) {
 void LatticeMultigrid::apply(std::span<const Vec3> residual, std::span<Vec3> result, int threads) {
   std::fill(result.begin(), result.end(), Vec3{});
   const std::size_t last = coarse_.size();  // the coarsest level's index
-  // Down: smooth from zero, restrict the residual.
-  for (int sweep = 0; sweep < kFineSweeps; ++sweep) smooth(0, true, residual, result, threads);
+  // Down: smooth from zero (lines: along the rows, then the columns), restrict the residual.
+  const int fine_sweeps = lines_ ? kFineLineSweeps : kFineSweeps;
+  for (int sweep = 0; sweep < fine_sweeps; ++sweep) {
+    if (lines_) {
+      smooth_lines(0, true, residual, result, threads);
+      smooth_lines(1, true, residual, result, threads);
+    } else {
+      smooth(0, true, residual, result, threads);
+    }
+  }
   restrict_residual(0, residual, result, threads);
   for (std::size_t level = 1; level < last; ++level) {
     CoarseLevel& coarse = coarse_[level - 1];
@@ -355,7 +488,14 @@ void LatticeMultigrid::apply(std::span<const Vec3> residual, std::span<Vec3> res
     for (int sweep = 0; sweep < kCoarseSweeps; ++sweep) smooth(level, false, coarse.rhs, coarse.solution, threads);
   }
   prolong(0, result, threads);
-  for (int sweep = 0; sweep < kFineSweeps; ++sweep) smooth(0, false, residual, result, threads);
+  for (int sweep = 0; sweep < fine_sweeps; ++sweep) {
+    if (lines_) {
+      smooth_lines(1, false, residual, result, threads);
+      smooth_lines(0, false, residual, result, threads);
+    } else {
+      smooth(0, false, residual, result, threads);
+    }
+  }
 }
 
 }  // namespace clothsim

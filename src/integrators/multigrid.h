@@ -7,7 +7,8 @@
 // condition number grows with the square of the lattice size. Block Jacobi took 420 to 900 CG
 // iterations per step on cotton, the two-level additive preconditioner (Jacobi plus an exact
 // solve on 4 x 4 piecewise-constant aggregates) about 89 at 128 x 128; this V-cycle takes 14 at
-// 64 x 64 and at 128 x 128, at most 19 in a step (docs/performance.md, "The preconditioner").
+// 64 x 64 and at 128 x 128 with a point smoother, at most 19 in a step, and 6.2, at most 9, with
+// the line smoother below (docs/performance.md, "The preconditioner", "Line smoothing").
 //
 // Levels. Level 0 is the lattice and implicit Euler's own block-sparse matrix (CSR of 3x3 blocks,
 // not copied). Level l + 1 keeps every other node of level l in each direction: a rows x cols
@@ -25,19 +26,30 @@
 // node to its neighbours at offsets (di, dj) in [-2, 2]^2 except the 4 corners (+-2, +-2): 21 blocks,
 // stored densely per node.
 //
-// Smoother. Block Gauss-Seidel (3x3 blocks and their inverses: the block Jacobi preconditioner's
-// on level 0) on each level's matrix as integrators/stencil_matrix.h stores it (the upper half of
-// the stencil in single precision: the sweeps were bound by memory), 2 sweeps on level 0 and 1 on
-// the coarse levels on each side of the coarse correction. The nodes are visited in bands of
-// kBandRows = 4 whole rows: first the even bands, each in parallel with the others and
-// lexicographically within itself, then the odd ones. Elements reach 2 rows, so no two bands of
-// the same parity share a matrix entry: each node is updated by one thread from values that do not
-// depend on the thread count, and the bands are fixed by the lattice, not by the threads. On the
-// way up the V the sweep runs in exactly the reverse order, the adjoint of the way down, so the
-// V-cycle is a symmetric positive definite operator, as conjugate gradients require. (Gauss-Seidel
-// converges on any symmetric positive definite matrix, with no damping to tune: damped Jacobi at
-// 0.8 diverged on cotton. A 9-colour Gauss-Seidel, (i mod 3, j mod 3), took as many iterations and
-// 13 % more time: it reads the matrix in strides.)
+// Smoother. On the fine level, block line Gauss-Seidel (with `lines`, the default): each lattice
+// row in turn solved exactly for its own unknowns, the other rows held, then each column (one
+// sweep: all rows, then all columns). A connector's stretch stiffness couples a particle strongly
+// to its two neighbours along that connector's line and hardly at all across it, so the errors a
+// point smoother leaves are smooth along the lines and rough across them, which bilinear coarsening
+// cannot represent; solving whole lines removes them. A line's matrix is block pentadiagonal (the
+// opposite radial springs reach two nodes along it), factored as L D L^T once per setup. On
+// 128 x 128 cotton CG then takes 6.2 iterations per step instead of 14.0, for about 1.3 times the
+// work of the point smoother's V-cycle (docs/performance.md, "Line smoothing"). The coarse levels,
+// and the fine one without `lines` (the device's V-cycle), use block point Gauss-Seidel (3x3 blocks
+// and their inverses: the block Jacobi preconditioner's on level 0): 2 sweeps on level 0 and 1 on
+// the coarse levels on each side of the coarse correction. Both read each level's matrix as
+// integrators/stencil_matrix.h stores it (the upper half of the stencil in single precision: the
+// sweeps were bound by memory). The nodes (or lines) are visited in bands of kBandRows = 4 whole
+// rows (or lines): first the even bands, each in parallel with the others and in order within
+// itself, then the odd ones. Elements reach 2 rows, so no two bands of the same parity share a
+// matrix entry: each node is updated by one thread from values that do not depend on the thread
+// count, and the bands are fixed by the lattice, not by the threads. On the way up the V the
+// sweeps run in exactly the reverse order, the adjoint of the way down, so the V-cycle is a
+// symmetric positive definite operator, as conjugate gradients require. (Gauss-Seidel converges
+// on any symmetric positive definite matrix, with no damping to tune: damped Jacobi at 0.8
+// diverged on cotton. A 9-colour Gauss-Seidel, (i mod 3, j mod 3), took as many iterations as the
+// bands and 13 % more time: it reads the matrix in strides. Lines on the coarse levels as well
+// took 5.0 iterations per step instead of 6.2, and more time.)
 //
 // Held particles (integrators/held_directions.h). The level-0 operator is S A S and the transfer
 // S P: the Galerkin product filters each fine block, the prolongation filters what it adds, the
@@ -86,10 +98,13 @@ class LatticeMultigrid {
   // 3 and 3, 9.6 (14).
   static constexpr int kFineSweeps = 2;
   static constexpr int kCoarseSweeps = 1;
+  // Line sweeps (all rows, then all columns) on the fine level on each side, with `lines`. Cotton
+  // as above: 1 sweep 6.2 iterations per step (9), the least time per step; 2 sweeps 4.5 (7).
+  static constexpr int kFineLineSweeps = 1;
 
   // The hierarchy's structure for a rows x cols lattice (particle (i, j) at index i cols + j):
-  // at least one coarse level.
-  LatticeMultigrid(std::size_t rows, std::size_t cols);
+  // at least one coarse level. `lines`: the fine level's smoother solves lines (above), else points.
+  LatticeMultigrid(std::size_t rows, std::size_t cols, bool lines);
   // The coarse matrices, their smoother blocks and the coarsest factor, from the fine system.
   void setup(const MultigridFineSystem& fine, int threads);
   // result = V-cycle applied to residual ([particles] each; residual zero where not solved for and
@@ -99,7 +114,7 @@ class LatticeMultigrid {
   std::size_t level_count() const { return 1 + coarse_.size(); }
   std::size_t bytes() const;
   // bytes() of the hierarchy for a rows x cols lattice.
-  static std::size_t bytes_for(std::size_t rows, std::size_t cols);
+  static std::size_t bytes_for(std::size_t rows, std::size_t cols, bool lines);
 
  private:
 
@@ -131,11 +146,31 @@ class LatticeMultigrid {
   void prolong(std::size_t level, std::span<Vec3> x, int threads);
   // Level l + 1's matrix from level l's: P^T A_l P.
   void galerkin(std::size_t level, int threads);
+  // The fine level's lines along `direction` (0: each row, 1: each column), factored.
+  void factor_lines(int direction, int threads);
+  // One line Gauss-Seidel sweep along `direction` over the fine level, ascending or descending.
+  void smooth_lines(int direction, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
+  // Fine row `node`'s blocks in the solved directions to itself and to the nodes 1 and 2 before it
+  // on its line along `direction`; a held normal direction gets the diagonal's mean on the diagonal
+  // (its right-hand side is zero, and so its solution).
+  std::array<Mat3, 3> line_blocks(std::size_t node, int direction) const;
+
+  // One line's factor L D L^T, L unit lower block triangular: per node in line order (line l,
+  // position t at index l length + t), its row of L (the blocks to the nodes 1 and 2 before it)
+  // and the inverse of its block of D.
+  struct LineFactor {
+    std::vector<Mat3> below;             // [particles]
+    std::vector<Mat3> two_below;         // [particles]
+    std::vector<Mat3> diagonal_inverse;  // [particles]
+  };
 
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
   MultigridFineSystem fine_;
   SymmetricStencilMatrix fine_stencil_;  // the fine matrix (its free rows) as the smoother reads it
+  bool lines_ = true;                    // the fine smoother solves lines
+  std::array<LineFactor, 2> line_factor_;  // along rows, along columns (empty without lines_)
+  std::vector<Vec3> line_vector_;          // [particles] the lines' right-hand sides and solutions, in line order
   std::vector<Vec3> fine_residual_;      // [particles]
   std::vector<CoarseLevel> coarse_;      // levels 1 .. level_count() - 1
   BandedCholesky coarsest_;              // the last level's matrix, factored

@@ -177,6 +177,12 @@ constexpr std::array kScalarParameters = {
                     "backend takes block Jacobi where this is off)",
                     [](const SceneSpec& s) { return s.integrator.cg_multigrid ? 1.0 : 0.0; },
                     [](SceneSpec& s, double v) { s.integrator.cg_multigrid = v != 0.0; }},
+    ScalarParameter{"integrator.cg_line_smoother", ParameterType::boolean, "", closed_range(0.0, 1.0),
+                    "implicit Euler and imex, with cg_multigrid: the V-cycle smooths the fine level by solving "
+                    "whole lattice rows and columns (block line Gauss-Seidel; fewer CG iterations on stiff "
+                    "cloth) instead of single particles (the vulkan backend smooths single particles)",
+                    [](const SceneSpec& s) { return s.integrator.cg_line_smoother ? 1.0 : 0.0; },
+                    [](SceneSpec& s, double v) { s.integrator.cg_line_smoother = v != 0.0; }},
     // Output.
     ScalarParameter{"output.duration", ParameterType::real, "s", left_open_range(0.0, 1e7),
                     "simulated time to run; with until_rest, the upper limit",
