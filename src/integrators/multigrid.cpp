@@ -66,6 +66,10 @@ Mat3 times_transposed(const Mat3& a, const Mat3& b) {
           Vec3{dot(a.row1, b.row0), dot(a.row1, b.row1), dot(a.row1, b.row2)},
           Vec3{dot(a.row2, b.row0), dot(a.row2, b.row1), dot(a.row2, b.row2)}};
 }
+// a^T.
+Mat3 transposed(const Mat3& a) {
+  return {Vec3{a.row0.x, a.row1.x, a.row2.x}, Vec3{a.row0.y, a.row1.y, a.row2.y}, Vec3{a.row0.z, a.row1.z, a.row2.z}};
+}
 // a^T v.
 Vec3 transposed_times(const Mat3& a, const Vec3& v) { return v.x * a.row0 + v.y * a.row1 + v.z * a.row2; }
 
@@ -139,7 +143,8 @@ std::size_t LatticeMultigrid::bytes() const {
   std::size_t total = fine_residual_.capacity() * sizeof(Vec3) + fine_stencil_.bytes() + coarsest_.bytes();
   total += coarsest_vector_.capacity() * sizeof(double) + line_vector_.capacity() * sizeof(Vec3);
   for (const LineFactor& factor : line_factor_) {
-    total += (factor.below.capacity() + factor.two_below.capacity() + factor.diagonal_inverse.capacity()) * sizeof(Mat3);
+    total +=
+        (factor.below.capacity() + factor.two_below.capacity() + factor.diagonal_inverse.capacity()) * sizeof(Mat3);
   }
   for (const CoarseLevel& level : coarse_) {
     total += (level.block.capacity() + level.diagonal_inverse.capacity()) * sizeof(Mat3) + level.stencil.bytes();
@@ -211,24 +216,24 @@ void LatticeMultigrid::smooth(std::size_t level, bool ascending, std::span<const
 std::array<Mat3, 3> LatticeMultigrid::line_blocks(std::size_t node, int direction) const {
   std::array<Mat3, 3> blocks{};
   if (!fine_.free[node]) return blocks;
-  const auto row = static_cast<std::ptrdiff_t>(node / cols_);
-  const auto col = static_cast<std::ptrdiff_t>(node % cols_);
-  for (std::uint32_t k = fine_.row_offset[node]; k < fine_.row_offset[node + 1]; ++k) {
-    const std::uint32_t q = fine_.column[k];
-    const std::ptrdiff_t di = static_cast<std::ptrdiff_t>(q / cols_) - row;
-    const std::ptrdiff_t dj = static_cast<std::ptrdiff_t>(q % cols_) - col;
-    const std::ptrdiff_t along = direction == 0 ? dj : di;
-    const std::ptrdiff_t across = direction == 0 ? di : dj;
-    if (across != 0 || along > 0 || !fine_.free[q]) continue;
-    Mat3 block = fine_.block[k];
+  // The blocks as the smoother's residuals read them: the stencil's, and a block to a node before
+  // this one the transpose of that node's block to this one. Then the line solve's matrix is the
+  // residual's, and the cycle symmetric.
+  const std::size_t position = direction == 0 ? node % cols_ : node / cols_;  // on the line
+  const std::size_t step = direction == 0 ? 1 : cols_;
+  for (std::size_t before = 0; before <= std::min<std::size_t>(2, position); ++before) {
+    const std::size_t q = node - before * step;
+    const int offset = static_cast<int>(before);
+    Mat3 block = before == 0 ? fine_stencil_.block(node, 0)
+                             : transposed(fine_stencil_.block(
+                                   q, direction == 0 ? fine_stencil_.slot(0, offset) : fine_stencil_.slot(offset, 0)));
     if (fine_.holding && (fine_.hold[node] != Hold::none || fine_.hold[q] != Hold::none)) {
+      const double mean = (block(0, 0) + block(1, 1) + block(2, 2)) / 3.0;
       block = held_block(block, fine_.hold[node], fine_.normal[node], fine_.hold[q], fine_.normal[q]);
-      if (along == 0 && fine_.hold[node] == Hold::normal) {
-        const double mean = (fine_.block[k](0, 0) + fine_.block[k](1, 1) + fine_.block[k](2, 2)) / 3.0;
+      if (before == 0 && fine_.hold[node] == Hold::normal)
         block += mean * outer(fine_.normal[node], fine_.normal[node]);
-      }
     }
-    blocks[static_cast<std::size_t>(-along)] = block;
+    blocks[before] = block;
   }
   return blocks;
 }
@@ -256,7 +261,7 @@ void LatticeMultigrid::factor_lines(int direction, int threads) {
       // A node outside the system (anchored, or held in every direction) has no equation: a zero
       // inverse, and so a zero solution. D is symmetrised against rounding.
       const double trace = d(0, 0) + d(1, 1) + d(2, 2);
-      diagonal_inverse[t] = trace > 0.0 ? inverse(0.5 * (d + times_transposed(Mat3::diagonal(1.0), d))) : Mat3{};
+      diagonal_inverse[t] = trace > 0.0 ? inverse(0.5 * (d + transposed(d))) : Mat3{};
     }
   });
 }
@@ -267,8 +272,11 @@ CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_lines(int direction, bool as
   const std::size_t count = direction == 0 ? rows_ : cols_;
   const std::size_t length = direction == 0 ? cols_ : rows_;
   const LineFactor& factor = line_factor_[static_cast<std::size_t>(direction)];
-  const auto node_at = [&](std::size_t line, std::size_t t) { return direction == 0 ? line * cols_ + t : t * cols_ + line; };
-  // x += A_line^-1 (rhs - A x) on one line: the residual, then L, D and L^T solved in turn.
+  const auto node_at = [&](std::size_t line, std::size_t t) {
+    return direction == 0 ? line * cols_ + t : t * cols_ + line;
+  };
+  // x = A_line^-1 (rhs - A_off x) on one line, A_off the blocks to the other lines: L, D and L^T
+  // solved in turn.
   const auto solve_line = [&](std::size_t line) {
     const Mat3* below = &factor.below[line * length];
     const Mat3* two_below = &factor.two_below[line * length];
@@ -276,7 +284,11 @@ CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_lines(int direction, bool as
     Vec3* v = &line_vector_[line * length];
     for (std::size_t t = 0; t < length; ++t) {
       const std::size_t node = node_at(line, t);
-      Vec3 y = fine_.free[node] ? rhs[node] - row_product(0, node, x) : Vec3{};
+      Vec3 y;
+      if (fine_.free[node]) {
+        const Vec3 off_line = fine_stencil_.row_product_off_line(node, x, direction);
+        y = rhs[node] - (fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], off_line) : off_line);
+      }
       if (t >= 1) y -= below[t] * v[t - 1];
       if (t >= 2) y -= two_below[t] * v[t - 2];
       v[t] = y;
@@ -289,7 +301,7 @@ CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_lines(int direction, bool as
     }
     for (std::size_t t = 0; t < length; ++t) {
       const std::size_t node = node_at(line, t);
-      if (fine_.free[node]) x[node] += fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], v[t]) : v[t];
+      if (fine_.free[node]) x[node] = fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], v[t]) : v[t];
     }
   };
   for_each_band(count, ascending, level_threads(rows_ * cols_, threads), [&](std::size_t first, std::size_t end) {

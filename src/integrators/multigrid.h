@@ -117,7 +117,6 @@ class LatticeMultigrid {
   static std::size_t bytes_for(std::size_t rows, std::size_t cols, bool lines);
 
  private:
-
   struct CoarseLevel {
     std::size_t rows = 0;  // nodes
     std::size_t cols = 0;
@@ -151,8 +150,8 @@ class LatticeMultigrid {
   // One line Gauss-Seidel sweep along `direction` over the fine level, ascending or descending.
   void smooth_lines(int direction, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
   // Fine row `node`'s blocks in the solved directions to itself and to the nodes 1 and 2 before it
-  // on its line along `direction`; a held normal direction gets the diagonal's mean on the diagonal
-  // (its right-hand side is zero, and so its solution).
+  // on its line along `direction`, as fine_stencil_ holds them; a held normal direction gets the
+  // diagonal's mean on the diagonal (its right-hand side is zero, and so its solution).
   std::array<Mat3, 3> line_blocks(std::size_t node, int direction) const;
 
   // One line's factor L D L^T, L unit lower block triangular: per node in line order (line l,
@@ -167,13 +166,13 @@ class LatticeMultigrid {
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
   MultigridFineSystem fine_;
-  SymmetricStencilMatrix fine_stencil_;  // the fine matrix (its free rows) as the smoother reads it
-  bool lines_ = true;                    // the fine smoother solves lines
+  SymmetricStencilMatrix fine_stencil_;    // the fine matrix (its free rows) as the smoother reads it
+  bool lines_ = true;                      // the fine smoother solves lines
   std::array<LineFactor, 2> line_factor_;  // along rows, along columns (empty without lines_)
   std::vector<Vec3> line_vector_;          // [particles] the lines' right-hand sides and solutions, in line order
-  std::vector<Vec3> fine_residual_;      // [particles]
-  std::vector<CoarseLevel> coarse_;      // levels 1 .. level_count() - 1
-  BandedCholesky coarsest_;              // the last level's matrix, factored
+  std::vector<Vec3> fine_residual_;        // [particles]
+  std::vector<CoarseLevel> coarse_;        // levels 1 .. level_count() - 1
+  BandedCholesky coarsest_;                // the last level's matrix, factored
   std::vector<double> coarsest_vector_;
 };
 

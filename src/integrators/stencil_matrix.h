@@ -41,10 +41,24 @@ class SymmetricStencilMatrix {
   std::size_t slot_count() const { return slots_; }
   // Row `node`'s block at `slot`, rounded to single precision.
   void set(std::size_t node, std::size_t slot, const Mat3& block);
+  // Row `node`'s block at `slot`, as stored (rounded to single precision).
+  Mat3 block(std::size_t node, std::size_t slot) const {
+    const Block& m = block_[node * slots_ + slot];
+    return {Vec3{m[0], m[1], m[2]}, Vec3{m[3], m[4], m[5]}, Vec3{m[6], m[7], m[8]}};
+  }
   // Every block of row `node` to zero.
   void clear_row(std::size_t node);
   // Row `node` times x ([rows cols]).
-  [[gnu::always_inline]] Vec3 row_product(std::size_t node, std::span<const Vec3> x) const;
+  [[gnu::always_inline]] Vec3 row_product(std::size_t node, std::span<const Vec3> x) const {
+    return product(node, x, [](std::size_t) { return true; });
+  }
+  // Row `node` times x without the blocks to the nodes on the node's own lattice row (`line` 0:
+  // offsets (0, dj), itself included) or column (1: offsets (di, 0)): what a line solve of the
+  // multigrid's smoother takes from the other lines.
+  [[gnu::always_inline]] Vec3 row_product_off_line(std::size_t node, std::span<const Vec3> x, int line) const {
+    const std::size_t across = line == 0 ? 0 : 1;  // the offset's component that is 0 on the line
+    return product(node, x, [&](std::size_t s) { return offset_[s][across] != 0; });
+  }
 
   std::size_t bytes() const { return block_.capacity() * sizeof(Block); }
   static std::size_t bytes_for(std::size_t nodes, std::size_t slots) { return nodes * slots * sizeof(Block); }
@@ -56,6 +70,9 @@ class SymmetricStencilMatrix {
     return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[3] * v.x + m[4] * v.y + m[5] * v.z,
             m[6] * v.x + m[7] * v.y + m[8] * v.z};
   }
+  // Row `node` times x over the slots s with keep(s) (the block to itself is slot 0).
+  template <typename Keep>
+  [[gnu::always_inline]] Vec3 product(std::size_t node, std::span<const Vec3> x, Keep keep) const;
   static Vec3 transposed_times(const Block& m, const Vec3& v) {
     return {m[0] * v.x + m[3] * v.y + m[6] * v.z, m[1] * v.x + m[4] * v.y + m[7] * v.z,
             m[2] * v.x + m[5] * v.y + m[8] * v.z};
@@ -71,16 +88,18 @@ class SymmetricStencilMatrix {
   std::vector<Block> block_;  // [rows cols slots], row `node` from node slots
 };
 
-[[gnu::always_inline]] inline Vec3 SymmetricStencilMatrix::row_product(std::size_t node,
-                                                                       std::span<const Vec3> x) const {
+template <typename Keep>
+[[gnu::always_inline]] inline Vec3 SymmetricStencilMatrix::product(std::size_t node, std::span<const Vec3> x,
+                                                                   Keep keep) const {
   const Block* own = &block_[node * slots_];
-  Vec3 upper = times(own[0], x[node]);
+  Vec3 upper = keep(0) ? times(own[0], x[node]) : Vec3{};
   Vec3 lower;
   const std::size_t row = node / cols_;
   const std::size_t col = node % cols_;
   if (row >= 2 && col >= 2 && row + 2 < rows_ && col + 2 < cols_) {
     // An interior node: every neighbour exists.
     for (std::size_t s = 1; s < slots_; ++s) {
+      if (!keep(s)) continue;
       const std::size_t d = node_offset_[s];
       upper += times(own[s], x[node + d]);
       lower += transposed_times(block_[(node - d) * slots_ + s], x[node - d]);
@@ -93,6 +112,7 @@ class SymmetricStencilMatrix {
   const auto r = static_cast<std::ptrdiff_t>(row);
   const auto c = static_cast<std::ptrdiff_t>(col);
   for (std::size_t s = 1; s < slots_; ++s) {
+    if (!keep(s)) continue;
     const std::size_t d = node_offset_[s];
     if (inside(r + offset_[s][0], c + offset_[s][1])) upper += times(own[s], x[node + d]);
     if (inside(r - offset_[s][0], c - offset_[s][1]))
