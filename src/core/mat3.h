@@ -2,8 +2,8 @@
 // the block-sparse system matrix (integrators/implicit_euler.h).
 //
 // Row-major, three Vec3 rows, double precision like Vec3. Only what the Jacobians and the
-// conjugate-gradient solver need: products with vectors, outer products, sums, the identity and
-// the inverse of a symmetric positive definite block (the Jacobi preconditioner).
+// conjugate-gradient solver need: products with vectors, outer products, sums, the identity, the
+// transpose, and the inverse of a symmetric positive definite block (the Jacobi preconditioner).
 #pragma once
 
 #include "core/vec3.h"
@@ -40,6 +40,19 @@ constexpr Vec3 operator*(const Mat3& a, const Vec3& v) { return {dot(a.row0, v),
 
 // a b^T.
 constexpr Mat3 outer(const Vec3& a, const Vec3& b) { return {a.x * b, a.y * b, a.z * b}; }
+
+// a^T.
+constexpr Mat3 transpose(const Mat3& a) {
+  return {Vec3{a.row0.x, a.row1.x, a.row2.x}, Vec3{a.row0.y, a.row1.y, a.row2.y}, Vec3{a.row0.z, a.row1.z, a.row2.z}};
+}
+// a^T v.
+constexpr Vec3 transpose_times(const Mat3& a, const Vec3& v) { return v.x * a.row0 + v.y * a.row1 + v.z * a.row2; }
+// a b^T for matrices.
+constexpr Mat3 times_transpose(const Mat3& a, const Mat3& b) {
+  return {Vec3{dot(a.row0, b.row0), dot(a.row0, b.row1), dot(a.row0, b.row2)},
+          Vec3{dot(a.row1, b.row0), dot(a.row1, b.row1), dot(a.row1, b.row2)},
+          Vec3{dot(a.row2, b.row0), dot(a.row2, b.row1), dot(a.row2, b.row2)}};
+}
 
 // Inverse by cofactors; the caller guarantees a non-singular matrix (a mass-dominated diagonal
 // block of the implicit system is symmetric positive definite).

@@ -27,8 +27,7 @@ inline Vec3 held_vector(Hold hold, const Vec3& normal, const Vec3& v) {
 // B - n_p (B^T n_p)^T - (B n_q) n_q^T + (n_p . B n_q) n_p n_q^T. (Particles held in all
 // directions have S = 0: their blocks are zero, which the callers handle.)
 inline Mat3 held_block(const Mat3& b, const Vec3& np, const Vec3& nq) {
-  const Vec3 bt_np{b(0, 0) * np.x + b(1, 0) * np.y + b(2, 0) * np.z, b(0, 1) * np.x + b(1, 1) * np.y + b(2, 1) * np.z,
-                   b(0, 2) * np.x + b(1, 2) * np.y + b(2, 2) * np.z};
+  const Vec3 bt_np = transpose_times(b, np);
   const Vec3 b_nq = b * nq;
   return b - outer(np, bt_np) - outer(b_nq, nq) + dot(np, b_nq) * outer(np, nq);
 }

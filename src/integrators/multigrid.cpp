@@ -35,6 +35,18 @@ constexpr auto kDiagonalSlot = static_cast<std::size_t>(stencil::kStencilDiagona
 constexpr std::array<SymmetricStencilMatrix::Offset, 7> kFineUpper = {
     {{0, 0}, {0, 1}, {0, 2}, {1, -1}, {1, 0}, {1, 1}, {2, 0}}};
 
+// The fine stencil's slot of upper offset (di, dj).
+constexpr std::size_t fine_upper_slot(int di, int dj) {
+  std::size_t slot = 0;
+  while (kFineUpper[slot] != SymmetricStencilMatrix::Offset{di, dj}) ++slot;
+  return slot;
+}
+// Per line direction (0: along a row, 1: along a column), the fine stencil's slots of a node's
+// blocks to itself and to the nodes 1 and 2 after it on its line.
+constexpr std::array<std::array<std::size_t, 3>, 2> kLineSlots = {
+    {{fine_upper_slot(0, 0), fine_upper_slot(0, 1), fine_upper_slot(0, 2)},
+     {fine_upper_slot(0, 0), fine_upper_slot(1, 0), fine_upper_slot(2, 0)}}};
+
 // The slot of offset (di, dj), both in [-2, 2], not a corner.
 std::size_t stencil_slot(int di, int dj) { return static_cast<std::size_t>(stencil::stencil_slot(di, dj)); }
 
@@ -59,19 +71,6 @@ void for_each_band(std::size_t count, bool ascending, int threads, Body&& body) 
     });
   }
 }
-
-// a b^T.
-Mat3 times_transposed(const Mat3& a, const Mat3& b) {
-  return {Vec3{dot(a.row0, b.row0), dot(a.row0, b.row1), dot(a.row0, b.row2)},
-          Vec3{dot(a.row1, b.row0), dot(a.row1, b.row1), dot(a.row1, b.row2)},
-          Vec3{dot(a.row2, b.row0), dot(a.row2, b.row1), dot(a.row2, b.row2)}};
-}
-// a^T.
-Mat3 transposed(const Mat3& a) {
-  return {Vec3{a.row0.x, a.row1.x, a.row2.x}, Vec3{a.row0.y, a.row1.y, a.row2.y}, Vec3{a.row0.z, a.row1.z, a.row2.z}};
-}
-// a^T v.
-Vec3 transposed_times(const Mat3& a, const Vec3& v) { return v.x * a.row0 + v.y * a.row1 + v.z * a.row2; }
 
 // Bilinear interpolation along one lattice direction: fine node f's coarse parents (up to 2) and
 // their weights, on a coarse level of `coarse_count` nodes, node I sitting on fine node 2I.
@@ -221,12 +220,10 @@ std::array<Mat3, 3> LatticeMultigrid::line_blocks(std::size_t node, int directio
   // residual's, and the cycle symmetric.
   const std::size_t position = direction == 0 ? node % cols_ : node / cols_;  // on the line
   const std::size_t step = direction == 0 ? 1 : cols_;
+  const std::array<std::size_t, 3>& slot = kLineSlots[static_cast<std::size_t>(direction)];
   for (std::size_t before = 0; before <= std::min<std::size_t>(2, position); ++before) {
     const std::size_t q = node - before * step;
-    const int offset = static_cast<int>(before);
-    Mat3 block = before == 0 ? fine_stencil_.block(node, 0)
-                             : transposed(fine_stencil_.block(
-                                   q, direction == 0 ? fine_stencil_.slot(0, offset) : fine_stencil_.slot(offset, 0)));
+    Mat3 block = before == 0 ? fine_stencil_.block(node, slot[0]) : transpose(fine_stencil_.block(q, slot[before]));
     if (fine_.holding && (fine_.hold[node] != Hold::none || fine_.hold[q] != Hold::none)) {
       const double mean = (block(0, 0) + block(1, 1) + block(2, 2)) / 3.0;
       block = held_block(block, fine_.hold[node], fine_.normal[node], fine_.hold[q], fine_.normal[q]);
@@ -251,17 +248,17 @@ void LatticeMultigrid::factor_lines(int direction, int threads) {
     Mat3* diagonal_inverse = &factor.diagonal_inverse[line * length];
     for (std::size_t t = 0; t < length; ++t) {
       const std::array<Mat3, 3> a = line_blocks(direction == 0 ? line * cols_ + t : t * cols_ + line, direction);
-      const Mat3 w = t >= 2 ? a[1] - times_transposed(a[2], below[t - 1]) : a[1];
+      const Mat3 w = t >= 2 ? a[1] - times_transpose(a[2], below[t - 1]) : a[1];
       // D's inverses are symmetric, so a D^-1 = a (D^-1)^T.
-      two_below[t] = t >= 2 ? times_transposed(a[2], diagonal_inverse[t - 2]) : Mat3{};
-      below[t] = t >= 1 ? times_transposed(w, diagonal_inverse[t - 1]) : Mat3{};
+      two_below[t] = t >= 2 ? times_transpose(a[2], diagonal_inverse[t - 2]) : Mat3{};
+      below[t] = t >= 1 ? times_transpose(w, diagonal_inverse[t - 1]) : Mat3{};
       Mat3 d = a[0];
-      if (t >= 1) d -= times_transposed(w, below[t]);
-      if (t >= 2) d -= times_transposed(a[2], two_below[t]);
+      if (t >= 1) d -= times_transpose(w, below[t]);
+      if (t >= 2) d -= times_transpose(a[2], two_below[t]);
       // A node outside the system (anchored, or held in every direction) has no equation: a zero
       // inverse, and so a zero solution. D is symmetrised against rounding.
       const double trace = d(0, 0) + d(1, 1) + d(2, 2);
-      diagonal_inverse[t] = trace > 0.0 ? inverse(0.5 * (d + transposed(d))) : Mat3{};
+      diagonal_inverse[t] = trace > 0.0 ? inverse(0.5 * (d + transpose(d))) : Mat3{};
     }
   });
 }
@@ -295,8 +292,8 @@ CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_lines(int direction, bool as
     }
     for (std::size_t t = length; t-- > 0;) {
       Vec3 z = diagonal_inverse[t] * v[t];
-      if (t + 1 < length) z -= transposed_times(below[t + 1], v[t + 1]);
-      if (t + 2 < length) z -= transposed_times(two_below[t + 2], v[t + 2]);
+      if (t + 1 < length) z -= transpose_times(below[t + 1], v[t + 1]);
+      if (t + 2 < length) z -= transpose_times(two_below[t + 2], v[t + 2]);
       v[t] = z;
     }
     for (std::size_t t = 0; t < length; ++t) {
@@ -311,6 +308,17 @@ CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_lines(int direction, bool as
       for (std::size_t line = end; line-- > first;) solve_line(line);
     }
   });
+}
+
+void LatticeMultigrid::smooth_fine(bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads) {
+  for (int sweep = 0; sweep < (lines_ ? kFineLineSweeps : kFineSweeps); ++sweep) {
+    if (!lines_) {
+      smooth(0, ascending, rhs, x, threads);
+      continue;
+    }
+    // Along the rows, then the columns; descending, the reverse.
+    for (int k = 0; k < 2; ++k) smooth_lines(ascending ? k : 1 - k, ascending, rhs, x, threads);
+  }
 }
 
 void LatticeMultigrid::restrict_residual(std::size_t level, std::span<const Vec3> rhs, std::span<const Vec3> x,
@@ -466,16 +474,8 @@ void LatticeMultigrid::setup(const MultigridFineSystem& fine, int threads) {
 void LatticeMultigrid::apply(std::span<const Vec3> residual, std::span<Vec3> result, int threads) {
   std::fill(result.begin(), result.end(), Vec3{});
   const std::size_t last = coarse_.size();  // the coarsest level's index
-  // Down: smooth from zero (lines: along the rows, then the columns), restrict the residual.
-  const int fine_sweeps = lines_ ? kFineLineSweeps : kFineSweeps;
-  for (int sweep = 0; sweep < fine_sweeps; ++sweep) {
-    if (lines_) {
-      smooth_lines(0, true, residual, result, threads);
-      smooth_lines(1, true, residual, result, threads);
-    } else {
-      smooth(0, true, residual, result, threads);
-    }
-  }
+  // Down: smooth from zero, restrict the residual.
+  smooth_fine(true, residual, result, threads);
   restrict_residual(0, residual, result, threads);
   for (std::size_t level = 1; level < last; ++level) {
     CoarseLevel& coarse = coarse_[level - 1];
@@ -500,14 +500,7 @@ void LatticeMultigrid::apply(std::span<const Vec3> residual, std::span<Vec3> res
     for (int sweep = 0; sweep < kCoarseSweeps; ++sweep) smooth(level, false, coarse.rhs, coarse.solution, threads);
   }
   prolong(0, result, threads);
-  for (int sweep = 0; sweep < fine_sweeps; ++sweep) {
-    if (lines_) {
-      smooth_lines(1, false, residual, result, threads);
-      smooth_lines(0, false, residual, result, threads);
-    } else {
-      smooth(0, false, residual, result, threads);
-    }
-  }
+  smooth_fine(false, residual, result, threads);
 }
 
 }  // namespace clothsim

@@ -147,6 +147,9 @@ class LatticeMultigrid {
   void galerkin(std::size_t level, int threads);
   // The fine level's lines along `direction` (0: each row, 1: each column), factored.
   void factor_lines(int direction, int threads);
+  // The fine level's sweeps on one side of the coarse correction: kFineLineSweeps of the lines
+  // (rows, then columns; descending, columns, then rows) or kFineSweeps of the points.
+  void smooth_fine(bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
   // One line Gauss-Seidel sweep along `direction` over the fine level, ascending or descending.
   void smooth_lines(int direction, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
   // Fine row `node`'s blocks in the solved directions to itself and to the nodes 1 and 2 before it
