@@ -8,6 +8,10 @@
 //   forces          the right-hand side: forces, accelerations and powers (inside the integrator)
 //   integration     the rest of the integrator's step, with its parts:
 //     stage sums          Runge-Kutta: each stage's state from the earlier stages' rates
+//     jacobians           implicit: the element Jacobians of the linear system
+//     assembly            implicit: its block matrix and block Jacobi's diagonal inverses
+//     preconditioner setup  implicit: the multigrid levels (Galerkin products, line factors)
+//     linear solve        implicit: preconditioned conjugate gradients
 //     solution and error  RKF45: the trial solution and its error norm, in one pass
 //     solution update     RK4, symplectic Euler: the new state
 //     device steps        Vulkan: the device's passes, waited for
@@ -33,6 +37,10 @@ enum class StepStage : std::uint8_t {
   forces,
   integration,
   stage_sums,
+  jacobians,
+  assembly,
+  preconditioner_setup,
+  linear_solve,
   solution_and_error,
   solution_update,
   device_steps,
@@ -55,6 +63,10 @@ inline constexpr std::array<StepStageInfo, kStepStageCount> kStepStages = {{
     {StepStage::forces, "forces", StepStage::forces},
     {StepStage::integration, "integration", StepStage::integration},
     {StepStage::stage_sums, "stage sums", StepStage::integration},
+    {StepStage::jacobians, "jacobians", StepStage::integration},
+    {StepStage::assembly, "assembly", StepStage::integration},
+    {StepStage::preconditioner_setup, "preconditioner setup", StepStage::integration},
+    {StepStage::linear_solve, "linear solve", StepStage::integration},
     {StepStage::solution_and_error, "solution and error", StepStage::integration},
     {StepStage::solution_update, "solution update", StepStage::integration},
     {StepStage::device_steps, "device steps", StepStage::integration},

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "core/mat3.h"
+#include "core/step_profile.h"
 #include "forces/element_jacobian.h"
 #include "forces/forces.h"
 #include "integrators/banded_cholesky.h"
@@ -47,7 +48,9 @@ bool vcycle_pays(double jacobi_iterations, double vcycle_threshold);
 
 class BlockSystem {
  public:
-  BlockSystem(const ClothModel& model, const IntegratorSettings& settings, int threads);
+  // Times its parts (jacobians, assembly, preconditioner setup, linear solve) into `profile`, the
+  // integrator's, which outlives it.
+  BlockSystem(const ClothModel& model, const IntegratorSettings& settings, int threads, StepProfile& profile);
 
   // Marks the anchored particles as outside the system (after a model edit).
   void update_free();
@@ -122,9 +125,22 @@ class BlockSystem {
   double precondition();
   template <typename Body>
   std::array<double, 3> blocked_sums(Body&& body);
+  // Asks the cache for the element Jacobians row p (if any) will read.
+  void prefetch_jacobians(std::size_t p) const;
+  // What assemble() forms each row with.
+  struct RowAssembly {
+    double damping_scale;
+    double stiffness_scale;
+    double drag;  // N s/m, 0 without air drag
+    std::span<const Vec3> displacement;
+    std::span<Vec3> stiffness_product;
+  };
+  // Row p of the matrix, its preconditioner block, and with a displacement (K z)_p.
+  void assemble_row(std::size_t p, const RowAssembly& row);
 
   const ClothModel& model_;
   int threads_ = 1;
+  StepProfile& profile_;
   GatherTable gather_;  // each particle's element slots: the order its row is assembled in
   std::vector<Vec3> residual_;
   std::vector<Vec3> preconditioned_;

@@ -50,7 +50,7 @@ AdditiveRungeKutta::AdditiveRungeKutta(const ClothModel& model, const Integrator
       tableau_(tableau),
       fixed_step_(fixed_step),
       dynamics_(model, options),
-      system_(model, with_vcycle_always(settings), options.threads),
+      system_(model, with_vcycle_always(settings), options.threads, profile_),
       controller_(step_control::make_step_controller(settings)),
       revision_(model.revision) {
   CLOTHSIM_ASSERT(tableau.embedded_order > 0, "an adaptive method needs an embedded error estimate");

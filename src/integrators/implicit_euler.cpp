@@ -15,7 +15,7 @@ ImplicitEuler::ImplicitEuler(const ClothModel& model, const IntegratorSettings& 
       settings_(settings),
       options_(options),
       threads_(options.threads),
-      system_(model, settings, options.threads) {
+      system_(model, settings, options.threads, profile_) {
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
   CLOTHSIM_ASSERT(options.precision == Precision::float64,
                   "implicit Euler's forces are float64 (sim/backend.h refuses float32 with it)");

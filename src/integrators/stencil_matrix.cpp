@@ -28,13 +28,6 @@ std::size_t SymmetricStencilMatrix::slot(int di, int dj) const {
   return kMaxSlots;
 }
 
-void SymmetricStencilMatrix::set(std::size_t node, std::size_t slot, const Mat3& block) {
-  Block& stored = block_[node * slots_ + slot];
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) stored[static_cast<std::size_t>(3 * r + c)] = static_cast<float>(block(r, c));
-  }
-}
-
 void SymmetricStencilMatrix::clear_row(std::size_t node) {
   std::fill_n(block_.begin() + static_cast<std::ptrdiff_t>(node * slots_), slots_, Block{});
 }

@@ -40,12 +40,9 @@ class SymmetricStencilMatrix {
   std::size_t slot(int di, int dj) const;
   std::size_t slot_count() const { return slots_; }
   // Row `node`'s block at `slot`, rounded to single precision.
-  void set(std::size_t node, std::size_t slot, const Mat3& block);
+  void set(std::size_t node, std::size_t slot, const Mat3& block) { block_[node * slots_ + slot] = narrow(block); }
   // Row `node`'s block at `slot`, as stored (rounded to single precision).
-  Mat3 block(std::size_t node, std::size_t slot) const {
-    const Block& m = block_[node * slots_ + slot];
-    return {Vec3{m[0], m[1], m[2]}, Vec3{m[3], m[4], m[5]}, Vec3{m[6], m[7], m[8]}};
-  }
+  Mat3 block(std::size_t node, std::size_t slot) const { return widen(block_[node * slots_ + slot]); }
   // Every block of row `node` to zero.
   void clear_row(std::size_t node);
   // Row `node` times x ([rows cols]).
@@ -64,19 +61,11 @@ class SymmetricStencilMatrix {
   static std::size_t bytes_for(std::size_t nodes, std::size_t slots) { return nodes * slots * sizeof(Block); }
 
  private:
-  using Block = std::array<float, 9>;  // row-major
+  using Block = FloatBlock;
 
-  static Vec3 times(const Block& m, const Vec3& v) {
-    return {m[0] * v.x + m[1] * v.y + m[2] * v.z, m[3] * v.x + m[4] * v.y + m[5] * v.z,
-            m[6] * v.x + m[7] * v.y + m[8] * v.z};
-  }
   // Row `node` times x over the slots s with keep(s) (the block to itself is slot 0).
   template <typename Keep>
   [[gnu::always_inline]] Vec3 product(std::size_t node, std::span<const Vec3> x, Keep keep) const;
-  static Vec3 transposed_times(const Block& m, const Vec3& v) {
-    return {m[0] * v.x + m[3] * v.y + m[6] * v.z, m[1] * v.x + m[4] * v.y + m[7] * v.z,
-            m[2] * v.x + m[5] * v.y + m[8] * v.z};
-  }
 
   std::size_t rows_ = 0;
   std::size_t cols_ = 0;
@@ -102,7 +91,7 @@ template <typename Keep>
       if (!keep(s)) continue;
       const std::size_t d = node_offset_[s];
       upper += times(own[s], x[node + d]);
-      lower += transposed_times(block_[(node - d) * slots_ + s], x[node - d]);
+      lower += transpose_times(block_[(node - d) * slots_ + s], x[node - d]);
     }
     return upper + lower;
   }
@@ -116,7 +105,7 @@ template <typename Keep>
     const std::size_t d = node_offset_[s];
     if (inside(r + offset_[s][0], c + offset_[s][1])) upper += times(own[s], x[node + d]);
     if (inside(r - offset_[s][0], c - offset_[s][1]))
-      lower += transposed_times(block_[(node - d) * slots_ + s], x[node - d]);
+      lower += transpose_times(block_[(node - d) * slots_ + s], x[node - d]);
   }
   return upper + lower;
 }

@@ -49,12 +49,12 @@ std::string format_profile(const std::vector<ProfileRow>& rows, std::uint64_t fo
   for (const ProfileRow& row : rows) {
     if (row.name == "total") total = row.seconds;
   }
-  std::string text = "stage                  seconds    share\n";
+  std::string text = "stage                    seconds    share\n";
   char line[160];
   for (const ProfileRow& row : rows) {
     const std::string name = std::string(static_cast<std::size_t>(2 * row.depth), ' ') + row.name;
     const double share = total > 0.0 ? 100.0 * row.seconds / total : 0.0;
-    std::snprintf(line, sizeof line, "%-20s %9.3f  %6.1f%%", name.c_str(), row.seconds, share);
+    std::snprintf(line, sizeof line, "%-22s %9.3f  %6.1f%%", name.c_str(), row.seconds, share);
     text += line;
     if (row.name == "forces" && force_evaluations > 0) {
       std::snprintf(line, sizeof line, "   %llu evaluations, %.1f us each",

@@ -43,8 +43,9 @@ TEST(Profile, RowsFollowTheStagesOfTheStep) {
                                       "events", "checks"}));
   const Simulation implicit = short_run(IntegratorKind::implicit_euler);
   EXPECT_EQ(names(simulation_profile_rows(implicit)),
-            (std::vector<std::string>{"forces", "integration", "collisions", "anchors", "events", "checks"}))
-      << "implicit Euler times no parts of its integration";
+            (std::vector<std::string>{"forces", "integration", "jacobians", "assembly", "preconditioner setup",
+                                      "linear solve", "collisions", "anchors", "events", "checks"}))
+      << "implicit Euler times the parts of its linear system";
 }
 
 TEST(Profile, PartsAndStagesAddUp) {
