@@ -94,10 +94,27 @@ bool Simulation::check_energy_balance() {
   const std::string where = model_->describe_particle(fastest);
   fail(where, "the integration has blown up: the energy balance is off by " + diagnostic_number(error) +
                   " J, more than integrator.energy_error_limit = " + diagnostic_number(limit) +
-                  " times the run's energy scale of " + diagnostic_number(energy_scale_) + " J; the fastest particle is " +
-                  where + " at " + diagnostic_number(norm(state_.velocity[fastest])) + " m/s. Try a smaller --time-step, " +
-                  "or --integrator rkf45 (adaptive) or implicit-euler (stable for any step).");
+                  " times the run's energy scale of " + diagnostic_number(energy_scale_) +
+                  " J; the fastest particle is " + where + " at " + diagnostic_number(norm(state_.velocity[fastest])) +
+                  " m/s. " + blow_up_advice(settings_.integrator.kind));
   return false;
+}
+
+std::string blow_up_advice(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::implicit_euler:
+      // Stable, but its one Newton step a step can put energy in where the sheet turns fast
+      // about a pin (docs/cli.md, "The blow-up check").
+      return "Implicit Euler takes one Newton step a step, whose linearisation can create energy where the sheet "
+             "turns fast about an anchor: try a smaller --time-step (its default is the frame step), or "
+             "--integrator rkf45 (adaptive).";
+    case IntegratorKind::rkf45:
+    case IntegratorKind::imex:
+      return "Try tighter tolerances (--rtol, --atol), or --integrator implicit-euler (stable for any step).";
+    case IntegratorKind::rk4:
+    case IntegratorKind::symplectic_euler: break;
+  }
+  return "Try a smaller --time-step, or --integrator rkf45 (adaptive) or implicit-euler (stable for any step).";
 }
 
 double Simulation::begin_collisions() {
@@ -132,9 +149,8 @@ bool Simulation::integrate(double time) {
     const StepLimit limit = find_step_limit(*model_, state_.position, outcome.particle);
     std::string cause = describe_step_limit(*model_, limit, state_.position);
     if (!cause.empty()) cause[0] = static_cast<char>(std::toupper(static_cast<unsigned char>(cause[0])));
-    const std::string advice = limit.collapsed
-                                   ? " Nothing in the model keeps a particle from passing through its "
-                                     "neighbour but self-collision (collision.self)."
+    const std::string advice = limit.collapsed ? " Nothing in the model keeps a particle from passing through its "
+                                                 "neighbour but self-collision (collision.self)."
                                : limit.at_kink
                                    ? " The step control cannot follow a force that turns abruptly; a looser "
                                      "tolerance or implicit-euler steps past it."
@@ -142,9 +158,9 @@ bool Simulation::integrate(double time) {
                                      "(try a looser rtol/atol, or implicit-euler).";
     fail(where, std::string(outcome.non_finite_error ? "forces became non-finite" : "step size underflow") + ": " +
                     std::string(to_string(settings_.integrator.kind)) + " needed a step of " +
-                    diagnostic_number(outcome.step) + " s, below min_step = " +
-                    diagnostic_number(settings_.integrator.min_step) + " s; the largest error is at " + where + "." +
-                    (cause.empty() ? "" : " " + cause + ".") + advice);
+                    diagnostic_number(outcome.step) +
+                    " s, below min_step = " + diagnostic_number(settings_.integrator.min_step) +
+                    " s; the largest error is at " + where + "." + (cause.empty() ? "" : " " + cause + ".") + advice);
     return false;
   }
   if (outcome.status == StepStatus::non_finite) {

@@ -70,6 +70,9 @@ struct SimulationSettings {
   BackendSettings backend;
 };
 
+// What the blow-up check's diagnosis advises for a run of `kind` whose energy balance failed.
+std::string blow_up_advice(IntegratorKind kind);
+
 class Simulation {
  public:
   // Throws BackendError when settings.backend cannot run the model (sim/backend.h): a feature it

@@ -112,6 +112,24 @@ TEST(Diagnostics, BlownUpEnergyBalanceStopsTheRun) {
   EXPECT_LT(diagnosis.time, 2.0);
 }
 
+// The advice fits the method that failed: a fixed-step explicit method is pointed at smaller steps
+// and the stable methods, implicit Euler (stable, but one Newton step a step) at smaller steps and
+// RKF45, and the adaptive methods at their tolerances.
+TEST(Diagnostics, BlowUpAdviceFitsTheIntegrator) {
+  for (IntegratorKind kind : {IntegratorKind::rk4, IntegratorKind::symplectic_euler}) {
+    EXPECT_NE(blow_up_advice(kind).find("implicit-euler (stable for any step)"), std::string::npos);
+    EXPECT_NE(blow_up_advice(kind).find("--time-step"), std::string::npos);
+  }
+  const std::string implicit = blow_up_advice(IntegratorKind::implicit_euler);
+  EXPECT_EQ(implicit.find("implicit-euler (stable"), std::string::npos) << "it is running already: " << implicit;
+  EXPECT_NE(implicit.find("--time-step"), std::string::npos);
+  EXPECT_NE(implicit.find("rkf45"), std::string::npos);
+  for (IntegratorKind kind : {IntegratorKind::rkf45, IntegratorKind::imex}) {
+    EXPECT_NE(blow_up_advice(kind).find("--rtol"), std::string::npos);
+    EXPECT_EQ(blow_up_advice(kind).find("--time-step"), std::string::npos) << "an adaptive method sets its own steps";
+  }
+}
+
 // The stable-step estimate separates steps that run from steps that blow up: the paper's sheet
 // runs 2 s with RK4 at the estimate, energy balance and all, and blows up at 4 times it.
 TEST(Diagnostics, StableStepEstimateSeparatesRunningFromBlowingUp) {
