@@ -12,12 +12,14 @@
 namespace clothsim {
 
 void Simulation::set_spring_parameters(SpringFamily family, const SpringParameters& parameters) {
+  checked_energy_.reset();
   const double before = energy().total();
   set_spring_family(*model_, family, parameters);
   edit_work_ += energy().total() - before;
 }
 
 void Simulation::set_environment(const Environment& environment) {
+  checked_energy_.reset();
   const double before = energy().total();
   clothsim::set_environment(*model_, environment);
   edit_work_ += energy().total() - before;
@@ -29,6 +31,7 @@ void Simulation::require_backend_runs(const BackendFeatures& features) const {
 }
 
 void Simulation::set_spring_limits(const SpringLimits& limits) {
+  checked_energy_.reset();
   BackendFeatures features = features_of(*model_, settings_.integrator);
   features.limits = limits;
   require_backend_runs(features);
@@ -36,18 +39,21 @@ void Simulation::set_spring_limits(const SpringLimits& limits) {
 }
 
 std::size_t Simulation::cut_connectors(std::span<const std::uint32_t> connectors) {
+  checked_energy_.reset();
   std::size_t cut = 0;
   for (std::uint32_t e : connectors) cut += tear_connector(*model_, state_, e) ? 1 : 0;
   return cut;
 }
 
 void Simulation::set_particle_mass(double mass) {
+  checked_energy_.reset();
   const double before = energy().total();
   clothsim::set_particle_mass(*model_, mass);
   edit_work_ += energy().total() - before;
 }
 
 void Simulation::set_integrator(const IntegratorSettings& settings) {
+  checked_energy_.reset();
   const IntegratorSettings before = settings_.integrator;
   settings_.integrator = settings;
   try {
@@ -66,11 +72,13 @@ void Simulation::restart_integrator() {
 }
 
 void Simulation::pin_particle(std::uint32_t particle) {
+  checked_energy_.reset();
   CLOTHSIM_ASSERT(particle < model_->particle_count(), "pinned particle is in the lattice");
   hold_on_path(*model_, state_, particle, AnchorPath::fixed_at(state_.position[particle]));
 }
 
 void Simulation::drive_particle(std::uint32_t particle, const Vec3& target, double arrival_time) {
+  checked_energy_.reset();
   CLOTHSIM_ASSERT(particle < model_->particle_count(), "driven particle is in the lattice");
   CLOTHSIM_ASSERT(arrival_time > state_.time, "a driven particle arrives after the current time");
   AnchorPath path;
@@ -83,6 +91,7 @@ void Simulation::drive_particle(std::uint32_t particle, const Vec3& target, doub
 }
 
 void Simulation::place_particle(std::uint32_t particle, const Vec3& position) {
+  checked_energy_.reset();
   CLOTHSIM_ASSERT(particle < model_->particle_count() && model_->is_anchored(particle),
                   "only an anchored particle is placed");
   const double before = energy().total();
@@ -97,11 +106,13 @@ void Simulation::place_particle(std::uint32_t particle, const Vec3& position) {
 }
 
 bool Simulation::release_particle(std::uint32_t particle) {
+  checked_energy_.reset();
   CLOTHSIM_ASSERT(particle < model_->particle_count(), "released particle is in the lattice");
   return remove_anchor(*model_, particle);
 }
 
 void Simulation::set_self_collision(bool on) {
+  checked_energy_.reset();
   BackendFeatures features = features_of(*model_, settings_.integrator);
   features.self_collision = on;
   require_backend_runs(features);
@@ -109,6 +120,7 @@ void Simulation::set_self_collision(bool on) {
 }
 
 std::size_t Simulation::add_collider(const Collider& collider) {
+  checked_energy_.reset();
   BackendFeatures features = features_of(*model_, settings_.integrator);
   features.colliders = true;
   require_backend_runs(features);
@@ -116,10 +128,12 @@ std::size_t Simulation::add_collider(const Collider& collider) {
 }
 
 void Simulation::drive_collider(std::size_t collider, const Vec3& displacement, double arrival_time) {
+  checked_energy_.reset();
   clothsim::drive_collider(*model_, collider, displacement, state_.time, arrival_time);
 }
 
 void Simulation::place_collider(std::size_t collider, const Vec3& displacement) {
+  checked_energy_.reset();
   clothsim::place_collider(*model_, collider, displacement, state_.time);
 }
 

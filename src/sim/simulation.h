@@ -229,6 +229,10 @@ class Simulation {
   std::unique_ptr<CollisionStage> collision_stage_ = std::make_unique<CollisionStage>();
   ContactStatistics contact_statistics_;
   std::optional<Diagnosis> failure_;
+  // The energies the last passed blow-up check computed, which energy() returns instead of
+  // computing them again (a run writes each frame's right after the check): reset by advance_to()
+  // and by every edit, transfer_state() included, before it changes anything.
+  std::optional<EnergyReport> checked_energy_;
 };
 
 }  // namespace clothsim

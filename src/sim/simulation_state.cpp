@@ -10,6 +10,7 @@
 namespace clothsim {
 
 void Simulation::transfer_state(StateArchive& archive) {
+  checked_energy_.reset();
   if (!archive.loading() && failure_) {
     throw std::logic_error("a failed simulation is not saved: its state is the last good one, not one to go on from");
   }

@@ -288,5 +288,41 @@ TEST(RuntimeAnchors, PlacingAnAnchoredParticleBooksTheJumpAsEditWork) {
   EXPECT_LT(relative_balance_error(simulation.energy_balance()), 1e-7);
 }
 
+// energy() hands out the energies the last blow-up check computed (Simulation::checked_energy_):
+// after each edit, and after restoring a checkpoint, it must give the edited sheet's own, the
+// energies computed afresh from the model and the state, bit for bit.
+TEST(LiveEditing, EnergiesAreTheEditedSheetsAfterEveryEdit) {
+  Simulation simulation(hanging_sheet(five_by_five()), make_rest_state(hanging_sheet(five_by_five())), rk4(2e-4));
+  double time = 0.0;
+  const auto expect_current = [&](const char* edit) {
+    const EnergyReport fresh = compute_energy(simulation.model(), simulation.state(), simulation.settings().terms, 1);
+    const EnergyReport given = simulation.energy();
+    EXPECT_EQ(given.total(), fresh.total()) << "after " << edit;
+    EXPECT_EQ(given.connector, fresh.connector) << "after " << edit;
+    EXPECT_EQ(given.gravitational, fresh.gravitational) << "after " << edit;
+    time += 0.05;
+    ASSERT_TRUE(simulation.advance_to(time)) << simulation.failure()->message;
+  };
+  time = 0.1;
+  ASSERT_TRUE(simulation.advance_to(time));
+  expect_current("a step");
+  simulation.set_spring_parameters(SpringFamily::connector, {160.0, 5.0});
+  expect_current("set_spring_parameters");
+  Environment heavier = simulation.model().environment;
+  heavier.gravity = 2.0 * heavier.gravity;
+  simulation.set_environment(heavier);
+  expect_current("set_environment");
+  simulation.set_particle_mass(2.0 * simulation.model().particle_mass[0]);
+  expect_current("set_particle_mass");
+  const std::uint32_t cut[] = {0};
+  simulation.cut_connectors(cut);
+  expect_current("cut_connectors");
+  simulation.pin_particle(kCorner);
+  simulation.place_particle(kCorner, {-2.5, 0.5, -2.5});
+  expect_current("place_particle");
+  ASSERT_TRUE(simulation.release_particle(kCorner));
+  expect_current("release_particle");
+}
+
 }  // namespace
 }  // namespace clothsim
