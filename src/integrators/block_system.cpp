@@ -16,8 +16,9 @@ constexpr std::size_t kReductionBlock = 1024;
 // How far ahead of the row it assembles the assembly prefetches a row's element Jacobians,
 // particles, and the cache line it prefetches by, bytes. A row reads the Jacobians of the radial
 // springs centred a lattice row further on for the first time, in no order that the hardware's
-// prefetchers follow; on 128 x 128 cotton this took the assembly from 7.3 to 6.0 ms a step
-// (docs/performance.md, "Prefetching the element Jacobians"). The same bits either way.
+// prefetchers follow; on 128 x 128 cotton this took the assembly from 7.8 to 7.0 ms a step
+// (docs/performance.md, "The implicit step's parts in the profile, and a cheaper assembly"). The
+// same bits either way.
 constexpr std::size_t kPrefetchAhead = 8;
 constexpr std::size_t kCacheLine = 64;
 
@@ -264,7 +265,7 @@ void BlockSystem::assemble(ForceTerms terms, double damping_scale, double stiffn
   parallel_for(model_.particle_count(), threads_, [&](std::size_t p) { assemble_row(p, row); });
 }
 
-// Compiled for each instruction set (core/multiversion.h): the assembly is a fifth of a step.
+// Compiled for each instruction set (core/multiversion.h): the assembly was a fifth of a step.
 CLOTHSIM_MULTIVERSION void BlockSystem::assemble_row(std::size_t p, const RowAssembly& row) {
   const ClothModel& model = model_;
   const double damping_scale = row.damping_scale;
