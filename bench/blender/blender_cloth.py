@@ -30,16 +30,24 @@ scene.render.fps = fps
 scene.frame_start = 1
 scene.frame_end = frames
 
-# An N x N grid of vertices, flat and horizontal at a height of 1 m like cotton-drape's sheet,
-# row 0's two corners pinned.
-side = (n - 1) / 127.0
-vertices = [(side * j / (n - 1) - side / 2, side * i / (n - 1), 1.0) for i in range(n) for j in range(n)]
-faces = [(i * n + j, i * n + j + 1, (i + 1) * n + j + 1, (i + 1) * n + j) for i in range(n - 1) for j in range(n - 1)]
-mesh = bpy.data.meshes.new("sheet")
-mesh.from_pydata(vertices, [], faces)
-mesh.update()
-sheet = bpy.data.objects.new("sheet", mesh)
-scene.collection.objects.link(sheet)
+
+def add_grid(name, count, spacing, height):
+    """A flat, horizontal count x count grid of vertices `spacing` apart at `height`, linked to the scene."""
+    side = (count - 1) * spacing
+    vertices = [(spacing * j - side / 2, spacing * i, height) for i in range(count) for j in range(count)]
+    faces = [(i * count + j, i * count + j + 1, (i + 1) * count + j + 1, (i + 1) * count + j)
+             for i in range(count - 1) for j in range(count - 1)]
+    grid = bpy.data.meshes.new(name)
+    grid.from_pydata(vertices, [], faces)
+    grid.update()
+    added = bpy.data.objects.new(name, grid)
+    scene.collection.objects.link(added)
+    return added
+
+
+# cotton-drape's sheet: N x N, 1/127 m apart, at a height of 1 m, row 0's two corners pinned.
+sheet = add_grid("sheet", n, 1.0 / 127.0, 1.0)
+mesh = sheet.data
 
 pinned = sheet.vertex_groups.new(name="pinned")
 pinned.add([0, n - 1], 1.0, "REPLACE")
@@ -74,21 +82,17 @@ def seconds_per_frame():
     Its solver steps v += g' dt, x += v dt in frames (dt = 1 / quality), so after N = quality F
     steps from rest the sheet has fallen g' dt^2 N (N + 1) / 2; g' = g T^2 for T seconds a frame.
     """
-    frames = 11
-    grid = bpy.data.meshes.new("fall")
-    grid.from_pydata([(0.1 * j, 0.1 * i, 0.0) for i in range(3) for j in range(3)], [],
-                     [(i * 3 + j, i * 3 + j + 1, (i + 1) * 3 + j + 1, (i + 1) * 3 + j) for i in range(2) for j in range(2)])
-    falling = bpy.data.objects.new("fall", grid)
-    scene.collection.objects.link(falling)
+    fall_frames = 11
+    falling = add_grid("fall", 3, 0.1, 0.0)
     modifier = falling.modifiers.new(name="Cloth", type="CLOTH")
     modifier.settings.quality = quality
     modifier.settings.air_damping = 0.0
     modifier.collision_settings.use_collision = False
     scene.frame_set(1)
-    for frame in range(2, frames + 1):
+    for frame in range(2, fall_frames + 1):
         scene.frame_set(frame)
     fallen = -falling.evaluated_get(bpy.context.evaluated_depsgraph_get()).data.vertices[0].co.z
-    steps = quality * (frames - 1)
+    steps = quality * (fall_frames - 1)
     dt = 1.0 / quality
     g_frames = fallen / (dt * dt * steps * (steps + 1) / 2)
     return (g_frames / abs(scene.gravity[2])) ** 0.5

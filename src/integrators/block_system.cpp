@@ -249,11 +249,15 @@ void BlockSystem::prefetch_jacobians(std::size_t p) const {
   const std::size_t radial_base = model_.radial_slot_base();
   for (std::uint32_t k = gather_.offset[p]; k < gather_.offset[p + 1]; ++k) {
     const std::uint32_t slot = gather_.slot[k];
-    const void* jacobian = slot < radial_base ? static_cast<const void*>(&connector_jacobian[slot / 2])
-                                              : static_cast<const void*>(&radial_jacobian[(slot - radial_base) / 3]);
-    const std::size_t size = slot < radial_base ? sizeof(element::ConnectorJacobian) : sizeof(element::RadialJacobian);
-    for (std::size_t byte = 0; byte < size; byte += kCacheLine)
-      __builtin_prefetch(static_cast<const char*>(jacobian) + byte);
+    const auto prefetch = [](const auto& jacobian) {
+      const auto* first = reinterpret_cast<const char*>(&jacobian);
+      for (std::size_t byte = 0; byte < sizeof(jacobian); byte += kCacheLine) __builtin_prefetch(first + byte);
+    };
+    if (slot < radial_base) {
+      prefetch(connector_jacobian[slot / 2]);
+    } else {
+      prefetch(radial_jacobian[(slot - radial_base) / 3]);
+    }
   }
 }
 
