@@ -8,6 +8,7 @@
 #pragma once
 
 #include <cmath>
+#include <vector>
 
 namespace clothsim {
 
@@ -52,5 +53,13 @@ constexpr Vec3 cross(const Vec3& a, const Vec3& b) {
 constexpr double squared_norm(const Vec3& a) { return dot(a, a); }
 inline double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 inline bool is_finite(const Vec3& a) { return std::isfinite(a.x) && std::isfinite(a.y) && std::isfinite(a.z); }
+
+// Appends a's three coordinates as floats: a vertex buffer's or a JSON array's layout (the renderer,
+// the run report's page).
+inline void push_vec3(std::vector<float>& out, const Vec3& a) {
+  out.push_back(static_cast<float>(a.x));
+  out.push_back(static_cast<float>(a.y));
+  out.push_back(static_cast<float>(a.z));
+}
 
 }  // namespace clothsim

@@ -11,6 +11,7 @@
 #include "core/parallel.h"
 #include "core/state_archive.h"
 #include "core/step_profile.h"
+#include "core/timer.h"
 #include "gpu/device_paths.h"
 #include "gpu/gpu_error.h"
 #include "gpu/real_arrays.h"
@@ -73,8 +74,8 @@ std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts,
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
   for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders)) total += bytes;
   if (DeviceMultigrid::applies(counts, settings)) {
-    total += DeviceMultigrid::bytes_for(static_cast<std::uint32_t>(counts.rows), static_cast<std::uint32_t>(counts.cols),
-                                        precision);
+    total += DeviceMultigrid::bytes_for(static_cast<std::uint32_t>(counts.rows),
+                                        static_cast<std::uint32_t>(counts.cols), precision);
   }
   return total;
 }
@@ -133,19 +134,34 @@ void DeviceImplicitEuler::bind_passes() {
   const auto own = [&](Array a) { return &arrays_[a]; };
   const auto shared = [&](DeviceForces::Array a) { return &forces_.buffer(a); };
   using F = DeviceForces;
-  bind(linearize_pass_,
-       {shared(F::position), shared(F::velocity), shared(F::connector_particles), shared(F::connector_rest_length),
-        shared(F::connector_stiffness), shared(F::connector_damping), shared(F::connector_active),
-        shared(F::radial_particles), shared(F::radial_rest_angle), shared(F::radial_stiffness),
-        shared(F::radial_damping), shared(F::radial_fade_length), shared(F::radial_active), own(connector_factors),
-        own(radial_factors)});
-  bind(product_pass_, {own(direction), shared(F::connector_particles), shared(F::radial_particles),
-                       own(connector_factors), own(radial_factors), own(solve_real), own(solve_uint),
-                       shared(F::slot_force)});
-  bind(gather_pass_, {shared(F::gather_offset), shared(F::gather_slot), shared(F::slot_force), shared(F::particle_mass),
-                      shared(F::environment), shared(F::force), own(particle_anchor), own(rhs), own(solution),
-                      own(residual), own(preconditioned), own(direction), own(product), own(jacobi), own(block_sums),
-                      own(solve_real), own(solve_uint), own(hold), own(surface_contacts), own(impulse)});
+  bind(linearize_pass_, {shared(F::position), shared(F::velocity), shared(F::connector_particles),
+                         shared(F::connector_rest_length), shared(F::connector_stiffness), shared(F::connector_damping),
+                         shared(F::connector_active), shared(F::radial_particles), shared(F::radial_rest_angle),
+                         shared(F::radial_stiffness), shared(F::radial_damping), shared(F::radial_fade_length),
+                         shared(F::radial_active), own(connector_factors), own(radial_factors)});
+  bind(product_pass_,
+       {own(direction), shared(F::connector_particles), shared(F::radial_particles), own(connector_factors),
+        own(radial_factors), own(solve_real), own(solve_uint), shared(F::slot_force)});
+  bind(gather_pass_, {shared(F::gather_offset),
+                      shared(F::gather_slot),
+                      shared(F::slot_force),
+                      shared(F::particle_mass),
+                      shared(F::environment),
+                      shared(F::force),
+                      own(particle_anchor),
+                      own(rhs),
+                      own(solution),
+                      own(residual),
+                      own(preconditioned),
+                      own(direction),
+                      own(product),
+                      own(jacobi),
+                      own(block_sums),
+                      own(solve_real),
+                      own(solve_uint),
+                      own(hold),
+                      own(surface_contacts),
+                      own(impulse)});
   bind(diagonal_pass_, {shared(F::gather_offset), shared(F::gather_slot), own(connector_factors), own(radial_factors),
                         shared(F::particle_mass), shared(F::environment), own(particle_anchor), own(solve_real),
                         own(jacobi), own(surface_contacts), own(hold), own(slipped), shared(F::force),
@@ -225,59 +241,105 @@ void DeviceImplicitEuler::record_surface_impulses(VkCommandBuffer commands) cons
   dispatch(commands, gather_pass_, kGatherImpulse, particles_);
 }
 
+VkCommandBuffer DeviceImplicitEuler::record_timed(std::uint32_t marks,
+                                                  const std::function<void(VkCommandBuffer, PassTimer&)>& record) {
+  auto timer = std::make_unique<PassTimer>(device_, marks);
+  const VkCommandBuffer commands = device_.record([&](VkCommandBuffer c) {
+    timer->begin(c);
+    record(c, *timer);
+  });
+  timers_.emplace(commands, std::move(timer));
+  return commands;
+}
+
+void DeviceImplicitEuler::submit(VkCommandBuffer commands) {
+  // The device's time per part from the passes' timestamps; "device steps" is the rest of the wait
+  // (the submission, the read-backs after the last mark).
+  const Stopwatch wait;
+  device_.run(commands);
+  const double waited = wait.seconds();
+  const PassTimer& timer = *timers_.at(commands);
+  timer.add_to(profile_);
+  profile_.add(StepStage::device_steps, std::max(0.0, waited - timer.last_seconds()));
+}
+
+// Each buffer's passes marked by the CPU's parts of the step (core/step_profile.h): the element
+// Jacobians; the assembly (the right-hand side, block Jacobi's inverted blocks and level 0 of the
+// V-cycle); the preconditioner's setup (the V-cycle's coarse levels and factor); the linear solve
+// (the conjugate gradients with their preconditioner, and the release of held particles); the
+// update of the state and the step's end forces.
 void DeviceImplicitEuler::record_buffers() {
   const std::uint32_t elements = connectors_ + radials_;
-  forces_commands_ = device_.record([&](VkCommandBuffer commands) { forces_.record_forces(commands); });
-  prepare_commands_ = device_.record([&](VkCommandBuffer commands) {
+  forces_commands_ = record_timed(1, [&](VkCommandBuffer commands, PassTimer& timer) {
+    forces_.record_forces(commands);
+    timer.mark(commands, StepStage::forces);
+  });
+  prepare_commands_ = record_timed(3, [&](VkCommandBuffer commands, PassTimer& timer) {
     record_upload(commands, real_input_, arrays_[solve_real], real_input_.bytes());
     record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
     record_upload(commands, anchor_input_, arrays_[anchor_rows], anchor_input_.bytes());
     record_upload(commands, contacts_input_, arrays_[surface_contacts], contacts_input_.bytes());
+    timer.mark(commands, StepStage::device_transfers);
     dispatch(commands, linearize_pass_, 0, elements);
+    timer.mark(commands, StepStage::jacobians);
     dispatch(commands, setup_pass_, kSetupDisplacement, particles_);
     dispatch(commands, product_pass_, kProductStiffness, elements);
     dispatch(commands, gather_pass_, kGatherRightHandSide, particles_);
     dispatch(commands, diagonal_pass_, kDiagonalHold, particles_);
-    if (multigrid_) {
-      multigrid_->record_assemble(commands);
-      record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
-    }
+    if (multigrid_) multigrid_->record_assemble(commands);
+    timer.mark(commands, StepStage::assembly);
+    if (multigrid_) record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
   });
   for (const bool vcycle : {false, true}) {
     if (vcycle && !multigrid_) continue;
-    first_commands_[vcycle] = device_.record([&](VkCommandBuffer commands) {
-      if (vcycle) multigrid_->record_setup(commands);
-      record_first_residual(commands, vcycle);
-      record_iterations(commands, vcycle, kFirstIterations);
-    });
-    // After a release the held set is another: the V-cycle's levels again.
-    restart_commands_[vcycle] = device_.record([&](VkCommandBuffer commands) {
-      record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
+    first_commands_[vcycle] = record_timed(2, [&](VkCommandBuffer commands, PassTimer& timer) {
       if (vcycle) {
-        multigrid_->record_assemble(commands);
         multigrid_->record_setup(commands);
+        timer.mark(commands, StepStage::preconditioner_setup);
       }
       record_first_residual(commands, vcycle);
       record_iterations(commands, vcycle, kFirstIterations);
+      timer.mark(commands, StepStage::linear_solve);
     });
-    iteration_commands_[vcycle] =
-        device_.record([&](VkCommandBuffer commands) { record_iterations(commands, vcycle, kMoreIterations); });
+    // After a release the held set is another: the V-cycle's levels again.
+    restart_commands_[vcycle] = record_timed(4, [&](VkCommandBuffer commands, PassTimer& timer) {
+      record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
+      timer.mark(commands, StepStage::device_transfers);
+      if (vcycle) {
+        multigrid_->record_assemble(commands);
+        timer.mark(commands, StepStage::assembly);
+        multigrid_->record_setup(commands);
+        timer.mark(commands, StepStage::preconditioner_setup);
+      }
+      record_first_residual(commands, vcycle);
+      record_iterations(commands, vcycle, kFirstIterations);
+      timer.mark(commands, StepStage::linear_solve);
+    });
+    iteration_commands_[vcycle] = record_timed(1, [&](VkCommandBuffer commands, PassTimer& timer) {
+      record_iterations(commands, vcycle, kMoreIterations);
+      timer.mark(commands, StepStage::linear_solve);
+    });
   }
-  release_commands_ = device_.record([&](VkCommandBuffer commands) {
+  release_commands_ = record_timed(1, [&](VkCommandBuffer commands, PassTimer& timer) {
     record_surface_impulses(commands);
     dispatch(commands, diagonal_pass_, kDiagonalRelease, particles_);
+    timer.mark(commands, StepStage::linear_solve);
     record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
   });
-  impulse_commands_ = device_.record([&](VkCommandBuffer commands) {
+  impulse_commands_ = record_timed(1, [&](VkCommandBuffer commands, PassTimer& timer) {
     record_surface_impulses(commands);
+    timer.mark(commands, StepStage::linear_solve);
     record_readback(commands, arrays_[impulse], impulse_readback_, impulse_readback_.bytes());
   });
-  end_commands_ = device_.record([&](VkCommandBuffer commands) {
+  end_commands_ = record_timed(3, [&](VkCommandBuffer commands, PassTimer& timer) {
     dispatch(commands, setup_pass_, kSetupCheck, particles_);
     dispatch(commands, setup_pass_, kSetupUpdate, particles_);
+    timer.mark(commands, StepStage::solution_update);
     forces_.record_forces(commands);
+    timer.mark(commands, StepStage::forces);
     dispatch(commands, setup_pass_, kSetupPowers, particles_);
     dispatch(commands, reduce_pass_, kReducePowers, kImplicitReduceWorkgroup);
+    timer.mark(commands, StepStage::solution_update);
     record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
     record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
   });
@@ -288,13 +350,14 @@ void DeviceImplicitEuler::release_buffers() {
     if (commands != VK_NULL_HANDLE) device_.release(commands);
     commands = VK_NULL_HANDLE;
   };
-  for (VkCommandBuffer* commands : {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_,
-                                    &impulse_commands_}) {
+  for (VkCommandBuffer* commands :
+       {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_, &impulse_commands_}) {
     release(*commands);
   }
   for (std::array<VkCommandBuffer, 2>* buffers : {&first_commands_, &iteration_commands_, &restart_commands_}) {
     for (VkCommandBuffer& commands : *buffers) release(commands);
   }
+  timers_.clear();
 }
 
 std::uint32_t DeviceImplicitEuler::output_uint(std::uint32_t slot) const {
@@ -378,8 +441,8 @@ bool DeviceImplicitEuler::choose_vcycle() const {
 }
 
 int DeviceImplicitEuler::solve(VkCommandBuffer first) {
-  device_.run(first);
-  while (output_uint(kSolveDone) == 0) device_.run(iteration_commands_[vcycle_]);
+  submit(first);
+  while (output_uint(kSolveDone) == 0) submit(iteration_commands_[vcycle_]);
   const int iterations = static_cast<int>(output_uint(kIterations));
   if (output_uint(kSolveConverged) == 0) ++stats_.cg_unconverged_solves;
   return iterations;
@@ -388,8 +451,7 @@ int DeviceImplicitEuler::solve(VkCommandBuffer first) {
 std::uint32_t DeviceImplicitEuler::take_step(double h, double end_time) {
   if (!forces_current_) {
     // f0 at the state the host uploaded (the steps' ends evaluate it themselves).
-    StageTimer timer(profile_, StepStage::forces);
-    device_.run(forces_commands_);
+    submit(forces_commands_);
     if (!uncounted_evaluation_) ++stats_.force_evaluations;
     uncounted_evaluation_ = false;
     forces_current_ = true;
@@ -397,20 +459,19 @@ std::uint32_t DeviceImplicitEuler::take_step(double h, double end_time) {
   holding_ = surface_contacts_ != nullptr && surface_contacts_->any;
   if (holding_) upload_surface_contacts();
   write_step(h, end_time);
-  StageTimer timer(profile_, StepStage::device_steps);
-  device_.run(prepare_commands_);
+  submit(prepare_commands_);
   vcycle_ = choose_vcycle();
   last_iterations_ = solve(first_commands_[vcycle_]);
   if (holding_) {
     // A surface cannot pull: let go of the particles it would have to, and solve again for them.
-    device_.run(release_commands_);
+    submit(release_commands_);
     if (output_uint(kReleased) != 0) {
       write_solve_counters();
       last_iterations_ += solve(restart_commands_[vcycle_]);
     }
-    device_.run(impulse_commands_);
+    submit(impulse_commands_);
   }
-  device_.run(end_commands_);
+  submit(end_commands_);
   ++stats_.force_evaluations;
   stats_.cg_iterations += static_cast<std::uint64_t>(last_iterations_);
   stats_.cg_max_iterations_in_a_step =
@@ -437,8 +498,7 @@ StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uin
     outcome.step = h;
     if (failed != kNoParticle) {
       // The device's state is the step's start; the next solve starts from no velocity change.
-      upload(device_, arrays_[solution],
-             real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
+      upload(device_, arrays_[solution], real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
       outcome = {StepStatus::non_finite, h, failed, true};
       break;
     }

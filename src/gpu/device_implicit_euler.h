@@ -45,7 +45,10 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
+#include <unordered_map>
 #include <vector>
 
 #include "gpu/buffer.h"
@@ -53,6 +56,7 @@
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
 #include "gpu/device_multigrid.h"
+#include "gpu/pass_timer.h"
 #include "gpu/shaders/implicit_step.h"
 #include "integrators/integrator.h"
 
@@ -141,12 +145,16 @@ class DeviceImplicitEuler final : public Integrator {
   // iterations; the step's end.
   void record_buffers();
   void release_buffers();
+  // A command buffer recorded by `record`, which marks at most `marks` runs of passes on the
+  // timer it is given; submit() runs it and adds its device time per part to the profile.
+  VkCommandBuffer record_timed(std::uint32_t marks, const std::function<void(VkCommandBuffer, PassTimer&)>& record);
+  void submit(VkCommandBuffer commands);
   // `vcycle`: z from the V-cycle, else from block Jacobi.
   void record_iterations(VkCommandBuffer commands, bool vcycle, std::uint32_t iterations) const;
   // Records `pass` in `phase` over `invocations`; `iteration`: a CG iteration's pass, which returns
   // at once once the solve has stopped.
-  void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase,
-                std::uint32_t invocations, bool iteration = false) const;
+  void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase, std::uint32_t invocations,
+                bool iteration = false) const;
   // direction = dv, and the element part of A dv into the force slots; the first residual from
   // there (the warm start) and the start's sums; the held particles' surface impulses A dv - b.
   void record_solution_product(VkCommandBuffer commands) const;
@@ -177,6 +185,8 @@ class DeviceImplicitEuler final : public Integrator {
   // With held particles: the surface impulses and the release of those a surface would pull; the
   // final impulses, copied back.
   VkCommandBuffer release_commands_ = VK_NULL_HANDLE, impulse_commands_ = VK_NULL_HANDLE;
+  // Each recorded buffer's timestamps (gpu/pass_timer.h).
+  std::unordered_map<VkCommandBuffer, std::unique_ptr<PassTimer>> timers_;
   Buffer impulse_readback_;  // host-visible, sized with the impulse array
   Buffer contacts_input_;    // host-visible, the surface contacts of the step's start (sized with them)
   bool holding_ = false;     // the last step held particles

@@ -64,12 +64,6 @@ std::pair<Vec3, Vec3> perpendicular_frame(const Vec3& axis) {
 
 }  // namespace
 
-void push_vec3(std::vector<float>& out, const Vec3& v) {
-  out.push_back(static_cast<float>(v.x));
-  out.push_back(static_cast<float>(v.y));
-  out.push_back(static_cast<float>(v.z));
-}
-
 Vec3 unit_or(const Vec3& v, const Vec3& fallback) {
   const double length = norm(v);
   return length > 1e-12 && std::isfinite(length) ? v / length : fallback;

@@ -12,8 +12,6 @@
 
 namespace clothsim::render {
 
-// Appends v's three coordinates as floats.
-void push_vec3(std::vector<float>& out, const Vec3& v);
 // v / |v|, or `fallback` when v is (nearly) zero or not finite.
 Vec3 unit_or(const Vec3& v, const Vec3& fallback);
 

@@ -21,7 +21,6 @@
 #include "model/cloth_model.h"
 #include "model/model_edits.h"
 #include "model/sheet_mesh.h"
-#include "render/tessellation.h"
 #include "run/report_assets.h"
 #include "run/run_folders.h"
 #include "run/run_scene.h"
@@ -117,7 +116,7 @@ json collider_json(const Collider& collider, const std::vector<double>& times) {
       break;
     case ColliderShape::mesh: {
       std::vector<float> vertices;
-      for (const Vec3& v : collider.mesh->vertex) render::push_vec3(vertices, v);
+      for (const Vec3& v : collider.mesh->vertex) push_vec3(vertices, v);
       std::vector<std::uint32_t> triangles;
       for (const auto& t : collider.mesh->triangle) triangles.insert(triangles.end(), t.begin(), t.end());
       out["vertices"] = base64_of(vertices);
@@ -126,7 +125,7 @@ json collider_json(const Collider& collider, const std::vector<double>& times) {
     }
   }
   std::vector<float> offsets;
-  for (double t : times) render::push_vec3(offsets, collider_offset(collider, t));
+  for (double t : times) push_vec3(offsets, collider_offset(collider, t));
   out["offsets"] = base64_of(offsets);
   return out;
 }
@@ -191,7 +190,7 @@ json frames_json(const fs::path& folder, const SceneSpec& spec, const json& summ
     }
     offsets.push_back(vertices.size());
     counts.push_back(mesh.vertex_count());
-    for (const Vec3& v : mesh.vertex_position) render::push_vec3(vertices, v);
+    for (const Vec3& v : mesh.vertex_position) push_vec3(vertices, v);
     times.push_back(t);
   }
 

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <utility>
 
+#include "core/step_profile.h"
 #include "gpu/device_implicit_euler.h"
 #include "implicit_scenes.h"
 #include "integrators/implicit_euler.h"
@@ -202,6 +203,33 @@ TEST(DeviceMultigrid, ASheetTearsAsOnTheCpu) {
   EXPECT_LT(largest_distance(cpu.state().position, device.state().position), 1e-3);
   expect_within(static_cast<double>(device.integrator_stats().cg_iterations),
                 static_cast<double>(cpu.integrator_stats().cg_iterations), 0.2);
+}
+
+// `--profile` names the device's parts of the step as the CPU's (core/step_profile.h), each from
+// its passes' timestamps: the Jacobians, the assembly (the right-hand side, level 0 of the V-cycle),
+// the preconditioner's setup, the linear solve, the update, and the forces at each step's end.
+TEST(DeviceMultigrid, TheProfileNamesTheCpusParts) {
+  SceneSpec spec = cotton(24, kVulkan, true);
+  spec.integrator.cg_vcycle_threshold = 0.0;  // the V-cycle at every step
+  Simulation simulation = testing::one_thread_simulation(spec);
+  ASSERT_TRUE(simulation.advance_to(3 / 60.0)) << simulation.failure()->message;
+  const StepProfile profile = simulation.profile();
+  double parts = 0.0;
+  for (StepStage stage : {StepStage::jacobians, StepStage::assembly, StepStage::preconditioner_setup,
+                          StepStage::linear_solve, StepStage::solution_update, StepStage::device_steps}) {
+    EXPECT_TRUE(profile.timed(stage)) << to_string(stage);
+    parts += profile.seconds(stage);
+  }
+  for (StepStage stage : {StepStage::forces, StepStage::jacobians, StepStage::assembly, StepStage::preconditioner_setup,
+                          StepStage::linear_solve}) {
+    EXPECT_GT(profile.seconds(stage), 0.0) << to_string(stage);
+  }
+  // The parts fit inside the integration stage, and the solve, a V-cycle in each of its iterations,
+  // is the largest of them.
+  EXPECT_LE(parts, profile.seconds(StepStage::integration) * (1.0 + 1e-9) + 1e-6);
+  for (StepStage stage : {StepStage::jacobians, StepStage::assembly, StepStage::preconditioner_setup}) {
+    EXPECT_GT(profile.seconds(StepStage::linear_solve), profile.seconds(stage)) << to_string(stage);
+  }
 }
 
 TEST(DeviceMultigrid, ARestoredRunGoesOnBitForBit) {
