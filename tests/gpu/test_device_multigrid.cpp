@@ -232,6 +232,17 @@ TEST(DeviceMultigrid, TheProfileNamesTheCpusParts) {
   }
 }
 
+// The levels keep their blocks in single precision, as the CPU's (integrators/stencil_matrix.h):
+// 21 blocks of 36 bytes a node over about 4/3 of the particles' nodes, with the vectors and the
+// smoother's blocks in float64, about 1.15 kB a particle at 1024 x 1024 (2.2 kB in float64).
+TEST(DeviceMultigrid, TheLevelsHoldTheirBlocksInSinglePrecision) {
+  const double particles = 1024.0 * 1024.0;
+  const double per_particle =
+      static_cast<double>(gpu::DeviceMultigrid::bytes_for(1024, 1024, Precision::float64)) / particles;
+  EXPECT_GT(per_particle, 1000.0);
+  EXPECT_LT(per_particle, 1300.0);
+}
+
 TEST(DeviceMultigrid, ARestoredRunGoesOnBitForBit) {
   SceneSpec spec = cotton(12, kVulkan, true);
   spec.integrator.cg_vcycle_threshold = 0.0;

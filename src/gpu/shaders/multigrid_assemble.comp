@@ -33,7 +33,7 @@ layout(std430, binding = 9) readonly buffer SolveReal { Real solve_real[]; };
 layout(std430, binding = 10) buffer SolveUint { uint solve_uint[]; };
 layout(std430, binding = 11) readonly buffer Hold { uint hold[]; };  // [particles], kHold*
 layout(std430, binding = 12) readonly buffer SurfaceContacts { Real surface_contacts[]; };
-layout(std430, binding = 13) buffer LevelBlocks { Real level_blocks[]; };
+layout(std430, binding = 13) buffer LevelBlocks { float level_blocks[]; };
 
 layout(push_constant) uniform Constants { MultigridPassConstants constants; };
 
@@ -102,7 +102,7 @@ void main() {
   for (int s = 0; s < kStencilSlots; ++s) {
     const uint i = block_index(p, s);
     for (uint column = 0u; column < 3u; ++column) {
-      for (uint r = 0u; r < 3u; ++r) level_blocks[i + 3u * column + r] = row[s][column][r];
+      for (uint r = 0u; r < 3u; ++r) level_blocks[i + 3u * column + r] = float(row[s][column][r]);
     }
   }
 }

@@ -20,7 +20,7 @@
 const uint kWorkgroupSize = kCoarseWorkgroup;
 layout(local_size_x = kWorkgroupSize) in;
 
-layout(std430, binding = 0) readonly buffer LevelBlocks { Real level_blocks[]; };
+layout(std430, binding = 0) readonly buffer LevelBlocks { float level_blocks[]; };
 layout(std430, binding = 1) readonly buffer LevelDiagonalInverse { Real level_diagonal_inverse[]; };  // [nodes][9]
 layout(std430, binding = 2) buffer LevelRhs { Real level_rhs[]; };
 layout(std430, binding = 3) buffer LevelSolution { Real level_solution[]; };

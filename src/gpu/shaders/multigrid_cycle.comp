@@ -21,7 +21,7 @@ layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size,
 layout(local_size_x_id = 0) in;
 #include "gpu/shaders/invocation.glsl"
 
-layout(std430, binding = 0) readonly buffer LevelBlocks { Real level_blocks[]; };
+layout(std430, binding = 0) readonly buffer LevelBlocks { float level_blocks[]; };
 layout(std430, binding = 1) readonly buffer LevelDiagonalInverse { Real level_diagonal_inverse[]; };  // [nodes][9]
 layout(std430, binding = 2) readonly buffer Jacobi { Real jacobi[]; };  // [particles][9]: level 0's smoother
 layout(std430, binding = 3) buffer LevelRhs { Real level_rhs[]; };            // [3 nodes]

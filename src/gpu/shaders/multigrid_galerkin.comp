@@ -14,7 +14,7 @@ layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size,
 layout(local_size_x_id = 0) in;
 #include "gpu/shaders/invocation.glsl"
 
-layout(std430, binding = 0) buffer LevelBlocks { Real level_blocks[]; };
+layout(std430, binding = 0) buffer LevelBlocks { float level_blocks[]; };
 layout(std430, binding = 1) writeonly buffer LevelDiagonalInverse { Real level_diagonal_inverse[]; };  // [nodes][9]
 
 layout(push_constant) uniform Constants { MultigridPassConstants constants; };
@@ -60,7 +60,7 @@ void main() {
   for (int s = 0; s < kStencilSlots; ++s) {
     const uint i = block_index(coarse, s);
     for (uint column = 0u; column < 3u; ++column) {
-      for (uint r = 0u; r < 3u; ++r) level_blocks[i + 3u * column + r] = sum[s][column][r];
+      for (uint r = 0u; r < 3u; ++r) level_blocks[i + 3u * column + r] = float(sum[s][column][r]);
     }
   }
   const Mat3 diagonal = sum[kStencilDiagonal];

@@ -1,7 +1,8 @@
 // The V-cycle's level arrays as its shaders read them (multigrid_step.h gives the layout): a node's
 // matrix blocks, where its stencil's neighbours are, the colours of the sweeps and the transfer's
-// weights. The includer declares the Real array level_blocks ([nodes of all levels][kStencilSlots]
-// [9], each block column by column) and includes the shared text's spelling first
+// weights. The includer declares the float array level_blocks ([nodes of all levels][kStencilSlots]
+// [9], each block column by column: single precision in either precision of the shaders, as the
+// CPU stores its levels, integrators/stencil_matrix.h; the products are formed in Real) and includes the shared text's spelling first
 // (shared_text.glsl). With CLOTHSIM_COARSE_LEVELS defined it also declares the coarse levels'
 // vectors (level_rhs, level_solution, level_residual, [3 nodes] each) and smoother blocks
 // (level_diagonal_inverse, [nodes][9]), and gets the operations on a coarse level below.
