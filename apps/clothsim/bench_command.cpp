@@ -214,7 +214,7 @@ Subcommand add_bench_command(CLI::App& parent) {
   app->add_option("--sim-cap", flags->simulated_cap, "simulated time per case at most, s (default 2)")->type_name("S");
   app->add_option("--csv", flags->csv, "also write the results as CSV to FILE")->type_name("FILE");
   app->add_option("--backend", flags->backend,
-                  "where the cases run: cpu (default) or vulkan (rkf45, rk4, symplectic-euler; docs/gpu.md)")
+                  "where the cases run: cpu (default) or vulkan (every integrator but imex; docs/gpu.md)")
       ->type_name("cpu|vulkan");
   app->add_option("--device", flags->device, "the Vulkan device, as 'clothsim devices' lists them (default 0)")
       ->type_name("N");
