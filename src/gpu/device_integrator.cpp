@@ -244,8 +244,8 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
     stage_state_pass_.dispatch(commands, &stage, particles_);
     timer.mark(commands, StepStage::stage_sums);
     if (lattice_) {
-      const LatticePassConstants lattice{particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i,
-                                         stages};
+      const LatticePassConstants lattice{
+          particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i, stages, params_particle_};
       lattice_pass_.dispatch(commands, &lattice, particles_);
     } else {
       forces_.record_element_passes(commands, i);
@@ -530,9 +530,11 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
     reals += 6 + low + 6 + 3 * static_cast<double>(weighed);
     indices += 1;  // the particle's anchor
     // lattice_elements: the stage state (in float32 its offsets, and the state they are from), the
-    // particle's spring parameters and its two connectors' original lengths in; its force and its
-    // four neighbours' shares out, and its damping power sum read and written.
-    reals += 6 + origin + kLatticeParams + 2 + kLatticeForces + 2;
+    // particle's spring parameters and its two connectors' original lengths in (on a uniform sheet
+    // one particle's, read once for all); its force and its four neighbours' shares out, and its
+    // damping power sum read and written.
+    const double params = params_particle_ == kOwnParams ? kLatticeParams + 2 : 0.0;
+    reals += 6 + origin + params + kLatticeForces + 2;
     // stage_acceleration: the stage velocity (in float32 its offset and the state's), mass and
     // inverse mass, the forces gathered, the acceleration out, the drag and anchor power sums
     // read and written.

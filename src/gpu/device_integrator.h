@@ -46,6 +46,7 @@
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
 #include "gpu/pass_timer.h"
+#include "gpu/shaders/device_step.h"
 #include "integrators/integrator.h"
 #include "integrators/tableau.h"
 
@@ -86,6 +87,9 @@ class DeviceIntegrator final : public Integrator {
   // True on the lattice path: each particle evaluates the springs it owns (lattice_elements);
   // false on the general path of element passes and force slots.
   bool lattice_path() const { return lattice_; }
+  // Whether the lattice pass reads one particle's spring parameters for every particle: a sheet
+  // whose springs of each kind are all alike and which no law changes (from the first advance on).
+  bool reads_uniform_springs() const { return params_particle_ != kOwnParams; }
   // Device memory an attempt reads and writes per particle on the lattice path, bytes: each
   // array element a pass touches counted once (a neighbour's values as cached), summed over the
   // attempt's passes as last recorded (the event passes from the first advance on, where the
@@ -192,9 +196,11 @@ class DeviceIntegrator final : public Integrator {
   void bind_passes();
   void read_state(ClothState& state);
   // The lattice path (device_lattice.cpp): the per-particle spring parameters and the events'
-  // thresholds from the model; which laws act (laws_, from the model's limits); the events of an
-  // advance applied to the model through model/model_edits.h.
+  // thresholds from the model, and whether the sheet is uniform (params_particle_); which laws act
+  // (laws_, from the model's limits); the events of an advance applied to the model through
+  // model/model_edits.h.
   void upload_lattice_params();
+  std::uint32_t uniform_params_particle(const std::vector<double>& params, const std::vector<double>& events) const;
   void set_laws();
   // The obstacles (device_obstacles.cpp): their arrays sized for the model's colliders and their
   // meshes uploaded (again when their number changed), their rows written for an advance from t0,
@@ -212,14 +218,16 @@ class DeviceIntegrator final : public Integrator {
   bool adaptive_;
   bool symplectic_;
   bool lattice_;
-  std::uint32_t laws_ = 0;   // EventPassConstants::laws of the recorded attempts
+  std::uint32_t laws_ = 0;  // EventPassConstants::laws of the recorded attempts
+  // LatticePassConstants::params_particle of the recorded attempts (device_lattice.cpp).
+  std::uint32_t params_particle_ = kOwnParams;
   // The colliders the obstacle arrays are sized for; the recorded attempts run the obstacle passes
   // when there are any.
   std::size_t collider_count_ = 0;
   ObstacleContacts first_arrival_;  // the host's pass, for the first step's limit only
   IntegratorContacts contacts_;     // since the last take_obstacle_contacts()
-  IntegratorEvents events_;  // since the last take_spring_events()
-  double events_t0_ = 0.0;   // the start of the advance whose events wait for take_spring_events()
+  IntegratorEvents events_;         // since the last take_spring_events()
+  double events_t0_ = 0.0;          // the start of the advance whose events wait for take_spring_events()
   Precision precision_;
   Device device_;
   DeviceForces forces_;

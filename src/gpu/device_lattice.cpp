@@ -63,6 +63,40 @@ void DeviceIntegrator::upload_lattice_params() {
       });
   upload(device_, arrays_[lattice_params], real_bytes(params, precision_));
   upload(device_, arrays_[event_params], real_bytes(events, precision_));
+  const std::uint32_t params_particle = uniform_params_particle(params, events);
+  if (params_particle != params_particle_) {
+    // In the recorded attempts' push constants: record them again.
+    params_particle_ = params_particle;
+    release_recorded();
+  }
+}
+
+std::uint32_t DeviceIntegrator::uniform_params_particle(const std::vector<double>& params,
+                                                        const std::vector<double>& events) const {
+  // The interior particle (1, 1) owns every kind of spring; every spring of the sheet must have
+  // its four values and, for a connector, its original length (the radial springs' fade). No law
+  // may change them on the device during an advance.
+  const auto lattice_rows = static_cast<std::uint32_t>(model_.rows);
+  const auto lattice_cols = static_cast<std::uint32_t>(model_.cols);
+  if (lattice_rows < 3 || lattice_cols < 3 || model_.limits.changes_sheet()) return kOwnParams;
+  const std::uint32_t reference = lattice_cols + 1;
+  const auto same = [&](std::size_t at, std::size_t reference_at) {
+    for (std::uint32_t k = 0; k < kSpringParams; ++k) {
+      if (params[at + k] != params[reference_at + k]) return false;
+    }
+    return true;
+  };
+  const bool uniform = for_each_lattice_spring(
+      lattice_rows, lattice_cols,
+      [&](std::uint32_t, std::uint32_t p, bool south) {
+        return same(connector_params(p, south), connector_params(reference, south)) &&
+               events[connector_events(p, south) + kEventOriginalLength] ==
+                   events[connector_events(reference, south) + kEventOriginalLength];
+      },
+      [&](std::uint32_t, std::uint32_t p, std::size_t pair) {
+        return same(radial_params(p, pair), radial_params(reference, pair));
+      });
+  return uniform ? reference : kOwnParams;
 }
 
 void DeviceIntegrator::set_laws() {

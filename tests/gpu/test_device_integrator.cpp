@@ -161,8 +161,8 @@ TEST(DeviceIntegrator, FreeFlightKeepsMomentumAndAngularMomentum) {
 // that the radial springs on those connectors fade (forces/element_math.inc): the lattice path
 // takes the fade lengths from each arm's connector, its own or its neighbour's (whose original
 // lengths differ here).
-void expect_lattice_path_is_general_path(bool collapse) {
-  ClothModel model = paper_lattice(12, 9);
+// The model's rest state, every particle moved and moving a little.
+ClothState moving_state(const ClothModel& model) {
   ClothState state;
   state.position = model.particle_rest_position;
   state.velocity.assign(model.particle_count(), Vec3{});
@@ -171,6 +171,24 @@ void expect_lattice_path_is_general_path(bool collapse) {
     state.position[p] += Vec3{0.1 * std::sin(s), 0.2 * std::cos(1.3 * s), 0.1 * std::sin(0.7 * s)};
     state.velocity[p] = {0.3 * std::cos(s), 0.1, -0.2 * std::sin(2.1 * s)};
   }
+  return state;
+}
+
+// Four arms of a 12 x 9 sheet nearly gone, one in each direction: each particle moved most of the
+// way to its neighbour.
+void collapse_arms(ClothState& state, int cols) {
+  // (particle, neighbour, fraction of the way left)
+  for (const auto& [p, q, left] : {std::tuple{20, 21, 0.1}, std::tuple{31, 31 + cols, 0.25}, std::tuple{58, 57, 0.4},
+                                   std::tuple{84, 84 - cols, 0.15}}) {
+    const auto a = static_cast<std::size_t>(p);
+    const auto b = static_cast<std::size_t>(q);
+    state.position[a] = state.position[b] + left * (state.position[a] - state.position[b]);
+  }
+}
+
+void expect_lattice_path_is_general_path(bool collapse) {
+  ClothModel model = paper_lattice(12, 9);
+  ClothState state = moving_state(model);
   for (std::size_t e = 0; e < model.connector_count(); ++e) {
     model.connector_rest_length[e] *= 1.0 + 0.01 * std::sin(static_cast<double>(e));
     model.connector_stiffness[e] *= 1.0 + 0.1 * std::cos(static_cast<double>(e));
@@ -183,14 +201,7 @@ void expect_lattice_path_is_general_path(bool collapse) {
     for (std::size_t e = 0; e < model.connector_count(); ++e) {
       model.connector_original_length[e] *= 1.0 + 0.3 * std::sin(2.7 * static_cast<double>(e));
     }
-    const int cols = model.cols;
-    // (particle, neighbour, fraction of the way left)
-    for (const auto& [p, q, left] : {std::tuple{20, 21, 0.1}, std::tuple{31, 31 + cols, 0.25}, std::tuple{58, 57, 0.4},
-                                     std::tuple{84, 84 - cols, 0.15}}) {
-      const auto a = static_cast<std::size_t>(p);
-      const auto b = static_cast<std::size_t>(q);
-      state.position[a] = state.position[b] + left * (state.position[a] - state.position[b]);
-    }
+    collapse_arms(state, model.cols);
   }
   for (std::uint32_t e : {5u, 17u, 40u, 41u}) tear_connector(model, state, e);
   IntegratorSettings settings;  // rkf45, first step 1e-3 s
@@ -215,6 +226,47 @@ TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPath) { expect_lattice_path_is_
 
 TEST(DeviceIntegrator, TheLatticePathIsTheGeneralPathWhereRadialSpringsFade) {
   expect_lattice_path_is_general_path(true);
+}
+
+// A uniform sheet (each kind of spring alike everywhere, and no law that changes them) has every
+// particle read one interior particle's springs (LatticePassConstants::params_particle): the
+// general path's forces with fewer bytes an attempt. A sheet with one spring of its own, a torn
+// one, or one whose springs a law may change reads each particle's own.
+TEST(DeviceIntegrator, AUniformSheetReadsOneParticlesSprings) {
+  const ClothModel uniform = paper_lattice(12, 9);
+  ClothState state = moving_state(uniform);
+  collapse_arms(state, uniform.cols);  // radial springs that fade by their arms' original lengths
+  const auto one_step = [&](const ClothModel& model, ForceKernel kernel, ClothState& end) {
+    ForceOptions options;
+    options.kernel = kernel;
+    gpu::DeviceIntegrator device(model, IntegratorSettings{}, options, device0(Precision::float64));
+    end = state;
+    EXPECT_EQ(device.step(end, 1.0).status, StepStatus::ok);
+    return std::pair{device.reads_uniform_springs(), device.traffic_per_particle_and_attempt()};
+  };
+  ClothState lattice_end, general_end;
+  const auto [reads_one, traffic] = one_step(uniform, ForceKernel::automatic, lattice_end);
+  one_step(uniform, ForceKernel::general, general_end);
+  EXPECT_TRUE(reads_one);
+  EXPECT_EQ(lattice_end.time, general_end.time);
+  EXPECT_LT(largest_distance(lattice_end.position, general_end.position), 1e-14);
+  EXPECT_LT(largest_distance(lattice_end.velocity, general_end.velocity), 1e-11);
+
+  ClothModel one_own = uniform;
+  one_own.radial_stiffness.back() *= 1.0 + 1e-12;  // a corner's spring
+  ClothModel torn = uniform;
+  ClothState torn_state = state;
+  tear_connector(torn, torn_state, 17);
+  ClothModel with_laws = uniform;
+  with_laws.limits.yield_strain = 0.5;
+  for (const ClothModel* model : {&one_own, &torn, &with_laws}) {
+    ClothState end;
+    const auto [reads, own_traffic] = one_step(*model, ForceKernel::automatic, end);
+    EXPECT_FALSE(reads);
+    // Each particle's 32 spring values and its two connectors' original lengths, six stages of
+    // float64, more an attempt (with laws the event passes' bytes besides).
+    EXPECT_GE(own_traffic, traffic + 6.0 * (gpu::kLatticeParams + 2) * sizeof(double));
+  }
 }
 
 // A sheet that tears (tearing and the events on the device, lattice_events_*): an 11 x 11 sheet

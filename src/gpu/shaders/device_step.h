@@ -151,6 +151,9 @@ struct StagePassConstants {
   uint lattice_cols;  // stage_acceleration: the lattice's columns on the lattice path; 0: the general path
 };
 
+// LatticePassConstants::params_particle where each particle reads its own springs' parameters.
+CLOTHSIM_SLOT kOwnParams = 0xffffffffu;
+
 struct LatticePassConstants {
   uint particle_count;
   uint rows;
@@ -158,6 +161,10 @@ struct LatticePassConstants {
   uint damped;  // 1: the springs' damping acts (kSpringDamping)
   uint stage;   // the stage whose damping power is weighed into particle_power
   uint stages;  // the method's stages (where its solution row is in `rows`)
+  // kOwnParams, or on a uniform sheet (every spring of a kind the same, and no law that changes
+  // them) the interior particle whose parameters and arm lengths every particle reads: one
+  // particle's 32 reals, in the cache for all, instead of each particle's own.
+  uint params_particle;
 };
 
 struct EventPassConstants {

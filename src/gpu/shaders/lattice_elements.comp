@@ -8,7 +8,8 @@
 // their forces on each of its four neighbours (which stage_acceleration gathers), and their
 // damping power. Parameters come per particle (lattice_params), so torn, plastic and creased
 // sheets take this path too: a missing, broken or switched-off spring has active 0. The radial
-// springs fade as an arm vanishes, with the arm connector's original length from event_params.
+// springs fade as an arm vanishes, with the arm connector's original length from event_params. A
+// uniform sheet's particles all read one interior particle's parameters (params_particle).
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
@@ -42,16 +43,19 @@ void main() {
   // Near p: in float32, relative to p (stage_offsets.glsl).
   const Vec3 x = stage_position_near(p, p);
   const Vec3 v = stage_velocity_near(p, p);
+  const bool one_source = constants.params_particle != kOwnParams;
+  const uint source = one_source ? constants.params_particle : p;
   Vec3 arm_x[4];
   Vec3 arm_v[4];
   Real fade_length[4];
   for (uint d = 0u; d < 4u; ++d) {
     arm_x[d] = has[d] ? stage_position_near(neighbour[d], p) : x;
     arm_v[d] = has[d] ? stage_velocity_near(neighbour[d], p) : v;
-    fade_length[d] =
-        has[d] ? kRadialFadeFraction * event_params[arm_event_params(d, cell, p) + kEventOriginalLength] : Real(0.0);
+    // On a uniform sheet the west and north arms are as long as the east and south ones.
+    const uint arm = one_source ? source * kEventParams + kEventsPerConnector * (d % 2u) : arm_event_params(d, cell, p);
+    fade_length[d] = has[d] ? kRadialFadeFraction * event_params[arm + kEventOriginalLength] : Real(0.0);
   }
-  const uint base = p * kLatticeParams;
+  const uint base = source * kLatticeParams;
   const Real damped = constants.damped != 0u ? Real(1.0) : Real(0.0);
   Vec3 own = Vec3(0.0);
   Vec3 to[4] = Vec3[4](Vec3(0.0), Vec3(0.0), Vec3(0.0), Vec3(0.0));
