@@ -114,8 +114,9 @@ void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffe
                  VK_ACCESS_HOST_READ_BIT);
 }
 
-void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes) {
-  const VkBufferCopy region{0, 0, bytes};
+void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes,
+                   std::uint64_t source_offset) {
+  const VkBufferCopy region{source_offset, 0, bytes};
   vkCmdCopyBuffer(commands, source.handle(), destination.handle(), 1, &region);
   memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);

@@ -54,10 +54,11 @@ void download(Device& device, const Buffer& source, std::span<std::byte> destina
 void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes,
                      std::uint64_t destination_offset = 0);
 
-// Records a copy of `bytes` from the start of `source` (a host_visible buffer the host wrote
-// before the submission) into `destination`, made visible to the compute shaders after it: a
-// submission's inputs written without a submission of their own.
-void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes);
+// Records a copy of `bytes` from `source` (a host_visible buffer the host wrote before the
+// submission) at `source_offset` into the start of `destination`, made visible to the compute
+// shaders after it: a submission's inputs written without a submission of their own.
+void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes,
+                   std::uint64_t source_offset = 0);
 
 // The barrier between a compute pass and whatever reads its output next: a later pass or a copy.
 void compute_write_barrier(VkCommandBuffer commands);

@@ -99,7 +99,7 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
                     Memory::host_visible),
       real_output_(device_, kSolveReals * real_size(precision_), Memory::host_visible),
       uint_output_(device_, kSolveUints * 4, Memory::host_visible),
-      state_readback_(device_, std::uint64_t{particles_} * 6 * real_size(precision_), Memory::host_visible),
+      state_staging_(device_, std::uint64_t{particles_} * 6 * real_size(precision_), Memory::host_visible),
       linearize_pass_(make_pass(device_, "implicit_linearize", precision_, 15)),
       product_pass_(make_pass(device_, "implicit_product", precision_, 8)),
       gather_pass_(make_pass(device_, "implicit_gather", precision_, 20, kImplicitReduceWorkgroup)),
@@ -380,8 +380,8 @@ void DeviceImplicitEuler::upload_changes(const ClothState& state) {
   }
   const std::uint64_t fingerprint = state_fingerprint(state, options_.threads);
   if (model_changed || fingerprint != exchanged_fingerprint_) {
-    upload(device_, forces_.buffer(DeviceForces::position), vector_bytes(state.position, precision_));
-    upload(device_, forces_.buffer(DeviceForces::velocity), vector_bytes(state.velocity, precision_));
+    gpu::write_state(device_, {&forces_.buffer(DeviceForces::position)}, {&forces_.buffer(DeviceForces::velocity)},
+                     state_staging_, precision_, options_.threads, state);
     exchanged_fingerprint_ = fingerprint;
     exchanged_ = true;
     forces_current_ = false;
@@ -390,7 +390,7 @@ void DeviceImplicitEuler::upload_changes(const ClothState& state) {
 
 void DeviceImplicitEuler::read_state(ClothState& state) {
   gpu::read_state(device_, {&forces_.buffer(DeviceForces::position)}, {&forces_.buffer(DeviceForces::velocity)},
-                  state_readback_, precision_, options_.threads, state);
+                  state_staging_, precision_, options_.threads, state);
   exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
 }
 

@@ -173,7 +173,8 @@ class DeviceImplicitEuler final : public Integrator {
   std::vector<Buffer> arrays_;  // [array_count]
   std::uint32_t anchor_capacity_;
   // Host-visible: what the host writes for a step, and what the submissions copy back.
-  Buffer real_input_, uint_input_, anchor_input_, real_output_, uint_output_, state_readback_;
+  // Host-visible: the state both ways (gpu/state_transfer.h).
+  Buffer real_input_, uint_input_, anchor_input_, real_output_, uint_output_, state_staging_;
   ComputePipeline linearize_pass_, product_pass_, gather_pass_, diagonal_pass_, reduce_pass_, iterate_pass_,
       setup_pass_;
   std::optional<DeviceMultigrid> multigrid_;  // on a lattice with the CPU's multigrid settings

@@ -155,7 +155,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       anchor_capacity_(anchor_row_capacity(model.anchors.size())),
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
-      state_readback_(device_, std::uint64_t{particles_} * (splits_state(precision_) ? 12 : 6) * real_size(precision_),
+      state_staging_(device_, std::uint64_t{particles_} * (splits_state(precision_) ? 12 : 6) * real_size(precision_),
                       Memory::host_visible),
       stage_state_pass_(shader_pipeline(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
       lattice_pass_(shader_pipeline(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
@@ -319,18 +319,11 @@ void DeviceIntegrator::upload_changes(const ClothState& state) {
   }
   const std::uint64_t fingerprint = state_fingerprint(state, options_.threads);
   if (model_changed || fingerprint != exchanged_fingerprint_) {
-    if (splits_state(precision_)) {
-      // Two floats a coordinate (shaders/split_state.glsl).
-      const SplitVectors position = split_vectors(state.position);
-      const SplitVectors velocity = split_vectors(state.velocity);
-      upload(device_, arrays_[state_position], position.high);
-      upload(device_, arrays_[state_position_low], position.low);
-      upload(device_, arrays_[state_velocity], velocity.high);
-      upload(device_, arrays_[state_velocity_low], velocity.low);
-    } else {
-      upload(device_, arrays_[state_position], vector_bytes(state.position, precision_));
-      upload(device_, arrays_[state_velocity], vector_bytes(state.velocity, precision_));
-    }
+    // In float32 two floats a coordinate (shaders/split_state.glsl).
+    const bool split = splits_state(precision_);
+    gpu::write_state(device_, {&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr},
+                     {&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr}, state_staging_,
+                     precision_, options_.threads, state);
     exchanged_fingerprint_ = fingerprint;
     exchanged_ = true;
   }
@@ -355,7 +348,7 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
 void DeviceIntegrator::read_state(ClothState& state) {
   const bool split = splits_state(precision_);
   gpu::read_state(device_, {&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr},
-                  {&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr}, state_readback_,
+                  {&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr}, state_staging_,
                   precision_, options_.threads, state);
 }
 

@@ -234,7 +234,7 @@ class DeviceIntegrator final : public Integrator {
   std::uint32_t particles_, elements_, anchor_capacity_;
   std::vector<Buffer> arrays_;  // [array_count]
   Buffer control_real_readback_, control_uint_readback_;
-  Buffer state_readback_;  // positions, then velocities
+  Buffer state_staging_;  // the state both ways (gpu/state_transfer.h)
   ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_,
       events_connectors_pass_, events_radial_pass_, accept_pass_, obstacle_contacts_pass_, obstacle_energy_pass_;
   std::map<std::uint32_t, RecordedAttempts> recorded_;  // by attempts per submission

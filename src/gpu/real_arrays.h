@@ -113,22 +113,4 @@ inline SplitFloat split_real(double x) {
   return {high, static_cast<float>(low)};
 }
 
-// Vectors split into two float arrays in the device's layout (3 floats a vector each).
-struct SplitVectors {
-  std::vector<std::byte> high, low;
-};
-
-inline SplitVectors split_vectors(std::span<const Vec3> vectors) {
-  SplitVectors split{std::vector<std::byte>(vectors.size() * 12), std::vector<std::byte>(vectors.size() * 12)};
-  for (std::size_t i = 0; i < vectors.size(); ++i) {
-    const double components[3] = {vectors[i].x, vectors[i].y, vectors[i].z};
-    for (std::size_t k = 0; k < 3; ++k) {
-      const SplitFloat value = split_real(components[k]);
-      std::memcpy(split.high.data() + 4 * (3 * i + k), &value.high, 4);
-      std::memcpy(split.low.data() + 4 * (3 * i + k), &value.low, 4);
-    }
-  }
-  return split;
-}
-
 }  // namespace clothsim::gpu

@@ -61,4 +61,35 @@ void read_state(Device& device, StateArray position, StateArray velocity, const 
   });
 }
 
+void write_state(Device& device, StateArray position, StateArray velocity, const Buffer& staging, Precision precision,
+                 int threads, const ClothState& state) {
+  const std::size_t particles = state.position.size();
+  const std::uint64_t bytes = std::uint64_t{particles} * 3 * real_size(precision);
+  const bool split = position.low != nullptr && velocity.low != nullptr;
+  std::byte* mapped = staging.mapped();
+  const auto write = [&](std::uint64_t offset, std::size_t index, double x) {
+    if (!split) {
+      store_real(mapped + offset, index, x, precision);
+      return;
+    }
+    const SplitFloat value = split_real(x);
+    std::memcpy(mapped + offset + 4 * index, &value.high, 4);
+    std::memcpy(mapped + offset + 2 * bytes + 4 * index, &value.low, 4);
+  };
+  parallel_for(particles, threads, [&](std::size_t p) {
+    for (int k = 0; k < 3; ++k) {
+      write(0, 3 * p + k, state.position[p][k]);
+      write(bytes, 3 * p + k, state.velocity[p][k]);
+    }
+  });
+  device.submit([&](VkCommandBuffer commands) {
+    record_upload(commands, staging, *position.high, bytes, 0);
+    record_upload(commands, staging, *velocity.high, bytes, bytes);
+    if (split) {
+      record_upload(commands, staging, *position.low, bytes, 2 * bytes);
+      record_upload(commands, staging, *velocity.low, bytes, 3 * bytes);
+    }
+  });
+}
+
 }  // namespace clothsim::gpu

@@ -23,9 +23,18 @@ struct StateArray {
   const Buffer* low = nullptr;
 };
 
-// Copies `position` and `velocity` into `staging` (host-visible, every array's bytes) in one
-// submission and converts them into the state's doubles on `threads` threads.
+// Both directions go through `staging`, host-visible and persistent (no allocation per transfer),
+// laid out as the highs of the positions, then of the velocities, then their low parts where the
+// arrays have them, each 3 Reals a particle.
+//
+// Copies `position` and `velocity` into `staging` in one submission and converts them into the
+// state's doubles on `threads` threads.
 void read_state(Device& device, StateArray position, StateArray velocity, const Buffer& staging, Precision precision,
                 int threads, ClothState& state);
+// Converts the state's positions and velocities into `staging` on `threads` threads (in float32
+// with low parts, split as split_state.glsl holds them: split_real) and copies them into `position`
+// and `velocity` in one submission.
+void write_state(Device& device, StateArray position, StateArray velocity, const Buffer& staging, Precision precision,
+                 int threads, const ClothState& state);
 
 }  // namespace clothsim::gpu
