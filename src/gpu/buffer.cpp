@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <optional>
 #include <utility>
 
 #include "gpu/gpu_error.h"
@@ -93,14 +94,17 @@ void compute_write_barrier(VkCommandBuffer commands) {
                  VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT | VK_ACCESS_TRANSFER_READ_BIT);
 }
 
-void upload(Device& device, Buffer& destination, std::span<const std::byte> source) {
+void upload(Device& device, Buffer& destination, std::span<const std::byte> source, const Buffer* staging) {
   if (source.size() > destination.bytes()) throw GpuError("upload: more bytes than the buffer holds");
   if (source.empty()) return;
-  Buffer staging(device, source.size(), Memory::host_visible);
-  std::memcpy(staging.mapped(), source.data(), source.size());
+  std::optional<Buffer> own;
+  if (staging == nullptr || staging->bytes() < source.size()) {
+    staging = &own.emplace(device, source.size(), Memory::host_visible);
+  }
+  std::memcpy(staging->mapped(), source.data(), source.size());
   device.submit([&](VkCommandBuffer commands) {
     const VkBufferCopy region{0, 0, source.size()};
-    vkCmdCopyBuffer(commands, staging.handle(), destination.handle(), 1, &region);
+    vkCmdCopyBuffer(commands, staging->handle(), destination.handle(), 1, &region);
     memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
                    VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
   });

@@ -43,8 +43,10 @@ class Buffer {
 
 // Host bytes into a device-local buffer (from its start), and back; each one submission that
 // waits. The barriers make the copy visible to later compute shaders and a shader's writes
-// visible to the copy back.
-void upload(Device& device, Buffer& destination, std::span<const std::byte> source);
+// visible to the copy back. The copy goes through a staging buffer allocated for it, or for an
+// upload through `staging` (host-visible, at least the bytes): what goes up again and again (a
+// step's control words, anchor paths, collider rows) then allocates nothing.
+void upload(Device& device, Buffer& destination, std::span<const std::byte> source, const Buffer* staging = nullptr);
 void download(Device& device, const Buffer& source, std::span<std::byte> destination);
 
 // Records a copy of `bytes` from the start of `source` into `destination` (a host_visible buffer)

@@ -23,6 +23,9 @@
 namespace clothsim::gpu {
 namespace {
 
+// input_staging_'s first size: the control arrays and a few anchors' and colliders' rows in float64.
+constexpr std::uint64_t kInputStagingBytes = 4096;
+
 // Symplectic Euler as a one-stage "tableau": K_0 at the state, and b = (1) for the work
 // integrals; rk_solution forms its update itself (v + h K_0, then x + h v_new).
 constexpr ButcherTableau kSymplecticEuler{"symplectic-euler", 1, 1, 0, {0.0}, {{{}}}, {1.0}, {}};
@@ -157,6 +160,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
       state_staging_(device_, std::uint64_t{particles_} * (splits_state(precision_) ? 12 : 6) * real_size(precision_),
                       Memory::host_visible),
+      input_staging_(device_, kInputStagingBytes, Memory::host_visible),
       stage_state_pass_(shader_pipeline(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
       lattice_pass_(shader_pipeline(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
       acceleration_pass_(shader_pipeline(device_, "stage_acceleration", precision_, 16, sizeof(StagePassConstants))),
@@ -342,7 +346,15 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
   std::vector<double> paths;
   paths.reserve(model_.anchors.size() * kPathReals);
   for (const Anchor& anchor : model_.anchors) append_path_row(paths, anchor.path, t0, Vec3{});
-  if (!paths.empty()) upload(device_, arrays_[anchor_paths], real_bytes(paths, precision_));
+  if (!paths.empty()) upload_input(arrays_[anchor_paths], real_bytes(paths, precision_));
+}
+
+void DeviceIntegrator::upload_input(Buffer& destination, std::span<const std::byte> bytes) {
+  if (input_staging_.bytes() < bytes.size()) {
+    input_staging_ = Buffer(device_, std::max<std::uint64_t>(bytes.size(), 2 * input_staging_.bytes()),
+                            Memory::host_visible);
+  }
+  upload(device_, destination, bytes, &input_staging_);
 }
 
 void DeviceIntegrator::read_state(ClothState& state) {
@@ -423,8 +435,8 @@ void DeviceIntegrator::write_control(const ControlStart& start, std::uint32_t ma
   uints[kMaxAccepted] = max_accepted;
   uints[kAdaptive] = adaptive_ ? 1 : 0;
   StageTimer timer(profile_, StepStage::device_transfers);
-  upload(device_, arrays_[control_real], real_bytes(reals, precision_));
-  upload(device_, arrays_[control_uint], bytes_of(uints));
+  upload_input(arrays_[control_real], real_bytes(reals, precision_));
+  upload_input(arrays_[control_uint], bytes_of(uints));
 }
 
 DeviceIntegrator::Control DeviceIntegrator::run_attempts(std::uint32_t max_accepted) {

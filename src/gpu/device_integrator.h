@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -199,6 +200,7 @@ class DeviceIntegrator final : public Integrator {
   // thresholds from the model, and whether the sheet is uniform (params_particle_); which laws act
   // (laws_, from the model's limits); the events of an advance applied to the model through
   // model/model_edits.h.
+  void upload_input(Buffer& destination, std::span<const std::byte> bytes);
   void upload_lattice_params();
   std::uint32_t uniform_params_particle(const std::vector<double>& params, const std::vector<double>& events) const;
   void set_laws();
@@ -235,6 +237,9 @@ class DeviceIntegrator final : public Integrator {
   std::vector<Buffer> arrays_;  // [array_count]
   Buffer control_real_readback_, control_uint_readback_;
   Buffer state_staging_;  // the state both ways (gpu/state_transfer.h)
+  // What goes up each advance (the control words, the anchor paths, the collider rows), through
+  // one staging buffer that grows as needed: upload_input().
+  Buffer input_staging_;
   ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_,
       events_connectors_pass_, events_radial_pass_, accept_pass_, obstacle_contacts_pass_, obstacle_energy_pass_;
   std::map<std::uint32_t, RecordedAttempts> recorded_;  // by attempts per submission

@@ -122,7 +122,7 @@ void DeviceIntegrator::upload_colliders(double t0) {
     append_path_row(table, collider.path, t0, collider.path.position(0.0));
   }
   CLOTHSIM_ASSERT(table.size() == model_.colliders.size() * kColliderReals, "a collider's row is device_step.h's");
-  upload(device_, arrays_[colliders], real_bytes(table, precision_));
+  upload_input(arrays_[colliders], real_bytes(table, precision_));
 }
 
 double DeviceIntegrator::first_arrival(const ClothState& state) {
