@@ -153,8 +153,8 @@ class DeviceImplicitEuler final : public Integrator {
   void record_iterations(VkCommandBuffer commands, bool vcycle, std::uint32_t iterations) const;
   // Records `pass` in `phase` over `invocations`; `iteration`: a CG iteration's pass, which returns
   // at once once the solve has stopped.
-  void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase, std::uint32_t invocations,
-                bool iteration = false) const;
+  void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase,
+                std::uint32_t invocations, bool iteration = false) const;
   // direction = dv, and the element part of A dv into the force slots; the first residual from
   // there (the warm start) and the start's sums; the held particles' surface impulses A dv - b.
   void record_solution_product(VkCommandBuffer commands) const;
@@ -172,8 +172,8 @@ class DeviceImplicitEuler final : public Integrator {
   std::uint32_t particles_, connectors_, radials_;
   std::vector<Buffer> arrays_;  // [array_count]
   std::uint32_t anchor_capacity_;
-  // Host-visible: what the host writes for a step, and what the submissions copy back.
-  // Host-visible: the state both ways (gpu/state_transfer.h).
+  // Host-visible: what the host writes for a step, what the submissions copy back, and the state
+  // both ways (gpu/state_transfer.h).
   Buffer real_input_, uint_input_, anchor_input_, real_output_, uint_output_, state_staging_;
   ComputePipeline linearize_pass_, product_pass_, gather_pass_, diagonal_pass_, reduce_pass_, iterate_pass_,
       setup_pass_;

@@ -196,11 +196,12 @@ class DeviceIntegrator final : public Integrator {
   // Binds every pass's arrays (again after the anchor table grows).
   void bind_passes();
   void read_state(ClothState& state);
+  // `bytes` into `destination` through input_staging_, grown to hold them: what goes up each advance.
+  void upload_input(Buffer& destination, std::span<const std::byte> bytes);
   // The lattice path (device_lattice.cpp): the per-particle spring parameters and the events'
   // thresholds from the model, and whether the sheet is uniform (params_particle_); which laws act
   // (laws_, from the model's limits); the events of an advance applied to the model through
   // model/model_edits.h.
-  void upload_input(Buffer& destination, std::span<const std::byte> bytes);
   void upload_lattice_params();
   std::uint32_t uniform_params_particle(const std::vector<double>& params, const std::vector<double>& events) const;
   void set_laws();
@@ -220,7 +221,7 @@ class DeviceIntegrator final : public Integrator {
   bool adaptive_;
   bool symplectic_;
   bool lattice_;
-  std::uint32_t laws_ = 0;  // EventPassConstants::laws of the recorded attempts
+  std::uint32_t laws_ = 0;   // EventPassConstants::laws of the recorded attempts
   // LatticePassConstants::params_particle of the recorded attempts (device_lattice.cpp).
   std::uint32_t params_particle_ = kOwnParams;
   // The colliders the obstacle arrays are sized for; the recorded attempts run the obstacle passes
@@ -228,8 +229,8 @@ class DeviceIntegrator final : public Integrator {
   std::size_t collider_count_ = 0;
   ObstacleContacts first_arrival_;  // the host's pass, for the first step's limit only
   IntegratorContacts contacts_;     // since the last take_obstacle_contacts()
-  IntegratorEvents events_;         // since the last take_spring_events()
-  double events_t0_ = 0.0;          // the start of the advance whose events wait for take_spring_events()
+  IntegratorEvents events_;  // since the last take_spring_events()
+  double events_t0_ = 0.0;   // the start of the advance whose events wait for take_spring_events()
   Precision precision_;
   Device device_;
   DeviceForces forces_;
