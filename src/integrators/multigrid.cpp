@@ -50,6 +50,10 @@ constexpr std::array<std::array<std::size_t, 3>, 2> kLineSlots = {
 // The slot of offset (di, dj), both in [-2, 2], not a corner.
 std::size_t stencil_slot(int di, int dj) { return static_cast<std::size_t>(stencil::stencil_slot(di, dj)); }
 
+// How many nodes ahead a line solve down a column asks the cache for the matrix rows and vectors
+// it will read (SymmetricStencilMatrix::prefetch).
+constexpr std::size_t kColumnAhead = 4;
+
 // Rows per band of the Gauss-Seidel sweeps (at least 2: bands two apart must share no matrix entry).
 constexpr std::size_t kBandRows = 4;
 
@@ -72,32 +76,23 @@ void for_each_band(std::size_t count, bool ascending, int threads, Body&& body) 
   }
 }
 
-// Bilinear interpolation along one lattice direction: fine node f's coarse parents (up to 2) and
-// their weights, on a coarse level of `coarse_count` nodes, node I sitting on fine node 2I.
-struct Parents {
-  std::size_t count = 0;
-  std::array<std::size_t, 2> node{};
-  std::array<double, 2> weight{};
-};
-
-Parents parents_1d(std::size_t fine, std::size_t coarse_count) {
-  const auto count = stencil::parent_count(static_cast<int>(fine), static_cast<int>(coarse_count));
-  const double weight = 0.5 * stencil::twice_parent_weight(static_cast<int>(fine), static_cast<int>(coarse_count));
-  return {static_cast<std::size_t>(count), {fine / 2, fine / 2 + 1}, {weight, count == 2 ? weight : 0.0}};
-}
-
-// Calls body(fine node, weight) for the fine nodes that coarse node `coarse` interpolates to
-// (its children: 2 coarse - 1 .. 2 coarse + 1), in ascending order.
-template <typename Body>
-void for_each_child_1d(std::size_t coarse, std::size_t fine_count, std::size_t coarse_count, Body&& body) {
-  const std::size_t first = coarse > 0 ? 2 * coarse - 1 : 0;
-  const std::size_t last = std::min(fine_count - 1, 2 * coarse + 1);
-  for (std::size_t fine = first; fine <= last; ++fine) {
-    const Parents parents = parents_1d(fine, coarse_count);
-    for (std::size_t k = 0; k < parents.count; ++k) {
-      if (parents.node[k] == coarse) body(fine, parents.weight[k]);
-    }
+// The offset (di, dj) of lattice node q from node p on a lattice of `cols` columns, both within
+// [-2, 2] (the fine matrix's reach). Where cols > 4 the offsets of different di are disjoint
+// ranges of q - p, and no division is needed.
+std::array<std::ptrdiff_t, 2> lattice_offset(std::size_t p, std::size_t q, std::size_t cols) {
+  const auto c = static_cast<std::ptrdiff_t>(cols);
+  if (cols <= 4) {
+    return {static_cast<std::ptrdiff_t>(q / cols) - static_cast<std::ptrdiff_t>(p / cols),
+            static_cast<std::ptrdiff_t>(q % cols) - static_cast<std::ptrdiff_t>(p % cols)};
   }
+  const std::ptrdiff_t d = static_cast<std::ptrdiff_t>(q) - static_cast<std::ptrdiff_t>(p);
+  std::ptrdiff_t di = 0;
+  if (d > 2) {
+    di = d > c + 2 ? 2 : 1;
+  } else if (d < -2) {
+    di = d < -c - 2 ? -2 : -1;
+  }
+  return {di, d - di * c};
 }
 
 }  // namespace
@@ -121,6 +116,8 @@ LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols, bool line
     level_rows = (level_rows + 1) / 2;
     level_cols = (level_cols + 1) / 2;
     CoarseLevel level;
+    level.along_rows = make_transfer(coarse_.empty() ? rows : coarse_.back().rows, level_rows);
+    level.along_cols = make_transfer(coarse_.empty() ? cols : coarse_.back().cols, level_cols);
     level.rows = level_rows;
     level.cols = level_cols;
     for (std::size_t s = 0; s < kStencil; ++s) {
@@ -138,6 +135,26 @@ LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols, bool line
   coarsest_vector_.assign(coarsest_.dofs(), 0.0);
 }
 
+LatticeMultigrid::Transfer LatticeMultigrid::make_transfer(std::size_t fine_count, std::size_t coarse_count) {
+  Transfer transfer;
+  transfer.parents.resize(fine_count);
+  transfer.children.resize(coarse_count);
+  for (std::size_t fine = 0; fine < fine_count; ++fine) {
+    const auto count = stencil::parent_count(static_cast<int>(fine), static_cast<int>(coarse_count));
+    const double weight = 0.5 * stencil::twice_parent_weight(static_cast<int>(fine), static_cast<int>(coarse_count));
+    Weights& parents = transfer.parents[fine];
+    for (int k = 0; k < count; ++k) {
+      const std::size_t coarse = fine / 2 + static_cast<std::size_t>(k);
+      parents.node[parents.count] = coarse;
+      parents.weight[parents.count++] = weight;
+      Weights& children = transfer.children[coarse];  // ascending: the fine nodes come in order
+      children.node[children.count] = fine;
+      children.weight[children.count++] = weight;
+    }
+  }
+  return transfer;
+}
+
 std::size_t LatticeMultigrid::bytes() const {
   std::size_t total = fine_residual_.capacity() * sizeof(Vec3) + fine_stencil_.bytes() + coarsest_.bytes();
   total += coarsest_vector_.capacity() * sizeof(double) + line_vector_.capacity() * sizeof(Vec3);
@@ -148,6 +165,9 @@ std::size_t LatticeMultigrid::bytes() const {
   for (const CoarseLevel& level : coarse_) {
     total += (level.block.capacity() + level.diagonal_inverse.capacity()) * sizeof(Mat3) + level.stencil.bytes();
     total += (level.rhs.capacity() + level.solution.capacity() + level.residual.capacity()) * sizeof(Vec3);
+    for (const Transfer* transfer : {&level.along_rows, &level.along_cols}) {
+      total += (transfer->parents.capacity() + transfer->children.capacity()) * sizeof(Weights);
+    }
   }
   return total;
 }
@@ -158,8 +178,10 @@ std::size_t LatticeMultigrid::bytes_for(std::size_t rows, std::size_t cols, bool
   std::size_t level_rows = rows;
   std::size_t level_cols = cols;
   do {
+    total += (level_rows + level_cols) * sizeof(Weights);  // the transfer's parents
     level_rows = (level_rows + 1) / 2;
     level_cols = (level_cols + 1) / 2;
+    total += (level_rows + level_cols) * sizeof(Weights);  // and children
     const std::size_t nodes = level_rows * level_cols;
     total += nodes * ((kStencil + 1) * sizeof(Mat3) + 3 * sizeof(Vec3)) +
              SymmetricStencilMatrix::bytes_for(nodes, kStencil - kDiagonalSlot);
@@ -175,23 +197,27 @@ std::size_t LatticeMultigrid::bytes_for(std::size_t rows, std::size_t cols, bool
   return fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], sum) : sum;
 }
 
+[[gnu::always_inline]] inline void LatticeMultigrid::update_node(std::size_t level, std::size_t node,
+                                                                 std::span<const Vec3> rhs, std::span<Vec3> x) const {
+  if (level == 0) {
+    if (!fine_.free[node]) return;
+    const Vec3 change = fine_.diagonal_inverse[node] * (rhs[node] - row_product(0, node, x));
+    x[node] += fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], change) : change;
+  } else {
+    x[node] += coarse_[level - 1].diagonal_inverse[node] * (rhs[node] - row_product(level, node, x));
+  }
+}
+
 // Compiled for each instruction set (core/multiversion.h): the sweeps are most of the V-cycle.
+// What it calls is always_inline, so that each version holds the whole sweep (a lambda here was
+// compiled once, for the baseline, and called from every version).
 CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_nodes(std::size_t level, std::size_t first, std::size_t end,
                                                           bool ascending, std::span<const Vec3> rhs,
                                                           std::span<Vec3> x) const {
-  const auto update = [&](std::size_t node) {
-    if (level == 0) {
-      if (!fine_.free[node]) return;
-      const Vec3 change = fine_.diagonal_inverse[node] * (rhs[node] - row_product(0, node, x));
-      x[node] += fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], change) : change;
-    } else {
-      x[node] += coarse_[level - 1].diagonal_inverse[node] * (rhs[node] - row_product(level, node, x));
-    }
-  };
   if (ascending) {
-    for (std::size_t node = first; node < end; ++node) update(node);
+    for (std::size_t node = first; node < end; ++node) update_node(level, node, rhs, x);
   } else {
-    for (std::size_t node = end; node-- > first;) update(node);
+    for (std::size_t node = end; node-- > first;) update_node(level, node, rhs, x);
   }
 }
 
@@ -247,6 +273,8 @@ void LatticeMultigrid::factor_lines(int direction, int threads) {
     Mat3* two_below = &factor.two_below[line * length];
     Mat3* diagonal_inverse = &factor.diagonal_inverse[line * length];
     for (std::size_t t = 0; t < length; ++t) {
+      // Down a column, the row of the stencil kColumnAhead nodes on (as solve_line).
+      if (direction == 1 && t + kColumnAhead < length) fine_stencil_.prefetch((t + kColumnAhead) * cols_ + line, 1);
       const std::array<Mat3, 3> a = line_blocks(direction == 0 ? line * cols_ + t : t * cols_ + line, direction);
       const Mat3 w = t >= 2 ? a[1] - times_transpose(a[2], below[t - 1]) : a[1];
       // D's inverses are symmetric, so a D^-1 = a (D^-1)^T.
@@ -263,50 +291,66 @@ void LatticeMultigrid::factor_lines(int direction, int threads) {
   });
 }
 
-// Compiled for each instruction set (core/multiversion.h), as smooth_nodes.
-CLOTHSIM_MULTIVERSION void LatticeMultigrid::smooth_lines(int direction, bool ascending, std::span<const Vec3> rhs,
-                                                          std::span<Vec3> x, int threads) {
-  const std::size_t count = direction == 0 ? rows_ : cols_;
+// x = A_line^-1 (rhs - A_off x) on one line, A_off the blocks to the other lines: L, D and L^T
+// solved in turn.
+[[gnu::always_inline]] inline void LatticeMultigrid::solve_line(int direction, std::size_t line,
+                                                                std::span<const Vec3> rhs, std::span<Vec3> x) {
   const std::size_t length = direction == 0 ? cols_ : rows_;
   const LineFactor& factor = line_factor_[static_cast<std::size_t>(direction)];
-  const auto node_at = [&](std::size_t line, std::size_t t) {
-    return direction == 0 ? line * cols_ + t : t * cols_ + line;
-  };
-  // x = A_line^-1 (rhs - A_off x) on one line, A_off the blocks to the other lines: L, D and L^T
-  // solved in turn.
-  const auto solve_line = [&](std::size_t line) {
-    const Mat3* below = &factor.below[line * length];
-    const Mat3* two_below = &factor.two_below[line * length];
-    const Mat3* diagonal_inverse = &factor.diagonal_inverse[line * length];
-    Vec3* v = &line_vector_[line * length];
-    for (std::size_t t = 0; t < length; ++t) {
-      const std::size_t node = node_at(line, t);
-      Vec3 y;
-      if (fine_.free[node]) {
-        const Vec3 off_line = fine_stencil_.row_product_off_line(node, x, direction);
-        y = rhs[node] - (fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], off_line) : off_line);
-      }
-      if (t >= 1) y -= below[t] * v[t - 1];
-      if (t >= 2) y -= two_below[t] * v[t - 2];
-      v[t] = y;
+  const std::size_t first_node = direction == 0 ? line * cols_ : line;  // the line's node t at first + t step
+  const std::size_t step = direction == 0 ? 1 : cols_;
+  const Mat3* below = &factor.below[line * length];
+  const Mat3* two_below = &factor.two_below[line * length];
+  const Mat3* diagonal_inverse = &factor.diagonal_inverse[line * length];
+  Vec3* v = &line_vector_[line * length];
+  for (std::size_t t = 0; t < length; ++t) {
+    const std::size_t node = first_node + t * step;
+    if (direction == 1 && t + kColumnAhead < length) {
+      // Down a column the nodes are a lattice row apart: the rows this node's off-line product
+      // reads, (i, j - 2 .. j) and (i - 1, j +- 1), kColumnAhead nodes on.
+      const std::size_t ahead = node + kColumnAhead * step;
+      fine_stencil_.prefetch(ahead - std::min<std::size_t>(line, 2), 4);
+      __builtin_prefetch(&x[ahead - std::min<std::size_t>(line, 2)]);
+      __builtin_prefetch(&x[ahead + 2 < rows_ * cols_ ? ahead + 2 : ahead]);
+      __builtin_prefetch(&rhs[ahead]);
     }
-    for (std::size_t t = length; t-- > 0;) {
-      Vec3 z = diagonal_inverse[t] * v[t];
-      if (t + 1 < length) z -= transpose_times(below[t + 1], v[t + 1]);
-      if (t + 2 < length) z -= transpose_times(two_below[t + 2], v[t + 2]);
-      v[t] = z;
+    Vec3 y;
+    if (fine_.free[node]) {
+      const Vec3 off_line = fine_stencil_.row_product_off_line(node, x, direction);
+      y = rhs[node] - (fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], off_line) : off_line);
     }
-    for (std::size_t t = 0; t < length; ++t) {
-      const std::size_t node = node_at(line, t);
-      if (fine_.free[node]) x[node] = fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], v[t]) : v[t];
-    }
-  };
+    if (t >= 1) y -= below[t] * v[t - 1];
+    if (t >= 2) y -= two_below[t] * v[t - 2];
+    v[t] = y;
+  }
+  for (std::size_t t = length; t-- > 0;) {
+    Vec3 z = diagonal_inverse[t] * v[t];
+    if (t + 1 < length) z -= transpose_times(below[t + 1], v[t + 1]);
+    if (t + 2 < length) z -= transpose_times(two_below[t + 2], v[t + 2]);
+    v[t] = z;
+  }
+  for (std::size_t t = 0; t < length; ++t) {
+    const std::size_t node = first_node + t * step;
+    if (fine_.free[node]) x[node] = fine_.holding ? held_vector(fine_.hold[node], fine_.normal[node], v[t]) : v[t];
+  }
+}
+
+// Compiled for each instruction set (core/multiversion.h), as smooth_nodes.
+CLOTHSIM_MULTIVERSION void LatticeMultigrid::solve_lines(int direction, std::size_t first, std::size_t end,
+                                                         bool ascending, std::span<const Vec3> rhs,
+                                                         std::span<Vec3> x) {
+  if (ascending) {
+    for (std::size_t line = first; line < end; ++line) solve_line(direction, line, rhs, x);
+  } else {
+    for (std::size_t line = end; line-- > first;) solve_line(direction, line, rhs, x);
+  }
+}
+
+void LatticeMultigrid::smooth_lines(int direction, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x,
+                                    int threads) {
+  const std::size_t count = direction == 0 ? rows_ : cols_;
   for_each_band(count, ascending, level_threads(rows_ * cols_, threads), [&](std::size_t first, std::size_t end) {
-    if (ascending) {
-      for (std::size_t line = first; line < end; ++line) solve_line(line);
-    } else {
-      for (std::size_t line = end; line-- > first;) solve_line(line);
-    }
+    solve_lines(direction, first, end, ascending, rhs, x);
   });
 }
 
@@ -330,14 +374,15 @@ void LatticeMultigrid::restrict_residual(std::size_t level, std::span<const Vec3
                [&](std::size_t row) { residual_nodes(level, row * cols, (row + 1) * cols, rhs, x, residual); });
   CoarseLevel& next = coarse_[level];
   parallel_for(next.rows * next.cols, level_threads(rows * cols, threads), [&](std::size_t node) {
-    const std::size_t row = node / next.cols;
-    const std::size_t col = node % next.cols;
+    const Weights& row_children = next.along_rows.children[node / next.cols];
+    const Weights& col_children = next.along_cols.children[node % next.cols];
     Vec3 sum;
-    for_each_child_1d(row, rows, next.rows, [&](std::size_t i, double row_weight) {
-      for_each_child_1d(col, cols, next.cols, [&](std::size_t j, double col_weight) {
-        sum += (row_weight * col_weight) * residual[i * cols + j];
-      });
-    });
+    for (std::size_t a = 0; a < row_children.count; ++a) {
+      for (std::size_t b = 0; b < col_children.count; ++b) {
+        sum += (row_children.weight[a] * col_children.weight[b]) *
+               residual[row_children.node[a] * cols + col_children.node[b]];
+      }
+    }
     next.rhs[node] = sum;
   });
 }
@@ -348,8 +393,8 @@ void LatticeMultigrid::prolong(std::size_t level, std::span<Vec3> x, int threads
   const CoarseLevel& next = coarse_[level];
   parallel_for(rows * cols, level_threads(rows * cols, threads), [&](std::size_t node) {
     if (level == 0 && !fine_.free[node]) return;
-    const Parents row_parents = parents_1d(node / cols, next.rows);
-    const Parents col_parents = parents_1d(node % cols, next.cols);
+    const Weights& row_parents = next.along_rows.parents[node / cols];
+    const Weights& col_parents = next.along_cols.parents[node % cols];
     Vec3 sum;
     for (std::size_t a = 0; a < row_parents.count; ++a) {
       for (std::size_t b = 0; b < col_parents.count; ++b) {
@@ -362,66 +407,83 @@ void LatticeMultigrid::prolong(std::size_t level, std::span<Vec3> x, int threads
 }
 
 void LatticeMultigrid::galerkin(std::size_t level, int threads) {
+  const std::size_t nodes = level == 0 ? rows_ * cols_ : coarse_[level - 1].rows * coarse_[level - 1].cols;
+  const CoarseLevel& next = coarse_[level];
+  parallel_for(next.rows * next.cols, level_threads(nodes, threads),
+               [&](std::size_t node) { galerkin_row(level, node); });
+}
+
+[[gnu::always_inline]] inline void LatticeMultigrid::add_to_parents(const CoarseLevel& next, std::size_t row,
+                                                                    std::size_t col, std::size_t i, std::size_t j,
+                                                                    double weight, const Mat3& block,
+                                                                    Mat3* sum) const {
+  const Weights& row_parents = next.along_rows.parents[i];
+  const Weights& col_parents = next.along_cols.parents[j];
+  for (std::size_t a = 0; a < row_parents.count; ++a) {
+    for (std::size_t b = 0; b < col_parents.count; ++b) {
+      const auto di = static_cast<int>(static_cast<std::ptrdiff_t>(row_parents.node[a] - row));
+      const auto dj = static_cast<int>(static_cast<std::ptrdiff_t>(col_parents.node[b] - col));
+      sum[stencil_slot(di, dj)] += (weight * row_parents.weight[a] * col_parents.weight[b]) * block;
+    }
+  }
+}
+
+// Row I of P^T A P: the sum over I's children p and the blocks (p, q) of w(p, I) w(q, J) A_pq, J
+// over q's parents, in a fixed order. Compiled for each instruction set (core/multiversion.h):
+// the products are most of the preconditioner's setup.
+CLOTHSIM_MULTIVERSION void LatticeMultigrid::galerkin_row(std::size_t level, std::size_t node) {
   const std::size_t rows = level == 0 ? rows_ : coarse_[level - 1].rows;
   const std::size_t cols = level == 0 ? cols_ : coarse_[level - 1].cols;
   CoarseLevel& next = coarse_[level];
-  // Calls body(q, block) for the blocks of level l's row p in the solved directions.
-  const auto for_each_block = [&](std::size_t p, auto&& body) {
-    if (level == 0) {
-      if (!fine_.free[p] || (fine_.holding && fine_.hold[p] == Hold::all)) return;
+  const std::size_t row = node / next.cols;
+  const std::size_t col = node % next.cols;
+  std::array<Mat3, kStencil> sum{};
+  const Weights& row_children = next.along_rows.children[row];
+  const Weights& col_children = next.along_cols.children[col];
+  for (std::size_t a = 0; a < row_children.count; ++a) {
+    for (std::size_t b = 0; b < col_children.count; ++b) {
+      const std::size_t i = row_children.node[a];
+      const std::size_t j = col_children.node[b];
+      const double weight = row_children.weight[a] * col_children.weight[b];
+      const std::size_t p = i * cols + j;
+      if (level > 0) {
+        const Mat3* block = &coarse_[level - 1].block[p * kStencil];
+        for (std::size_t s = 0; s < kStencil; ++s) {
+          const std::ptrdiff_t qi = static_cast<std::ptrdiff_t>(i) + kOffsets[s][0];
+          const std::ptrdiff_t qj = static_cast<std::ptrdiff_t>(j) + kOffsets[s][1];
+          if (qi < 0 || qj < 0 || qi >= static_cast<std::ptrdiff_t>(rows) || qj >= static_cast<std::ptrdiff_t>(cols))
+            continue;
+          add_to_parents(next, row, col, static_cast<std::size_t>(qi), static_cast<std::size_t>(qj), weight, block[s],
+                         sum.data());
+        }
+        continue;
+      }
+      // The fine level: its free rows and columns, in the solved directions.
+      if (!fine_.free[p] || (fine_.holding && fine_.hold[p] == Hold::all)) continue;
       for (std::uint32_t k = fine_.row_offset[p]; k < fine_.row_offset[p + 1]; ++k) {
         const std::uint32_t q = fine_.column[k];
         if (!fine_.free[q]) continue;
         const bool filtered = fine_.holding && (fine_.hold[p] != Hold::none || fine_.hold[q] != Hold::none);
-        body(q, filtered ? held_block(fine_.block[k], fine_.hold[p], fine_.normal[p], fine_.hold[q], fine_.normal[q])
-                         : fine_.block[k]);
+        const auto [di, dj] = lattice_offset(p, q, cols);
+        add_to_parents(next, row, col, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(i) + di),
+                       static_cast<std::size_t>(static_cast<std::ptrdiff_t>(j) + dj), weight,
+                       filtered ? held_block(fine_.block[k], fine_.hold[p], fine_.normal[p], fine_.hold[q],
+                                             fine_.normal[q])
+                                : fine_.block[k],
+                       sum.data());
       }
-      return;
     }
-    const CoarseLevel& coarse = coarse_[level - 1];
-    const auto row = static_cast<std::ptrdiff_t>(p / cols);
-    const auto col = static_cast<std::ptrdiff_t>(p % cols);
-    for (std::size_t s = 0; s < kStencil; ++s) {
-      const std::ptrdiff_t i = row + kOffsets[s][0];
-      const std::ptrdiff_t j = col + kOffsets[s][1];
-      if (i < 0 || j < 0 || i >= static_cast<std::ptrdiff_t>(rows) || j >= static_cast<std::ptrdiff_t>(cols)) continue;
-      body(static_cast<std::size_t>(i) * cols + static_cast<std::size_t>(j), coarse.block[p * kStencil + s]);
-    }
-  };
-  // Row I of P^T A P: sum over I's children p and the blocks (p, q) of w(p, I) w(q, J) A_pq, J
-  // over q's parents; each row by one thread, in a fixed order.
-  parallel_for(next.rows * next.cols, level_threads(rows * cols, threads), [&](std::size_t node) {
-    const auto node_row = static_cast<std::ptrdiff_t>(node / next.cols);
-    const auto node_col = static_cast<std::ptrdiff_t>(node % next.cols);
-    Mat3* row_blocks = &next.block[node * kStencil];
-    std::fill(row_blocks, row_blocks + kStencil, Mat3{});
-    for_each_child_1d(node / next.cols, rows, next.rows, [&](std::size_t i, double row_weight) {
-      for_each_child_1d(node % next.cols, cols, next.cols, [&](std::size_t j, double col_weight) {
-        const double child_weight = row_weight * col_weight;
-        for_each_block(i * cols + j, [&](std::size_t q, const Mat3& block) {
-          const Parents row_parents = parents_1d(q / cols, next.rows);
-          const Parents col_parents = parents_1d(q % cols, next.cols);
-          for (std::size_t a = 0; a < row_parents.count; ++a) {
-            for (std::size_t b = 0; b < col_parents.count; ++b) {
-              const int di = static_cast<int>(static_cast<std::ptrdiff_t>(row_parents.node[a]) - node_row);
-              const int dj = static_cast<int>(static_cast<std::ptrdiff_t>(col_parents.node[b]) - node_col);
-              row_blocks[stencil_slot(di, dj)] +=
-                  (child_weight * row_parents.weight[a] * col_parents.weight[b]) * block;
-            }
-          }
-        });
-      });
-    });
-    // The smoother's block: the diagonal's inverse, zero for a node no free particle reaches.
-    // The tiny shift keeps it finite where the held directions of all its children coincide
-    // (the diagonal is then singular in a direction in which its right-hand side is zero).
-    for (std::size_t slot = kDiagonalSlot; slot < kStencil; ++slot) {
-      next.stencil.set(node, slot - kDiagonalSlot, row_blocks[slot]);
-    }
-    const Mat3& diagonal = row_blocks[kDiagonalSlot];
-    const double trace = diagonal(0, 0) + diagonal(1, 1) + diagonal(2, 2);
-    next.diagonal_inverse[node] = trace > 0.0 ? inverse(diagonal + Mat3::diagonal(1e-12 * trace)) : Mat3{};
-  });
+  }
+  std::copy(sum.begin(), sum.end(), &next.block[node * kStencil]);
+  // The smoother's block: the diagonal's inverse, zero for a node no free particle reaches.
+  // The tiny shift keeps it finite where the held directions of all its children coincide
+  // (the diagonal is then singular in a direction in which its right-hand side is zero).
+  for (std::size_t slot = kDiagonalSlot; slot < kStencil; ++slot) {
+    next.stencil.set(node, slot - kDiagonalSlot, sum[slot]);
+  }
+  const Mat3& diagonal = sum[kDiagonalSlot];
+  const double trace = diagonal(0, 0) + diagonal(1, 1) + diagonal(2, 2);
+  next.diagonal_inverse[node] = trace > 0.0 ? inverse(diagonal + Mat3::diagonal(1e-12 * trace)) : Mat3{};
 }
 
 void LatticeMultigrid::setup(const MultigridFineSystem& fine, int threads) {

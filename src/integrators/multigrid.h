@@ -117,9 +117,26 @@ class LatticeMultigrid {
   static std::size_t bytes_for(std::size_t rows, std::size_t cols, bool lines);
 
  private:
+  // Bilinear interpolation along one lattice direction, from a coarse level of `coarse_count`
+  // nodes to the level below (multigrid_stencil.inc): a fine node's parents (1 or 2, ascending)
+  // and a coarse node's children (the fine nodes 2I - 1 .. 2I + 1 that take part of its value,
+  // ascending), each with its weight.
+  struct Weights {
+    std::size_t count = 0;
+    std::array<std::size_t, 3> node{};
+    std::array<double, 3> weight{};
+  };
+  struct Transfer {
+    std::vector<Weights> parents;   // [fine nodes along the direction]
+    std::vector<Weights> children;  // [coarse nodes along the direction]
+  };
+  static Transfer make_transfer(std::size_t fine_count, std::size_t coarse_count);
+
   struct CoarseLevel {
     std::size_t rows = 0;  // nodes
     std::size_t cols = 0;
+    Transfer along_rows;  // from the level below, along its rows (row indices) and its columns
+    Transfer along_cols;
     std::array<std::ptrdiff_t, kStencil> node_offset{};  // index of the node at each slot's offset, less I
     std::vector<Mat3> block;             // [nodes kStencil], row I's block to node I + offset(s) at I kStencil + s
     SymmetricStencilMatrix stencil;      // the same matrix, as the smoother and the residuals read it
@@ -136,6 +153,8 @@ class LatticeMultigrid {
   // Gauss-Seidel on level l's nodes [first, end), ascending or descending: one band of smooth().
   void smooth_nodes(std::size_t level, std::size_t first, std::size_t end, bool ascending, std::span<const Vec3> rhs,
                     std::span<Vec3> x) const;
+  // Gauss-Seidel's update of one node of level l.
+  void update_node(std::size_t level, std::size_t node, std::span<const Vec3> rhs, std::span<Vec3> x) const;
   // residual = rhs - A x on level l's nodes [first, end) (zero where not solved for).
   void residual_nodes(std::size_t level, std::size_t first, std::size_t end, std::span<const Vec3> rhs,
                       std::span<const Vec3> x, std::span<Vec3> residual) const;
@@ -145,6 +164,12 @@ class LatticeMultigrid {
   void prolong(std::size_t level, std::span<Vec3> x, int threads);
   // Level l + 1's matrix from level l's: P^T A_l P.
   void galerkin(std::size_t level, int threads);
+  // Row `node` of level l + 1's matrix: one row of galerkin().
+  void galerkin_row(std::size_t level, std::size_t node);
+  // Adds weight w(q, J) times `block` to `row` (level l + 1's row (row, col), 21 slots) for each
+  // parent J of level l's node (i, j).
+  void add_to_parents(const CoarseLevel& next, std::size_t row, std::size_t col, std::size_t i, std::size_t j,
+                      double weight, const Mat3& block, Mat3* sum) const;
   // The fine level's lines along `direction` (0: each row, 1: each column), factored.
   void factor_lines(int direction, int threads);
   // The fine level's sweeps on one side of the coarse correction: kFineLineSweeps of the lines
@@ -152,6 +177,11 @@ class LatticeMultigrid {
   void smooth_fine(bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
   // One line Gauss-Seidel sweep along `direction` over the fine level, ascending or descending.
   void smooth_lines(int direction, bool ascending, std::span<const Vec3> rhs, std::span<Vec3> x, int threads);
+  // The lines [first, end) along `direction`, ascending or descending: one band of smooth_lines().
+  void solve_lines(int direction, std::size_t first, std::size_t end, bool ascending, std::span<const Vec3> rhs,
+                   std::span<Vec3> x);
+  // One line's exact solve with the other lines held.
+  void solve_line(int direction, std::size_t line, std::span<const Vec3> rhs, std::span<Vec3> x);
   // Fine row `node`'s blocks in the solved directions to itself and to the nodes 1 and 2 before it
   // on its line along `direction`, as fine_stencil_ holds them; a held normal direction gets the
   // diagonal's mean on the diagonal (its right-hand side is zero, and so its solution).

@@ -155,10 +155,15 @@ void expect_symmetric_positive_definite(LatticeSystem& system, bool lines) {
 }
 
 TEST(LatticeMultigrid, VCycleIsSymmetricPositiveDefinite) {
-  // Sides giving 1 to 3 coarse levels, even and odd.
-  for (const auto& [rows, cols] : {std::pair<std::size_t, std::size_t>{5, 6}, {17, 16}, {40, 33}}) {
+  // Sides giving 1 to 3 coarse levels, even and odd; lattices 4 or fewer wide, where a column
+  // index cannot be told from the distance between two nodes alone.
+  for (const auto& [rows, cols] :
+       {std::pair<std::size_t, std::size_t>{5, 6}, {17, 16}, {40, 33}, {2, 2}, {3, 30}, {6, 4}}) {
     LatticeSystem system = make_system(rows, cols, 7);
-    for (bool lines : {true, false}) expect_symmetric_positive_definite(system, lines);
+    for (bool lines : {true, false}) {
+      SCOPED_TRACE(testing::Message() << rows << " x " << cols);
+      expect_symmetric_positive_definite(system, lines);
+    }
   }
 }
 
