@@ -92,7 +92,7 @@ class BoxGrid {
         const Entry& a = entries_[k];
         for (std::uint32_t m = k + 1; m < end; ++m) {
           const Entry& b = entries_[m];
-          if (a.cell != b.cell) continue;
+          if (a.cell[0] != b.cell[0] || a.cell[1] != b.cell[1] || a.cell[2] != b.cell[2]) continue;  // not memcmp
           const Cell& low_a = low_cell_[a.box];
           const Cell& low_b = low_cell_[b.box];
           if (std::max(low_a[0], low_b[0]) != a.cell[0] || std::max(low_a[1], low_b[1]) != a.cell[1] ||
