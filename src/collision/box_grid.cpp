@@ -56,7 +56,7 @@ void BoxGrid::build(std::span<const Box> boxes) {
       extent_low_[axis] = std::min(extent_low_[axis], low_cell_[i][axis]);
       extent_high_[axis] = std::max(extent_high_[axis], high[axis]);
     }
-    for_each_cell(boxes[i], [&entries](const Cell&) { ++entries; });
+    for_each_cell(low_cell_[i], high, [&entries](const Cell&) { ++entries; });
   }
   const std::size_t buckets = std::bit_ceil(std::max<std::size_t>(2 * entries, 16));
   bucket_mask_ = buckets - 1;
@@ -65,7 +65,8 @@ void BoxGrid::build(std::span<const Box> boxes) {
     return oversize_.empty() || !std::binary_search(oversize_.begin(), oversize_.end(), static_cast<std::uint32_t>(i));
   };
   for (std::size_t i = 0; i < boxes.size(); ++i) {
-    if (entered(i)) for_each_cell(boxes[i], [this](const Cell& c) { ++bucket_start_[bucket_of(c) + 1]; });
+    if (!entered(i)) continue;
+    for_each_cell(low_cell_[i], cell_of(boxes[i].high), [this](const Cell& c) { ++bucket_start_[bucket_of(c) + 1]; });
   }
   for (std::size_t b = 0; b < buckets; ++b) bucket_start_[b + 1] += bucket_start_[b];
   // Counting sort by bucket, stable in box index.
@@ -73,7 +74,7 @@ void BoxGrid::build(std::span<const Box> boxes) {
   entries_.resize(entries);
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     if (!entered(i)) continue;
-    for_each_cell(boxes[i], [&](const Cell& c) {
+    for_each_cell(low_cell_[i], cell_of(boxes[i].high), [&](const Cell& c) {
       entries_[fill_[bucket_of(c)]++] = {c, static_cast<std::uint32_t>(i)};
     });
   }

@@ -53,9 +53,9 @@ class BoxGrid {
     if (boxes_.empty()) return;
     const Cell low = cell_of(query.low);
     // A large query visits at most the cells of the stored boxes' range.
-    const Cell high = {std::min(cell_of(query.high)[0], extent_high_[0]),
-                       std::min(cell_of(query.high)[1], extent_high_[1]),
-                       std::min(cell_of(query.high)[2], extent_high_[2])};
+    const Cell query_high = cell_of(query.high);
+    const Cell high = {std::min(query_high[0], extent_high_[0]), std::min(query_high[1], extent_high_[1]),
+                       std::min(query_high[2], extent_high_[2])};
     for (std::int64_t x = std::max(low[0], extent_low_[0]); x <= high[0]; ++x) {
       for (std::int64_t y = std::max(low[1], extent_low_[1]); y <= high[1]; ++y) {
         for (std::int64_t z = std::max(low[2], extent_low_[2]); z <= high[2]; ++z) {
@@ -127,11 +127,9 @@ class BoxGrid {
   };
   Cell cell_of(const Vec3& x) const;
   std::size_t bucket_of(const Cell& cell) const;
-  // Calls f(cell) for every cell `box` overlaps.
+  // Calls f(cell) for every cell from `low` to `high` (a box's lowest and highest corners' cells).
   template <typename F>
-  void for_each_cell(const Box& box, F&& f) const {
-    const Cell low = cell_of(box.low);
-    const Cell high = cell_of(box.high);
+  static void for_each_cell(const Cell& low, const Cell& high, F&& f) {
     for (std::int64_t x = low[0]; x <= high[0]; ++x) {
       for (std::int64_t y = low[1]; y <= high[1]; ++y) {
         for (std::int64_t z = low[2]; z <= high[2]; ++z) f(Cell{x, y, z});

@@ -162,21 +162,6 @@ void join(std::vector<std::uint32_t>& parent, std::uint32_t a, std::uint32_t b) 
   }
 }
 
-Box box_of(std::span<const Vec3> start, std::span<const Vec3> end, std::span<const std::uint32_t> particles,
-           double margin) {
-  Box box{start[particles[0]], start[particles[0]]};
-  const auto include = [&box](const Vec3& x) {
-    box.low = {std::min(box.low.x, x.x), std::min(box.low.y, x.y), std::min(box.low.z, x.z)};
-    box.high = {std::max(box.high.x, x.x), std::max(box.high.y, x.y), std::max(box.high.z, x.z)};
-  };
-  for (std::uint32_t p : particles) {
-    include(start[p]);
-    include(end[p]);
-  }
-  const Vec3 grow{margin, margin, margin};
-  return {box.low - grow, box.high + grow};
-}
-
 bool shares_particle(const std::array<std::uint32_t, 2>& e, const std::array<std::uint32_t, 2>& f) {
   return e[0] == f[0] || e[0] == f[1] || e[1] == f[0] || e[1] == f[1];
 }
@@ -200,22 +185,44 @@ PairGeometry measure_pair(SelfPair::Kind kind, const std::array<Vec3, 4>& x) {
   return geometry;
 }
 
+void SelfContacts::motion_boxes(std::span<const Vec3> start, std::span<const Vec3> end, double margin,
+                                int threads) {
+  const auto& triangles = elements_.triangle;
+  const auto& edges = elements_.edge;
+  point_box_.resize(end.size());
+  triangle_box_.resize(triangles.size());
+  edge_box_.resize(edges.size());
+  // Each particle's box once; an element's is the union of its particles' (a particle belongs to
+  // up to 6 triangles and 6 edges), then grown. The particles' boxes are grown last.
+  parallel_for(end.size(), threads, [&](std::size_t p) {
+    point_box_[p] = {{std::min(start[p].x, end[p].x), std::min(start[p].y, end[p].y), std::min(start[p].z, end[p].z)},
+                     {std::max(start[p].x, end[p].x), std::max(start[p].y, end[p].y), std::max(start[p].z, end[p].z)}};
+  });
+  const Vec3 grow{margin, margin, margin};
+  const auto element_box = [&](std::span<const std::uint32_t> particles) {
+    Box box = point_box_[particles[0]];
+    for (std::uint32_t p : particles.subspan(1)) {
+      const Box& other = point_box_[p];
+      box.low = {std::min(box.low.x, other.low.x), std::min(box.low.y, other.low.y), std::min(box.low.z, other.low.z)};
+      box.high = {std::max(box.high.x, other.high.x), std::max(box.high.y, other.high.y),
+                  std::max(box.high.z, other.high.z)};
+    }
+    return Box{box.low - grow, box.high + grow};
+  };
+  parallel_for(triangles.size(), threads, [&](std::size_t t) { triangle_box_[t] = element_box(triangles[t]); });
+  parallel_for(edges.size(), threads, [&](std::size_t e) { edge_box_[e] = element_box(edges[e]); });
+  parallel_for(end.size(), threads, [&](std::size_t p) {
+    point_box_[p] = {point_box_[p].low - grow, point_box_[p].high + grow};
+  });
+}
+
 void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
                                    double margin, int threads) {
   refresh_sheet_elements(model, elements_);
   const std::size_t particles = model.particle_count();
   const auto& triangles = elements_.triangle;
   const auto& edges = elements_.edge;
-  point_box_.resize(particles);
-  triangle_box_.resize(triangles.size());
-  edge_box_.resize(edges.size());
-  parallel_for(particles, threads, [&](std::size_t p) {
-    const std::uint32_t index = static_cast<std::uint32_t>(p);
-    point_box_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), margin);
-  });
-  parallel_for(triangles.size(), threads,
-               [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], margin); });
-  parallel_for(edges.size(), threads, [&](std::size_t e) { edge_box_[e] = box_of(start, end, edges[e], margin); });
+  motion_boxes(start, end, margin, threads);
   triangle_grid_.build(triangle_box_);
   edge_grid_.build(edge_box_);
 
@@ -320,19 +327,7 @@ void SelfContacts::prune_candidates(std::span<const Vec3> x, double reach, int t
 void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
                                  int threads) {
   // Each element's box over the motion, once, then one overlap test per candidate.
-  const double grow = 0.5 * thickness;
-  const auto& triangles = elements_.triangle;
-  const auto& edges = elements_.edge;
-  point_box_.resize(end.size());
-  triangle_box_.resize(triangles.size());
-  edge_box_.resize(edges.size());
-  parallel_for(end.size(), threads, [&](std::size_t p) {
-    const std::uint32_t index = static_cast<std::uint32_t>(p);
-    point_box_[p] = box_of(start, end, std::span<const std::uint32_t>(&index, 1), grow);
-  });
-  parallel_for(triangles.size(), threads,
-               [&](std::size_t t) { triangle_box_[t] = box_of(start, end, triangles[t], grow); });
-  parallel_for(edges.size(), threads, [&](std::size_t e) { edge_box_[e] = box_of(start, end, edges[e], grow); });
+  motion_boxes(start, end, 0.5 * thickness, threads);
   active_flag_.resize(candidates_.size());
   parallel_for(candidates_.size(), threads, [&](std::size_t i) {
     const SelfPair& pair = candidates_[i];

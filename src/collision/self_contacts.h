@@ -100,6 +100,9 @@ class SelfContacts {
   static constexpr double kGridEntriesPerBox = 4.0;
 
  private:
+  // The boxes of the motion start -> end of every particle, triangle and edge, grown by `margin`:
+  // point_box_, triangle_box_, edge_box_.
+  void motion_boxes(std::span<const Vec3> start, std::span<const Vec3> end, double margin, int threads);
   void prune_candidates(std::span<const Vec3> x, double reach, int threads);
   void select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
   void detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
