@@ -4,13 +4,14 @@
 # over both; quote the medians and their ratio (docs/performance.md).
 #
 #   bench/ab.sh ROUNDS BINARY_A BINARY_B -- run SCENE [flags...]
-#   ROWS="linear solve,preconditioner setup" bench/ab.sh 7 old/clothsim new/clothsim -- run cotton-drape --duration 1 --render none
+#   ROWS="linear solve,preconditioner setup" bench/ab.sh 7 old/clothsim new/clothsim -- \
+#       run cotton-drape --duration 1 --render none
 #
 # ROWS: profile rows to show besides the total, comma-separated, by their names in the profile
 # (default: "collisions,integration"). Each run writes to a scratch folder, removed at the end.
 set -euo pipefail
 if [[ $# -lt 5 || $4 != "--" ]]; then
-  sed -n '2,10p' "$0" >&2
+  sed -n '2,11p' "$0" >&2
   exit 2
 fi
 rounds=$1
