@@ -75,7 +75,10 @@ void BoxGrid::build(std::span<const Box> boxes) {
   for (std::size_t i = 0; i < boxes.size(); ++i) {
     if (!entered(i)) continue;
     for_each_cell(low_cell_[i], cell_of(boxes[i].high), [&](const Cell& c) {
-      entries_[fill_[bucket_of(c)]++] = {c, static_cast<std::uint32_t>(i)};
+      const Cell& low = low_cell_[i];
+      const auto lowest = static_cast<std::uint8_t>((c[0] == low[0] ? 1 : 0) | (c[1] == low[1] ? 2 : 0) |
+                                                    (c[2] == low[2] ? 4 : 0));
+      entries_[fill_[bucket_of(c)]++] = {c, static_cast<std::uint32_t>(i), lowest};
     });
   }
 }

@@ -63,14 +63,12 @@ class BoxGrid {
           for (std::uint32_t k = bucket_start_[bucket]; k < bucket_start_[bucket + 1]; ++k) {
             const Entry& entry = entries_[k];
             if (entry.cell[0] != x || entry.cell[1] != y || entry.cell[2] != z) continue;
-            const Box& stored = boxes_[entry.box];
-            if (!overlap(stored, query)) continue;
             // Reported in the cell holding the intersection's lowest corner only; the cell of the
-            // larger of two coordinates is the larger of their cells.
-            const Cell& other = low_cell_[entry.box];
-            if (std::max(low[0], other[0]) == x && std::max(low[1], other[1]) == y && std::max(low[2], other[2]) == z) {
-              visit(entry.box);
-            }
+            // larger of two coordinates is the larger of their cells, and both boxes' lowest cells
+            // are at most this one, so along each axis one of them must be this cell's.
+            const unsigned lowest = entry.lowest | (low[0] == x ? 1u : 0u) | (low[1] == y ? 2u : 0u) |
+                                    (low[2] == z ? 4u : 0u);
+            if (lowest == kEveryAxis && overlap(boxes_[entry.box], query)) visit(entry.box);
           }
         }
       }
@@ -92,13 +90,9 @@ class BoxGrid {
         const Entry& a = entries_[k];
         for (std::uint32_t m = k + 1; m < end; ++m) {
           const Entry& b = entries_[m];
-          if (a.cell[0] != b.cell[0] || a.cell[1] != b.cell[1] || a.cell[2] != b.cell[2]) continue;  // not memcmp
-          const Cell& low_a = low_cell_[a.box];
-          const Cell& low_b = low_cell_[b.box];
-          if (std::max(low_a[0], low_b[0]) != a.cell[0] || std::max(low_a[1], low_b[1]) != a.cell[1] ||
-              std::max(low_a[2], low_b[2]) != a.cell[2] || !overlap(boxes_[a.box], boxes_[b.box])) {
-            continue;
-          }
+          if (a.cell[0] != b.cell[0] || a.cell[1] != b.cell[1] || a.cell[2] != b.cell[2]) continue;
+          // The intersection's lowest corner in this cell (as in for_each_overlap).
+          if ((a.lowest | b.lowest) != kEveryAxis || !overlap(boxes_[a.box], boxes_[b.box])) continue;
           visit(a.box, b.box);  // a.box < b.box: a bucket's entries are in box order
         }
       }
@@ -124,7 +118,9 @@ class BoxGrid {
   struct Entry {
     Cell cell;
     std::uint32_t box;
+    std::uint8_t lowest;  // bit a set where `cell` is the box's lowest cell along axis a
   };
+  static constexpr unsigned kEveryAxis = 7;
   Cell cell_of(const Vec3& x) const;
   std::size_t bucket_of(const Cell& cell) const;
   // Calls f(cell) for every cell from `low` to `high` (a box's lowest and highest corners' cells).
