@@ -134,19 +134,34 @@ void DeviceImplicitEuler::bind_passes() {
   const auto own = [&](Array a) { return &arrays_[a]; };
   const auto shared = [&](DeviceForces::Array a) { return &forces_.buffer(a); };
   using F = DeviceForces;
-  bind(linearize_pass_,
-       {shared(F::position), shared(F::velocity), shared(F::connector_particles), shared(F::connector_rest_length),
-        shared(F::connector_stiffness), shared(F::connector_damping), shared(F::connector_active),
-        shared(F::radial_particles), shared(F::radial_rest_angle), shared(F::radial_stiffness),
-        shared(F::radial_damping), shared(F::radial_fade_length), shared(F::radial_active), own(connector_factors),
-        own(radial_factors)});
-  bind(product_pass_, {own(direction), shared(F::connector_particles), shared(F::radial_particles),
-                       own(connector_factors), own(radial_factors), own(solve_real), own(solve_uint),
-                       shared(F::slot_force)});
-  bind(gather_pass_, {shared(F::gather_offset), shared(F::gather_slot), shared(F::slot_force), shared(F::particle_mass),
-                      shared(F::environment), shared(F::force), own(particle_anchor), own(rhs), own(solution),
-                      own(residual), own(preconditioned), own(direction), own(product), own(jacobi), own(block_sums),
-                      own(solve_real), own(solve_uint), own(hold), own(surface_contacts), own(impulse)});
+  bind(linearize_pass_, {shared(F::position), shared(F::velocity), shared(F::connector_particles),
+                         shared(F::connector_rest_length), shared(F::connector_stiffness), shared(F::connector_damping),
+                         shared(F::connector_active), shared(F::radial_particles), shared(F::radial_rest_angle),
+                         shared(F::radial_stiffness), shared(F::radial_damping), shared(F::radial_fade_length),
+                         shared(F::radial_active), own(connector_factors), own(radial_factors)});
+  bind(product_pass_,
+       {own(direction), shared(F::connector_particles), shared(F::radial_particles), own(connector_factors),
+        own(radial_factors), own(solve_real), own(solve_uint), shared(F::slot_force)});
+  bind(gather_pass_, {shared(F::gather_offset),
+                      shared(F::gather_slot),
+                      shared(F::slot_force),
+                      shared(F::particle_mass),
+                      shared(F::environment),
+                      shared(F::force),
+                      own(particle_anchor),
+                      own(rhs),
+                      own(solution),
+                      own(residual),
+                      own(preconditioned),
+                      own(direction),
+                      own(product),
+                      own(jacobi),
+                      own(block_sums),
+                      own(solve_real),
+                      own(solve_uint),
+                      own(hold),
+                      own(surface_contacts),
+                      own(impulse)});
   bind(diagonal_pass_, {shared(F::gather_offset), shared(F::gather_slot), own(connector_factors), own(radial_factors),
                         shared(F::particle_mass), shared(F::environment), own(particle_anchor), own(solve_real),
                         own(jacobi), own(surface_contacts), own(hold), own(slipped), shared(F::force),
@@ -335,8 +350,8 @@ void DeviceImplicitEuler::release_buffers() {
     if (commands != VK_NULL_HANDLE) device_.release(commands);
     commands = VK_NULL_HANDLE;
   };
-  for (VkCommandBuffer* commands : {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_,
-                                    &impulse_commands_}) {
+  for (VkCommandBuffer* commands :
+       {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_, &impulse_commands_}) {
     release(*commands);
   }
   for (std::array<VkCommandBuffer, 2>* buffers : {&first_commands_, &iteration_commands_, &restart_commands_}) {
@@ -483,8 +498,7 @@ StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uin
     outcome.step = h;
     if (failed != kNoParticle) {
       // The device's state is the step's start; the next solve starts from no velocity change.
-      upload(device_, arrays_[solution],
-             real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
+      upload(device_, arrays_[solution], real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
       outcome = {StepStatus::non_finite, h, failed, true};
       break;
     }

@@ -153,8 +153,8 @@ class DeviceImplicitEuler final : public Integrator {
   void record_iterations(VkCommandBuffer commands, bool vcycle, std::uint32_t iterations) const;
   // Records `pass` in `phase` over `invocations`; `iteration`: a CG iteration's pass, which returns
   // at once once the solve has stopped.
-  void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase,
-                std::uint32_t invocations, bool iteration = false) const;
+  void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase, std::uint32_t invocations,
+                bool iteration = false) const;
   // direction = dv, and the element part of A dv into the force slots; the first residual from
   // there (the warm start) and the start's sums; the held particles' surface impulses A dv - b.
   void record_solution_product(VkCommandBuffer commands) const;

@@ -221,7 +221,7 @@ class DeviceIntegrator final : public Integrator {
   bool adaptive_;
   bool symplectic_;
   bool lattice_;
-  std::uint32_t laws_ = 0;   // EventPassConstants::laws of the recorded attempts
+  std::uint32_t laws_ = 0;  // EventPassConstants::laws of the recorded attempts
   // LatticePassConstants::params_particle of the recorded attempts (device_lattice.cpp).
   std::uint32_t params_particle_ = kOwnParams;
   // The colliders the obstacle arrays are sized for; the recorded attempts run the obstacle passes
@@ -229,8 +229,8 @@ class DeviceIntegrator final : public Integrator {
   std::size_t collider_count_ = 0;
   ObstacleContacts first_arrival_;  // the host's pass, for the first step's limit only
   IntegratorContacts contacts_;     // since the last take_obstacle_contacts()
-  IntegratorEvents events_;  // since the last take_spring_events()
-  double events_t0_ = 0.0;   // the start of the advance whose events wait for take_spring_events()
+  IntegratorEvents events_;         // since the last take_spring_events()
+  double events_t0_ = 0.0;          // the start of the advance whose events wait for take_spring_events()
   Precision precision_;
   Device device_;
   DeviceForces forces_;

@@ -69,26 +69,31 @@ DeviceMultigrid::DeviceMultigrid(Device& device, std::uint32_t rows, std::uint32
 }
 
 void DeviceMultigrid::bind(const MultigridInputs& in) {
-  assemble_pass_.bind(std::vector<const Buffer*>{
-      in.gather_offset, in.gather_slot, in.connector_particles, in.radial_particles, in.connector_factors,
-      in.radial_factors, in.particle_mass, in.environment, in.particle_anchor, in.solve_real, in.solve_uint, in.hold,
-      in.surface_contacts, &blocks_});
+  assemble_pass_.bind(std::vector<const Buffer*>{in.gather_offset, in.gather_slot, in.connector_particles,
+                                                 in.radial_particles, in.connector_factors, in.radial_factors,
+                                                 in.particle_mass, in.environment, in.particle_anchor, in.solve_real,
+                                                 in.solve_uint, in.hold, in.surface_contacts, &blocks_});
   galerkin_pass_.bind(std::vector<const Buffer*>{&blocks_, &diagonal_inverse_});
   cycle_pass_.bind(std::vector<const Buffer*>{&blocks_, &diagonal_inverse_, in.jacobi, &rhs_, &solution_, &residual_,
                                               in.residual, in.preconditioned, in.particle_anchor, in.hold,
                                               in.surface_contacts, in.solve_uint});
-  coarse_pass_.bind(std::vector<const Buffer*>{&blocks_, &diagonal_inverse_, &rhs_, &solution_, &residual_, &factor_,
-                                               in.solve_uint});
+  coarse_pass_.bind(
+      std::vector<const Buffer*>{&blocks_, &diagonal_inverse_, &rhs_, &solution_, &residual_, &factor_, in.solve_uint});
 }
 
 MultigridPassConstants DeviceMultigrid::constants(std::uint32_t phase, std::size_t level, bool iteration) const {
   const Level& here = levels_[level];
   const Level next = level + 1 < levels_.size() ? levels_[level + 1] : Level{};
-  return MultigridPassConstants{phase,     static_cast<std::uint32_t>(level),
-                                here.base, here.rows,
-                                here.cols, next.base,
-                                next.rows, next.cols,
-                                0u,        iteration ? 1u : 0u,
+  return MultigridPassConstants{phase,
+                                static_cast<std::uint32_t>(level),
+                                here.base,
+                                here.rows,
+                                here.cols,
+                                next.base,
+                                next.rows,
+                                next.cols,
+                                0u,
+                                iteration ? 1u : 0u,
                                 radial_slot_base_};
 }
 
