@@ -76,25 +76,6 @@ void for_each_band(std::size_t count, bool ascending, int threads, Body&& body) 
   }
 }
 
-// The offset (di, dj) of lattice node q from node p on a lattice of `cols` columns, both within
-// [-2, 2] (the fine matrix's reach). Where cols > 4 the offsets of different di are disjoint
-// ranges of q - p, and no division is needed.
-std::array<std::ptrdiff_t, 2> lattice_offset(std::size_t p, std::size_t q, std::size_t cols) {
-  const auto c = static_cast<std::ptrdiff_t>(cols);
-  if (cols <= 4) {
-    return {static_cast<std::ptrdiff_t>(q / cols) - static_cast<std::ptrdiff_t>(p / cols),
-            static_cast<std::ptrdiff_t>(q % cols) - static_cast<std::ptrdiff_t>(p % cols)};
-  }
-  const std::ptrdiff_t d = static_cast<std::ptrdiff_t>(q) - static_cast<std::ptrdiff_t>(p);
-  std::ptrdiff_t di = 0;
-  if (d > 2) {
-    di = d > c + 2 ? 2 : 1;
-  } else if (d < -2) {
-    di = d < -c - 2 ? -2 : -1;
-  }
-  return {di, d - di * c};
-}
-
 }  // namespace
 
 LatticeMultigrid::LatticeMultigrid(std::size_t rows, std::size_t cols, bool lines)
@@ -464,9 +445,7 @@ CLOTHSIM_MULTIVERSION void LatticeMultigrid::galerkin_row(std::size_t level, std
         const std::uint32_t q = fine_.column[k];
         if (!fine_.free[q]) continue;
         const bool filtered = fine_.holding && (fine_.hold[p] != Hold::none || fine_.hold[q] != Hold::none);
-        const auto [di, dj] = lattice_offset(p, q, cols);
-        add_to_parents(next, row, col, static_cast<std::size_t>(static_cast<std::ptrdiff_t>(i) + di),
-                       static_cast<std::size_t>(static_cast<std::ptrdiff_t>(j) + dj), weight,
+        add_to_parents(next, row, col, q / cols, q % cols, weight,
                        filtered ? held_block(fine_.block[k], fine_.hold[p], fine_.normal[p], fine_.hold[q],
                                              fine_.normal[q])
                                 : fine_.block[k],

@@ -155,8 +155,7 @@ void expect_symmetric_positive_definite(LatticeSystem& system, bool lines) {
 }
 
 TEST(LatticeMultigrid, VCycleIsSymmetricPositiveDefinite) {
-  // Sides giving 1 to 3 coarse levels, even and odd; lattices 4 or fewer wide, where a column
-  // index cannot be told from the distance between two nodes alone.
+  // Sides giving 1 to 3 coarse levels, even and odd, and lattices 4 or fewer nodes wide.
   for (const auto& [rows, cols] :
        {std::pair<std::size_t, std::size_t>{5, 6}, {17, 16}, {40, 33}, {2, 2}, {3, 30}, {6, 4}}) {
     LatticeSystem system = make_system(rows, cols, 7);
