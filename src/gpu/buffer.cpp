@@ -126,6 +126,15 @@ void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer&
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
+void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination,
+                   std::span<const VkBufferCopy> regions) {
+  if (regions.empty()) return;
+  vkCmdCopyBuffer(commands, source.handle(), destination.handle(), static_cast<std::uint32_t>(regions.size()),
+                  regions.data());
+  memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
 void download(Device& device, const Buffer& source, std::span<std::byte> destination) {
   if (destination.size() > source.bytes()) throw GpuError("download: more bytes than the buffer holds");
   if (destination.empty()) return;

@@ -62,6 +62,11 @@ void record_readback(VkCommandBuffer commands, const Buffer& source, const Buffe
 void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes,
                    std::uint64_t source_offset = 0);
 
+// The same for several regions of `source` into places of `destination` (VkBufferCopy: source
+// offset, destination offset, bytes), in one copy command.
+void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination,
+                   std::span<const VkBufferCopy> regions);
+
 // The barrier between a compute pass and whatever reads its output next: a later pass or a copy.
 void compute_write_barrier(VkCommandBuffer commands);
 

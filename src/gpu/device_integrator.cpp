@@ -136,6 +136,7 @@ std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, st
   for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_row_capacity(anchors), colliders)) {
     total += bytes;
   }
+  if (path == DeviceForcePath::lattice) total += StateChecksPass::bytes_for(counts.particles);
   return total;
 }
 
@@ -187,6 +188,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload(device_, arrays_[rows], real_bytes(nystrom_rows(tableau_), precision_));
+  if (lattice_ && StateChecksPass::runs_on(device_)) state_checks_.emplace(device_, precision_, particles_);
   bind_passes();
   prepare_obstacles();
 }
@@ -231,6 +233,12 @@ void DeviceIntegrator::bind_passes() {
                                  own(event_flags), own(control_real), own(control_uint)});
   bind(events_radial_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
                              own(event_flags), own(control_uint), own(block_events)});
+  if (state_checks_) {
+    const bool split = splits_state(precision_);
+    state_checks_->bind({own(state_position), split ? own(state_position_low) : nullptr},
+                        {own(state_velocity), split ? own(state_velocity_low) : nullptr}, *forces(F::particle_mass),
+                        *own(lattice_params), *own(event_params));
+  }
   bind(accept_pass_,
        {own(control_real), own(control_uint), own(trial_position), own(trial_velocity), own(state_position),
         own(state_velocity), forces(F::element_power), own(particle_power), own(rows), own(block_work),

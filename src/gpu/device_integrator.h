@@ -37,6 +37,7 @@
 #include <cstdint>
 #include <map>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -47,6 +48,7 @@
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
 #include "gpu/pass_timer.h"
+#include "gpu/state_checks.h"
 #include "gpu/shaders/device_step.h"
 #include "integrators/integrator.h"
 #include "integrators/tableau.h"
@@ -83,6 +85,11 @@ class DeviceIntegrator final : public Integrator {
   // advance's counts.
   bool runs_obstacle_contacts() const override { return collider_count_ > 0; }
   IntegratorContacts take_obstacle_contacts() override;
+  // The frame's energies and checks on the device (the lattice path, on a device with
+  // shaderFloat64, with the connectors' term on, whose parameters the stretch check reads;
+  // gpu/state_checks.h); nullopt elsewhere. A state changed by the caller since the last
+  // advance goes up first.
+  std::optional<StateChecks> check_state(const ClothState& state, double explosion_stretch) override;
 
   const DeviceInfo& device_info() const { return device_.info(); }
   // True on the lattice path: each particle evaluates the springs it owns (lattice_elements);
@@ -244,6 +251,7 @@ class DeviceIntegrator final : public Integrator {
   ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_,
       events_connectors_pass_, events_radial_pass_, accept_pass_, obstacle_contacts_pass_, obstacle_energy_pass_;
   std::map<std::uint32_t, RecordedAttempts> recorded_;  // by attempts per submission
+  std::optional<StateChecksPass> state_checks_;          // where check_state() runs on the device
 
   // What the host last exchanged with the device: a fingerprint of the state (not a copy of it).
   bool exchanged_ = false;

@@ -4,6 +4,7 @@
 #include <cstring>
 #include <vector>
 
+#include "core/assert.h"
 #include "core/parallel.h"
 #include "gpu/real_arrays.h"
 
@@ -90,6 +91,53 @@ void write_state(Device& device, StateArray position, StateArray velocity, const
       record_upload(commands, staging, *velocity.low, bytes, 3 * bytes);
     }
   });
+}
+
+std::uint64_t particle_write_bytes(std::size_t particles, Precision precision) {
+  // Two arrays (positions, velocities) of 3 Reals a particle, with their low parts in float32.
+  return std::uint64_t{particles} * 3 * real_size(precision) * (splits_state(precision) ? 4 : 2);
+}
+
+void record_particle_writes(VkCommandBuffer commands, StateArray position, StateArray velocity, const Buffer& staging,
+                            Precision precision, std::span<const std::uint32_t> particles, const ClothState& state) {
+  CLOTHSIM_ASSERT(staging.bytes() >= particle_write_bytes(particles.size(), precision), "staging holds the writes");
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t vector = 3 * real;
+  const bool split = position.low != nullptr && velocity.low != nullptr;
+  std::byte* mapped = staging.mapped();
+  // In staging: the particles' positions, then their velocities, each 3 Reals (in float32 the high
+  // parts, then the low parts of both).
+  const std::uint64_t block = particles.size() * vector;
+  std::vector<VkBufferCopy> high_position, high_velocity, low_position, low_velocity;
+  for (std::size_t i = 0; i < particles.size(); ++i) {
+    const std::uint32_t p = particles[i];
+    for (int k = 0; k < 3; ++k) {
+      const std::size_t at = 3 * i + static_cast<std::size_t>(k);
+      if (!split) {
+        store_real(mapped, at, state.position[p][k], precision);
+        store_real(mapped + block, at, state.velocity[p][k], precision);
+        continue;
+      }
+      const SplitFloat x = split_real(state.position[p][k]);
+      const SplitFloat v = split_real(state.velocity[p][k]);
+      std::memcpy(mapped + 4 * at, &x.high, 4);
+      std::memcpy(mapped + block + 4 * at, &v.high, 4);
+      std::memcpy(mapped + 2 * block + 4 * at, &x.low, 4);
+      std::memcpy(mapped + 3 * block + 4 * at, &v.low, 4);
+    }
+    const std::uint64_t from = i * vector;
+    const std::uint64_t to = std::uint64_t{p} * vector;
+    high_position.push_back({from, to, vector});
+    high_velocity.push_back({block + from, to, vector});
+    low_position.push_back({2 * block + from, to, vector});
+    low_velocity.push_back({3 * block + from, to, vector});
+  }
+  record_upload(commands, staging, *position.high, high_position);
+  record_upload(commands, staging, *velocity.high, high_velocity);
+  if (split) {
+    record_upload(commands, staging, *position.low, low_position);
+    record_upload(commands, staging, *velocity.low, low_velocity);
+  }
 }
 
 }  // namespace clothsim::gpu

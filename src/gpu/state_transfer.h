@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <span>
 
 #include "gpu/buffer.h"
 #include "gpu/device.h"
@@ -36,5 +37,12 @@ void read_state(Device& device, StateArray position, StateArray velocity, const 
 // and `velocity` in one submission.
 void write_state(Device& device, StateArray position, StateArray velocity, const Buffer& staging, Precision precision,
                  int threads, const ClothState& state);
+
+// Records the writes of the positions and velocities of a few `particles` (the anchored ones)
+// from `state` into `position` and `velocity`, through `staging` (host-visible, at least
+// particle_write_bytes of them), which it fills now: a part of a submission the caller records.
+std::uint64_t particle_write_bytes(std::size_t particles, Precision precision);
+void record_particle_writes(VkCommandBuffer commands, StateArray position, StateArray velocity, const Buffer& staging,
+                            Precision precision, std::span<const std::uint32_t> particles, const ClothState& state);
 
 }  // namespace clothsim::gpu

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -139,6 +140,13 @@ struct IntegratorContacts {
   std::size_t most = 0;     // the most in one of its steps
 };
 
+// What the Simulation checks after an advance, computed by an integrator whose state lives on a
+// device (Integrator::check_state).
+struct StateChecks {
+  EnergyReport energy;  // compute_energy's terms of the state, for the model's force terms
+  bool failed = false;  // a non-finite position or velocity, or a live connector stretched too far
+};
+
 struct ForceOptions {
   ForceTerms terms = kAllForceTerms;
   int threads = 1;  // resolved thread count (>= 1)
@@ -183,6 +191,16 @@ class Integrator {
   // contact work is in the state already.
   virtual bool runs_obstacle_contacts() const { return false; }
   virtual IntegratorContacts take_obstacle_contacts() { return {}; }
+  // The energies of `state` and the Simulation's checks of it (Simulation::check_state: a
+  // non-finite value; a live connector longer than `explosion_stretch` times its rest length),
+  // computed where the integrator keeps the state: a device integrator sums them there, and the
+  // host reads a few kilobytes instead of summing a large sheet's springs each frame
+  // (gpu/state_checks.h). `state` is the caller's, as after the last advance or changed since.
+  // Nullopt (the default) where the integrator does not compute them: the Simulation does. A
+  // failure found here is diagnosed by the Simulation's own check, which names the element.
+  virtual std::optional<StateChecks> check_state(const ClothState& /*state*/, double /*explosion_stretch*/) {
+    return std::nullopt;
+  }
   // The particles resting on obstacles, which the collision stage refreshes before each step: an
   // integrator that can hold them on their surface within a step reads them and writes the
   // impulses it needed (model/surface_contacts.h). Null (the default): none.

@@ -580,9 +580,9 @@ TEST(DeviceIntegrator, ABlowUpIsDiagnosedAsOnTheCpu) {
     EXPECT_NE(device->element.find("particle"), std::string::npos) << device->element;
   }
   // Symplectic Euler at 0.2 s steps stretches a connector past 1000 times its rest length: the
-  // state check names it. The host checks the device's state once per advance (a frame), so the
-  // device's run stops at that frame's end, later than the CPU's step by step (not yet on the
-  // device: issue 22 item 3).
+  // state check names it. The device checks its state once per advance (a frame;
+  // gpu/state_checks.h), and the host's check then names the connector, so the device's run stops
+  // at that frame's end, later than the CPU's step by step.
   for (Precision precision : {Precision::float64, Precision::float32}) {
     SceneSpec spec = device_scene("paper-fig5", vulkan(precision));
     spec.integrator.kind = IntegratorKind::symplectic_euler;

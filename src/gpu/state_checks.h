@@ -1,0 +1,64 @@
+// A frame's energies and the Simulation's state checks, computed on the device where the state
+// lives (issue 22 item 3; docs/gpu.md, "Frames without the host"). At the end of an advance the
+// Simulation sums every spring's energy for the energy balance and energy.csv, and looks for a
+// non-finite state or an exploded connector. On a 1024 x 1024 sheet that is 8 million springs,
+// each radial one an arctangent: 28 ms of the host's time per frame on an H200 machine's 16
+// threads, a third of the device's time for the frame's steps. This pass does it in one dispatch
+// over the lattice and reads back a few kilobytes: per workgroup of particles, the five terms
+// of EnergyReport and the count of particles that fail a check, summed by the host in workgroup
+// order, so the result is the same on every run on a device.
+//
+// The sums are the host's to rounding: the same element formulas (forces/element_math.inc),
+// double arithmetic in both precisions, float32's state as its two floats a coordinate. In
+// float32 the springs' parameters and the masses are the device's, rounded to float, which its
+// forces use too (tests/gpu/test_device_state_checks.cpp states the bound).
+#pragma once
+
+#include <cstdint>
+#include <functional>
+
+#include "forces/forces.h"
+#include "gpu/buffer.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/device.h"
+#include "gpu/state_transfer.h"
+#include "model/cloth_model.h"
+
+namespace clothsim::gpu {
+
+struct StateCheckSums {
+  EnergyReport energy;        // every term summed, whatever the model's force terms
+  std::uint64_t failures = 0;  // particles with a non-finite value, or owning a connector stretched too far
+};
+
+class StateChecksPass {
+ public:
+  // The pass computes in double: it needs shaderFloat64 in either precision.
+  static bool runs_on(const Device& device) { return device.info().float64; }
+  // Device memory it holds for `particles`, bytes.
+  static std::uint64_t bytes_for(std::uint64_t particles);
+
+  // For a lattice model of `particles` particles whose state, masses and spring parameters are in
+  // `precision` (the lattice path's arrays, shaders/device_step.h).
+  StateChecksPass(Device& device, Precision precision, std::uint32_t particles);
+
+  // The arrays it reads: the state (with its low parts in float32), the masses, the lattice
+  // path's `lattice_params` and `event_params`.
+  void bind(StateArray position, StateArray velocity, const Buffer& mass, const Buffer& lattice_params,
+            const Buffer& event_params);
+  // Runs the pass on the state as the device holds it, after what `before` records into the same
+  // submission (the state's last changes), and waits for its sums. `model` gives the lattice's
+  // shape and the gravity.
+  StateCheckSums run(const ClothModel& model, double explosion_stretch,
+                     const std::function<void(VkCommandBuffer)>& before);
+
+ private:
+  Device& device_;
+  std::uint32_t particles_;
+  std::uint32_t blocks_;
+  ComputePipeline pass_;
+  Buffer block_checks_;  // [blocks][kStateCheckReals] doubles, device-local
+  Buffer readback_;      // the same, host-visible
+};
+
+}  // namespace clothsim::gpu

@@ -1,0 +1,189 @@
+// A frame's energies and state checks on the device (gpu/state_checks.h, issue 22 item 3), on
+// the machine's Vulkan device (lavapipe on CI): the device's sums against the host's
+// compute_energy of the same state, and the checks' failures against Simulation::check_state's.
+//
+// In float64 the device and the host sum the same formulas of the same numbers: they agree to
+// the rounding of the sums' order, 1e-12 of the energies' scale. In float32 the device's masses
+// and spring parameters are rounded to float (its forces use those too), and its sums are the
+// host's for a model with its parameters rounded so, to the same 1e-12; against the model's own
+// parameters they differ by far more (the rest angles pi/2 and pi are not floats), which the test
+// states as well, so that it knows whose sums it compares.
+#include "gpu/device_integrator.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "forces/forces.h"
+#include "model/cloth_model.h"
+#include "model/model_edits.h"
+#include "scene/builtin_scenes.h"
+#include "scene/scene.h"
+#include "scene/scene_simulation.h"
+#include "scene/validate_scene.h"
+#include "sim/backend.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+constexpr double kExplosionStretch = SimulationSettings{}.explosion_stretch;
+
+BackendSettings vulkan(Precision precision) { return BackendSettings{Backend::vulkan, 0, request(precision)}; }
+
+// The model as a float32 device holds it: masses and spring parameters rounded to float.
+ClothModel rounded_to_float(ClothModel model) {
+  for (std::vector<double>* values : {&model.particle_mass, &model.connector_rest_length, &model.connector_stiffness,
+                                      &model.connector_original_length, &model.radial_rest_angle,
+                                      &model.radial_stiffness}) {
+    for (double& value : *values) value = static_cast<double>(static_cast<float>(value));
+  }
+  return model;
+}
+
+// The scale the sums are compared at: the terms' magnitudes added.
+double scale_of(const EnergyReport& e) {
+  return std::abs(e.kinetic) + std::abs(e.gravitational) + std::abs(e.connector) + std::abs(e.radial_adjacent) +
+         std::abs(e.radial_opposite);
+}
+
+double largest_difference(const EnergyReport& a, const EnergyReport& b) {
+  return std::max({std::abs(a.kinetic - b.kinetic), std::abs(a.gravitational - b.gravitational),
+                   std::abs(a.connector - b.connector), std::abs(a.radial_adjacent - b.radial_adjacent),
+                   std::abs(a.radial_opposite - b.radial_opposite)});
+}
+
+// Each term of the device's sums against the host's of `model` (rounded to float for float32).
+void expect_host_sums(const EnergyReport& device, const ClothModel& model, const ClothState& state,
+                      Precision precision, const char* what) {
+  const EnergyReport exact = compute_energy(model, state, kAllForceTerms, 1);
+  const EnergyReport host =
+      precision == Precision::float64 ? exact : compute_energy(rounded_to_float(model), state, kAllForceTerms, 1);
+  const double scale = std::max(1.0, scale_of(host));  // a joule at least: a sheet at rest has none
+  const double difference = largest_difference(device, host);
+  std::printf("%s, %s: energies %.9g J (connector %.6g, radial %.6g + %.6g, kinetic %.6g, gravitational %.6g); "
+              "the host's differ by %.3g J, with the unrounded parameters by %.3g J\n",
+              what, to_string(precision), device.total(), device.connector, device.radial_adjacent,
+              device.radial_opposite, device.kinetic, device.gravitational, difference,
+              largest_difference(device, exact));
+  EXPECT_LT(difference, 1e-12 * scale) << what << ", " << to_string(precision);
+  if (precision == Precision::float32) {
+    EXPECT_GT(largest_difference(device, exact), 1e3 * difference)
+        << what << ": the float32 sums are the device's, with its rounded parameters";
+  }
+}
+
+ClothModel paper_lattice(int rows, int cols) {
+  LatticeDef lattice;  // the paper's material: 1 kg, (4, 1), (1400, 200), (80, 5), L = 1
+  lattice.rows = rows;
+  lattice.cols = cols;
+  return build_lattice(lattice, Environment{{0, -9.81, 0}, 0.0}, {});
+}
+
+// A lattice of 23 x 17 (391 particles: a workgroup and a part, and a shape that is not square),
+// swinging from a corner after half a second, checked at rest and after the host moved it.
+TEST(DeviceStateChecks, EnergiesAreTheHostsSums) {
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    ClothModel model = paper_lattice(23, 17);
+    AnchorPath corner;
+    corner.origin = model.particle_rest_position[0];
+    set_anchor(model, 0, corner);
+    IntegratorSettings settings;  // RKF45
+    gpu::DeviceIntegrator integrator(model, settings, ForceOptions{}, gpu::DeviceSelection{0, precision, true});
+    ClothState state;
+    state.position = model.particle_rest_position;
+    state.velocity.assign(model.particle_count(), Vec3{});
+    std::optional<StateChecks> checks = integrator.check_state(state, kExplosionStretch);
+    ASSERT_TRUE(checks.has_value()) << "lavapipe has shaderFloat64";
+    EXPECT_FALSE(checks->failed);
+    expect_host_sums(checks->energy, model, state, precision, "at rest");
+
+    ASSERT_EQ(integrator.advance(state, 0.5).status, StepStatus::ok);
+    checks = integrator.check_state(state, kExplosionStretch);
+    ASSERT_TRUE(checks.has_value());
+    EXPECT_FALSE(checks->failed);
+    expect_host_sums(checks->energy, model, state, precision, "after 0.5 s");
+
+    // A state the host changed since the advance goes up before the sums.
+    state.position[200].y += 0.25;
+    state.velocity[17] = {1.0, -2.0, 0.5};
+    checks = integrator.check_state(state, kExplosionStretch);
+    ASSERT_TRUE(checks.has_value());
+    expect_host_sums(checks->energy, model, state, precision, "moved by the host");
+  }
+}
+
+// The checks fail where Simulation::check_state fails: a non-finite position or velocity, a
+// live connector longer than the limit; a broken connector may stretch without limit.
+TEST(DeviceStateChecks, FailuresAreTheHostsChecks) {
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    ClothModel model = paper_lattice(9, 30);
+    IntegratorSettings settings;
+    gpu::DeviceIntegrator integrator(model, settings, ForceOptions{}, gpu::DeviceSelection{0, precision, true});
+    ClothState state;
+    state.position = model.particle_rest_position;
+    state.velocity.assign(model.particle_count(), Vec3{});
+    const auto failed = [&](const ClothState& s) {
+      const std::optional<StateChecks> checks = integrator.check_state(s, kExplosionStretch);
+      EXPECT_TRUE(checks.has_value());
+      return checks.has_value() && checks->failed;
+    };
+    EXPECT_FALSE(failed(state)) << to_string(precision);
+    ClothState bad = state;
+    bad.velocity[130].z = std::numeric_limits<double>::quiet_NaN();
+    EXPECT_TRUE(failed(bad)) << to_string(precision) << ": a NaN velocity";
+    bad = state;
+    bad.position[269].x = std::numeric_limits<double>::infinity();
+    EXPECT_TRUE(failed(bad)) << to_string(precision) << ": an infinite position, the last particle";
+    // Particle 100 is 2,000 m away: its four connectors are 2,000 times their rest length.
+    bad = state;
+    bad.position[100].y += 2000.0;
+    EXPECT_TRUE(failed(bad)) << to_string(precision) << ": an exploded connector";
+    EXPECT_FALSE(integrator.check_state(bad, 3000.0)->failed) << "under a limit of 3,000";
+    // Torn off (every connector and radial spring broken), it may be anywhere.
+    for (std::size_t e = 0; e < model.connector_count(); ++e) {
+      const auto [a, b] = model.connector_particles[e];
+      if (a == 100 || b == 100) break_connector(model, static_cast<std::uint32_t>(e), 0.0);
+    }
+    EXPECT_FALSE(failed(bad)) << to_string(precision) << ": a torn-off particle";
+    std::printf("%s: the failures found\n", to_string(precision));
+  }
+}
+
+// Through the Simulation: each frame's energies, which energy.csv and the energy balance read,
+// are the device's sums of its state, on the paper's scene and on a sheet that tears, yields and
+// creases on the device (whose changed parameters the model then holds as the device has them).
+TEST(DeviceStateChecks, TheSimulationsEnergiesAreTheDevicesSums) {
+  SceneSpec tearing = scene_from_paper_args("11,11,1,4,1,1400,200,80,5,1", "test");
+  set_scene_field(tearing, "anchors",
+                  R"([{"row": 0, "col": 0}, {"row": 0, "col": 10},
+                      {"row": 10, "col": 0, "path": {"type": "keyframes", "keys": [[0, 0, 0, 0], [0.6, 0, -3, 0]]}},
+                      {"row": 10, "col": 10, "path": {"type": "keyframes", "keys": [[0, 0, 0, 0], [0.6, 0, -3, 0]]}}])",
+                  "test");
+  set_scene_field(tearing, "springs.connector.break_strain", "0.06", "test");
+  set_scene_field(tearing, "springs.connector.yield_strain", "0.02", "test");
+  set_scene_field(tearing, "springs.adjacent.yield_angle_deg", "2", "test");
+  validate_scene(tearing, "test");
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    for (SceneSpec spec : {builtin_scene("paper-fig5"), tearing}) {
+      spec.backend = vulkan(precision);
+      Simulation simulation = make_simulation(spec);
+      for (int frame = 1; frame <= 24; ++frame) {
+        ASSERT_TRUE(simulation.advance_to(frame / 60.0)) << simulation.failure()->message;
+      }
+      expect_host_sums(simulation.energy(), simulation.model(), simulation.state(), precision, spec.name.c_str());
+      if (spec.name != "paper-fig5") {
+        EXPECT_GT(simulation.event_totals().breaks, 0u) << "the sheet tears";
+        EXPECT_GT(simulation.event_totals().yields, 0u) << "and yields";
+      }
+    }
+  }
+}
+
+}  // namespace
+}  // namespace clothsim
