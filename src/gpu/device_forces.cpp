@@ -17,8 +17,10 @@ namespace {
 // the same numbers in the same order.
 constexpr std::uint32_t kReductionBlock = 1024;
 
-// 1 where the element acts: live and its force term on (the CPU's condition in
-// connector_springs.cpp and radial_springs.cpp).
+// Not 0 where the element acts: live and its force term on (the CPU's condition in
+// connector_springs.cpp and radial_springs.cpp). A radial spring's flag is its kind besides,
+// kRadialActiveAdjacent or kRadialActiveOpposite, which the state checks sum the energies by
+// (shaders/state_checks_elements.comp).
 std::vector<std::uint32_t> connector_active_flags(const ClothModel& model, ForceTerms terms) {
   std::vector<std::uint32_t> active(model.connector_count(), 0u);
   if ((terms & kConnectorSprings) == 0) return active;
@@ -31,7 +33,9 @@ std::vector<std::uint32_t> radial_active_flags(const ClothModel& model, ForceTer
   for (std::size_t r = 0; r < active.size(); ++r) {
     const ForceTerms term =
         model.radial_kind[r] == RadialKind::adjacent ? kAdjacentRadialSprings : kOppositeRadialSprings;
-    active[r] = (terms & term) != 0 && model.radial_live[r] != 0 ? 1u : 0u;
+    const std::uint32_t kind =
+        model.radial_kind[r] == RadialKind::adjacent ? kRadialActiveAdjacent : kRadialActiveOpposite;
+    active[r] = (terms & term) != 0 && model.radial_live[r] != 0 ? kind : 0u;
   }
   return active;
 }

@@ -73,6 +73,7 @@ std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts,
                                                     const IntegratorSettings& settings) {
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
   for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders)) total += bytes;
+  total += StateChecksPass::bytes_for(counts, DeviceForcePath::general);
   if (DeviceMultigrid::applies(counts, settings)) {
     total += DeviceMultigrid::bytes_for(static_cast<std::uint32_t>(counts.rows),
                                         static_cast<std::uint32_t>(counts.cols), precision);
@@ -117,6 +118,11 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
   if (DeviceMultigrid::applies(counts, settings)) {
     multigrid_.emplace(device_, static_cast<std::uint32_t>(counts.rows), static_cast<std::uint32_t>(counts.cols),
                        connectors_, precision_);
+  }
+  if (StateChecksPass::runs_on(device_)) {
+    state_checks_.emplace(device_, precision_, counts, DeviceForcePath::general);
+    using F = DeviceForces;
+    state_checks_->bind_elements({&forces_.buffer(F::position)}, {&forces_.buffer(F::velocity)}, forces_);
   }
   // The warm start of the first solve: no velocity change; nothing slipped.
   upload(device_, arrays_[solution], real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
@@ -392,6 +398,17 @@ void DeviceImplicitEuler::read_state(ClothState& state) {
   gpu::read_state(device_, {&forces_.buffer(DeviceForces::position)}, {&forces_.buffer(DeviceForces::velocity)},
                   state_staging_, precision_, options_.threads, state);
   exchanged_fingerprint_ = state_fingerprint(state, options_.threads);
+}
+
+std::optional<StateChecks> DeviceImplicitEuler::check_state(const ClothState& state, double explosion_stretch) {
+  // The stretch check reads the connectors' parameters, which are there only with their term on.
+  // The device's anchored particles are the host's: each step writes their paths' values.
+  if (!state_checks_ || (options_.terms & kConnectorSprings) == 0) return std::nullopt;
+  upload_changes(state);
+  const StateCheckSums sums = state_checks_->run(model_, explosion_stretch, [](VkCommandBuffer) {});
+  StateChecks checks{sums.energy, sums.failures > 0};
+  if ((options_.terms & kGravity) == 0) checks.energy.gravitational = 0.0;
+  return checks;
 }
 
 void DeviceImplicitEuler::write_step(double h, double end_time) {

@@ -57,6 +57,7 @@
 #include "gpu/device_forces.h"
 #include "gpu/device_multigrid.h"
 #include "gpu/pass_timer.h"
+#include "gpu/state_checks.h"
 #include "gpu/shaders/implicit_step.h"
 #include "integrators/integrator.h"
 
@@ -78,6 +79,9 @@ class DeviceImplicitEuler final : public Integrator {
   StepOutcome advance(ClothState& state, double t_limit) override { return run(state, t_limit, 0); }
   // The warm start of the next solve (the last step's dv) and the statistics, by the CPU's names.
   void transfer_state(StateArchive& archive) override;
+  // The frame's energies and checks on the device (gpu/state_checks.h, the general path's pass),
+  // where it has shaderFloat64 and the connectors' term is on; nullopt elsewhere.
+  std::optional<StateChecks> check_state(const ClothState& state, double explosion_stretch) override;
 
   const DeviceInfo& device_info() const { return device_.info(); }
   // CG iterations of the last step.
@@ -169,6 +173,7 @@ class DeviceImplicitEuler final : public Integrator {
   Precision precision_;
   Device device_;
   DeviceForces forces_;
+  std::optional<StateChecksPass> state_checks_;  // where check_state() runs on the device
   std::uint32_t particles_, connectors_, radials_;
   std::vector<Buffer> arrays_;  // [array_count]
   std::uint32_t anchor_capacity_;

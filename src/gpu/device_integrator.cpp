@@ -136,7 +136,7 @@ std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, st
   for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_row_capacity(anchors), colliders)) {
     total += bytes;
   }
-  if (path == DeviceForcePath::lattice) total += StateChecksPass::bytes_for(counts.particles);
+  total += StateChecksPass::bytes_for(counts, path);
   return total;
 }
 
@@ -188,7 +188,9 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload(device_, arrays_[rows], real_bytes(nystrom_rows(tableau_), precision_));
-  if (lattice_ && StateChecksPass::runs_on(device_)) state_checks_.emplace(device_, precision_, particles_);
+  if (StateChecksPass::runs_on(device_)) {
+    state_checks_.emplace(device_, precision_, element_counts(model), force_path(model, options));
+  }
   bind_passes();
   prepare_obstacles();
 }
@@ -235,9 +237,14 @@ void DeviceIntegrator::bind_passes() {
                              own(event_flags), own(control_uint), own(block_events)});
   if (state_checks_) {
     const bool split = splits_state(precision_);
-    state_checks_->bind({own(state_position), split ? own(state_position_low) : nullptr},
-                        {own(state_velocity), split ? own(state_velocity_low) : nullptr}, *forces(F::particle_mass),
-                        *own(lattice_params), *own(event_params));
+    const StateArray position{own(state_position), split ? own(state_position_low) : nullptr};
+    const StateArray velocity{own(state_velocity), split ? own(state_velocity_low) : nullptr};
+    if (lattice_) {
+      state_checks_->bind_lattice(position, velocity, *forces(F::particle_mass), *own(lattice_params),
+                                  *own(event_params));
+    } else {
+      state_checks_->bind_elements(position, velocity, forces_);
+    }
   }
   bind(accept_pass_,
        {own(control_real), own(control_uint), own(trial_position), own(trial_velocity), own(state_position),
@@ -316,31 +323,6 @@ void DeviceIntegrator::release_recorded() {
   recorded_.clear();
 }
 
-void DeviceIntegrator::upload_changes(const ClothState& state) {
-  // A changed model may have freed an anchored particle, whose state the device holds only as
-  // its path left it: the state goes up with the model.
-  const bool model_changed = model_.revision != model_revision_ || !exchanged_;
-  if (model_changed) {
-    if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
-    prepare_obstacles();
-    upload(device_, arrays_[inverse_mass], real_bytes(model_.particle_inverse_mass, precision_));
-    upload(device_, arrays_[particle_anchor], bytes_of(model_.particle_anchor));
-    if (lattice_) upload_lattice_params();
-    model_revision_ = model_.revision;
-    set_laws();
-  }
-  const std::uint64_t fingerprint = state_fingerprint(state, options_.threads);
-  if (model_changed || fingerprint != exchanged_fingerprint_) {
-    // In float32 two floats a coordinate (shaders/split_state.glsl).
-    const bool split = splits_state(precision_);
-    gpu::write_state(device_, {&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr},
-                     {&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr}, state_staging_,
-                     precision_, options_.threads, state);
-    exchanged_fingerprint_ = fingerprint;
-    exchanged_ = true;
-  }
-}
-
 void DeviceIntegrator::write_anchor_paths(double t0) {
   if (model_.anchors.size() > anchor_capacity_) {
     // More anchors than the table holds (pins added at run time): a larger table, bound anew,
@@ -363,13 +345,6 @@ void DeviceIntegrator::upload_input(Buffer& destination, std::span<const std::by
                             Memory::host_visible);
   }
   upload(device_, destination, bytes, &input_staging_);
-}
-
-void DeviceIntegrator::read_state(ClothState& state) {
-  const bool split = splits_state(precision_);
-  gpu::read_state(device_, {&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr},
-                  {&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr}, state_staging_,
-                  precision_, options_.threads, state);
 }
 
 // An advance, as named stages: what changed goes up, the first step is chosen as on the CPU, the

@@ -85,10 +85,9 @@ class DeviceIntegrator final : public Integrator {
   // advance's counts.
   bool runs_obstacle_contacts() const override { return collider_count_ > 0; }
   IntegratorContacts take_obstacle_contacts() override;
-  // The frame's energies and checks on the device (the lattice path, on a device with
-  // shaderFloat64, with the connectors' term on, whose parameters the stretch check reads;
-  // gpu/state_checks.h); nullopt elsewhere. A state changed by the caller since the last
-  // advance goes up first.
+  // The frame's energies and checks on the device (gpu/state_checks.h), where it has
+  // shaderFloat64 and the connectors' term is on (the stretch check reads their parameters);
+  // nullopt elsewhere. A state changed by the caller since the last advance goes up first.
   std::optional<StateChecks> check_state(const ClothState& state, double explosion_stretch) override;
 
   const DeviceInfo& device_info() const { return device_.info(); }

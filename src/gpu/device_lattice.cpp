@@ -10,7 +10,6 @@
 #include "gpu/device_integrator.h"
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/device_step.h"
-#include "gpu/state_transfer.h"
 #include "model/lattice_springs.h"
 #include "model/model_edits.h"
 
@@ -113,31 +112,6 @@ void DeviceIntegrator::set_laws() {
   // The laws are in the recorded attempts' push constants: record them again.
   laws_ = laws;
   release_recorded();
-}
-
-std::optional<StateChecks> DeviceIntegrator::check_state(const ClothState& state, double explosion_stretch) {
-  // The stretch check reads the connectors' parameters, which are there only with their term on.
-  if (!state_checks_ || (options_.terms & kConnectorSprings) == 0) return std::nullopt;
-  upload_changes(state);
-  // The anchored particles as the host put them on their paths at the advance's end
-  // (take_results): the device's own copy, which its steps never read, is its paths' in its
-  // precision, and its velocity the last segment's at a key.
-  std::vector<std::uint32_t> anchored;
-  anchored.reserve(model_.anchors.size());
-  for (const Anchor& anchor : model_.anchors) anchored.push_back(anchor.particle);
-  const std::uint64_t bytes = particle_write_bytes(anchored.size(), precision_);
-  if (input_staging_.bytes() < bytes) input_staging_ = Buffer(device_, bytes, Memory::host_visible);
-  const bool split = splits_state(precision_);
-  const StateArray position{&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr};
-  const StateArray velocity{&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr};
-  const StateCheckSums sums = state_checks_->run(model_, explosion_stretch, [&](VkCommandBuffer commands) {
-    record_particle_writes(commands, position, velocity, input_staging_, precision_, anchored, state);
-  });
-  // The model's force terms, as compute_energy reports them (the springs' are absent on the
-  // device already where their term is off).
-  StateChecks checks{sums.energy, sums.failures > 0};
-  if ((options_.terms & kGravity) == 0) checks.energy.gravitational = 0.0;
-  return checks;
 }
 
 IntegratorEvents DeviceIntegrator::take_spring_events(ClothModel& model) {

@@ -4,9 +4,10 @@
 // non-finite state or an exploded connector. On a 1024 x 1024 sheet that is 8 million springs,
 // each radial one an arctangent: 28 ms of the host's time per frame on an H200 machine's 16
 // threads, a third of the device's time for the frame's steps. This pass does it in one dispatch
-// over the lattice and reads back a few kilobytes: per workgroup of particles, the five terms
-// of EnergyReport and the count of particles that fail a check, summed by the host in workgroup
-// order, so the result is the same on every run on a device.
+// over the lattice (three on the general path: the particles, the connectors, the radial springs)
+// and reads back a few kilobytes: per workgroup, the five terms of EnergyReport and the count of
+// items that fail a check, summed by the host in workgroup order, so the result is the same on
+// every run on a device.
 //
 // The sums are the host's to rounding: the same element formulas (forces/element_math.inc),
 // double arithmetic in both precisions, float32's state as its two floats a coordinate. In
@@ -21,6 +22,7 @@
 #include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device.h"
+#include "gpu/device_forces.h"
 #include "gpu/state_transfer.h"
 #include "model/cloth_model.h"
 
@@ -28,24 +30,27 @@ namespace clothsim::gpu {
 
 struct StateCheckSums {
   EnergyReport energy;        // every term summed, whatever the model's force terms
-  std::uint64_t failures = 0;  // particles with a non-finite value, or owning a connector stretched too far
+  std::uint64_t failures = 0;  // particles with a non-finite value, or connectors stretched too far
 };
 
 class StateChecksPass {
  public:
   // The pass computes in double: it needs shaderFloat64 in either precision.
   static bool runs_on(const Device& device) { return device.info().float64; }
-  // Device memory it holds for `particles`, bytes.
-  static std::uint64_t bytes_for(std::uint64_t particles);
+  // Device memory it holds for a model of these counts on `path`, bytes.
+  static std::uint64_t bytes_for(const LatticeCounts& counts, DeviceForcePath path);
 
-  // For a lattice model of `particles` particles whose state, masses and spring parameters are in
-  // `precision` (the lattice path's arrays, shaders/device_step.h).
-  StateChecksPass(Device& device, Precision precision, std::uint32_t particles);
+  // For a model of these counts whose state, masses and spring parameters are in `precision`, read
+  // from the lattice path's arrays (shaders/state_checks.comp: each particle's own springs) or
+  // DeviceForces' element arrays (shaders/state_checks_elements.comp).
+  StateChecksPass(Device& device, Precision precision, const LatticeCounts& counts, DeviceForcePath path);
 
-  // The arrays it reads: the state (with its low parts in float32), the masses, the lattice
-  // path's `lattice_params` and `event_params`.
-  void bind(StateArray position, StateArray velocity, const Buffer& mass, const Buffer& lattice_params,
-            const Buffer& event_params);
+  // The arrays the lattice path reads: the state (with its low parts in float32), the masses,
+  // `lattice_params` and `event_params` (shaders/device_step.h).
+  void bind_lattice(StateArray position, StateArray velocity, const Buffer& mass, const Buffer& lattice_params,
+                    const Buffer& event_params);
+  // The general path's: the state, and DeviceForces' masses and element arrays.
+  void bind_elements(StateArray position, StateArray velocity, DeviceForces& forces);
   // Runs the pass on the state as the device holds it, after what `before` records into the same
   // submission (the state's last changes), and waits for its sums. `model` gives the lattice's
   // shape and the gravity.
@@ -54,8 +59,8 @@ class StateChecksPass {
 
  private:
   Device& device_;
-  std::uint32_t particles_;
-  std::uint32_t blocks_;
+  DeviceForcePath path_;
+  LatticeCounts counts_;
   ComputePipeline pass_;
   Buffer block_checks_;  // [blocks][kStateCheckReals] doubles, device-local
   Buffer readback_;      // the same, host-visible

@@ -6,7 +6,14 @@
 #include <cstdint>
 namespace clothsim::gpu {
 using uint = std::uint32_t;
+#define CLOTHSIM_ELEMENT_SLOT inline constexpr uint
+#else
+#define CLOTHSIM_ELEMENT_SLOT const uint
 #endif
+
+// DeviceForces' radial_active: 0 where a radial spring does not act, else its kind.
+CLOTHSIM_ELEMENT_SLOT kRadialActiveAdjacent = 1;
+CLOTHSIM_ELEMENT_SLOT kRadialActiveOpposite = 2;
 
 struct ElementPassConstants {
   uint element_count;  // connectors or radial springs in the pass
@@ -25,6 +32,7 @@ struct SumConstants {
   uint phase;       // 0: one invocation per block; 1: one invocation adds the block sums in order
 };
 
+#undef CLOTHSIM_ELEMENT_SLOT
 #if defined(__cplusplus)
 }  // namespace clothsim::gpu
 #endif

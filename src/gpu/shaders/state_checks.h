@@ -38,6 +38,24 @@ struct StateCheckConstants {
   double explosion_stretch;
 };
 
+// The general path's pass (state_checks_elements.comp): three dispatches, the particles, the
+// connectors and the radial springs, each writing its workgroups' sums from first_block on (the
+// terms it has no part in as zeros).
+CLOTHSIM_SLOT kCheckParticlesPhase = 0;
+CLOTHSIM_SLOT kCheckConnectorsPhase = 1;
+CLOTHSIM_SLOT kCheckRadialsPhase = 2;
+
+struct ElementCheckConstants {
+  uint count;        // the phase's items: particles, connectors or radial springs
+  uint phase;        // kCheck*Phase
+  uint first_block;  // its first workgroup's place in block_checks
+  uint pad;
+  double gravity_x;  // as StateCheckConstants
+  double gravity_y;
+  double gravity_z;
+  double explosion_stretch;
+};
+
 #if defined(__cplusplus)
 #undef CLOTHSIM_SLOT
 }  // namespace clothsim::gpu
