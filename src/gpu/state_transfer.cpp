@@ -1,6 +1,7 @@
 #include "gpu/state_transfer.h"
 
 #include <algorithm>
+#include <array>
 #include <cstring>
 #include <vector>
 
@@ -11,26 +12,34 @@
 namespace clothsim::gpu {
 
 std::uint64_t state_fingerprint(const ClothState& state, int threads) {
+  // Six FNV-1a lanes, one per coordinate of a particle's position and velocity: each lane's chain
+  // of multiplies is independent of the others', so the six run side by side. One chain over
+  // every word waited on the multiplies' latency: for a 1024 x 1024 sheet 7.0 ms on one core of
+  // the 2-core VM and 3.5 ms on two, against 5.0 and 2.6 ms in lanes (medians of 9), which is
+  // about what reading the 48 MB takes there. The host fingerprints the state up to three times
+  // an advance.
   constexpr std::size_t kBlock = 4096;
+  constexpr std::uint64_t kBasis = 1469598103934665603ull;
+  constexpr std::uint64_t kPrime = 1099511628211ull;
   const std::size_t n = state.position.size();
   const std::size_t blocks = (n + kBlock - 1) / kBlock;
   std::vector<std::uint64_t> hashes(blocks);
   parallel_for(blocks, threads, [&](std::size_t block) {
-    std::uint64_t hash = 1469598103934665603ull;
-    const auto mix = [&hash](const Vec3& v) {
-      std::uint64_t words[3];
-      std::memcpy(words, &v, sizeof words);
-      for (std::uint64_t word : words) hash = (hash ^ word) * 1099511628211ull;
-    };
+    std::array<std::uint64_t, 6> lanes;
+    lanes.fill(kBasis);
     const std::size_t end = std::min(n, (block + 1) * kBlock);
     for (std::size_t p = block * kBlock; p < end; ++p) {
-      mix(state.position[p]);
-      mix(state.velocity[p]);
+      std::uint64_t words[6];
+      std::memcpy(words, &state.position[p], 24);
+      std::memcpy(words + 3, &state.velocity[p], 24);
+      for (std::size_t k = 0; k < 6; ++k) lanes[k] = (lanes[k] ^ words[k]) * kPrime;
     }
+    std::uint64_t hash = kBasis;
+    for (std::uint64_t lane : lanes) hash = (hash ^ lane) * kPrime;
     hashes[block] = hash;
   });
   std::uint64_t hash = n;
-  for (std::uint64_t block_hash : hashes) hash = (hash ^ block_hash) * 1099511628211ull + 0x9e3779b97f4a7c15ull;
+  for (std::uint64_t block_hash : hashes) hash = (hash ^ block_hash) * kPrime + 0x9e3779b97f4a7c15ull;
   return hash;
 }
 

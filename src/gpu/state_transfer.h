@@ -13,8 +13,9 @@
 
 namespace clothsim::gpu {
 
-// A 64-bit fingerprint of the state's positions and velocities (FNV-1a over each block's bytes,
-// the blocks' hashes combined in order), instead of a copy of the state.
+// A 64-bit fingerprint of the state's positions and velocities, instead of a copy of the state:
+// per block of particles six FNV-1a lanes, one per coordinate, folded together; the blocks'
+// hashes combined in order. The same for any thread count.
 std::uint64_t state_fingerprint(const ClothState& state, int threads);
 
 // A state array on the device: 3 Reals per particle, and in float32 optionally their low parts

@@ -1,11 +1,14 @@
 // The Vulkan layer itself: devices listed, a device opened with the validation layers, buffers
-// copied there and back, and the clear errors: a device that does not exist, a scene larger than
-// the device's memory, a shader that was not built.
+// copied there and back, the fingerprint by which the host sees a changed state, and the clear
+// errors: a device that does not exist, a scene larger than the device's memory, a shader that
+// was not built.
 #include "gpu/device.h"
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <numeric>
 #include <vector>
 
@@ -13,6 +16,7 @@
 #include "gpu/embedded_shaders.h"
 #include "gpu/gpu_error.h"
 #include "gpu/instance.h"
+#include "gpu/state_transfer.h"
 #include "gpu_fixture.h"
 
 namespace clothsim {
@@ -72,6 +76,37 @@ TEST_F(GpuTest, EveryShaderIsEmbeddedInBothPrecisions) {
     }
   }
   EXPECT_THROW(gpu::embedded_shader("no_such_shader.float32"), gpu::GpuError);
+}
+
+// The device integrators upload the state again when its fingerprint moved
+// (gpu/state_transfer.h): a change of one coordinate by one ulp, anywhere, in any of the six
+// lanes and any block, must move it, and the thread count must not.
+TEST(StateFingerprint, MovesWithAnyCoordinateAndNotWithTheThreads) {
+  ClothState state;
+  const std::size_t n = 9000;  // three blocks of 4096, the last partial
+  for (std::size_t p = 0; p < n; ++p) {
+    state.position.push_back({0.5 * double(p), -1.25, 1.0 / double(p + 1)});
+    state.velocity.push_back({0.0, 0.01 * double(p % 17), -2.0});
+  }
+  const std::uint64_t original = gpu::state_fingerprint(state, 1);
+  EXPECT_EQ(gpu::state_fingerprint(state, 2), original);
+  EXPECT_EQ(gpu::state_fingerprint(state, 7), original);
+  std::size_t moved = 0, changes = 0;
+  for (std::size_t p = 0; p < n; p += 97) {
+    for (int k = 0; k < 6; ++k) {
+      ClothState changed = state;
+      Vec3& v = k < 3 ? changed.position[p] : changed.velocity[p];
+      double& x = k % 3 == 0 ? v.x : k % 3 == 1 ? v.y : v.z;
+      x = std::nextafter(x, 1e300);
+      ++changes;
+      if (gpu::state_fingerprint(changed, 2) != original) ++moved;
+    }
+  }
+  EXPECT_EQ(moved, changes);
+  // Two particles' states swapped: the same numbers in another order.
+  ClothState swapped = state;
+  std::swap(swapped.position[10], swapped.position[5000]);
+  EXPECT_NE(gpu::state_fingerprint(swapped, 2), original);
 }
 
 }  // namespace
