@@ -194,7 +194,7 @@ class Integrator {
   // The energies of `state` and the Simulation's checks of it (Simulation::check_state: a
   // non-finite value; a live connector longer than `explosion_stretch` times its rest length),
   // computed where the integrator keeps the state: a device integrator sums them there, and the
-  // host reads a few kilobytes instead of summing a large sheet's springs each frame
+  // host reads its partial sums instead of summing a large sheet's springs each frame
   // (gpu/state_checks.h). `state` is the caller's, as after the last advance or changed since.
   // Nullopt (the default) where the integrator does not compute them: the Simulation does. A
   // failure found here is diagnosed by the Simulation's own check, which names the element.
