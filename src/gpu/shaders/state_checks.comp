@@ -9,7 +9,6 @@
 // connector it owns longer than explosion_stretch times its rest length. The arithmetic is double
 // in both precisions (state_checks.glsl).
 #include "gpu/shaders/state_checks.glsl"
-#include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
 layout(std430, binding = 6) readonly buffer Params { Stored lattice_params[]; };     // [particles][kLatticeParams]
@@ -49,8 +48,8 @@ Real[kStateCheckReals] particle_checks(uint p) {
     if (!cell.has[b] || !cell.has[c] || param(r + kParamActive) == Real(0.0)) continue;
     const Real fade_b = kRadialFadeFraction * Real(event_params[arm_event_params(b, cell, p) + kEventOriginalLength]);
     const Real fade_c = kRadialFadeFraction * Real(event_params[arm_event_params(c, cell, p) + kEventOriginalLength]);
-    const Real energy =
-        radial_energy(x, arm_x[b], arm_x[c], param(r + kParamRest), param(r + kParamStiffness), fade_b, fade_c);
+    const Real energy = checked_radial_energy(x, arm_x[b], arm_x[c], lattice_params[r + kParamRest],
+                                              param(r + kParamStiffness), fade_b, fade_c);
     // The four adjacent pairs first, then the two opposite ones (model/lattice_springs.inc).
     checks[k < 4u ? kCheckRadialAdjacent : kCheckRadialOpposite] += energy;
   }

@@ -7,7 +7,6 @@
 // the radial springs (elastic energy, by kind: DeviceForces' radial_active holds it). Each
 // workgroup writes its sums at its place in block_checks; the host adds them all in order.
 #include "gpu/shaders/state_checks.glsl"
-#include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/element_pass.h"
 
 layout(std430, binding = 6) readonly buffer ConnectorParticles { uint connector_particles[]; };  // [2 connectors]
@@ -41,9 +40,9 @@ Real[kStateCheckReals] item_terms(uint i) {
     if (norm(b - a) / rest > constants.explosion_stretch) terms[kCheckFailures] = Real(1.0);
   } else {
     if (radial_active[i] == 0u) return terms;
-    const Real energy = radial_energy(
+    const Real energy = checked_radial_energy(
         state_position(radial_particles[3 * i]), state_position(radial_particles[3 * i + 1]),
-        state_position(radial_particles[3 * i + 2]), Real(radial_rest_angle[i]), Real(radial_stiffness[i]),
+        state_position(radial_particles[3 * i + 2]), radial_rest_angle[i], Real(radial_stiffness[i]),
         Real(radial_fade_length[2 * i]), Real(radial_fade_length[2 * i + 1]));
     terms[radial_active[i] == kRadialActiveAdjacent ? kCheckRadialAdjacent : kCheckRadialOpposite] = energy;
   }
