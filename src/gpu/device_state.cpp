@@ -44,8 +44,7 @@ void DeviceIntegrator::read_state(ClothState& state) {
 }
 
 std::optional<StateChecks> DeviceIntegrator::check_state(const ClothState& state, double explosion_stretch) {
-  // The stretch check reads the connectors' parameters, which are there only with their term on.
-  if (!state_checks_ || (options_.terms & kConnectorSprings) == 0) return std::nullopt;
+  if (!state_checks_ || !StateChecksPass::runs_with(options_.terms)) return std::nullopt;
   upload_changes(state);
   // The anchored particles as the host put them on their paths at the advance's end
   // (take_results): the device's own copy, which its steps never read, is its paths' in its
@@ -58,14 +57,9 @@ std::optional<StateChecks> DeviceIntegrator::check_state(const ClothState& state
   const bool split = splits_state(precision_);
   const StateArray position{&arrays_[state_position], split ? &arrays_[state_position_low] : nullptr};
   const StateArray velocity{&arrays_[state_velocity], split ? &arrays_[state_velocity_low] : nullptr};
-  const StateCheckSums sums = state_checks_->run(model_, explosion_stretch, [&](VkCommandBuffer commands) {
+  return state_checks_->run(model_, options_.terms, explosion_stretch, [&](VkCommandBuffer commands) {
     record_particle_writes(commands, position, velocity, input_staging_, precision_, anchored, state);
   });
-  // The model's force terms, as compute_energy reports them (the springs' are absent on the
-  // device already where their term is off).
-  StateChecks checks{sums.energy, sums.failures > 0};
-  if ((options_.terms & kGravity) == 0) checks.energy.gravitational = 0.0;
-  return checks;
 }
 
 }  // namespace clothsim::gpu

@@ -89,8 +89,8 @@ void StateChecksPass::bind_elements(StateArray position, StateArray velocity, De
   pass_.bind(buffers);
 }
 
-StateCheckSums StateChecksPass::run(const ClothModel& model, double explosion_stretch,
-                                    const std::function<void(VkCommandBuffer)>& before) {
+StateChecks StateChecksPass::run(const ClothModel& model, ForceTerms terms, double explosion_stretch,
+                                 const std::function<void(VkCommandBuffer)>& before) {
   const Vec3& gravity = model.environment.gravity;
   const std::array<std::uint32_t, 3> blocks = dispatch_blocks(counts_, path_);
   device_.submit([&](VkCommandBuffer commands) {
@@ -122,13 +122,13 @@ StateCheckSums StateChecksPass::run(const ClothModel& model, double explosion_st
   for (std::size_t row = 0; row < rows; ++row) {
     for (std::size_t k = 0; k < kStateCheckReals; ++k) sums[k] += sums_of_blocks[row * kStateCheckReals + k];
   }
-  StateCheckSums result;
+  StateChecks result;
   result.energy.kinetic = sums[kCheckKinetic];
-  result.energy.gravitational = sums[kCheckGravitational];
+  result.energy.gravitational = (terms & kGravity) != 0 ? sums[kCheckGravitational] : 0.0;
   result.energy.connector = sums[kCheckConnector];
   result.energy.radial_adjacent = sums[kCheckRadialAdjacent];
   result.energy.radial_opposite = sums[kCheckRadialOpposite];
-  result.failures = static_cast<std::uint64_t>(sums[kCheckFailures]);
+  result.failed = sums[kCheckFailures] > 0.0;
   return result;
 }
 

@@ -24,19 +24,17 @@
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
 #include "gpu/state_transfer.h"
+#include "integrators/integrator.h"
 #include "model/cloth_model.h"
 
 namespace clothsim::gpu {
 
-struct StateCheckSums {
-  EnergyReport energy;        // every term summed, whatever the model's force terms
-  std::uint64_t failures = 0;  // items failing: a non-finite particle, a connector stretched too far
-};
-
 class StateChecksPass {
  public:
-  // The pass computes in double: it needs shaderFloat64 in either precision.
+  // The pass computes in double: it needs shaderFloat64 in either precision. Its stretch check
+  // reads the connectors' parameters, which the device holds only with their force term on.
   static bool runs_on(const Device& device) { return device.info().float64; }
+  static bool runs_with(ForceTerms terms) { return (terms & kConnectorSprings) != 0; }
   // Device memory it holds for a model of these counts on `path`, bytes.
   static std::uint64_t bytes_for(const LatticeCounts& counts, DeviceForcePath path);
 
@@ -52,10 +50,11 @@ class StateChecksPass {
   // The general path's: the state, and DeviceForces' masses and element arrays.
   void bind_elements(StateArray position, StateArray velocity, DeviceForces& forces);
   // Runs the pass on the state as the device holds it, after what `before` records into the same
-  // submission (the state's last changes), and waits for its sums. `model` gives the lattice's
-  // shape and the gravity.
-  StateCheckSums run(const ClothModel& model, double explosion_stretch,
-                     const std::function<void(VkCommandBuffer)>& before);
+  // submission (the state's last changes), and waits for its sums: the energies as compute_energy
+  // reports them for `terms` (the springs whose term is off are absent on the device already),
+  // and whether any item failed. `model` gives the lattice's shape and the gravity.
+  StateChecks run(const ClothModel& model, ForceTerms terms, double explosion_stretch,
+                  const std::function<void(VkCommandBuffer)>& before);
 
  private:
   Device& device_;

@@ -13,6 +13,7 @@
 #include <tuple>
 #include <vector>
 
+#include "device_models.h"
 #include "events/spring_events.h"
 #include "integrators/integrator.h"
 #include "model/cloth_model.h"
@@ -29,20 +30,14 @@ namespace clothsim {
 namespace {
 
 using testing::largest_distance;
+using testing::paper_lattice;
 using testing::run_scene_to;
 using testing::RunEnd;
+using testing::vulkan;
 
 // Device 0 with the validation layers, where installed (tests/gpu/gpu_fixture.h).
 gpu::DeviceSelection device0(Precision precision) { return gpu::DeviceSelection{0, precision, true}; }
 
-BackendSettings vulkan(Precision precision) { return BackendSettings{Backend::vulkan, 0, request(precision)}; }
-
-ClothModel paper_lattice(int rows, int cols) {
-  LatticeDef lattice;  // the paper's material: 1 kg, (4, 1), (1400, 200), (80, 5), L = 1
-  lattice.rows = rows;
-  lattice.cols = cols;
-  return build_lattice(lattice, Environment{{0, -9.81, 0}, 0.0}, {});
-}
 
 // A built-in scene the backend runs: paper-fig4 without its self-collision (the paper had none).
 SceneSpec device_scene(const char* name, const BackendSettings& backend) {

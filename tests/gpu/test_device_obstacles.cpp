@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "collision/obstacle_fixtures.h"
+#include "device_models.h"
 #include "io/restored_run.h"
 #include "model/cloth_model.h"
 #include "model/collider.h"
@@ -30,7 +31,7 @@ using namespace obstacle_fixtures;  // the fixtures are this file's vocabulary
 using testing::expect_restored_run_matches;
 using testing::largest_distance;
 
-BackendSettings vulkan(Precision precision) { return BackendSettings{Backend::vulkan, 0, request(precision)}; }
+using testing::vulkan;
 
 // How far inside the thickness shell a float32 device leaves a particle: the pass places it at
 // the thickness in float32 arithmetic on metre-sized coordinates (a unit in the last place is

@@ -19,12 +19,14 @@
 #include <cstdio>
 #include <limits>
 #include <memory>
-#include <string>
 #include <optional>
+#include <string>
 #include <vector>
 
+#include "device_models.h"
 #include "forces/element.h"
 #include "forces/forces.h"
+#include "implicit_scenes.h"
 #include "model/cloth_model.h"
 #include "model/model_edits.h"
 #include "scene/builtin_scenes.h"
@@ -39,7 +41,9 @@ namespace {
 
 constexpr double kExplosionStretch = SimulationSettings{}.explosion_stretch;
 
-BackendSettings vulkan(Precision precision) { return BackendSettings{Backend::vulkan, 0, request(precision)}; }
+using testing::cotton;
+using testing::paper_lattice;
+using testing::vulkan;
 
 // The model as a float32 device holds it: masses and spring parameters rounded to float.
 ClothModel rounded_to_float(ClothModel model) {
@@ -109,13 +113,6 @@ void expect_host_sums(const EnergyReport& device, const ClothModel& model, const
     EXPECT_GT(largest_difference(device, exact), 1e3 * difference)
         << what << ": the float32 sums are the device's, with its rounded parameters";
   }
-}
-
-ClothModel paper_lattice(int rows, int cols) {
-  LatticeDef lattice;  // the paper's material: 1 kg, (4, 1), (1400, 200), (80, 5), L = 1
-  lattice.rows = rows;
-  lattice.cols = cols;
-  return build_lattice(lattice, Environment{{0, -9.81, 0}, 0.0}, {});
 }
 
 // Each device integrator and path: the explicit methods on the lattice path and on the general
@@ -231,13 +228,10 @@ TEST(DeviceStateChecks, TheSimulationsEnergiesAreTheDevicesSums) {
   set_scene_field(tearing, "springs.connector.yield_strain", "0.02", "test");
   set_scene_field(tearing, "springs.adjacent.yield_angle_deg", "2", "test");
   validate_scene(tearing, "test");
-  SceneSpec cotton = builtin_scene("cotton-drape");  // implicit Euler at the frame step, on the general path
-  set_scene_field(cotton, "lattice.rows", "24", "test");
-  set_scene_field(cotton, "lattice.cols", "24", "test");
-  set_scene_field(cotton, "anchors", "edge-corners", "test");
-  validate_scene(cotton, "test");
+  // Implicit Euler at the frame step, on the general path.
+  const SceneSpec drape = cotton(24, testing::kVulkan, true);
   for (Precision precision : {Precision::float64, Precision::float32}) {
-    for (SceneSpec spec : {builtin_scene("paper-fig5"), tearing, cotton}) {
+    for (SceneSpec spec : {builtin_scene("paper-fig5"), tearing, drape}) {
       if (spec.integrator.kind == IntegratorKind::implicit_euler && precision == Precision::float32) continue;
       spec.backend = vulkan(precision);
       Simulation simulation = make_simulation(spec);

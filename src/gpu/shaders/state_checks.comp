@@ -22,24 +22,19 @@ Real param(uint at) { return Real(lattice_params[at]); }
 
 // Particle p's terms and those of the springs it owns, in block_checks' order (kCheckKinetic, ...).
 Real[kStateCheckReals] particle_checks(uint p) {
-  Real checks[kStateCheckReals] = Real[kStateCheckReals](Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0),
-                                                         Real(0.0));
-  if (p >= constants.particle_count) return checks;
+  if (p >= constants.particle_count) return no_terms();
   const LatticeCell cell = lattice_cell(p, constants.rows, constants.cols);
   const Vec3 x = state_position(p);
-  const ParticleTerms own = particle_terms(p, Vec3(constants.gravity_x, constants.gravity_y, constants.gravity_z));
-  checks[kCheckKinetic] = own.kinetic;
-  checks[kCheckGravitational] = own.gravitational;
-  checks[kCheckFailures] = own.failure;
+  Real checks[kStateCheckReals] =
+      particle_terms(p, Vec3(constants.gravity_x, constants.gravity_y, constants.gravity_z));
   const uint base = p * kLatticeParams;
   Vec3 arm_x[4];
   for (uint d = 0u; d < 4u; ++d) arm_x[d] = cell.has[d] ? state_position(cell.neighbour[d]) : x;
   for (uint d = 0u; d < 2u; ++d) {
     const uint c = base + kConnectorParams + kSpringParams * d;
     if (!cell.has[d] || param(c + kParamActive) == Real(0.0)) continue;
-    const Real rest = param(c + kParamRest);
-    checks[kCheckConnector] += connector_energy(x, arm_x[d], rest, param(c + kParamStiffness));
-    if (norm(arm_x[d] - x) / rest > constants.explosion_stretch) checks[kCheckFailures] = Real(1.0);
+    add_connector_terms(checks, x, arm_x[d], param(c + kParamRest), param(c + kParamStiffness),
+                        constants.explosion_stretch);
   }
   for (uint k = 0u; k < uint(kRadialsPerParticle); ++k) {
     const uint r = base + kRadialParams + kSpringParams * k;

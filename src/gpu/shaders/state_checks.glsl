@@ -1,6 +1,6 @@
 // What the state-checks passes share (state_checks.comp on the lattice path,
 // state_checks_elements.comp on the general one; gpu/state_checks.h), included first: the state
-// as they read it, a particle's own terms, and the workgroup's sums written out.
+// as they read it, a particle's and a spring's terms, and the workgroup's sums written out.
 //
 // Their arithmetic is double in both variants: the float32 state is read as its two floats a
 // coordinate (split_state.glsl) and added in double, so that the sums over a million particles
@@ -45,19 +45,30 @@ Vec3 state_velocity(uint q) {
 }
 bool finite(Vec3 v) { return !any(isnan(v)) && !any(isinf(v)); }
 
-// Particle p's kinetic and gravitational energy, J, and 1 where its state is not finite.
-struct ParticleTerms {
-  Real kinetic;
-  Real gravitational;
-  Real failure;
-};
+// A workgroup item's terms, in block_checks' order (kCheckKinetic, ...), none yet.
+Real[kStateCheckReals] no_terms() {
+  return Real[kStateCheckReals](Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0));
+}
 
-ParticleTerms particle_terms(uint p, Vec3 gravity) {
+// Particle p's terms: its kinetic and gravitational energy, J, and a failure where its state is
+// not finite.
+Real[kStateCheckReals] particle_terms(uint p, Vec3 gravity) {
   const Vec3 x = state_position(p);
   const Vec3 v = state_velocity(p);
   const Real mass = Real(particle_mass[p]);
-  return ParticleTerms(Real(0.5) * mass * dot(v, v), -mass * dot(gravity, x),
-                       finite(x) && finite(v) ? Real(0.0) : Real(1.0));
+  Real terms[kStateCheckReals] = no_terms();
+  terms[kCheckKinetic] = Real(0.5) * mass * dot(v, v);
+  terms[kCheckGravitational] = -mass * dot(gravity, x);
+  terms[kCheckFailures] = finite(x) && finite(v) ? Real(0.0) : Real(1.0);
+  return terms;
+}
+
+// A live connector between xa and xb: its elastic energy, and a failure where it is longer than
+// explosion_stretch times its rest length.
+void add_connector_terms(inout Real terms[kStateCheckReals], Vec3 xa, Vec3 xb, Real rest_length, Real stiffness,
+                         Real explosion_stretch) {
+  terms[kCheckConnector] += connector_energy(xa, xb, rest_length, stiffness);
+  if (norm(xb - xa) / rest_length > explosion_stretch) terms[kCheckFailures] = Real(1.0);
 }
 
 // The rest angle a radial spring's forces act with, for an angle `angle`: in float32 the forces'

@@ -23,21 +23,15 @@ layout(push_constant) uniform Constants { ElementCheckConstants constants; };
 
 // Item i's terms in block_checks' order (kCheckKinetic, ...).
 Real[kStateCheckReals] item_terms(uint i) {
-  Real terms[kStateCheckReals] = Real[kStateCheckReals](Real(0.0), Real(0.0), Real(0.0), Real(0.0), Real(0.0),
-                                                        Real(0.0));
+  Real terms[kStateCheckReals] = no_terms();
   if (i >= constants.count) return terms;
   if (constants.phase == kCheckParticlesPhase) {
-    const ParticleTerms own = particle_terms(i, Vec3(constants.gravity_x, constants.gravity_y, constants.gravity_z));
-    terms[kCheckKinetic] = own.kinetic;
-    terms[kCheckGravitational] = own.gravitational;
-    terms[kCheckFailures] = own.failure;
+    terms = particle_terms(i, Vec3(constants.gravity_x, constants.gravity_y, constants.gravity_z));
   } else if (constants.phase == kCheckConnectorsPhase) {
     if (connector_active[i] == 0u) return terms;
-    const Vec3 a = state_position(connector_particles[2 * i]);
-    const Vec3 b = state_position(connector_particles[2 * i + 1]);
-    const Real rest = Real(connector_rest_length[i]);
-    terms[kCheckConnector] = connector_energy(a, b, rest, Real(connector_stiffness[i]));
-    if (norm(b - a) / rest > constants.explosion_stretch) terms[kCheckFailures] = Real(1.0);
+    add_connector_terms(terms, state_position(connector_particles[2 * i]),
+                        state_position(connector_particles[2 * i + 1]), Real(connector_rest_length[i]),
+                        Real(connector_stiffness[i]), constants.explosion_stretch);
   } else {
     if (radial_active[i] == 0u) return terms;
     const Real energy = checked_radial_energy(
