@@ -44,8 +44,9 @@ inline bool overlap(const Box& a, const Box& b) {
 
 class BoxGrid {
  public:
-  // Enters `boxes` (kept by reference: they must outlive the queries and stay unchanged).
-  void build(std::span<const Box> boxes);
+  // Enters `boxes` (kept by reference: they must outlive the queries and stay unchanged), over
+  // `threads`; the grid is the same for any thread count.
+  void build(std::span<const Box> boxes, int threads = 1);
 
   // Calls visit(j) for every stored box j that overlaps `query`, each once.
   template <typename Visit>
@@ -142,8 +143,10 @@ class BoxGrid {
   std::vector<std::uint32_t> oversize_;      // boxes kept aside (see the top of the file), ascending
   Cell extent_low_{};                        // the cells the entered boxes span
   Cell extent_high_{};
-  static constexpr double kOversize = 8.0;  // cells
-  std::vector<std::uint32_t> fill_;         // scratch of build(): next free entry per bucket
+  static constexpr double kOversize = 8.0;          // cells
+  static constexpr std::size_t kBuildBlock = 4096;  // boxes, or buckets, per block of build()
+  std::vector<std::uint32_t> fill_;                 // scratch of build(): next free entry per bucket
+  std::vector<std::uint32_t> cells_of_;             // scratch of build(): cells each box enters, 0 kept aside
 };
 
 // Every pair (i, j) with queries[i] overlapping stored[j], by visiting all pairs: the oracle the

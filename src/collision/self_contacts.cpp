@@ -77,11 +77,12 @@ double motion_bound(const SelfPair& pair, std::span<const Vec3> start, std::span
 }
 
 // The first tau in [0, 1] at which the pair's distance along start -> end comes within touching
-// distance, or a negative value if it never does (stage 3).
-double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness) {
+// distance, or a negative value if it never does (stage 3); `start_distance` is its distance at
+// start.
+double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
+                   double start_distance) {
   const double bound = motion_bound(pair, start, end);
   if (bound <= 0.0) return -1.0;
-  const double start_distance = measure_pair(pair.kind, gather(pair, start)).distance;
   const double touch = std::min(kTouchFraction * thickness, 0.5 * start_distance);
   if (start_distance - bound > touch) return -1.0;  // cannot come that close within the step
   double tau = 0.0;
@@ -94,6 +95,10 @@ double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<
     distance = measure_pair(pair.kind, interpolate(pair, start, end, tau)).distance;
   }
   return tau;
+}
+
+double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness) {
+  return first_touch(pair, start, end, thickness, measure_pair(pair.kind, gather(pair, start)).distance);
 }
 
 // Moves the pair's particles so that q changes by `change` (a vector along which the particles
@@ -218,13 +223,19 @@ void SelfContacts::motion_boxes(std::span<const Vec3> start, std::span<const Vec
 
 void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
                                    double margin, int threads) {
+  search(model, start, end, margin, threads);
+  join_blocks(threads);
+}
+
+void SelfContacts::search(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
+                          double margin, int threads) {
   refresh_sheet_elements(model, elements_);
   const std::size_t particles = model.particle_count();
   const auto& triangles = elements_.triangle;
   const auto& edges = elements_.edge;
   motion_boxes(start, end, margin, threads);
-  triangle_grid_.build(triangle_box_);
-  edge_grid_.build(edge_box_);
+  triangle_grid_.build(triangle_box_, threads);
+  edge_grid_.build(edge_box_, threads);
 
   // Queries: the particles against the triangles; then the edge grid joined with itself, in
   // blocks of buckets (each pair of edges met once per cell, where querying every edge would meet
@@ -233,7 +244,8 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
   const std::size_t buckets = edge_grid_.bucket_count();
   const std::size_t edge_blocks = (buckets + kBucketBlock - 1) / kBucketBlock;
   block_pairs_.resize(point_blocks + edge_blocks);
-  parallel_for(point_blocks + edge_blocks, threads, [&](std::size_t block) {
+  // A block of queries costs several times a block of buckets: handed out as threads come free.
+  parallel_for_dynamic(point_blocks + edge_blocks, threads, [&](std::size_t block) {
     std::vector<SelfPair>& out = block_pairs_[block];
     out.clear();
     if (block < point_blocks) {
@@ -254,9 +266,18 @@ void SelfContacts::find_candidates(const ClothModel& model, std::span<const Vec3
       });
     }
   });
-  candidates_.clear();
-  for (const auto& block : block_pairs_) candidates_.insert(candidates_.end(), block.begin(), block.end());
   found_at_.assign(end.begin(), end.end());
+}
+
+void SelfContacts::join_blocks(int threads) {
+  const std::size_t blocks = block_pairs_.size();
+  block_start_.assign(blocks + 1, 0);
+  for (std::size_t b = 0; b < blocks; ++b) block_start_[b + 1] = block_start_[b] + block_pairs_[b].size();
+  candidates_.resize(block_start_[blocks]);
+  parallel_for(blocks, threads, [&](std::size_t b) {
+    std::copy(block_pairs_[b].begin(), block_pairs_[b].end(),
+              candidates_.begin() + static_cast<std::ptrdiff_t>(block_start_[b]));
+  });
 }
 
 void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end,
@@ -271,18 +292,18 @@ void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const V
     // reach. While every position of the motion start -> end stays within the reach of x_f, the
     // motion's boxes grown by the thickness lie inside them, so every pair that can come within
     // the thickness is among the candidates.
-    double moved = 0.0;
-    for (std::size_t p = 0; p < end.size(); ++p) {
-      moved = std::max({moved, squared_norm(end[p] - found_at_[p]), squared_norm(start[p] - found_at_[p])});
-    }
+    const auto farthest = [&](std::size_t p) {
+      return std::max(squared_norm(end[p] - found_at_[p]), squared_norm(start[p] - found_at_[p]));
+    };
+    const double moved = parallel_max(end.size(), threads, farthest, 0.0);
     keep = std::sqrt(moved) <= found_reach_;
   }
   if (keep && selection_current_) {
     // The active pairs were selected with boxes grown by h / 2 for a touching distance of at
     // most h / 10; end positions moved less than the difference since still leave every pair
     // that can touch among them (the start positions do not change within a step).
-    double changed = 0.0;
-    for (std::size_t p = 0; p < end.size(); ++p) changed = std::max(changed, squared_norm(end[p] - selected_at_[p]));
+    const double changed =
+        parallel_max(end.size(), threads, [&](std::size_t p) { return squared_norm(end[p] - selected_at_[p]); }, 0.0);
     if (std::sqrt(changed) <= kReselect * thickness) return;
   }
   if (!keep) {
@@ -291,37 +312,37 @@ void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const V
     // integrator does not make the next few find them again every step) as long as pruning still
     // drops the lattice's neighbouring cells (L / sqrt(2) apart). A larger reach finds the
     // candidates less often but keeps more of them, which every step tests.
-    double moved = 0.0;
-    for (std::size_t p = 0; p < end.size(); ++p) moved = std::max(moved, squared_norm(end[p] - start[p]));
-    moved = std::sqrt(moved);
+    const double moved = std::sqrt(
+        parallel_max(end.size(), threads, [&](std::size_t p) { return squared_norm(end[p] - start[p]); }, 0.0));
     const double last = same_sheet ? 0.5 * found_reach_ : 0.0;
     const double neighbours = 0.5 * (std::numbers::sqrt2 / 2.0 * model.spacing - thickness);
     const double reach = std::max(
         {kLeastReach * thickness, kLeastSteps * moved, std::min(std::max(kMostSteps * moved, last), neighbours)});
-    find_candidates(model, start, end, thickness + reach, threads);
+    search(model, start, end, thickness + reach, threads);
     // This step's motion is within `moved` of the end positions, later ones within the reach.
-    prune_candidates(end, thickness + 2.0 * std::max(reach, moved), threads);
+    prune_blocks(end, thickness + 2.0 * std::max(reach, moved), threads);
+    join_blocks(threads);
     found_thickness_ = thickness;
     found_reach_ = reach;
   }
   select_active(start, end, thickness, threads);
 }
 
-void SelfContacts::prune_candidates(std::span<const Vec3> x, double reach, int threads) {
+void SelfContacts::prune_blocks(std::span<const Vec3> x, double reach, int threads) {
   // Until the candidates are found again no particle moves further than (reach - thickness) / 2
   // from x, so a pair's distance changes by less than reach - thickness: a pair at least `reach`
   // apart at x stays out of the thickness. Most candidates from the boxes are such pairs (on a
   // lattice, the particles and triangles of neighbouring cells, L / sqrt(2) apart or more), and
   // the steps test only the rest.
-  active_flag_.resize(candidates_.size());
-  parallel_for(candidates_.size(), threads, [&](std::size_t i) {
-    active_flag_[i] = measure_pair(candidates_[i].kind, gather(candidates_[i], x)).distance < reach ? 1 : 0;
+  // Each block in place, in its order: the kept pairs are those of the serial loop, in its order.
+  parallel_for_dynamic(block_pairs_.size(), threads, [&](std::size_t b) {
+    std::vector<SelfPair>& pairs = block_pairs_[b];
+    std::size_t kept = 0;
+    for (const SelfPair& pair : pairs) {
+      if (measure_pair(pair.kind, gather(pair, x)).distance < reach) pairs[kept++] = pair;
+    }
+    pairs.resize(kept);
   });
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < candidates_.size(); ++i) {
-    if (active_flag_[i] != 0) candidates_[kept++] = candidates_[i];
-  }
-  candidates_.resize(kept);
 }
 
 void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
@@ -336,10 +357,13 @@ void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Ve
     const Box& second = point ? triangle_box_[pair.element[1]] : edge_box_[pair.element[1]];
     active_flag_[i] = overlap(first, second) ? 1 : 0;
   });
-  active_.clear();
-  for (std::size_t i = 0; i < candidates_.size(); ++i) {
-    if (active_flag_[i] != 0) active_.push_back(static_cast<std::uint32_t>(i));
-  }
+  parallel_select(candidates_.size(), threads, [&](std::size_t i) { return active_flag_[i] != 0; }, active_);
+  // Their distances at the step's start, which stages 2 and 3 read every round.
+  start_distance_.resize(active_.size());
+  parallel_for(active_.size(), threads, [&](std::size_t k) {
+    const SelfPair& pair = candidates_[active_[k]];
+    start_distance_[k] = measure_pair(pair.kind, gather(pair, start)).distance;
+  });
   selected_at_.assign(end.begin(), end.end());
   selection_current_ = true;
 }
@@ -349,23 +373,32 @@ void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const
   near_.resize(active_.size());
   parallel_for(active_.size(), threads, [&](std::size_t k) {
     const SelfPair& pair = candidates_[active_[k]];
-    near_[k] = measure_pair(pair.kind, gather(pair, start)).distance < thickness ||
+    near_[k] = start_distance_[k] < thickness ||
                        measure_pair(pair.kind, gather(pair, end)).distance < thickness
                    ? 1
                    : 0;
   });
-  list_.clear();
-  near_geometry_.clear();
-  for (std::size_t k = 0; k < active_.size(); ++k) {
-    if (near_[k] == 0) continue;
-    const SelfPair& pair = candidates_[active_[k]];
-    const PairGeometry geometry = measure_pair(pair.kind, gather(pair, start));
-    // Nearest points that coincide at the start have no side to keep (a crossing in the
-    // making, which stage 3 stops).
-    if (geometry.distance == 0.0) continue;
-    list_.push_back(active_[k]);
-    near_geometry_.push_back(geometry);
+  select_flagged(near_, threads);
+  near_geometry_.resize(list_.size());
+  parallel_for(list_.size(), threads, [&](std::size_t i) {
+    const SelfPair& pair = candidates_[list_[i]];
+    near_geometry_[i] = measure_pair(pair.kind, gather(pair, start));
+  });
+  // Nearest points that coincide at the start have no side to keep (a crossing in the making,
+  // which stage 3 stops).
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < list_.size(); ++i) {
+    if (near_geometry_[i].distance == 0.0) continue;
+    list_[kept] = list_[i];
+    near_geometry_[kept++] = near_geometry_[i];
   }
+  list_.resize(kept);
+  near_geometry_.resize(kept);
+}
+
+void SelfContacts::select_flagged(std::span<const std::uint8_t> flag, int threads) {
+  parallel_select(active_.size(), threads, [&](std::size_t k) { return flag[k] != 0; }, list_);
+  parallel_for(list_.size(), threads, [&](std::size_t i) { list_[i] = active_[list_[i]]; });
 }
 
 std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState& state, double step) {
@@ -405,12 +438,9 @@ std::size_t SelfContacts::detect_impacts(std::span<const Vec3> start, std::span<
                                          int threads) {
   touching_.resize(active_.size());
   parallel_for(active_.size(), threads, [&](std::size_t k) {
-    touching_[k] = first_touch(candidates_[active_[k]], start, end, thickness) >= 0.0 ? 1 : 0;
+    touching_[k] = first_touch(candidates_[active_[k]], start, end, thickness, start_distance_[k]) >= 0.0 ? 1 : 0;
   });
-  list_.clear();
-  for (std::size_t k = 0; k < active_.size(); ++k) {
-    if (touching_[k] != 0) list_.push_back(active_[k]);
-  }
+  select_flagged(touching_, threads);
   return list_.size();
 }
 
@@ -533,9 +563,9 @@ SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state
 
   // Bookkeeping: the particles whose position or velocity the pass changed.
   changed_.resize(n);
-  for (std::size_t p = 0; p < n; ++p) {
+  parallel_for(n, threads, [&](std::size_t p) {
     changed_[p] = state.position[p] == before_position_[p] && state.velocity[p] == before_velocity_[p] ? 0 : 1;
-  }
+  });
   energy_.collect(model, changed_);
   if (energy_.particles().empty()) return counts;
   const double before = energy_.energy(model, before_position_, before_velocity_, terms);
@@ -552,17 +582,19 @@ std::size_t SelfContacts::bytes_for(const LatticeCounts& counts) {
   const std::size_t edges = counts.connectors + cells;  // connectors, then one diagonal per cell
   std::size_t bytes = triangles * sizeof(elements_.triangle[0]) + edges * sizeof(elements_.edge[0]);
   bytes += (n + triangles + edges) * sizeof(Box);
-  // Each grid: a low cell per box, entries for the cells each box spans, two bucket arrays of
+  // Each grid: a low cell and a cell count per box, entries for the cells each box spans, two bucket arrays of
   // at least twice the entries (BoxGrid::build).
   for (const std::size_t boxes : {triangles, edges}) {
     const auto entries = static_cast<std::size_t>(kGridEntriesPerBox * static_cast<double>(boxes));
-    bytes += boxes * 3 * sizeof(std::int64_t) + entries * (3 * sizeof(std::int64_t) + sizeof(std::uint64_t)) +
+    bytes += boxes * (3 * sizeof(std::int64_t) + sizeof(std::uint32_t)) +
+             entries * (3 * sizeof(std::int64_t) + sizeof(std::uint64_t)) +
              2 * std::bit_ceil(std::max<std::size_t>(2 * entries, 16)) * sizeof(std::uint32_t);
   }
   bytes += n * (4 * sizeof(Vec3) + sizeof(double) + sizeof(std::uint32_t) + 2 * sizeof(std::uint8_t));
-  // Candidates: kept in their blocks and in one list, with flags and the active ones' indices.
+  // Candidates: kept in their blocks and in one list, with flags and the active ones' indices and
+  // start distances.
   const auto pairs = static_cast<std::size_t>(kCandidatesPerParticle * static_cast<double>(n));
-  bytes += pairs * (2 * sizeof(SelfPair) + 3 * sizeof(std::uint8_t) + 2 * sizeof(std::uint32_t));
+  bytes += pairs * (2 * sizeof(SelfPair) + 3 * sizeof(std::uint8_t) + 2 * sizeof(std::uint32_t) + sizeof(double));
   return bytes + ContactEnergy::bytes_for(counts);
 }
 
@@ -572,9 +604,10 @@ std::size_t SelfContacts::bytes() const {
   for (const auto& block : block_pairs_) bytes += block.capacity() * sizeof(SelfPair);
   bytes += candidates_.capacity() * sizeof(SelfPair);
   bytes += (found_at_.capacity() + before_position_.capacity() + before_velocity_.capacity()) * sizeof(Vec3);
-  bytes += inverse_mass_.capacity() * sizeof(double);
+  bytes += (inverse_mass_.capacity() + start_distance_.capacity()) * sizeof(double);
   bytes += near_.capacity() + touching_.capacity() + changed_.capacity();
   bytes += (list_.capacity() + zone_parent_.capacity()) * sizeof(std::uint32_t);
+  bytes += block_start_.capacity() * sizeof(std::size_t);
   bytes += (elements_.triangle.capacity() * 3 + elements_.edge.capacity() * 2) * sizeof(std::uint32_t);
   return bytes;
 }

@@ -103,7 +103,15 @@ class SelfContacts {
   // The boxes of the motion start -> end of every particle, triangle and edge, grown by `margin`:
   // point_box_, triangle_box_, edge_box_.
   void motion_boxes(std::span<const Vec3> start, std::span<const Vec3> end, double margin, int threads);
-  void prune_candidates(std::span<const Vec3> x, double reach, int threads);
+  // Stage 1's search: the candidate pairs into block_pairs_, each block's in the pass's order.
+  void search(const ClothModel& model, std::span<const Vec3> start, std::span<const Vec3> end, double margin,
+              int threads);
+  // Drops from block_pairs_ the pairs at least `reach` apart at x, each block keeping its order.
+  void prune_blocks(std::span<const Vec3> x, double reach, int threads);
+  // candidates_ <- block_pairs_ joined in block order.
+  void join_blocks(int threads);
+  // list_ <- the active candidates k with flag[k] != 0, in order.
+  void select_flagged(std::span<const std::uint8_t> flag, int threads);
   void select_active(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
   void detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness, int threads);
   std::size_t resolve_proximity(const ClothModel& model, ClothState& state, double step);
@@ -125,9 +133,11 @@ class SelfContacts {
   std::vector<Box> triangle_box_;                   // [triangles]
   std::vector<Box> edge_box_;                       // [edges]
   std::vector<std::vector<SelfPair>> block_pairs_;  // stage 1's output per block of queries
+  std::vector<std::size_t> block_start_;            // [blocks + 1] where each block's pairs start in candidates_
   std::vector<SelfPair> candidates_;
-  std::vector<std::uint8_t> active_flag_;    // [candidates] scratch flags of pruning and selection
+  std::vector<std::uint8_t> active_flag_;    // [candidates] scratch flags of the selection
   std::vector<std::uint32_t> active_;        // active candidates, in order
+  std::vector<double> start_distance_;       // [active] m, each active pair's distance at the step's start
   bool selection_current_ = false;           // active_ was selected in this pass
   std::vector<Vec3> selected_at_;            // [particles] end positions the active pairs were selected for
   std::vector<Vec3> found_at_;               // [particles] end positions the candidates were found for

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <string_view>
 #include <vector>
 
@@ -50,6 +51,76 @@ void parallel_for(std::size_t count, int threads, Body&& body) {
   for (long long i = 0; i < n; ++i) {
     body(static_cast<std::size_t>(i));
   }
+}
+
+// parallel_for with the items handed out one at a time as threads come free (OpenMP's dynamic
+// schedule), for a few items of very different cost (the self-collision search's blocks: a
+// block of particles' queries takes several times a block of the grid's buckets). Each item
+// writes only its own slots, as in parallel_for, so which thread took it changes nothing.
+template <typename Body>
+void parallel_for_dynamic(std::size_t count, int threads, Body&& body) {
+  if (threads <= 1) {
+    for (std::size_t i = 0; i < count; ++i) body(i);
+    return;
+  }
+  const auto n = static_cast<long long>(count);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+  for (long long i = 0; i < n; ++i) {
+    body(static_cast<std::size_t>(i));
+  }
+}
+
+// The largest term(i) over i in [0, count), and `lowest` for none. A maximum is the same whatever
+// the order it is taken in, so any split over the threads gives the same value.
+inline constexpr std::size_t kMaxBlock = 4096;
+template <typename Term>
+double parallel_max(std::size_t count, int threads, Term&& term, double lowest) {
+  const std::size_t blocks = (count + kMaxBlock - 1) / kMaxBlock;
+  if (threads <= 1 || blocks <= 1) {
+    double largest = lowest;
+    for (std::size_t i = 0; i < count; ++i) largest = std::max(largest, term(i));
+    return largest;
+  }
+  std::vector<double> block_max(blocks, lowest);
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    double largest = lowest;
+    const std::size_t end = std::min(count, (block + 1) * kMaxBlock);
+    for (std::size_t i = block * kMaxBlock; i < end; ++i) largest = std::max(largest, term(i));
+    block_max[block] = largest;
+  });
+  return *std::max_element(block_max.begin(), block_max.end());
+}
+
+// The indices i in [0, count) with keep(i), ascending, into `out` (replacing what it held): each
+// fixed block counts its kept indices, then writes them from the sum of the counts before it, so
+// `out` is the serial loop's whatever the threads. keep(i) is called twice for each i.
+inline constexpr std::size_t kSelectBlock = 4096;
+template <typename Keep>
+void parallel_select(std::size_t count, int threads, Keep&& keep, std::vector<std::uint32_t>& out) {
+  const std::size_t blocks = (count + kSelectBlock - 1) / kSelectBlock;
+  if (threads <= 1 || blocks <= 1) {
+    out.clear();
+    for (std::size_t i = 0; i < count; ++i) {
+      if (keep(i)) out.push_back(static_cast<std::uint32_t>(i));
+    }
+    return;
+  }
+  std::vector<std::size_t> start(blocks + 1, 0);
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    std::size_t kept = 0;
+    const std::size_t end = std::min(count, (block + 1) * kSelectBlock);
+    for (std::size_t i = block * kSelectBlock; i < end; ++i) kept += keep(i) ? 1 : 0;
+    start[block + 1] = kept;
+  });
+  for (std::size_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
+  out.resize(start[blocks]);
+  parallel_for(blocks, threads, [&](std::size_t block) {
+    std::size_t next = start[block];
+    const std::size_t end = std::min(count, (block + 1) * kSelectBlock);
+    for (std::size_t i = block * kSelectBlock; i < end; ++i) {
+      if (keep(i)) out[next++] = static_cast<std::uint32_t>(i);
+    }
+  });
 }
 
 // The sums over i in [0, count) of the N components that term(i) returns (an std::array<double, N>),

@@ -67,6 +67,35 @@ TEST(BoxGrid, FindsTheSamePairsAsBruteForce) {
   }
 }
 
+// Built over several threads, the grid is the serial one: every query and the self-join visit the
+// same boxes in the same order (the order of the candidates, and so of the serial changes,
+// depends on it). Enough boxes for several blocks of the build, with some kept aside.
+TEST(BoxGrid, IsTheSameForAnyThreadCount) {
+  std::mt19937 random(11);
+  std::vector<Box> stored;
+  for (int i = 0; i < 20'000; ++i) stored.push_back(random_box(random, 2.0, 0.2));
+  for (int i = 0; i < 5; ++i) stored.push_back(random_box(random, 2.0, 3.0));
+  std::vector<Box> queries;
+  for (int i = 0; i < 2'000; ++i) queries.push_back(random_box(random, 2.0, 0.1));
+  const auto visits = [&](int threads) {
+    BoxGrid grid;
+    grid.build(stored, threads);
+    std::vector<std::uint32_t> order;
+    for (const Box& query : queries) {
+      grid.for_each_overlap(query, [&](std::uint32_t j) { order.push_back(j); });
+      order.push_back(~0u);
+    }
+    grid.for_each_pair(0, grid.bucket_count(), [&](std::uint32_t i, std::uint32_t j) {
+      order.push_back(i);
+      order.push_back(j);
+    });
+    return order;
+  };
+  const std::vector<std::uint32_t> serial = visits(1);
+  EXPECT_GT(serial.size(), 40'000u);  // pairs to order
+  for (int threads : {2, 3, 4}) EXPECT_EQ(visits(threads), serial) << threads << " threads";
+}
+
 ClothModel sheet(int rows, int cols, double spacing) {
   LatticeDef def;
   def.rows = rows;

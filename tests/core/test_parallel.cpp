@@ -4,6 +4,7 @@
 #include <sched.h>
 
 #include <atomic>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -79,6 +80,37 @@ TEST(Parallel, ParallelForVisitsEveryIndexOnce) {
     parallel_for(visits.size(), threads, [&](std::size_t i) { visits[i].fetch_add(1); });
     for (std::size_t i = 0; i < visits.size(); ++i)
       EXPECT_EQ(visits[i].load(), 1) << i << ", " << threads << " threads";
+  }
+}
+
+TEST(Parallel, DynamicScheduleVisitsEveryIndexOnce) {
+  for (int threads : {1, 2, 3, 4}) {
+    std::vector<std::atomic<int>> visits(1001);
+    parallel_for_dynamic(visits.size(), threads, [&](std::size_t i) { visits[i].fetch_add(1); });
+    for (std::size_t i = 0; i < visits.size(); ++i)
+      EXPECT_EQ(visits[i].load(), 1) << i << ", " << threads << " threads";
+  }
+}
+
+// Against the serial loop, on counts that end inside a block, on a block's edge and past several.
+TEST(Parallel, MaxAndSelectAreTheSerialLoopsForAnyThreadCount) {
+  for (std::size_t count : {std::size_t{0}, std::size_t{1}, kSelectBlock, 3 * kSelectBlock + 17}) {
+    const auto value = [](std::size_t i) {
+      return std::sin(0.37 * static_cast<double>(i)) * static_cast<double>(i % 97);
+    };
+    const auto keep = [&](std::size_t i) { return value(i) > 10.0; };
+    double largest = -1.0;
+    std::vector<std::uint32_t> kept;
+    for (std::size_t i = 0; i < count; ++i) {
+      largest = std::max(largest, value(i));
+      if (keep(i)) kept.push_back(static_cast<std::uint32_t>(i));
+    }
+    for (int threads : {1, 2, 3, 4}) {
+      EXPECT_EQ(parallel_max(count, threads, value, -1.0), largest) << count << ", " << threads << " threads";
+      std::vector<std::uint32_t> selected(5, 7);  // replaced, not appended to
+      parallel_select(count, threads, keep, selected);
+      EXPECT_EQ(selected, kept) << count << ", " << threads << " threads";
+    }
   }
 }
 
