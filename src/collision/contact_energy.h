@@ -6,8 +6,9 @@
 // touch them. Summing only those costs in proportion to what the pass touched, where summing the
 // whole sheet twice per step would cost more than the pass. The springs are found through a
 // gather table (model/gather_table.h: connector e owns slots 2e, 2e+1; radial r owns
-// radial_slot_base() + 3r ..+2), built at the first collect(), and everything is summed in
-// particle and slot order, so the sum is the same for any thread count.
+// radial_slot_base() + 3r ..+2), built at the first collect(). Both run over the threads: the
+// particles and springs are listed in index order, and summed in fixed blocks added in order
+// (core/parallel.h), so the sum is the same for any thread count.
 #pragma once
 
 #include <cstddef>
@@ -25,12 +26,12 @@ namespace clothsim {
 class ContactEnergy {
  public:
   // Collects the particles p with changed[p] != 0, in index order, and the springs touching them.
-  void collect(const ClothModel& model, std::span<const std::uint8_t> changed);
+  void collect(const ClothModel& model, std::span<const std::uint8_t> changed, int threads);
   // Kinetic and gravitational energy of the collected particles and elastic energy of the
   // collected springs, at `position` and `velocity` [particle_count()]; the terms switched off in
   // `terms` are left out, as in the simulation's energy balance.
   double energy(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
-                ForceTerms terms) const;
+                ForceTerms terms, int threads) const;
   std::span<const std::uint32_t> particles() const { return particles_; }
   std::size_t bytes() const;
   // The most bytes() reports on the lattice of `counts`: every particle and spring collected
@@ -42,9 +43,9 @@ class ContactEnergy {
   }
 
  private:
-  std::vector<std::uint8_t> element_mark_;  // [connectors + radials] 1: in elements_
+  std::vector<std::uint8_t> element_mark_;  // [connectors + radials] scratch of collect(), 0 between calls
   std::vector<std::uint32_t> particles_;    // collected particles, ascending
-  std::vector<std::uint32_t> elements_;     // connectors e, then radials as connector_count() + r
+  std::vector<std::uint32_t> elements_;     // connectors e, then radials as connector_count() + r, ascending
   GatherTable gather_;                      // the model's, built at the first collect()
 };
 

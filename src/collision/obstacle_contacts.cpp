@@ -114,15 +114,15 @@ ContactCounts ObstacleContacts::apply(const ClothModel& model, ClothState& state
     resolved_velocity_[p] = particle.velocity;
   });
 
-  energy_.collect(model, moved_);
+  energy_.collect(model, moved_, threads);
   counts.contacts = energy_.particles().size();
   if (counts.contacts == 0) return counts;
-  const double before = energy_.energy(model, state.position, state.velocity, terms);
+  const double before = energy_.energy(model, state.position, state.velocity, terms, threads);
   for (std::uint32_t p : energy_.particles()) {
     state.position[p] = resolved_position_[p];
     state.velocity[p] = resolved_velocity_[p];
   }
-  const double after = energy_.energy(model, state.position, state.velocity, terms);
+  const double after = energy_.energy(model, state.position, state.velocity, terms, threads);
   counts.work = after - before;
   state.contact_work += counts.work;
   return counts;

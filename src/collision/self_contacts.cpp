@@ -566,10 +566,10 @@ SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state
   parallel_for(n, threads, [&](std::size_t p) {
     changed_[p] = state.position[p] == before_position_[p] && state.velocity[p] == before_velocity_[p] ? 0 : 1;
   });
-  energy_.collect(model, changed_);
+  energy_.collect(model, changed_, threads);
   if (energy_.particles().empty()) return counts;
-  const double before = energy_.energy(model, before_position_, before_velocity_, terms);
-  const double after = energy_.energy(model, state.position, state.velocity, terms);
+  const double before = energy_.energy(model, before_position_, before_velocity_, terms, threads);
+  const double after = energy_.energy(model, state.position, state.velocity, terms, threads);
   counts.work = after - before;
   state.contact_work += counts.work;
   return counts;
