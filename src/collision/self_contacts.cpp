@@ -371,12 +371,13 @@ void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Ve
 void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
                                     int threads) {
   near_.resize(active_.size());
+  // Near: within the thickness at the start or the end. Nearest points that coincide at the start
+  // have no side to keep (a crossing in the making, which stage 3 stops).
   parallel_for(active_.size(), threads, [&](std::size_t k) {
     const SelfPair& pair = candidates_[active_[k]];
-    near_[k] = start_distance_[k] < thickness ||
-                       measure_pair(pair.kind, gather(pair, end)).distance < thickness
-                   ? 1
-                   : 0;
+    const bool within =
+        start_distance_[k] < thickness || measure_pair(pair.kind, gather(pair, end)).distance < thickness;
+    near_[k] = within && start_distance_[k] != 0.0 ? 1 : 0;
   });
   select_flagged(near_, threads);
   near_geometry_.resize(list_.size());
@@ -384,16 +385,6 @@ void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const
     const SelfPair& pair = candidates_[list_[i]];
     near_geometry_[i] = measure_pair(pair.kind, gather(pair, start));
   });
-  // Nearest points that coincide at the start have no side to keep (a crossing in the making,
-  // which stage 3 stops).
-  std::size_t kept = 0;
-  for (std::size_t i = 0; i < list_.size(); ++i) {
-    if (near_geometry_[i].distance == 0.0) continue;
-    list_[kept] = list_[i];
-    near_geometry_[kept++] = near_geometry_[i];
-  }
-  list_.resize(kept);
-  near_geometry_.resize(kept);
 }
 
 void SelfContacts::select_flagged(std::span<const std::uint8_t> flag, int threads) {

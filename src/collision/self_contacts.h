@@ -144,7 +144,7 @@ class SelfContacts {
   double found_thickness_ = 0.0;             // m, the thickness they were found for
   double found_reach_ = 0.0;                 // m, how far particles may move before they are found again
   std::vector<double> inverse_mass_;         // [particles] 0 for anchored particles
-  std::vector<std::uint8_t> near_;           // [active] 1: within the thickness at x0 or x1
+  std::vector<std::uint8_t> near_;           // [active] 1: within the thickness at x0 or x1, apart at x0
   std::vector<PairGeometry> near_geometry_;  // [list_] each near pair at the step's start
   std::vector<std::uint8_t> touching_;       // [active] 1: its motion touches
   std::vector<std::uint32_t> list_;          // flagged candidates, in order

@@ -70,34 +70,43 @@ void parallel_for_dynamic(std::size_t count, int threads, Body&& body) {
   }
 }
 
+// The block-wise helpers below split [0, count) into fixed blocks of kParallelBlock items, never
+// derived from the thread count, so that what they return is the same for any thread count.
+inline constexpr std::size_t kParallelBlock = 4096;
+inline constexpr std::size_t parallel_block_count(std::size_t count) {
+  return (count + kParallelBlock - 1) / kParallelBlock;
+}
+// body(block, begin, end) for every block and its index range [begin, end), the blocks in parallel.
+template <typename Body>
+void parallel_for_blocks(std::size_t count, int threads, Body&& body) {
+  parallel_for(parallel_block_count(count), threads, [&](std::size_t block) {
+    body(block, block * kParallelBlock, std::min(count, (block + 1) * kParallelBlock));
+  });
+}
+
 // The largest term(i) over i in [0, count), and `lowest` for none. A maximum is the same whatever
 // the order it is taken in, so any split over the threads gives the same value.
-inline constexpr std::size_t kMaxBlock = 4096;
 template <typename Term>
 double parallel_max(std::size_t count, int threads, Term&& term, double lowest) {
-  const std::size_t blocks = (count + kMaxBlock - 1) / kMaxBlock;
+  const std::size_t blocks = parallel_block_count(count);
   if (threads <= 1 || blocks <= 1) {
     double largest = lowest;
     for (std::size_t i = 0; i < count; ++i) largest = std::max(largest, term(i));
     return largest;
   }
   std::vector<double> block_max(blocks, lowest);
-  parallel_for(blocks, threads, [&](std::size_t block) {
-    double largest = lowest;
-    const std::size_t end = std::min(count, (block + 1) * kMaxBlock);
-    for (std::size_t i = block * kMaxBlock; i < end; ++i) largest = std::max(largest, term(i));
-    block_max[block] = largest;
+  parallel_for_blocks(count, threads, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) block_max[block] = std::max(block_max[block], term(i));
   });
   return *std::max_element(block_max.begin(), block_max.end());
 }
 
 // The indices i in [0, count) with keep(i), ascending, into `out` (replacing what it held): each
-// fixed block counts its kept indices, then writes them from the sum of the counts before it, so
-// `out` is the serial loop's whatever the threads. keep(i) is called twice for each i.
-inline constexpr std::size_t kSelectBlock = 4096;
+// block counts its kept indices, then writes them from the sum of the counts before it, so `out`
+// is the serial loop's whatever the threads. keep(i) is called twice for each i.
 template <typename Keep>
 void parallel_select(std::size_t count, int threads, Keep&& keep, std::vector<std::uint32_t>& out) {
-  const std::size_t blocks = (count + kSelectBlock - 1) / kSelectBlock;
+  const std::size_t blocks = parallel_block_count(count);
   if (threads <= 1 || blocks <= 1) {
     out.clear();
     for (std::size_t i = 0; i < count; ++i) {
@@ -106,35 +115,28 @@ void parallel_select(std::size_t count, int threads, Keep&& keep, std::vector<st
     return;
   }
   std::vector<std::size_t> start(blocks + 1, 0);
-  parallel_for(blocks, threads, [&](std::size_t block) {
-    std::size_t kept = 0;
-    const std::size_t end = std::min(count, (block + 1) * kSelectBlock);
-    for (std::size_t i = block * kSelectBlock; i < end; ++i) kept += keep(i) ? 1 : 0;
-    start[block + 1] = kept;
+  parallel_for_blocks(count, threads, [&](std::size_t block, std::size_t begin, std::size_t end) {
+    for (std::size_t i = begin; i < end; ++i) start[block + 1] += keep(i) ? 1 : 0;
   });
   for (std::size_t block = 0; block < blocks; ++block) start[block + 1] += start[block];
   out.resize(start[blocks]);
-  parallel_for(blocks, threads, [&](std::size_t block) {
+  parallel_for_blocks(count, threads, [&](std::size_t block, std::size_t begin, std::size_t end) {
     std::size_t next = start[block];
-    const std::size_t end = std::min(count, (block + 1) * kSelectBlock);
-    for (std::size_t i = block * kSelectBlock; i < end; ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
       if (keep(i)) out[next++] = static_cast<std::uint32_t>(i);
     }
   });
 }
 
 // The sums over i in [0, count) of the N components that term(i) returns (an std::array<double, N>),
-// over fixed blocks of kSumBlock items, each added in index order, and the blocks added in block
-// order: bit-for-bit the same for any thread count.
-inline constexpr std::size_t kSumBlock = 4096;
+// each block's added in index order and the blocks added in block order: bit-for-bit the same for
+// any thread count.
 template <std::size_t N, typename Term>
 std::array<double, N> parallel_sum(std::size_t count, int threads, Term&& term) {
-  const std::size_t blocks = (count + kSumBlock - 1) / kSumBlock;
-  std::vector<std::array<double, N>> block_sums(blocks);
-  parallel_for(blocks, threads, [&](std::size_t block) {
+  std::vector<std::array<double, N>> block_sums(parallel_block_count(count));
+  parallel_for_blocks(count, threads, [&](std::size_t block, std::size_t begin, std::size_t end) {
     std::array<double, N> sum{};
-    const std::size_t end = std::min(count, (block + 1) * kSumBlock);
-    for (std::size_t i = block * kSumBlock; i < end; ++i) {
+    for (std::size_t i = begin; i < end; ++i) {
       const std::array<double, N> value = term(i);
       for (std::size_t k = 0; k < N; ++k) sum[k] += value[k];
     }

@@ -74,27 +74,24 @@ TEST(Parallel, TheHardwareIsTheAffinityMask) {
   EXPECT_EQ(idle, 1);
 }
 
+// parallel_for and parallel_for_dynamic, each on its own.
 TEST(Parallel, ParallelForVisitsEveryIndexOnce) {
-  for (int threads : {1, 2, 3, 4}) {
-    std::vector<std::atomic<int>> visits(1001);
-    parallel_for(visits.size(), threads, [&](std::size_t i) { visits[i].fetch_add(1); });
-    for (std::size_t i = 0; i < visits.size(); ++i)
-      EXPECT_EQ(visits[i].load(), 1) << i << ", " << threads << " threads";
-  }
-}
-
-TEST(Parallel, DynamicScheduleVisitsEveryIndexOnce) {
-  for (int threads : {1, 2, 3, 4}) {
-    std::vector<std::atomic<int>> visits(1001);
-    parallel_for_dynamic(visits.size(), threads, [&](std::size_t i) { visits[i].fetch_add(1); });
-    for (std::size_t i = 0; i < visits.size(); ++i)
-      EXPECT_EQ(visits[i].load(), 1) << i << ", " << threads << " threads";
-  }
+  const auto check = [](const char* name, auto&& loop) {
+    for (int threads : {1, 2, 3, 4}) {
+      std::vector<std::atomic<int>> visits(1001);
+      loop(visits.size(), threads, [&](std::size_t i) { visits[i].fetch_add(1); });
+      for (std::size_t i = 0; i < visits.size(); ++i)
+        EXPECT_EQ(visits[i].load(), 1) << name << ": " << i << ", " << threads << " threads";
+    }
+  };
+  check("parallel_for", [](std::size_t n, int threads, auto&& body) { parallel_for(n, threads, body); });
+  check("parallel_for_dynamic",
+        [](std::size_t n, int threads, auto&& body) { parallel_for_dynamic(n, threads, body); });
 }
 
 // Against the serial loop, on counts that end inside a block, on a block's edge and past several.
 TEST(Parallel, MaxAndSelectAreTheSerialLoopsForAnyThreadCount) {
-  for (std::size_t count : {std::size_t{0}, std::size_t{1}, kSelectBlock, 3 * kSelectBlock + 17}) {
+  for (std::size_t count : {std::size_t{0}, std::size_t{1}, kParallelBlock, 3 * kParallelBlock + 17}) {
     const auto value = [](std::size_t i) {
       return std::sin(0.37 * static_cast<double>(i)) * static_cast<double>(i % 97);
     };
