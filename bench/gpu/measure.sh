@@ -101,8 +101,9 @@ for n in 256 512 1024; do
       --duration 0.25 --render none --profile --out "/tmp/clothsim-cotton-$n-$backend"
   done
 done
-# The obstacle pass (drape-sphere) and the self-collision pass on the host between the device's
-# steps (drape-sphere with collision.self, pile, tear-crumple), against the CPU.
+# The obstacle pass on the device after each of implicit Euler's steps (drape-sphere), and the
+# self-collision pass on the host between them (drape-sphere with collision.self, pile,
+# tear-crumple), against the CPU.
 for backend in vulkan cpu; do
   for self in false true; do
     step "drape-sphere 512 $backend self=$self" 40 "drape-sphere-512-$backend-self-$self.txt" "$clothsim" run \

@@ -135,6 +135,11 @@ void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer&
                  VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
 }
 
+void record_copy(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes) {
+  compute_write_barrier(commands);
+  record_upload(commands, source, destination, bytes);
+}
+
 void download(Device& device, const Buffer& source, std::span<std::byte> destination) {
   if (destination.size() > source.bytes()) throw GpuError("download: more bytes than the buffer holds");
   if (destination.empty()) return;

@@ -67,6 +67,10 @@ void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer&
 void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer& destination,
                    std::span<const VkBufferCopy> regions);
 
+// Records a copy of `bytes` from the start of one device buffer into the start of another, after
+// the compute passes before it and visible to those after it.
+void record_copy(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes);
+
 // The barrier between a compute pass and whatever reads its output next: a later pass or a copy.
 void compute_write_barrier(VkCommandBuffer commands);
 

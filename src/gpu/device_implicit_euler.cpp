@@ -25,10 +25,10 @@ namespace {
 
 std::uint32_t reduce_workgroups(std::uint64_t items) { return workgroups_for(items, kImplicitReduceWorkgroup); }
 
-// `contacts`: whether the surface contacts' arrays are sized for the particles (placeholders else).
-std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const LatticeCounts& counts,
-                                                                        Precision precision,
-                                                                        std::uint32_t anchor_capacity, bool contacts) {
+}  // namespace
+
+std::array<std::uint64_t, DeviceImplicitEuler::array_count> DeviceImplicitEuler::array_bytes(
+    const LatticeCounts& counts, Precision precision, std::uint32_t anchor_capacity, std::size_t colliders) {
   using A = DeviceImplicitEuler;
   const std::uint64_t real = real_size(precision);
   const std::uint64_t n = counts.particles;
@@ -40,23 +40,33 @@ std::array<std::uint64_t, DeviceImplicitEuler::array_count> array_bytes(const La
     bytes[a] = 3 * n * real;
   }
   bytes[A::jacobi] = 9 * n * real;
-  bytes[A::block_sums] = std::uint64_t{reduce_workgroups(n)} * 3 * real;
+  const bool obstacles = colliders > 0;
+  const std::uint64_t obstacle_blocks =
+      obstacles ? DeviceImplicitEuler::obstacle_blocks(counts.particles, counts.connectors, counts.radials) : 0;
+  bytes[A::block_sums] = std::max<std::uint64_t>(reduce_workgroups(n), obstacle_blocks) * 3 * real;
   bytes[A::solve_real] = kSolveReals * real;
   bytes[A::solve_uint] = kSolveUints * 4;
   bytes[A::anchor_rows] = std::uint64_t{anchor_capacity} * kAnchorRowReals * real;
   bytes[A::hold] = bytes[A::slipped] = n * 4;
-  bytes[A::surface_contacts] = contacts ? n * kContactReals * real : 0;
-  bytes[A::impulse] = contacts ? 3 * n * real : 0;
+  bytes[A::surface_contacts] = obstacles ? n * kContactReals * real : 0;
+  bytes[A::impulse] = bytes[A::start_position] = obstacles ? 3 * n * real : 0;
+  bytes[A::contact_before] = obstacles ? 6 * n * real : 0;
+  bytes[A::moved] = obstacles ? n * 4 : 0;
+  bytes[A::colliders] = colliders * kColliderReals * real;
+  bytes[A::obstacle_control_real] = obstacles ? kControlReals * real : 0;
+  bytes[A::obstacle_control_uint] = obstacles ? kControlUints * 4 : 0;
   // A Buffer holds at least 16 bytes (a sheet without radial springs, say).
   for (std::uint64_t& b : bytes) b = std::max<std::uint64_t>(b, 16);
   return bytes;
 }
 
+namespace {
+
 // The checks before anything is allocated: the device, its precision and its memory.
 Device& checked(Device& device, const ClothModel& model, Precision precision, const IntegratorSettings& settings) {
   device.require_precision(precision);
   device.require_memory(DeviceImplicitEuler::device_bytes_for(element_counts(model), model.anchors.size(), precision,
-                                                              !model.colliders.empty(), settings),
+                                                              model.colliders.size(), settings),
                         "the scene");
   return device;
 }
@@ -69,7 +79,7 @@ ComputePipeline make_pass(Device& device, const char* name, Precision precision,
 }  // namespace
 
 std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts, std::size_t anchors,
-                                                    Precision precision, bool colliders,
+                                                    Precision precision, std::size_t colliders,
                                                     const IntegratorSettings& settings) {
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
   for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders)) total += bytes;
@@ -108,11 +118,16 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
       reduce_pass_(make_pass(device_, "implicit_reduce", precision_, 3, kImplicitReduceWorkgroup)),
       iterate_pass_(make_pass(device_, "implicit_iterate", precision_, 13, kImplicitReduceWorkgroup)),
       setup_pass_(make_pass(device_, "implicit_setup", precision_, 13, kImplicitReduceWorkgroup)),
-      impulse_readback_(device_, 16, Memory::host_visible),
-      contacts_input_(device_, 16, Memory::host_visible) {
+      obstacle_contacts_pass_(
+          shader_pipeline(device_, "obstacle_contacts", precision_, 17, sizeof(ObstaclePassConstants))),
+      obstacle_elements_pass_(shader_pipeline(device_, "obstacle_energy_elements", precision_, 25,
+                                              sizeof(ObstacleElementConstants), kReduceWorkgroup)),
+      obstacle_input_(device_, kControlReals * real_size(precision_), Memory::host_visible),
+      colliders_input_(device_, 16, Memory::host_visible) {
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
   const LatticeCounts counts = element_counts(model);
-  const std::array<std::uint64_t, array_count> bytes = array_bytes(counts, precision_, anchor_capacity_, false);
+  // The obstacles' arrays as placeholders; prepare_obstacles() sizes them for the colliders.
+  const std::array<std::uint64_t, array_count> bytes = array_bytes(counts, precision_, anchor_capacity_, 0);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   if (DeviceMultigrid::applies(counts, settings)) {
@@ -127,6 +142,7 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
   // The warm start of the first solve: no velocity change; nothing slipped.
   upload(device_, arrays_[solution], real_bytes(std::vector<double>(3 * std::size_t{particles_}, 0.0), precision_));
   upload(device_, arrays_[slipped], index_bytes<std::uint32_t>(std::vector<std::uint32_t>(particles_, 0u)));
+  prepare_obstacles();
   bind_passes();
   record_buffers();
 }
@@ -179,6 +195,7 @@ void DeviceImplicitEuler::bind_passes() {
   bind(setup_pass_, {shared(F::position), shared(F::velocity), shared(F::force), shared(F::particle_mass),
                      shared(F::environment), own(particle_anchor), own(anchor_rows), own(solution), own(direction),
                      shared(F::damping_power), own(block_sums), own(solve_real), own(solve_uint)});
+  bind_obstacle_passes();
   if (multigrid_) {
     multigrid_->bind(MultigridInputs{shared(F::gather_offset), shared(F::gather_slot), shared(F::connector_particles),
                                      shared(F::radial_particles), shared(F::particle_mass), shared(F::environment),
@@ -284,7 +301,11 @@ void DeviceImplicitEuler::record_buffers() {
     record_upload(commands, real_input_, arrays_[solve_real], real_input_.bytes());
     record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
     record_upload(commands, anchor_input_, arrays_[anchor_rows], anchor_input_.bytes());
-    record_upload(commands, contacts_input_, arrays_[surface_contacts], contacts_input_.bytes());
+    // The step's start, from which the obstacle pass after it sweeps.
+    if (collider_count_ > 0) {
+      record_copy(commands, forces_.buffer(DeviceForces::position), arrays_[start_position],
+                  arrays_[start_position].bytes());
+    }
     timer.mark(commands, StepStage::device_transfers);
     dispatch(commands, linearize_pass_, 0, elements);
     timer.mark(commands, StepStage::jacobians);
@@ -332,10 +353,10 @@ void DeviceImplicitEuler::record_buffers() {
     timer.mark(commands, StepStage::linear_solve);
     record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
   });
+  // The final impulses, for the obstacle pass's friction and their work.
   impulse_commands_ = record_timed(1, [&](VkCommandBuffer commands, PassTimer& timer) {
     record_surface_impulses(commands);
     timer.mark(commands, StepStage::linear_solve);
-    record_readback(commands, arrays_[impulse], impulse_readback_, impulse_readback_.bytes());
   });
   end_commands_ = record_timed(3, [&](VkCommandBuffer commands, PassTimer& timer) {
     dispatch(commands, setup_pass_, kSetupCheck, particles_);
@@ -349,6 +370,7 @@ void DeviceImplicitEuler::record_buffers() {
     record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
     record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
   });
+  if (collider_count_ > 0) record_obstacle_buffers();
 }
 
 void DeviceImplicitEuler::release_buffers() {
@@ -356,8 +378,8 @@ void DeviceImplicitEuler::release_buffers() {
     if (commands != VK_NULL_HANDLE) device_.release(commands);
     commands = VK_NULL_HANDLE;
   };
-  for (VkCommandBuffer* commands :
-       {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_, &impulse_commands_}) {
+  for (VkCommandBuffer* commands : {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_,
+                                    &impulse_commands_, &contacts_commands_, &obstacle_commands_}) {
     release(*commands);
   }
   for (std::array<VkCommandBuffer, 2>* buffers : {&first_commands_, &iteration_commands_, &restart_commands_}) {
@@ -469,8 +491,6 @@ std::uint32_t DeviceImplicitEuler::take_step(double h, double end_time) {
     uncounted_evaluation_ = false;
     forces_current_ = true;
   }
-  holding_ = surface_contacts_ != nullptr && surface_contacts_->any;
-  if (holding_) upload_surface_contacts();
   write_step(h, end_time);
   submit(prepare_commands_);
   vcycle_ = choose_vcycle();
@@ -493,20 +513,29 @@ std::uint32_t DeviceImplicitEuler::take_step(double h, double end_time) {
 }
 
 // Steps as named stages: what changed goes up, each step runs on the device with the host reading
-// only the solve's counters, the work integrals are booked from the step's end powers, and the
-// state comes back once.
+// only the solve's counters (and with obstacles the pass's sums), the work integrals are booked
+// from the step's end powers, and the state comes back once.
 StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uint32_t max_steps) {
   CLOTHSIM_ASSERT(t_limit > state.time, "step() needs a limit after the current time");
   {
     StageTimer timer(profile_, StepStage::device_transfers);
     upload_changes(state);
   }
+  if (prepare_obstacles()) {
+    release_buffers();
+    bind_passes();
+    record_buffers();
+  }
+  const double t0 = state.time;  // the colliders' paths are written relative to it
+  if (collider_count_ > 0) begin_obstacles(t0);
   StepOutcome outcome{StepStatus::ok, 0.0, 0, false};
   std::uint32_t steps = 0;
   while (state.time < t_limit && (max_steps == 0 || steps < max_steps)) {
+    // An impact ahead on an obstacle limits the step, as the collision stage does on the CPU.
+    const double limit = collider_count_ > 0 ? std::min(t_limit, step_limit_) : t_limit;
     bool clipped = false;
-    const double h = clip_step(state.time, settings_.time_step, t_limit, clipped);
-    const double end_time = clipped ? t_limit : state.time + h;
+    const double h = clip_step(state.time, settings_.time_step, limit, clipped);
+    const double end_time = clipped ? limit : state.time + h;
     const std::uint32_t failed = take_step(h, end_time);
     outcome.step = h;
     if (failed != kNoParticle) {
@@ -519,58 +548,15 @@ StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uin
     state.damping_work += h * output_real(kDampingPower);
     state.drag_work += h * output_real(kDragPower);
     state.anchor_work += h * output_real(kAnchorPower);
+    const double start_time = state.time;
     state.time = end_time;
+    if (collider_count_ > 0) resolve_obstacles(state, start_time - t0, end_time - t0);
     record_accepted_step(h);
     ++steps;
-    // The surface contacts are the step's start's: the host refreshes them before the next step.
-    if (holding_) break;
   }
   StageTimer timer(profile_, StepStage::device_transfers);
   read_state(state);
-  if (holding_ && outcome.status == StepStatus::ok) book_surface_impulses(state);
   return outcome;
-}
-
-void DeviceImplicitEuler::upload_surface_contacts() {
-  const std::uint64_t real = real_size(precision_);
-  if (arrays_[surface_contacts].bytes() < std::uint64_t{particles_} * kContactReals * real) {
-    // The first step that holds particles: the contacts' arrays at their size, bound and recorded anew.
-    arrays_[surface_contacts] = Buffer(device_, std::uint64_t{particles_} * kContactReals * real, Memory::device_local);
-    arrays_[impulse] = Buffer(device_, std::uint64_t{particles_} * 3 * real, Memory::device_local);
-    impulse_readback_ = Buffer(device_, std::uint64_t{particles_} * 3 * real, Memory::host_visible);
-    contacts_input_ = Buffer(device_, std::uint64_t{particles_} * kContactReals * real, Memory::host_visible);
-    release_buffers();
-    bind_passes();
-    record_buffers();
-  }
-  // Into the staging the step's first submission copies from.
-  const SurfaceContacts& contacts = *surface_contacts_;
-  std::byte* rows = contacts_input_.mapped();
-  parallel_for(particles_, options_.threads, [&](std::size_t p) {
-    const bool resting = contacts.collider[p] != SurfaceContacts::kNone;
-    const Vec3 n = resting ? contacts.normal[p] : Vec3{};
-    const Vec3 v = resting ? contacts.velocity[p] : Vec3{};
-    const std::array<double, kContactReals> row{
-        n.x, n.y, n.z, v.x, v.y, v.z, resting ? contacts.friction[p] : 0.0, resting ? 1.0 : 0.0};
-    for (std::size_t k = 0; k < kContactReals; ++k) store_real(rows, kContactReals * p + k, row[k], precision_);
-  });
-}
-
-void DeviceImplicitEuler::book_surface_impulses(ClothState& state) {
-  // The impulse each held particle's surface exerted over the step (its normal part where held
-  // along the normal; zero where not held), back to the collision stage for friction, and its work
-  // with the end-of-step velocity like the other work integrals (ImplicitEuler::book_surface_impulses).
-  const std::byte* impulses = impulse_readback_.mapped();
-  SurfaceContacts& contacts = *surface_contacts_;
-  double work = 0.0;
-  for (std::size_t p = 0; p < particles_; ++p) {
-    const Vec3 surface_impulse{load_real(impulses, 3 * p, precision_), load_real(impulses, 3 * p + 1, precision_),
-                               load_real(impulses, 3 * p + 2, precision_)};
-    if (surface_impulse == Vec3{}) continue;
-    contacts.impulse[p] = std::max(0.0, dot(contacts.normal[p], surface_impulse));
-    work += dot(surface_impulse, state.velocity[p]);
-  }
-  state.contact_work += work;
 }
 
 void DeviceImplicitEuler::transfer_state(StateArchive& archive) {

@@ -26,12 +26,20 @@
 // more iterations until it stops, then the step's end. The state stays on the device; it comes
 // back when an advance ends.
 //
-// Obstacles: the host's collision stage runs between the steps, as on the CPU (the Simulation then
-// asks for one step at a time), and fills the surface contacts (model/surface_contacts.h), which go
-// up with the step. The device holds the particles resting on a surface as the CPU does
-// (implicit_diagonal: along the normal or in all directions, the held directions filtered out of
-// the solve), lets go of those the surface would pull and solves again, and hands the surface
-// impulses back to the collision stage for Coulomb friction; their work is booked on the host.
+// Obstacles (device_implicit_obstacles.cpp): the collision stage's obstacle pass runs on the device
+// after every step, as the explicit methods' does (gpu/device_integrator.h), with the CPU's contact
+// law, and leaves the next step its surface contacts (model/surface_contacts.h) and its limit, the
+// earliest impact ahead:
+//   obstacle_contacts         each free particle resolved against the colliders; friction on the
+//                             impulse of the surface it was held on
+//   obstacle_energy_elements  the energy the pass changed, the held particles' surface impulses'
+//                             work, the particles moved; the particles resting on a surface and the
+//                             earliest arrival of the others, for the next step
+//   implicit_reduce           their sums, which the host reads with the step's counters
+// The device holds the particles resting on a surface as the CPU does (implicit_diagonal: along
+// the normal or in all directions, the held directions filtered out of the solve) and lets go of
+// those the surface would pull and solves again. So the host has nothing to do between steps with
+// obstacles alone; self-collision still runs on the host between them (CollisionPasses::self_only).
 //
 // The preconditioner is the CPU's: on a lattice with cg_two_level and cg_multigrid (the defaults),
 // the multigrid V-cycle (gpu/device_multigrid.h) where block Jacobi would take more than
@@ -86,12 +94,18 @@ class DeviceImplicitEuler final : public Integrator {
   const DeviceInfo& device_info() const { return device_.info(); }
   // CG iterations of the last step.
   int last_iterations() const { return last_iterations_; }
+  // The model's obstacles, resolved on the device after each step (device_implicit_obstacles.cpp);
+  // take_obstacle_contacts() gives the counts since the last call.
+  bool runs_obstacle_contacts() const override { return !model_.colliders.empty(); }
+  IntegratorContacts take_obstacle_contacts() override;
 
   // Device memory for a model of these counts, bytes: DeviceForces' general path and the arrays below.
-  // `colliders`: whether the model has obstacles (the surface contacts' arrays); the V-cycle's
-  // levels where DeviceMultigrid::applies(counts, settings).
+  // `colliders`: the model's obstacles (the obstacle pass's arrays; their meshes' are besides); the
+  // V-cycle's levels where DeviceMultigrid::applies(counts, settings).
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, Precision precision,
-                                        bool colliders, const IntegratorSettings& settings);
+                                        std::size_t colliders, const IntegratorSettings& settings);
+  // The workgroups of the obstacle pass's three phases (obstacle_energy_elements), in block_sums.
+  static std::uint64_t obstacle_blocks(std::uint64_t particles, std::uint64_t connectors, std::uint64_t radials);
   // Whether the last step's solve took the V-cycle.
   bool last_solve_took_vcycle() const { return vcycle_; }
   // The iterations recorded into the step's first submission, and into each further one.
@@ -115,12 +129,26 @@ class DeviceImplicitEuler final : public Integrator {
     anchor_rows,        // [anchor capacity][kAnchorRowReals]
     hold,               // [particles], uint: kHold*
     slipped,            // [particles], uint: 1 where held stuck by more than friction in the last step
-    surface_contacts,   // [particles][kContactReals] (a placeholder until a step holds particles)
-    impulse,            // [3 particles], N s: the surface impulses (a placeholder likewise)
+    // With colliders (a placeholder each without): the obstacle pass's arrays.
+    surface_contacts,       // [particles][kContactReals]: the surface each particle rests on at the step's start
+    impulse,                // [3 particles], N s: the surface impulses of the held particles
+    start_position,         // [3 particles], m: the step's start, from which the pass sweeps
+    contact_before,         // [particles][6]: a moved particle's state before the pass
+    moved,                  // [particles], uint: 1 where the pass moved the particle
+    colliders,              // [colliders][kColliderReals] (device_step.h)
+    mesh_reals,             // the mesh colliders' arrays (gpu/device_colliders.h)
+    mesh_uints,
+    obstacle_control_real,  // [kControlReals]: the pass's times and thickness at device_step.h's slots
+    obstacle_control_uint,  // [kControlUints]: kAccepted, 1
     array_count
   };
 
  private:
+  // Each array's bytes; `colliders`: the model's obstacles, whose pass holds arrays per particle
+  // and partial results per workgroup of its three phases (placeholders without; the meshes' arrays
+  // are besides).
+  static std::array<std::uint64_t, array_count> array_bytes(const LatticeCounts& counts, Precision precision,
+                                                            std::uint32_t anchor_capacity, std::size_t colliders);
   // Steps to t_limit, or max_steps of them (0: no limit), as named stages.
   StepOutcome run(ClothState& state, double t_limit, std::uint32_t max_steps);
   // One step of h ending at end_time: its scalars and anchor rows written, the passes before the
@@ -136,10 +164,20 @@ class DeviceImplicitEuler final : public Integrator {
   int solve(VkCommandBuffer first);
   // Whether this step's solve takes the V-cycle, from the stiffness ratio the passes before it read.
   bool choose_vcycle() const;
-  // The surface contacts of the step's start uploaded (the arrays grown to hold them, first time);
-  // after the step, the surface impulses into them and their work into the state.
-  void upload_surface_contacts();
-  void book_surface_impulses(ClothState& state);
+  // The obstacles (device_implicit_obstacles.cpp): the arrays sized for the model's colliders when
+  // their number changed (true: the passes are then to be bound and recorded anew); at an advance's start from t0,
+  // the colliders' rows and the surface contacts and first limit of the state there; after a step
+  // from tau0 to tau1 (s from t0), the pass, its work booked in `state` and its counts kept.
+  bool prepare_obstacles();
+  void begin_obstacles(double t0);
+  void resolve_obstacles(ClothState& state, double tau0, double tau1);
+  // The obstacle pass's results the last submission copied back: the resting flag for the next
+  // step's holds and the step limit it sets.
+  void read_obstacle_outputs(double time);
+  void write_obstacle_control(double tau0, double tau1);
+  void bind_obstacle_passes();
+  void record_obstacle_buffers();
+  void record_obstacle_reduction(VkCommandBuffer commands, std::uint32_t blocks) const;
   // Uploads what changed on the host since the last exchange: the model, the state.
   void upload_changes(const ClothState& state);
   void read_state(ClothState& state);
@@ -181,7 +219,7 @@ class DeviceImplicitEuler final : public Integrator {
   // both ways (gpu/state_transfer.h).
   Buffer real_input_, uint_input_, anchor_input_, real_output_, uint_output_, state_staging_;
   ComputePipeline linearize_pass_, product_pass_, gather_pass_, diagonal_pass_, reduce_pass_, iterate_pass_,
-      setup_pass_;
+      setup_pass_, obstacle_contacts_pass_, obstacle_elements_pass_;
   std::optional<DeviceMultigrid> multigrid_;  // on a lattice with the CPU's multigrid settings
   bool vcycle_ = false;                       // this step's solve takes the V-cycle
   VkCommandBuffer forces_commands_ = VK_NULL_HANDLE, prepare_commands_ = VK_NULL_HANDLE, end_commands_ = VK_NULL_HANDLE;
@@ -193,9 +231,14 @@ class DeviceImplicitEuler final : public Integrator {
   VkCommandBuffer release_commands_ = VK_NULL_HANDLE, impulse_commands_ = VK_NULL_HANDLE;
   // Each recorded buffer's timestamps (gpu/pass_timer.h).
   std::unordered_map<VkCommandBuffer, std::unique_ptr<PassTimer>> timers_;
-  Buffer impulse_readback_;  // host-visible, sized with the impulse array
-  Buffer contacts_input_;    // host-visible, the surface contacts of the step's start (sized with them)
-  bool holding_ = false;     // the last step held particles
+  // With colliders: the surface contacts and the first limit at an advance's start; the pass after
+  // a step. Host-visible: the pass's control reals, written before each.
+  VkCommandBuffer contacts_commands_ = VK_NULL_HANDLE, obstacle_commands_ = VK_NULL_HANDLE;
+  Buffer obstacle_input_, colliders_input_;
+  std::size_t collider_count_ = 0;   // the colliders the obstacle arrays are sized for
+  IntegratorContacts contacts_;      // since the last take_obstacle_contacts()
+  double step_limit_ = 0.0;          // s: the next step may not end after it (+infinity: no limit)
+  bool holding_ = false;             // the next step holds the particles resting on a surface
 
   // Whether forces_'s force array holds f at the device's state (the last step's end).
   bool forces_current_ = false;

@@ -176,7 +176,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       accept_pass_(
           shader_pipeline(device_, "rk_accept", precision_, 14, sizeof(AcceptPassConstants), kReduceWorkgroup)),
       obstacle_contacts_pass_(
-          shader_pipeline(device_, "obstacle_contacts", precision_, 13, sizeof(ObstaclePassConstants))),
+          shader_pipeline(device_, "obstacle_contacts", precision_, 17, sizeof(ObstaclePassConstants))),
       obstacle_energy_pass_(shader_pipeline(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants),
                                             kReduceWorkgroup)) {
   if (!lattice_ && model.limits.changes_sheet()) {
@@ -223,10 +223,13 @@ void DeviceIntegrator::bind_passes() {
                         own(state_velocity_low), trial_low(F::position), trial_low(F::velocity)});
   bind(control_pass_, {own(control_real), own(control_uint), own(block_error), own(block_particle), own(block_work),
                        own(block_events), own(block_obstacles)});
+  // The explicit methods hold no particle on a surface (`holds` 0): the surface contacts, impulses
+  // and holds are never read, and other arrays stand in for them.
   bind(obstacle_contacts_pass_, {own(control_real), own(control_uint), own(state_position), own(trial_position),
                                  own(trial_velocity), own(particle_anchor), own(colliders), own(contact_before),
                                  own(moved), own(mesh_reals), own(mesh_uints), trial_low(F::position),
-                                 trial_low(F::velocity)});
+                                 trial_low(F::velocity), own(contact_before), own(contact_before), own(moved),
+                                 forces(F::particle_mass)});
   bind(obstacle_energy_pass_, {own(control_real), own(control_uint), own(trial_position), own(trial_velocity),
                                own(contact_before), own(moved), own(particle_anchor), own(colliders),
                                forces(F::particle_mass), forces(F::environment), own(lattice_params),

@@ -82,7 +82,8 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
   }
   if (features.integrator.kind == IntegratorKind::imex) return "imex (integrator.method)";
   // Self-collision runs on the host between the device's steps (Simulation::host_works_between_steps),
-  // and so do implicit Euler's events and obstacle passes (gpu/device_implicit_euler.h).
+  // and so do implicit Euler's events; its obstacle pass runs on the device on any sheet, on the
+  // element arrays (gpu/device_implicit_euler.h).
   if (implicit_euler) return "";
   // The laws run on the device's lattice path only (gpu/device_lattice.cpp).
   if (!features.lattice && features.limits.changes_sheet()) {
@@ -111,7 +112,7 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
     device.require_precision(precision);
     const std::uint64_t bytes =
         integrator.kind == IntegratorKind::implicit_euler
-            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders > 0, integrator)
+            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders, integrator)
             : gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
                                                       gpu::DeviceForcePath::lattice, colliders);
     device.require_memory(bytes, "the scene");

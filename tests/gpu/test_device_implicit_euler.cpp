@@ -115,7 +115,7 @@ TEST(DeviceImplicitEuler, CottonDrapeFollowsTheCpu) {
 TEST(DeviceImplicitEuler, TableclothRestsOnTheTableAsOnTheCpu) {
   // tablecloth on 15 x 15 for 0.3 s (300 steps of 1 ms): the sheet falls 5 cm onto the table, whose
   // top holds the particles resting on it (along the normal, or stuck by friction) while the
-  // overhang falls past the edges. The host's collision stage runs between the device's steps.
+  // overhang falls past the edges. The obstacle pass runs on the device after each step.
   Simulation device = testing::one_thread_simulation(table_scene(kVulkan));
   Simulation cpu = testing::one_thread_simulation(table_scene(kCpu));
   for (int frame = 1; frame <= 6; ++frame) {
@@ -134,6 +134,28 @@ TEST(DeviceImplicitEuler, TableclothRestsOnTheTableAsOnTheCpu) {
   EXPECT_GT(iterations, 0.8 * cpu_iterations) << iterations << " against " << cpu_iterations;
   EXPECT_LT(iterations, 1.2 * cpu_iterations) << iterations << " against " << cpu_iterations;
   testing::expect_resting_on_the_table(device.state().position);
+}
+
+TEST(DeviceImplicitEuler, AnAdvanceResolvesTheObstaclesOnTheDevice) {
+  // The obstacle pass runs on the device after each step, so one advance takes every step to its
+  // limit without the host: tablecloth's 0.2 s, the sheet landing on the table from 5 cm, in one
+  // call, with no particle inside the table after it and the contacts counted on the device.
+  const SceneSpec spec = table_scene(kVulkan);
+  const ClothModel model = build_model(spec);
+  ClothState state;
+  state.position = model.particle_rest_position;
+  state.velocity.assign(model.particle_count(), Vec3{});
+  gpu::DeviceImplicitEuler integrator(model, spec.integrator, ForceOptions{}, device0());
+  ASSERT_TRUE(integrator.runs_obstacle_contacts());
+  const StepOutcome outcome = integrator.advance(state, 0.2);
+  ASSERT_EQ(outcome.status, StepStatus::ok);
+  EXPECT_DOUBLE_EQ(state.time, 0.2);
+  EXPECT_GE(integrator.stats().accepted_steps, 200u);
+  testing::expect_resting_on_the_table(state.position);
+  const IntegratorContacts contacts = integrator.take_obstacle_contacts();
+  EXPECT_GT(contacts.steps, 0u);
+  EXPECT_GT(contacts.last, 50u) << "particles on the table at the end";
+  EXPECT_LT(state.contact_work, 0.0) << "J: the table stopped the sheet";
 }
 
 TEST(DeviceImplicitEuler, AnchorsOnPathsAndTheirWorkFollowTheCpu) {

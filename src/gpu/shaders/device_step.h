@@ -188,6 +188,24 @@ struct ObstaclePassConstants {
   uint rows;  // the lattice (obstacle_energy walks each particle's springs)
   uint cols;
   uint colliders;
+  // obstacle_contacts: 1 where the integrator held particles on their surfaces during the step
+  // (implicit Euler): friction acts on the normal impulse the surface exerted (model/surface_contacts.h).
+  uint holds;
+};
+
+// obstacle_energy_elements (implicit Euler's obstacle pass, on DeviceForces' element arrays): its
+// phases, one dispatch each, writing their workgroups' kObstacleBlockReals at first_block on.
+CLOTHSIM_SLOT kObstacleParticlesPhase = 0;   // the moved particles' energy, the surface impulses' work,
+                                             // the particles moved, the earliest arrival, the surface contacts
+CLOTHSIM_SLOT kObstacleConnectorsPhase = 1;  // the connectors touching a moved particle: their energy change
+CLOTHSIM_SLOT kObstacleRadialsPhase = 2;     // the radial springs likewise
+
+struct ObstacleElementConstants {
+  uint count;        // items of the phase: particles, connectors or radial springs
+  uint phase;        // kObstacle*Phase
+  uint first_block;  // where the phase's workgroups write in block_obstacles
+  uint colliders;
+  uint start;  // 1: at an advance's start, nothing moved: the surface contacts and the arrival only
 };
 
 struct AcceptPassConstants {

@@ -89,7 +89,7 @@ void store_preconditioner(uint p, Mat3 d, uint how) {
 // part of its dv.
 uint decide_hold(uint p) {
   const uint c = kContactReals * p;
-  if (solve_uint[kHolding] == 0u || surface_contacts[c + 7] == Real(0.0)) return kHoldNone;
+  if (solve_uint[kHolding] == 0u || surface_contacts[c + kContactResting] == Real(0.0)) return kHoldNone;
   const Vec3 n = contact_normal(p);
   const Vec3 surface_velocity = Vec3(surface_contacts[c + 3], surface_contacts[c + 4], surface_contacts[c + 5]);
   const Real friction = surface_contacts[c + 6];

@@ -7,8 +7,11 @@
 //   kReduceResidual   done at the target (or a non-finite residual), or after the iteration limit;
 //                     else beta = r.z / rho for the next direction
 //   kReducePowers     the step's end powers: damping, drag, anchor
+//   kReduceObstacles  the obstacle pass's (obstacle_energy_elements): the contact work, the particles
+//                     moved, and the earliest arrival, a least value
 // Once done, every pass of the iterations left in the submission returns at once.
 #include "gpu/shaders/element_math.glsl"
+#include "gpu/shaders/device_step.h"
 #include "gpu/shaders/implicit_step.h"
 
 const uint kWorkgroupSize = kImplicitReduceWorkgroup;
@@ -28,13 +31,16 @@ void finish(bool converged) {
 }
 
 void main() {
-  if (constants.phase != kReducePowers && solve_uint[kSolveDone] != 0u) return;
+  const bool obstacles = constants.phase == kReduceObstacles;
+  if (constants.phase != kReducePowers && !obstacles && solve_uint[kSolveDone] != 0u) return;
   const uint i = gl_LocalInvocationID.x;
-  Real partial[3] = Real[3](Real(0.0), Real(0.0), Real(0.0));
+  Real partial[3] = Real[3](Real(0.0), Real(0.0), obstacles ? Real(CLOTHSIM_NO_ARRIVAL) : Real(0.0));
   for (uint block = i; block < constants.blocks; block += kWorkgroupSize) {
-    for (uint k = 0u; k < 3u; ++k) partial[k] += block_sums[3 * block + k];
+    partial[0] += block_sums[3 * block];
+    partial[1] += block_sums[3 * block + 1];
+    partial[2] = obstacles ? min(partial[2], block_sums[3 * block + 2]) : partial[2] + block_sums[3 * block + 2];
   }
-  sum_over_workgroup(partial);
+  reduce_over_workgroup(partial, obstacles);
   if (i != 0u) return;
   const Real first = workgroup_sum[0][0];
   const Real second = workgroup_sum[1][0];
@@ -62,6 +68,10 @@ void main() {
       solve_real[kBeta] = first / solve_real[kRho];
       solve_real[kRho] = first;
     }
+  } else if (obstacles) {
+    solve_real[kObstacleWork] = first;
+    solve_real[kObstacleMoved] = second;
+    solve_real[kObstacleArrival] = third;
   } else {
     solve_real[kDampingPower] = first;
     solve_real[kDragPower] = second;

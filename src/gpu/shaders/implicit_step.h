@@ -28,7 +28,11 @@ CLOTHSIM_SLOT kResidualNorm2 = 8;        // |r|^2 of the current iterate
 CLOTHSIM_SLOT kDampingPower = 9;         // W, at the step's end: the springs' damping
 CLOTHSIM_SLOT kDragPower = 10;           // W: air drag
 CLOTHSIM_SLOT kAnchorPower = 11;         // W: what the anchors do to keep their particles on the paths
-CLOTHSIM_SLOT kSolveReals = 12;
+// The obstacle pass after the step (gpu/device_implicit_obstacles.cpp), or at an advance's start:
+CLOTHSIM_SLOT kObstacleWork = 12;     // J: the energy it changed and the held particles' surface impulses' work
+CLOTHSIM_SLOT kObstacleMoved = 13;    // the particles it moved
+CLOTHSIM_SLOT kObstacleArrival = 14;  // s from the state's time: the next step ends by it (none: CLOTHSIM_NO_ARRIVAL)
+CLOTHSIM_SLOT kSolveReals = 15;
 
 // solve_uint.
 CLOTHSIM_SLOT kIterations = 0;     // CG iterations of this step's solve
@@ -39,7 +43,9 @@ CLOTHSIM_SLOT kNonFiniteParticle = 4;  // the first free particle whose velocity
 CLOTHSIM_SLOT kHolding = 5;        // 1: the step holds particles resting on obstacles (the host's surface contacts)
 CLOTHSIM_SLOT kReleased = 6;       // 1: a held particle was let go after the solve (the surface would pull it)
 CLOTHSIM_SLOT kStiffnessRatio = 7; // the V-cycle's level 0: the largest (trace A_pp - 3 m) / m, a float's bits
-CLOTHSIM_SLOT kSolveUints = 8;
+CLOTHSIM_SLOT kResting = 8;        // 1: the obstacle pass left a particle resting on a surface (the next step holds)
+CLOTHSIM_SLOT kStateChanged = 9;   // 1: the obstacle pass changed a particle's state (the end's forces are stale)
+CLOTHSIM_SLOT kSolveUints = 10;
 CLOTHSIM_SLOT kNoParticle = 0xffffffffu;
 
 // The element factors (forces/element_jacobian.inc), Reals per element.
@@ -50,9 +56,10 @@ CLOTHSIM_SLOT kConnectorFactorReals = 6;
 CLOTHSIM_SLOT kRadialFactorReals = 23;
 
 // surface_contacts: per particle, the surface it rests on at the step's start (model/surface_contacts.h):
-// its unit normal (3), the surface's velocity (3), the friction coefficient, and 1 where it rests on
-// one (0 where not, and for anchored particles).
+// its unit normal (3), the surface's velocity (3), the friction coefficient, and at kContactResting
+// the collider's index + 1 where it rests on one (0 where not, and for anchored particles).
 CLOTHSIM_SLOT kContactReals = 8;
+CLOTHSIM_SLOT kContactResting = 7;
 // hold: per particle, the directions the step holds (integrators/held_directions.h's Hold).
 CLOTHSIM_SLOT kHoldNone = 0;
 CLOTHSIM_SLOT kHoldNormal = 1;
@@ -94,6 +101,7 @@ CLOTHSIM_SLOT kReduceStart = 0;       // r.z, r.r, b.b of the first residual: th
 CLOTHSIM_SLOT kReduceCurvature = 1;   // p.q: alpha (or done on a breakdown)
 CLOTHSIM_SLOT kReduceResidual = 2;    // r.z, r.r: done, or beta
 CLOTHSIM_SLOT kReducePowers = 3;      // the step's end powers
+CLOTHSIM_SLOT kReduceObstacles = 4;   // the obstacle pass's blocks (obstacle_energy_elements): work, moved, arrival
 
 struct ImplicitPassConstants {
   uint particle_count;

@@ -7,8 +7,13 @@
 // `contact_before`, for obstacle_energy to book the change, and is flagged in `moved`; its trial
 // state becomes the resolved one, which rk_accept then takes. Each invocation writes only its own
 // particle's entries.
+// Implicit Euler's device step runs it too (gpu/device_implicit_obstacles.cpp), on its state after
+// the step, with `holds`: a particle it held on a surface during the step (`hold`) has friction act
+// on the normal impulse that surface exerted (`impulse`), as the CPU's pass does with the impulses
+// implicit Euler writes into model/surface_contacts.h.
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
+#include "gpu/shaders/implicit_step.h"
 
 layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
 layout(local_size_x_id = 0) in;
@@ -27,6 +32,12 @@ layout(std430, binding = 9) readonly buffer MeshReals { Real mesh_reals[]; };  /
 layout(std430, binding = 10) readonly buffer MeshUints { uint mesh_uints[]; };
 layout(std430, binding = 11) writeonly buffer TrialPositionLow { Real trial_position_low[]; };  // float32
 layout(std430, binding = 12) writeonly buffer TrialVelocityLow { Real trial_velocity_low[]; };
+// With `holds` (placeholders else): the surface contacts of the step's start, [particles][kContactReals]
+// (implicit_step.h: the collider's index + 1 in the last), the surface impulses, the holds, the masses.
+layout(std430, binding = 13) readonly buffer SurfaceContacts { Real surface_contacts[]; };
+layout(std430, binding = 14) readonly buffer Impulse { Real impulse[]; };  // [3 particles], N s
+layout(std430, binding = 15) readonly buffer Hold { uint hold[]; };        // [particles], kHold*
+layout(std430, binding = 16) readonly buffer Mass { Real particle_mass[]; };  // kg
 
 layout(push_constant) uniform Constants { ObstaclePassConstants constants; };
 
@@ -47,12 +58,22 @@ void main() {
   particle.position = x;
   particle.velocity = v;
   particle.touched = false;
+  // The normal velocity change a held particle's surface made, m/s (ObstacleContacts::apply).
+  Real held = Real(0.0);
+  uint held_on = 0u;  // the collider's index + 1
+  if (constants.holds != 0u && hold[p] != kHoldNone) {
+    const uint row = kContactReals * p;
+    const Vec3 n = Vec3(surface_contacts[row], surface_contacts[row + 1], surface_contacts[row + 2]);
+    const Vec3 surface_impulse = Vec3(impulse[3 * p], impulse[3 * p + 1], impulse[3 * p + 2]);
+    held = max(Real(0.0), dot(n, surface_impulse)) * (Real(1.0) / particle_mass[p]);
+    held_on = uint(surface_contacts[row + kContactResting]);
+  }
   for (uint c = 0u; c < constants.colliders; ++c) {
     const ObstacleAtStepEnd obstacle = obstacle_at(c, tau1);
     // The start carried into the collider's frame: moved by the collider's motion over the step.
     const Vec3 start_in_frame = start + (obstacle.offset - collider_offset(c, tau0));
     resolve_obstacle_contact(colliders[c * kColliderReals + kColliderFriction], thickness, tau1 - tau0, obstacle,
-                             start_in_frame, Real(0.0), particle);
+                             start_in_frame, held_on == c + 1u ? held : Real(0.0), particle);
   }
   if (!particle.touched) return;
   moved[p] = 1u;
