@@ -43,7 +43,10 @@ std::array<std::uint64_t, DeviceImplicitEuler::array_count> DeviceImplicitEuler:
   const bool obstacles = colliders > 0;
   const std::uint64_t obstacle_blocks =
       obstacles ? DeviceImplicitEuler::obstacle_blocks(counts.particles, counts.connectors, counts.radials) : 0;
-  bytes[A::block_sums] = std::max<std::uint64_t>(reduce_workgroups(n), obstacle_blocks) * 3 * real;
+  // The laws' passes write theirs there too: one block per workgroup of connectors, then of radial springs.
+  const std::uint64_t event_blocks =
+      std::uint64_t{reduce_workgroups(counts.connectors)} + reduce_workgroups(counts.radials);
+  bytes[A::block_sums] = std::max({std::uint64_t{reduce_workgroups(n)}, obstacle_blocks, event_blocks}) * 3 * real;
   bytes[A::solve_real] = kSolveReals * real;
   bytes[A::solve_uint] = kSolveUints * 4;
   bytes[A::anchor_rows] = std::uint64_t{anchor_capacity} * kAnchorRowReals * real;
@@ -55,6 +58,12 @@ std::array<std::uint64_t, DeviceImplicitEuler::array_count> DeviceImplicitEuler:
   bytes[A::colliders] = colliders * kColliderReals * real;
   bytes[A::obstacle_control_real] = obstacles ? kControlReals * real : 0;
   bytes[A::obstacle_control_uint] = obstacles ? kControlUints * 4 : 0;
+  // The laws' per-spring values (allocated whether the model has laws or not: a model's limits are
+  // the scene's, and the memory check before the model is built does not know them).
+  bytes[A::connector_events] = std::uint64_t{counts.connectors} * kEventsPerConnector * real;
+  bytes[A::radial_arms] = std::uint64_t{counts.radials} * 2 * 4;
+  bytes[A::radial_yield_angle] = std::uint64_t{counts.radials} * real;
+  bytes[A::connector_broke] = std::uint64_t{counts.connectors} * 4;
   // A Buffer holds at least 16 bytes (a sheet without radial springs, say).
   for (std::uint64_t& b : bytes) b = std::max<std::uint64_t>(b, 16);
   return bytes;
@@ -122,6 +131,8 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
           shader_pipeline(device_, "obstacle_contacts", precision_, 17, sizeof(ObstaclePassConstants))),
       obstacle_elements_pass_(shader_pipeline(device_, "obstacle_energy_elements", precision_, 25,
                                               sizeof(ObstacleElementConstants), kReduceWorkgroup)),
+      events_pass_(shader_pipeline(device_, "implicit_events", precision_, 17, sizeof(EventElementConstants),
+                                   kImplicitReduceWorkgroup)),
       obstacle_input_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       colliders_input_(device_, 16, Memory::host_visible) {
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
@@ -196,6 +207,7 @@ void DeviceImplicitEuler::bind_passes() {
                      shared(F::environment), own(particle_anchor), own(anchor_rows), own(solution), own(direction),
                      shared(F::damping_power), own(block_sums), own(solve_real), own(solve_uint)});
   bind_obstacle_passes();
+  bind_event_passes();
   if (multigrid_) {
     multigrid_->bind(MultigridInputs{shared(F::gather_offset), shared(F::gather_slot), shared(F::connector_particles),
                                      shared(F::radial_particles), shared(F::particle_mass), shared(F::environment),
@@ -371,6 +383,7 @@ void DeviceImplicitEuler::record_buffers() {
     record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
   });
   if (collider_count_ > 0) record_obstacle_buffers();
+  record_event_buffers();
 }
 
 void DeviceImplicitEuler::release_buffers() {
@@ -379,7 +392,7 @@ void DeviceImplicitEuler::release_buffers() {
     commands = VK_NULL_HANDLE;
   };
   for (VkCommandBuffer* commands : {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_,
-                                    &impulse_commands_, &contacts_commands_, &obstacle_commands_}) {
+                                    &impulse_commands_, &contacts_commands_, &obstacle_commands_, &events_commands_}) {
     release(*commands);
   }
   for (std::array<VkCommandBuffer, 2>* buffers : {&first_commands_, &iteration_commands_, &restart_commands_}) {
@@ -403,6 +416,12 @@ void DeviceImplicitEuler::upload_changes(const ClothState& state) {
   if (model_changed) {
     if (model_.revision != forces_.model_revision()) forces_.refresh(model_);
     upload(device_, arrays_[particle_anchor], index_bytes<std::int32_t>(model_.particle_anchor));
+    upload_events();
+    if (laws() != recorded_laws_) {
+      // Limits edited between frames: the laws' passes recorded again for the laws that act now.
+      release_buffers();
+      record_buffers();
+    }
     model_revision_ = model_.revision;
     forces_current_ = false;
   }
@@ -447,6 +466,8 @@ void DeviceImplicitEuler::write_step(double h, double end_time) {
   store_real(reals, kStiffnessScale, h * h, precision_);
   store_real(reals, kDampingScale, h, precision_);
   store_real(reals, kRelativeResidual, settings_.cg_tolerance, precision_);
+  store_real(reals, kEventHardening, model_.limits.hardening, precision_);
+  store_real(reals, kEventTime, end_time, precision_);
   write_solve_counters();
   // Each anchor's path at the step's end: where its particle ends, how fast, and the acceleration
   // its power is taken with (ImplicitEuler::evaluate at the end).
@@ -551,6 +572,7 @@ StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uin
     const double start_time = state.time;
     state.time = end_time;
     if (collider_count_ > 0) resolve_obstacles(state, start_time - t0, end_time - t0);
+    if (runs_spring_events()) apply_spring_events(state);
     record_accepted_step(h);
     ++steps;
   }

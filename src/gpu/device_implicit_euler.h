@@ -41,6 +41,12 @@
 // those the surface would pull and solves again. So the host has nothing to do between steps with
 // obstacles alone; self-collision still runs on the host between them (CollisionPasses::self_only).
 //
+// Tearing, permanent stretching and creasing (device_implicit_events.cpp): after the obstacle pass,
+//   implicit_events    the CPU's laws (events/spring_laws.inc) per connector, then per radial spring,
+//                      on DeviceForces' element arrays, which the next step's forces read
+//   implicit_reduce    the fracture and plastic work
+// and take_spring_events() carries an advance's changes into the host's model.
+//
 // The preconditioner is the CPU's: on a lattice with cg_two_level and cg_multigrid (the defaults),
 // the multigrid V-cycle (gpu/device_multigrid.h) where block Jacobi would take more than
 // cg_vcycle_threshold iterations by the CPU's estimate, read from the device after the passes
@@ -98,6 +104,12 @@ class DeviceImplicitEuler final : public Integrator {
   // take_obstacle_contacts() gives the counts since the last call.
   bool runs_obstacle_contacts() const override { return !model_.colliders.empty(); }
   IntegratorContacts take_obstacle_contacts() override;
+  // The model's laws (tearing, permanent stretching, creasing), applied on the device after each
+  // step (device_implicit_events.cpp), where every spring term is on (DeviceForces' flags of a
+  // spring whose term is off say absent, not broken); take_spring_events() carries the changes
+  // into the model.
+  bool runs_spring_events() const override;
+  IntegratorEvents take_spring_events(ClothModel& model) override;
 
   // Device memory for a model of these counts, bytes: DeviceForces' general path and the arrays below.
   // `colliders`: the model's obstacles (the obstacle pass's arrays; their meshes' are besides); the
@@ -140,6 +152,11 @@ class DeviceImplicitEuler final : public Integrator {
     mesh_uints,
     obstacle_control_real,  // [kControlReals]: the pass's times and thickness at device_step.h's slots
     obstacle_control_uint,  // [kControlUints]: kAccepted, 1
+    // With the laws (a placeholder each without): their per-spring values.
+    connector_events,    // [connectors][kEventsPerConnector] (implicit_step.h)
+    radial_arms,         // [radials][2], uint: the connectors of its two arms
+    radial_yield_angle,  // [radials], rad
+    connector_broke,     // [connectors], uint: 1 where it broke after the last step
     array_count
   };
 
@@ -178,6 +195,13 @@ class DeviceImplicitEuler final : public Integrator {
   void bind_obstacle_passes();
   void record_obstacle_buffers();
   void record_obstacle_reduction(VkCommandBuffer commands, std::uint32_t blocks) const;
+  // The laws (device_implicit_events.cpp): which act (kLaw* bits); the per-spring values uploaded
+  // from the model; the passes after a step, and their work booked and counts kept.
+  std::uint32_t laws() const;
+  void upload_events();
+  void apply_spring_events(ClothState& state);
+  void bind_event_passes();
+  void record_event_buffers();
   // Uploads what changed on the host since the last exchange: the model, the state.
   void upload_changes(const ClothState& state);
   void read_state(ClothState& state);
@@ -219,7 +243,7 @@ class DeviceImplicitEuler final : public Integrator {
   // both ways (gpu/state_transfer.h).
   Buffer real_input_, uint_input_, anchor_input_, real_output_, uint_output_, state_staging_;
   ComputePipeline linearize_pass_, product_pass_, gather_pass_, diagonal_pass_, reduce_pass_, iterate_pass_,
-      setup_pass_, obstacle_contacts_pass_, obstacle_elements_pass_;
+      setup_pass_, obstacle_contacts_pass_, obstacle_elements_pass_, events_pass_;
   std::optional<DeviceMultigrid> multigrid_;  // on a lattice with the CPU's multigrid settings
   bool vcycle_ = false;                       // this step's solve takes the V-cycle
   VkCommandBuffer forces_commands_ = VK_NULL_HANDLE, prepare_commands_ = VK_NULL_HANDLE, end_commands_ = VK_NULL_HANDLE;
@@ -239,6 +263,10 @@ class DeviceImplicitEuler final : public Integrator {
   IntegratorContacts contacts_;      // since the last take_obstacle_contacts()
   double step_limit_ = 0.0;          // s: the next step may not end after it (+infinity: no limit)
   bool holding_ = false;             // the next step holds the particles resting on a surface
+  // With the laws: their passes after a step, and the changes since the last take_spring_events().
+  VkCommandBuffer events_commands_ = VK_NULL_HANDLE;
+  std::uint32_t recorded_laws_ = 0;  // the laws events_commands_ was recorded for (live edits change them)
+  IntegratorEvents events_;
 
   // Whether forces_'s force array holds f at the device's state (the last step's end).
   bool forces_current_ = false;

@@ -118,6 +118,9 @@ IntegratorEvents DeviceIntegrator::take_spring_events(ClothModel& model) {
   CLOTHSIM_ASSERT(&model == &model_, "take_spring_events: the integrator's own model");
   const IntegratorEvents counts = std::exchange(events_, IntegratorEvents{});
   if (counts.breaks + counts.yields + counts.creases == 0) return counts;
+  // Whether the device holds the model as it is, but for these changes: an edit made since the
+  // advance (an anchor let go at its end) goes up with everything else before the next one.
+  const bool device_current = model.revision == model_revision_;
   // The device's per-particle parameters back, each change made to the model by the edit the
   // CPU's event stage makes; values compared in the device's precision, so only what the device
   // changed differs. A break's time is the end of the step it came after.
@@ -156,8 +159,10 @@ IntegratorEvents DeviceIntegrator::take_spring_events(ClothModel& model) {
         return true;
       });
   // The device holds these changes already: nothing to upload for them.
-  model_revision_ = model.revision;
-  forces_.adopt_revision(model.revision);
+  if (device_current) {
+    model_revision_ = model.revision;
+    forces_.adopt_revision(model.revision);
+  }
   return counts;
 }
 

@@ -81,9 +81,9 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
     return "";
   }
   if (features.integrator.kind == IntegratorKind::imex) return "imex (integrator.method)";
-  // Self-collision runs on the host between the device's steps (Simulation::host_works_between_steps),
-  // and so do implicit Euler's events; its obstacle pass runs on the device on any sheet, on the
-  // element arrays (gpu/device_implicit_euler.h).
+  // Self-collision runs on the host between the device's steps (Simulation::host_works_between_steps);
+  // implicit Euler's obstacle pass and laws run on the device on any sheet, on its element arrays
+  // (gpu/device_implicit_euler.h).
   if (implicit_euler) return "";
   // The laws run on the device's lattice path only (gpu/device_lattice.cpp).
   if (!features.lattice && features.limits.changes_sheet()) {

@@ -191,17 +191,23 @@ TEST(DeviceImplicitEuler, AnchorsOnPathsAndTheirWorkFollowTheCpu) {
   EXPECT_NE(device.state().drag_work, 0.0);
 }
 
-TEST(DeviceImplicitEuler, ASheetTearsBetweenTheDevicesSteps) {
-  // Tearing and permanent stretching run on the host between the device's steps, each after one
-  // step, as on the CPU: the paper, pulled apart by its anchors, yields and breaks as the CPU's does.
-  // The solves are converged far below the default tolerance, so that rounding does not move a
-  // spring across its threshold a step earlier on one side.
+// tear-pull on the CPU with its laws alone (no obstacle, no self-collision), block Jacobi on both
+// sides, the solves converged far below the default tolerance, so that rounding does not move a
+// spring across its threshold a step earlier on one side.
+SceneSpec tear_pull() {
   SceneSpec spec = builtin_scene("tear-pull");
   spec.integrator.kind = IntegratorKind::implicit_euler;
   spec.integrator.cg_two_level = false;
   spec.integrator.cg_tolerance = 1e-8;
   spec.collision.self = false;
   spec.colliders.clear();
+  return spec;
+}
+
+TEST(DeviceImplicitEuler, ASheetTearsBetweenTheDevicesSteps) {
+  // Tearing and permanent stretching run on the device after each of its steps, as on the CPU
+  // after each step: the paper, pulled apart by its anchors, yields and breaks as the CPU's does.
+  const SceneSpec spec = tear_pull();
   SceneSpec on_device = spec;
   on_device.backend = kVulkan;
   Simulation cpu = testing::one_thread_simulation(spec);
@@ -219,10 +225,78 @@ TEST(DeviceImplicitEuler, ASheetTearsBetweenTheDevicesSteps) {
   EXPECT_LT(largest_distance(cpu.state().position, device.state().position), 1e-3);
 }
 
+TEST(DeviceImplicitEuler, LimitsSetBetweenFramesActOnTheDevice) {
+  // tear-pull's paper elastic and unbreakable for 20 ms, then given its limits between two frames
+  // (the viewer's panel, a script): the laws' passes act on the device from the next advance on,
+  // as the CPU's event stage does.
+  const SceneSpec spec = tear_pull();
+  const SpringLimits limits = build_model(spec).limits;
+  ASSERT_TRUE(limits.changes_sheet());
+  SceneSpec elastic = spec;
+  set_scene_field(elastic, "springs.connector.break_strain", "none", "test");
+  set_scene_field(elastic, "springs.connector.yield_strain", "none", "test");
+  set_scene_field(elastic, "springs.adjacent.yield_angle_deg", "none", "test");
+  set_scene_field(elastic, "springs.opposite.yield_angle_deg", "none", "test");
+  SceneSpec on_device = elastic;
+  on_device.backend = kVulkan;
+  Simulation cpu = testing::one_thread_simulation(elastic);
+  Simulation device = testing::one_thread_simulation(on_device);
+  for (Simulation* simulation : {&cpu, &device}) {
+    ASSERT_TRUE(simulation->advance_to(0.02)) << simulation->failure()->message;
+    EXPECT_EQ(simulation->event_totals().yields, 0u);
+    simulation->set_spring_limits(limits);
+    ASSERT_TRUE(simulation->advance_to(0.06)) << simulation->failure()->message;
+  }
+  EXPECT_GT(cpu.event_totals().yields, 0u);
+  EXPECT_GT(cpu.model_changes().broken_connectors, 5u);
+  EXPECT_EQ(device.event_totals().yields, cpu.event_totals().yields);
+  EXPECT_EQ(device.model_changes().broken_connectors, cpu.model_changes().broken_connectors);
+  EXPECT_LT(largest_distance(cpu.state().position, device.state().position), 1e-3);
+}
+
+TEST(DeviceImplicitEuler, AFilmYieldsOnTheDeviceAndIsLetGoAsOnTheCpu) {
+  // film-stretch on 7 x 7: the far row pulled 20 % in 0.5 s on keyframes, the film yielding on the
+  // device after each step, and let go at 0.7 s, after which it springs back to its new rest
+  // lengths. The device's advances take whole frames (no law on the host), and an anchor let go at
+  // the end of one reaches the device with the device's changes to the springs (an edit between
+  // two advances once went missing there, and the film stayed stretched, 0.34 J stored).
+  SceneSpec spec = builtin_scene("film-stretch");
+  const int last = spec.lattice.rows - 1;
+  spec.lattice.rows = spec.lattice.cols = 7;
+  std::vector<AnchorSpec> anchors;
+  for (AnchorSpec anchor : spec.anchors) {
+    if (anchor.col >= 7) continue;
+    if (anchor.row == last) anchor.row = 6;
+    anchors.push_back(anchor);
+  }
+  spec.anchors = anchors;
+  spec.integrator.time_step = 2e-3;
+  spec.integrator.cg_tolerance = 1e-9;
+  SceneSpec on_device = spec;
+  on_device.backend = kVulkan;
+  Simulation cpu = testing::one_thread_simulation(spec);
+  Simulation device = testing::one_thread_simulation(on_device);
+  for (int frame = 1; frame <= 16; ++frame) {
+    ASSERT_TRUE(cpu.advance_to(frame * 0.05)) << cpu.failure()->message;
+    ASSERT_TRUE(device.advance_to(frame * 0.05)) << device.failure()->message;
+  }
+  EXPECT_GT(cpu.model_changes().max_plastic_strain, 0.1) << "the film kept a stretch";
+  EXPECT_NEAR(device.model_changes().max_plastic_strain, cpu.model_changes().max_plastic_strain,
+              1e-6 * cpu.model_changes().max_plastic_strain);
+  EXPECT_NEAR(device.state().plastic_work, cpu.state().plastic_work, 1e-6 * std::abs(cpu.state().plastic_work));
+  EXPECT_LT(largest_distance(cpu.state().position, device.state().position), 1e-6);
+  EXPECT_NEAR(device.energy().connector, cpu.energy().connector, 1e-6 * cpu.energy().connector + 1e-12);
+}
+
 TEST(DeviceImplicitEuler, ARestoredRunGoesOnBitForBit) {
   expect_restored_run_matches(cotton(12, kVulkan, true), 0.1, 0.2, 2);
   // With particles held on the table: the slipped flags go with the checkpoint.
   EXPECT_GT(expect_restored_run_matches(table_scene(kVulkan), 0.12, 0.16, 2).contact_steps, 0u);
+  // With the laws on the device: the model's changes go with the checkpoint and up again. Saved as
+  // the paper yields, going on as it starts to tear (about 40 ms).
+  SceneSpec tearing = tear_pull();
+  tearing.backend = kVulkan;
+  expect_restored_run_matches(tearing, 0.03, 0.05, 2);
 }
 
 TEST(DeviceImplicitEuler, RefusesWhatItCannotRun) {

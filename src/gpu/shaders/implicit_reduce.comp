@@ -9,6 +9,7 @@
 //   kReducePowers     the step's end powers: damping, drag, anchor
 //   kReduceObstacles  the obstacle pass's (obstacle_energy_elements): the contact work, the particles
 //                     moved, and the earliest arrival, a least value
+//   kReduceEvents     the spring laws' (implicit_events): the fracture and the plastic work
 // Once done, every pass of the iterations left in the submission returns at once.
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
@@ -32,7 +33,8 @@ void finish(bool converged) {
 
 void main() {
   const bool obstacles = constants.phase == kReduceObstacles;
-  if (constants.phase != kReducePowers && !obstacles && solve_uint[kSolveDone] != 0u) return;
+  const bool after_solve = constants.phase == kReducePowers || obstacles || constants.phase == kReduceEvents;
+  if (!after_solve && solve_uint[kSolveDone] != 0u) return;
   const uint i = gl_LocalInvocationID.x;
   Real partial[3] = Real[3](Real(0.0), Real(0.0), obstacles ? Real(CLOTHSIM_NO_ARRIVAL) : Real(0.0));
   for (uint block = i; block < constants.blocks; block += kWorkgroupSize) {
@@ -68,6 +70,9 @@ void main() {
       solve_real[kBeta] = first / solve_real[kRho];
       solve_real[kRho] = first;
     }
+  } else if (constants.phase == kReduceEvents) {
+    solve_real[kEventFracture] = first;
+    solve_real[kEventPlastic] = second;
   } else if (obstacles) {
     solve_real[kObstacleWork] = first;
     solve_real[kObstacleMoved] = second;

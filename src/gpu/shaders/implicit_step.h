@@ -32,7 +32,13 @@ CLOTHSIM_SLOT kAnchorPower = 11;         // W: what the anchors do to keep their
 CLOTHSIM_SLOT kObstacleWork = 12;     // J: the energy it changed and the held particles' surface impulses' work
 CLOTHSIM_SLOT kObstacleMoved = 13;    // the particles it moved
 CLOTHSIM_SLOT kObstacleArrival = 14;  // s from the state's time: the next step ends by it (none: CLOTHSIM_NO_ARRIVAL)
-CLOTHSIM_SLOT kSolveReals = 15;
+// The spring laws after the step and its obstacle pass (implicit_events.comp): the host writes the
+// first two with the step's scalars, the pass sums the last two.
+CLOTHSIM_SLOT kEventHardening = 15;  // SpringLimits::hardening
+CLOTHSIM_SLOT kEventTime = 16;       // s, the step's end: when a connector that breaks now broke
+CLOTHSIM_SLOT kEventFracture = 17;   // J: the elastic energy the breaks released (negative), fracture work
+CLOTHSIM_SLOT kEventPlastic = 18;    // J: the elastic energy's change by yields and creases, plastic work
+CLOTHSIM_SLOT kSolveReals = 19;
 
 // solve_uint.
 CLOTHSIM_SLOT kIterations = 0;     // CG iterations of this step's solve
@@ -45,7 +51,10 @@ CLOTHSIM_SLOT kReleased = 6;       // 1: a held particle was let go after the so
 CLOTHSIM_SLOT kStiffnessRatio = 7; // the V-cycle's level 0: the largest (trace A_pp - 3 m) / m, a float's bits
 CLOTHSIM_SLOT kResting = 8;        // 1: the obstacle pass left a particle resting on a surface (the next step holds)
 CLOTHSIM_SLOT kStateChanged = 9;   // 1: the obstacle pass changed a particle's state (the end's forces are stale)
-CLOTHSIM_SLOT kSolveUints = 10;
+CLOTHSIM_SLOT kEventBreaks = 10;   // connectors the laws broke after the step
+CLOTHSIM_SLOT kEventYields = 11;   // connectors that yielded
+CLOTHSIM_SLOT kEventCreases = 12;  // radial springs that creased
+CLOTHSIM_SLOT kSolveUints = 13;
 CLOTHSIM_SLOT kNoParticle = 0xffffffffu;
 
 // The element factors (forces/element_jacobian.inc), Reals per element.
@@ -102,6 +111,20 @@ CLOTHSIM_SLOT kReduceCurvature = 1;   // p.q: alpha (or done on a breakdown)
 CLOTHSIM_SLOT kReduceResidual = 2;    // r.z, r.r: done, or beta
 CLOTHSIM_SLOT kReducePowers = 3;      // the step's end powers
 CLOTHSIM_SLOT kReduceObstacles = 4;   // the obstacle pass's blocks (obstacle_energy_elements): work, moved, arrival
+CLOTHSIM_SLOT kReduceEvents = 5;      // the spring laws' blocks (implicit_events): fracture and plastic work
+
+// implicit_events' phases, one dispatch each, writing their workgroups' sums at first_block on.
+CLOTHSIM_SLOT kEventsConnectorsPhase = 0;  // tearing, then permanent stretching, per connector
+CLOTHSIM_SLOT kEventsRadialsPhase = 1;     // a radial spring breaks with an arm, else creases
+// connector_events: per connector, kEventsPerConnector Reals at device_step.h's kEvent* offsets
+// (original length, break strain, yield strain, the time it broke).
+
+struct EventElementConstants {
+  uint count;        // connectors or radial springs
+  uint phase;        // kEvents*Phase
+  uint first_block;  // where the phase's workgroups write their sums in block_sums
+  uint laws;         // device_step.h's kLawTearing | kLawPlasticity | kLawCreasing: the laws that act
+};
 
 struct ImplicitPassConstants {
   uint particle_count;
