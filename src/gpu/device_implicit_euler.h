@@ -106,8 +106,8 @@ class DeviceImplicitEuler final : public Integrator {
   IntegratorContacts take_obstacle_contacts() override;
   // The model's laws (tearing, permanent stretching, creasing), applied on the device after each
   // step (device_implicit_events.cpp), where every spring term is on (DeviceForces' flags of a
-  // spring whose term is off say absent, not broken); take_spring_events() carries the changes
-  // into the model.
+  // spring whose term is off say absent, not broken) and without self-collision (the laws act after
+  // the self pass, on the host); take_spring_events() carries the changes into the model.
   bool runs_spring_events() const override;
   IntegratorEvents take_spring_events(ClothModel& model) override;
 
@@ -198,6 +198,9 @@ class DeviceImplicitEuler final : public Integrator {
   // The laws (device_implicit_events.cpp): which act (kLaw* bits); the per-spring values uploaded
   // from the model; the passes after a step, and their work booked and counts kept.
   std::uint32_t laws() const;
+  // Whether the laws' passes are recorded: some law acts and every spring term is on (whether they
+  // run also depends on self-collision, which the viewer switches between frames).
+  bool records_spring_events() const;
   void upload_events();
   void apply_spring_events(ClothState& state);
   void bind_event_passes();

@@ -29,9 +29,15 @@ std::uint32_t DeviceImplicitEuler::laws() const {
   return bits;
 }
 
-bool DeviceImplicitEuler::runs_spring_events() const {
+bool DeviceImplicitEuler::records_spring_events() const {
   constexpr ForceTerms kSprings = kConnectorSprings | kAdjacentRadialSprings | kOppositeRadialSprings;
   return laws() != 0 && (options_.terms & kSprings) == kSprings;
+}
+
+bool DeviceImplicitEuler::runs_spring_events() const {
+  // With self-collision the laws act after the self pass, which runs on the host between single
+  // steps: there the host applies them too, to the state and the springs that pass left.
+  return records_spring_events() && !model_.collision.self;
 }
 
 void DeviceImplicitEuler::upload_events() {
@@ -70,7 +76,7 @@ void DeviceImplicitEuler::bind_event_passes() {
 // blocks one after the other, and their sums.
 void DeviceImplicitEuler::record_event_buffers() {
   recorded_laws_ = laws();
-  if (!runs_spring_events()) return;
+  if (!records_spring_events()) return;
   const std::uint32_t bits = recorded_laws_;
   events_commands_ = record_timed(1, [&](VkCommandBuffer commands, PassTimer& timer) {
     const std::array<std::uint32_t, 2> counts = {connectors_, radials_};

@@ -77,7 +77,8 @@ class DeviceIntegrator final : public Integrator {
   // Tearing, permanent stretching and creasing run on the device after every accepted step (the
   // lattice path; device_lattice.cpp); take_spring_events() carries the advance's changes into
   // the model.
-  bool runs_spring_events() const override { return lattice_; }
+  // With self-collision the laws act after the self pass, on the host between single steps.
+  bool runs_spring_events() const override { return lattice_ && !model_.collision.self; }
   IntegratorEvents take_spring_events(ClothModel& model) override;
   // The model's obstacles (planes, spheres, boxes, capsules and triangle meshes, still or on their
   // paths) are resolved on the device after every accepted step, with the CPU's contact law, and

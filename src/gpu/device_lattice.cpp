@@ -101,10 +101,12 @@ std::uint32_t DeviceIntegrator::uniform_params_particle(const std::vector<double
 
 void DeviceIntegrator::set_laws() {
   const SpringLimits& limits = model_.limits;
+  // Where the host applies the laws (runs_spring_events), the device applies none.
+  const bool on_device = runs_spring_events();
   std::uint32_t laws = 0;
-  if (lattice_ && limits.break_strain != SpringLimits::kNever) laws |= kLawTearing;
-  if (lattice_ && limits.yield_strain != SpringLimits::kNever) laws |= kLawPlasticity;
-  if (lattice_ &&
+  if (on_device && limits.break_strain != SpringLimits::kNever) laws |= kLawTearing;
+  if (on_device && limits.yield_strain != SpringLimits::kNever) laws |= kLawPlasticity;
+  if (on_device &&
       (limits.adjacent_yield_angle != SpringLimits::kNever || limits.opposite_yield_angle != SpringLimits::kNever)) {
     laws |= kLawCreasing;
   }
