@@ -205,7 +205,8 @@ class DeviceImplicitEuler final : public Integrator {
   void apply_spring_events(ClothState& state);
   void bind_event_passes();
   void record_event_buffers();
-  // Uploads what changed on the host since the last exchange: the model, the state.
+  // Uploads what changed on the host since the last exchange: the model, the state
+  // (device_implicit_state.cpp).
   void upload_changes(const ClothState& state);
   void read_state(ClothState& state);
   void bind_passes();
