@@ -251,6 +251,11 @@ void DeviceImplicitEuler::record_iterations(VkCommandBuffer commands, bool vcycl
   record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
 }
 
+void DeviceImplicitEuler::record_solve_readback(VkCommandBuffer commands) const {
+  record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
+  record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
+}
+
 void DeviceImplicitEuler::record_solution_product(VkCommandBuffer commands) const {
   dispatch(commands, setup_pass_, kSetupWarmStart, particles_);
   dispatch(commands, product_pass_, kProductSystem, connectors_ + radials_);
@@ -374,8 +379,7 @@ void DeviceImplicitEuler::record_buffers() {
     dispatch(commands, setup_pass_, kSetupPowers, particles_);
     dispatch(commands, reduce_pass_, kReducePowers, kImplicitReduceWorkgroup);
     timer.mark(commands, StepStage::solution_update);
-    record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
-    record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
+    record_solve_readback(commands);
   });
   if (collider_count_ > 0) record_obstacle_buffers();
   record_event_buffers();

@@ -221,6 +221,8 @@ class DeviceImplicitEuler final : public Integrator {
   void submit(VkCommandBuffer commands);
   // `vcycle`: z from the V-cycle, else from block Jacobi.
   void record_iterations(VkCommandBuffer commands, bool vcycle, std::uint32_t iterations) const;
+  // Both solve arrays copied back, for output_uint() and output_real() after the submission.
+  void record_solve_readback(VkCommandBuffer commands) const;
   // Records `pass` in `phase` over `invocations`; `iteration`: a CG iteration's pass, which returns
   // at once once the solve has stopped.
   void dispatch(VkCommandBuffer commands, const ComputePipeline& pass, std::uint32_t phase, std::uint32_t invocations,

@@ -90,8 +90,7 @@ void DeviceImplicitEuler::record_event_buffers() {
     reduce.blocks = first_block;
     reduce_pass_.dispatch(commands, &reduce, kImplicitReduceWorkgroup);
     timer.mark(commands, StepStage::events);
-    record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
-    record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
+    record_solve_readback(commands);
   });
 }
 

@@ -101,8 +101,7 @@ void DeviceImplicitEuler::record_obstacle_reduction(VkCommandBuffer commands, st
   ImplicitPassConstants reduce = constants(kReduceObstacles);
   reduce.blocks = blocks;
   reduce_pass_.dispatch(commands, &reduce, kImplicitReduceWorkgroup);
-  record_readback(commands, arrays_[solve_uint], uint_output_, kSolveUints * 4);
-  record_readback(commands, arrays_[solve_real], real_output_, kSolveReals * real_size(precision_));
+  record_solve_readback(commands);
 }
 
 // The surface contacts and the first limit at an advance's start: the particles' phase alone

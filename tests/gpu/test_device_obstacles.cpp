@@ -57,6 +57,13 @@ ClothModel soft_sheet(double height, std::vector<Collider> colliders) {
   return sheet(height, std::move(colliders), 0.3, 0.5, kSoftDamping);
 }
 
+// The case's collider, still or moving: sideways for the curved shapes (they sweep under the
+// sheet), upwards for the plane (it lifts).
+Collider still_or_moving(const ColliderCase& c, bool moves) {
+  const Vec3 velocity = c.collider.shape == ColliderShape::plane ? Vec3{0.0, 0.4, 0.0} : Vec3{0.6, 0.0, 0.0};
+  return moves ? moving(c.collider, velocity) : c.collider;
+}
+
 // Every shape (the mesh: a cube of 12 triangles, the box's table through the mesh path), still and
 // moving on a path: the sheet lands, stays outside, the balance
 // closes as on the CPU, and in float64 the device's run follows the CPU's: the same contact law on
@@ -66,9 +73,7 @@ TEST(DeviceObstacles, SheetDroppedOnEachShapeStaysOutsideAsOnTheCpu) {
   for (bool moves : {false, true}) {
     for (const ColliderCase& c : collider_cases()) {
       SCOPED_TRACE(std::string(c.name) + (moves ? ", moving" : ", still"));
-      // Sideways for the curved shapes (they sweep under the sheet), upwards for the plane (it lifts).
-      const Vec3 velocity = c.collider.shape == ColliderShape::plane ? Vec3{0.0, 0.4, 0.0} : Vec3{0.6, 0.0, 0.0};
-      const Collider collider = moves ? moving(c.collider, velocity) : c.collider;
+      const Collider collider = still_or_moving(c, moves);
       const DropResult device = drop(soft_sheet(c.height, {collider}), 0.6, loose(vulkan(Precision::float64)));
       const DropResult cpu = drop(soft_sheet(c.height, {collider}), 0.6, loose(BackendSettings{}));
       EXPECT_GT(device.contact_steps, 0u) << "the sheet reached the collider";
@@ -92,8 +97,7 @@ TEST(DeviceObstacles, ImplicitEulerDropsOnEachShapeAsOnTheCpu) {
   for (bool moves : {false, true}) {
     for (const ColliderCase& c : collider_cases()) {
       SCOPED_TRACE(std::string(c.name) + (moves ? ", moving" : ", still"));
-      const Vec3 velocity = c.collider.shape == ColliderShape::plane ? Vec3{0.0, 0.4, 0.0} : Vec3{0.6, 0.0, 0.0};
-      const Collider collider = moves ? moving(c.collider, velocity) : c.collider;
+      const Collider collider = still_or_moving(c, moves);
       const auto run = [&](const BackendSettings& backend) {
         SimulationSettings s = settings();
         s.integrator.kind = IntegratorKind::implicit_euler;
