@@ -93,13 +93,18 @@ step "profile 1024" 60 profile-1024-60fps.txt "$clothsim" run --paper-args 1024,
   --backend vulkan --duration 0.25 --render none --profile --out /tmp/clothsim-profile-run
 
 # Issue 23: implicit Euler on the device (cotton at the frame step), against the CPU backend on
-# all the machine's cores.
+# all the machine's cores; and the device's V-cycle smoothing single particles instead of lines
+# (integrator.cg_line_smoother): which of the two is faster on a GPU decides the device's default.
 for n in 256 512 1024; do
   for backend in vulkan cpu; do
     step "cotton-drape $n $backend" 60 "cotton-$n-$backend.txt" "$clothsim" run cotton-drape \
       --set lattice.rows=$n --set lattice.cols=$n --anchor edge-corners --backend "$backend" --threads "$threads" \
       --duration 0.25 --render none --profile --out "/tmp/clothsim-cotton-$n-$backend"
   done
+  step "cotton-drape $n vulkan points" 60 "cotton-$n-vulkan-points.txt" "$clothsim" run cotton-drape \
+    --set lattice.rows=$n --set lattice.cols=$n --anchor edge-corners --backend vulkan \
+    --set integrator.cg_line_smoother=false --duration 0.25 --render none --profile \
+    --out "/tmp/clothsim-cotton-$n-points"
 done
 # The obstacle pass on the device after each of implicit Euler's steps (drape-sphere), and the
 # self-collision pass on the host between them (drape-sphere with collision.self, pile,

@@ -90,7 +90,7 @@ std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts,
   total += StateChecksPass::bytes_for(counts, DeviceForcePath::general);
   if (DeviceMultigrid::applies(counts, settings)) {
     total += DeviceMultigrid::bytes_for(static_cast<std::uint32_t>(counts.rows),
-                                        static_cast<std::uint32_t>(counts.cols), precision);
+                                        static_cast<std::uint32_t>(counts.cols), precision, settings.cg_line_smoother);
   }
   return total;
 }
@@ -138,7 +138,7 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   if (DeviceMultigrid::applies(counts, settings)) {
     multigrid_.emplace(device_, static_cast<std::uint32_t>(counts.rows), static_cast<std::uint32_t>(counts.cols),
-                       connectors_, precision_);
+                       connectors_, precision_, settings.cg_line_smoother);
   }
   if (StateChecksPass::runs_on(device_)) {
     state_checks_.emplace(device_, precision_, counts, DeviceForcePath::general);

@@ -43,14 +43,22 @@ DeviceMultigrid::LevelBytes DeviceMultigrid::level_bytes(const std::vector<Level
           coarsest_dofs * coarsest_dofs * real};
 }
 
-std::uint64_t DeviceMultigrid::bytes_for(std::uint32_t rows, std::uint32_t cols, Precision precision) {
+std::uint64_t DeviceMultigrid::bytes_for(std::uint32_t rows, std::uint32_t cols, Precision precision, bool lines) {
   const LevelBytes bytes = level_bytes(levels_for(rows, cols), precision);
-  return bytes.blocks + bytes.diagonal_inverse + 3 * bytes.vector + bytes.factor;
+  return bytes.blocks + bytes.diagonal_inverse + 3 * bytes.vector + bytes.factor +
+         (lines ? line_bytes(rows, cols, precision).factors + line_bytes(rows, cols, precision).vector : 0);
+}
+
+DeviceMultigrid::LineBytes DeviceMultigrid::line_bytes(std::uint32_t rows, std::uint32_t cols, Precision precision) {
+  // Per particle and direction 3 blocks (D^-1, L1, L2), and one vector for the line being solved.
+  const std::uint64_t nodes = std::uint64_t{rows} * cols;
+  return {2 * nodes * 3 * 9 * real_size(precision), nodes * 3 * real_size(precision)};
 }
 
 DeviceMultigrid::DeviceMultigrid(Device& device, std::uint32_t rows, std::uint32_t cols, std::uint32_t connectors,
-                                 Precision precision)
+                                 Precision precision, bool lines)
     : levels_(levels_for(rows, cols)),
+      lines_(lines),
       radial_slot_base_(2 * connectors),
       blocks_(device, level_bytes(levels_, precision).blocks, Memory::device_local),
       diagonal_inverse_(device, level_bytes(levels_, precision).diagonal_inverse, Memory::device_local),
@@ -58,10 +66,14 @@ DeviceMultigrid::DeviceMultigrid(Device& device, std::uint32_t rows, std::uint32
       solution_(device, rhs_.bytes(), Memory::device_local),
       residual_(device, rhs_.bytes(), Memory::device_local),
       factor_(device, level_bytes(levels_, precision).factor, Memory::device_local),
+      // Without lines, placeholders that the line pass is bound to but never reads.
+      line_factors_(device, lines ? line_bytes(rows, cols, precision).factors : 16, Memory::device_local),
+      line_vector_(device, lines ? line_bytes(rows, cols, precision).vector : 16, Memory::device_local),
       assemble_pass_(make_pass(device, "multigrid_assemble", precision, 14)),
       galerkin_pass_(make_pass(device, "multigrid_galerkin", precision, 2)),
       cycle_pass_(make_pass(device, "multigrid_cycle", precision, 12)),
-      coarse_pass_(make_pass(device, "multigrid_coarse", precision, 7, kCoarseWorkgroup)) {
+      coarse_pass_(make_pass(device, "multigrid_coarse", precision, 7, kCoarseWorkgroup)),
+      lines_pass_(make_pass(device, "multigrid_lines", precision, 9)) {
   CLOTHSIM_ASSERT(levels_.size() >= 2 && levels_.size() <= kMaxLevels, "at least one coarse level");
   // The first coarse level small enough for one workgroup, or the coarsest.
   tail_ = 1;
@@ -79,6 +91,8 @@ void DeviceMultigrid::bind(const MultigridInputs& in) {
                                               in.surface_contacts, in.solve_uint});
   coarse_pass_.bind(
       std::vector<const Buffer*>{&blocks_, &diagonal_inverse_, &rhs_, &solution_, &residual_, &factor_, in.solve_uint});
+  lines_pass_.bind(std::vector<const Buffer*>{&blocks_, &line_factors_, &line_vector_, in.residual, in.preconditioned,
+                                              in.particle_anchor, in.hold, in.surface_contacts, in.solve_uint});
 }
 
 MultigridPassConstants DeviceMultigrid::constants(std::uint32_t phase, std::size_t level, bool iteration) const {
@@ -92,6 +106,7 @@ MultigridPassConstants DeviceMultigrid::constants(std::uint32_t phase, std::size
                                 next.base,
                                 next.rows,
                                 next.cols,
+                                0u,
                                 0u,
                                 iteration ? 1u : 0u,
                                 radial_slot_base_};
@@ -109,6 +124,37 @@ void DeviceMultigrid::record_setup(VkCommandBuffer commands) const {
   }
   const MultigridPassConstants pass = constants(kCoarseFactor, levels_.size() - 1, false);
   coarse_pass_.dispatch(commands, &pass, kCoarseWorkgroup);
+  if (!lines_) return;
+  for (std::uint32_t direction = 0; direction < 2; ++direction) {
+    MultigridPassConstants factor = constants(kLinesFactor, 0, false);
+    factor.direction = direction;
+    lines_pass_.dispatch(commands, &factor, direction == 0 ? levels_[0].rows : levels_[0].cols);
+  }
+}
+
+void DeviceMultigrid::line_sweep(VkCommandBuffer commands, bool ascending, bool iteration) const {
+  // Down the V the rows then the columns, colours ascending; up it the reverse (multigrid_lines.comp).
+  for (std::uint32_t k = 0; k < 2 * kLineColours; ++k) {
+    const std::uint32_t step = ascending ? k : 2 * kLineColours - 1 - k;
+    MultigridPassConstants pass = constants(kLinesRhs, 0, iteration);
+    pass.direction = step / kLineColours;
+    pass.colour = step % kLineColours;
+    const std::uint32_t lines = pass.direction == 0 ? levels_[0].rows : levels_[0].cols;
+    const std::uint32_t length = pass.direction == 0 ? levels_[0].cols : levels_[0].rows;
+    const std::uint32_t colour_lines = (lines + kLineColours - 1 - pass.colour) / kLineColours;
+    if (colour_lines == 0) continue;
+    lines_pass_.dispatch(commands, &pass, colour_lines * length);
+    pass.phase = kLinesSolve;
+    lines_pass_.dispatch(commands, &pass, colour_lines);
+  }
+}
+
+void DeviceMultigrid::smooth_fine(VkCommandBuffer commands, bool ascending, bool iteration) const {
+  if (lines_) {
+    for (int s = 0; s < LatticeMultigrid::kFineLineSweeps; ++s) line_sweep(commands, ascending, iteration);
+  } else {
+    for (int s = 0; s < LatticeMultigrid::kFineSweeps; ++s) sweep(commands, 0, ascending, iteration);
+  }
 }
 
 void DeviceMultigrid::sweep(VkCommandBuffer commands, std::size_t level, bool ascending, bool iteration) const {
@@ -130,8 +176,11 @@ void DeviceMultigrid::record_apply(VkCommandBuffer commands, bool iteration) con
   // Down: level 0 from zero, each coarse level from zero (the restriction clears it).
   pass(kCycleClear, 0, levels_[0].nodes());
   for (std::size_t level = 0; level < tail_; ++level) {
-    const int sweeps = level == 0 ? LatticeMultigrid::kFineSweeps : LatticeMultigrid::kCoarseSweeps;
-    for (int s = 0; s < sweeps; ++s) sweep(commands, level, true, iteration);
+    if (level == 0) {
+      smooth_fine(commands, true, iteration);
+    } else {
+      for (int s = 0; s < LatticeMultigrid::kCoarseSweeps; ++s) sweep(commands, level, true, iteration);
+    }
     pass(kCycleResidual, level, levels_[level].nodes());
     pass(kCycleRestrict, level, levels_[level + 1].nodes());
   }
@@ -141,8 +190,11 @@ void DeviceMultigrid::record_apply(VkCommandBuffer commands, bool iteration) con
   // Up: the correction, then the sweeps in the reverse order.
   for (std::size_t level = tail_; level-- > 0;) {
     pass(kCycleProlong, level, levels_[level].nodes());
-    const int sweeps = level == 0 ? LatticeMultigrid::kFineSweeps : LatticeMultigrid::kCoarseSweeps;
-    for (int s = 0; s < sweeps; ++s) sweep(commands, level, false, iteration);
+    if (level == 0) {
+      smooth_fine(commands, false, iteration);
+    } else {
+      for (int s = 0; s < LatticeMultigrid::kCoarseSweeps; ++s) sweep(commands, level, false, iteration);
+    }
   }
 }
 

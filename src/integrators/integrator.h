@@ -64,8 +64,8 @@ struct IntegratorSettings {
   // instead of the exact solve on 4 x 4 aggregates.
   bool cg_multigrid = true;
   // With cg_multigrid: the V-cycle's fine-level smoother solves whole lattice rows and columns
-  // (block line Gauss-Seidel) instead of one particle at a time; integrators/multigrid.h. The
-  // vulkan backend's V-cycle smooths points either way.
+  // (block line Gauss-Seidel) instead of one particle at a time; integrators/multigrid.h, and on
+  // the vulkan backend gpu/device_multigrid.h.
   bool cg_line_smoother = true;
   // With cg_multigrid: the V-cycle is set up for a solve only where block Jacobi alone would take
   // more than this many iterations by BlockSystem::jacobi_iterations_estimate(); below, Jacobi

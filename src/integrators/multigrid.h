@@ -35,7 +35,7 @@
 // opposite radial springs reach two nodes along it), factored as L D L^T once per setup. On
 // 128 x 128 cotton CG then takes 6.2 iterations per step instead of 14.0, and the run 1.4 times
 // less time (docs/performance.md, "Line smoothing"). The coarse levels,
-// and the fine one without `lines` (the device's V-cycle), use block point Gauss-Seidel (3x3 blocks
+// and the fine one without `lines`, use block point Gauss-Seidel (3x3 blocks
 // and their inverses: the block Jacobi preconditioner's on level 0): 2 sweeps on level 0 and 1 on
 // the coarse levels on each side of the coarse correction. Both read each level's matrix as
 // integrators/stencil_matrix.h stores it (the upper half of the stencil in single precision: the

@@ -180,7 +180,7 @@ constexpr std::array kScalarParameters = {
     ScalarParameter{"integrator.cg_line_smoother", ParameterType::boolean, "", closed_range(0.0, 1.0),
                     "implicit Euler and imex, with cg_multigrid: the V-cycle smooths the fine level by solving "
                     "whole lattice rows and columns (block line Gauss-Seidel; fewer CG iterations on stiff "
-                    "cloth) instead of single particles (the vulkan backend smooths single particles)",
+                    "cloth) instead of single particles, on either backend",
                     [](const SceneSpec& s) { return s.integrator.cg_line_smoother ? 1.0 : 0.0; },
                     [](SceneSpec& s, double v) { s.integrator.cg_line_smoother = v != 0.0; }},
     // Output.

@@ -20,7 +20,7 @@ inline const BackendSettings kVulkan{Backend::vulkan, 0, std::nullopt};
 
 // cotton-drape on a rows x cols lattice (the same 1 m sheet of cotton, hung by two corners), on
 // `backend`; `two_level` false gives the CPU the device's block Jacobi alone. The V-cycle's fine
-// level smooths single particles, as the device's does (the CPU's default solves lines).
+// level smooths single particles (the default solves lines: test_device_multigrid.cpp holds both).
 inline SceneSpec cotton(int rows, int cols, const BackendSettings& backend, bool two_level) {
   SceneSpec spec = builtin_scene("cotton-drape");
   spec.lattice.rows = rows;

@@ -24,6 +24,11 @@ CLOTHSIM_SLOT kCycleResidual = 2;  // the level's residual rhs - A x
 CLOTHSIM_SLOT kCycleRestrict = 3;  // the next level's rhs = P^T residual, its solution = 0
 CLOTHSIM_SLOT kCycleProlong = 4;   // x += P (the next level's solution)
 
+// multigrid_lines's phases: level 0's line smoother (with integrator.cg_line_smoother).
+CLOTHSIM_SLOT kLinesFactor = 0;  // each line's factor L D L^T along `direction`, one invocation a line
+CLOTHSIM_SLOT kLinesRhs = 1;     // the right-hand sides of one colour's lines, the other lines held
+CLOTHSIM_SLOT kLinesSolve = 2;   // the lines of one colour along `direction` solved
+
 // multigrid_coarse's phases (one workgroup).
 CLOTHSIM_SLOT kCoarseFactor = 0;  // the coarsest level's matrix, dense, factored by Cholesky
 CLOTHSIM_SLOT kCoarseCycle = 1;   // the V-cycle from a level of at most kTailNodes nodes down and up
@@ -31,6 +36,9 @@ CLOTHSIM_SLOT kCoarseCycle = 1;   // the V-cycle from a level of at most kTailNo
 // The colours of the Gauss-Seidel sweeps: node (i, j) has colour 3 (i mod 3) + (j mod 3). No two
 // nodes of a colour share a matrix entry (the stencil reaches 2 nodes), so a colour is one pass.
 CLOTHSIM_SLOT kSmootherColours = 9;
+// The line smoother's colours: line l (a lattice row, or a column) has colour l mod 3. No two lines
+// of a colour share a matrix entry, so a colour along one direction is one pass.
+CLOTHSIM_SLOT kLineColours = 3;
 
 // LatticeMultigrid's: the coarsest level's nodes at most, solved exactly (3 unknowns a node), and
 // the sweeps on each side of a coarse level's correction.
@@ -54,7 +62,8 @@ struct MultigridPassConstants {
   uint next_base;       // the next coarser level's (restriction, prolongation, Galerkin's product)
   uint next_rows;
   uint next_cols;
-  uint colour;          // kCycleSmooth: the colour swept
+  uint colour;          // kCycleSmooth, kLinesSolve: the colour swept
+  uint direction;       // multigrid_lines: 0 the lattice's rows, 1 its columns
   uint iteration;       // 1: a pass of a CG iteration, which returns at once once the solve has stopped
   uint radial_slot_base;  // multigrid_assemble: the first radial spring's force slot
 };
