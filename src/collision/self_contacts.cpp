@@ -6,11 +6,14 @@
 #include <limits>
 #include <numbers>
 
-#include "core/closest_points.h"
+#include "collision/self_pair.h"
 #include "core/parallel.h"
 
 namespace clothsim {
 namespace {
+
+// The pair geometry the device computes as well (collision/self_pair.inc).
+namespace shared = self_pair;
 
 // Stage 1 runs its queries in blocks of this many elements, each block filling its own list; the
 // lists are joined in block order, so the candidates' order does not depend on the threads.
@@ -29,31 +32,19 @@ constexpr double kLeastSteps = 2.0;
 constexpr double kMostSteps = 8.0;
 // Gauss-Seidel sweeps of stage 2 over the pairs found near.
 constexpr int kProximitySweeps = 4;
-// Stage 3: a pair touches when its distance falls below this fraction of the thickness (and half
-// its distance at the step's start); conservative advancement stops within kTouchSlack of that
-// and after at most kMaxAdvances moves (then it counts as touching: never a miss).
-constexpr double kTouchFraction = 0.1;
-constexpr double kTouchSlack = 1.25;
-constexpr int kMaxAdvances = 32;
+// Stage 3: a pair touches when its distance falls below a fraction of the thickness
+// (collision/self_pair.inc, first_touch), for at most this many rounds of responses.
 constexpr int kImpactRounds = 8;
 // Stage 4 merges and moves zones at most this many times.
 constexpr int kZoneRounds = 32;
 // A pair counts as in contact at the step's start within this fraction over the thickness.
 constexpr double kSustainedSlack = 0.01;
 
-std::array<Vec3, 4> gather(const SelfPair& pair, std::span<const Vec3> x) {
-  return {x[pair.particle[0]], x[pair.particle[1]], x[pair.particle[2]], x[pair.particle[3]]};
+// The pair's 4 corners at positions x.
+shared::PairCorners gather(const SelfPair& pair, std::span<const Vec3> x) {
+  return {{x[pair.particle[0]], x[pair.particle[1]], x[pair.particle[2]], x[pair.particle[3]]}};
 }
 
-std::array<Vec3, 4> interpolate(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end,
-                                double tau) {
-  std::array<Vec3, 4> x;
-  for (int k = 0; k < 4; ++k) {
-    const Vec3& a = start[pair.particle[k]];
-    x[k] = a + tau * (end[pair.particle[k]] - a);
-  }
-  return x;
-}
 
 Vec3 weighted_sum(const std::array<double, 4>& weight, const SelfPair& pair, std::span<const Vec3> x) {
   Vec3 sum{0.0, 0.0, 0.0};
@@ -61,44 +52,32 @@ Vec3 weighted_sum(const std::array<double, 4>& weight, const SelfPair& pair, std
   return sum;
 }
 
-// A bound on how fast the pair's distance changes per unit of tau: the largest relative motion
-// over the step of a particle of one side and a particle of the other. For any fixed pair of
-// points on the two sides (fixed weights) the vector between them moves by a weighted mean of
-// those relative motions, and the distance is the least such length. A rigid translation (an
-// impact zone, stage 4) gives zero.
-double motion_bound(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end) {
-  const auto motion = [&](int k) { return end[pair.particle[k]] - start[pair.particle[k]]; };
-  const int first_side = pair.kind == SelfPair::Kind::point_triangle ? 1 : 2;  // particles [0, first_side)
-  double bound = 0.0;
-  for (int i = 0; i < first_side; ++i) {
-    for (int j = first_side; j < 4; ++j) bound = std::max(bound, squared_norm(motion(i) - motion(j)));
-  }
-  return std::sqrt(bound);
+
+PairGeometry geometry_of(const shared::PairMeasure& measure) {
+  const auto& w = measure.weight;
+  return {measure.distance, measure.normal, {w[0], w[1], w[2], w[3]}};
+}
+
+int shared_kind(SelfPair::Kind kind) {
+  return kind == SelfPair::Kind::point_triangle ? shared::kPairPointTriangle : shared::kPairEdgeEdge;
+}
+
+// The pair's distance, normal and weights at positions x.
+shared::PairMeasure measure(const SelfPair& pair, std::span<const Vec3> x) {
+  return shared::measure_pair_corners(shared_kind(pair.kind), gather(pair, x));
 }
 
 // The first tau in [0, 1] at which the pair's distance along start -> end comes within touching
-// distance, or a negative value if it never does (stage 3); `start_distance` is its distance at
-// start.
+// distance, or a negative value if it never does (stage 3; collision/self_pair.inc);
+// `start_distance` is its distance at start.
 double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
                    double start_distance) {
-  const double bound = motion_bound(pair, start, end);
-  if (bound <= 0.0) return -1.0;
-  const double touch = std::min(kTouchFraction * thickness, 0.5 * start_distance);
-  if (start_distance - bound > touch) return -1.0;  // cannot come that close within the step
-  double tau = 0.0;
-  double distance = start_distance;
-  for (int advance = 0; advance < kMaxAdvances; ++advance) {
-    if (distance <= kTouchSlack * touch) return tau;
-    // The distance cannot fall below `touch` before tau has grown by this much.
-    tau += (distance - touch) / bound;
-    if (tau >= 1.0) return -1.0;
-    distance = measure_pair(pair.kind, interpolate(pair, start, end, tau)).distance;
-  }
-  return tau;
+  return shared::first_touch(shared_kind(pair.kind), gather(pair, start), gather(pair, end),
+                             thickness, start_distance);
 }
 
 double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness) {
-  return first_touch(pair, start, end, thickness, measure_pair(pair.kind, gather(pair, start)).distance);
+  return first_touch(pair, start, end, thickness, measure(pair, start).distance);
 }
 
 // Moves the pair's particles so that q changes by `change` (a vector along which the particles
@@ -174,20 +153,7 @@ bool shares_particle(const std::array<std::uint32_t, 2>& e, const std::array<std
 }  // namespace
 
 PairGeometry measure_pair(SelfPair::Kind kind, const std::array<Vec3, 4>& x) {
-  PairGeometry geometry;
-  Vec3 q;
-  if (kind == SelfPair::Kind::point_triangle) {
-    const TrianglePoint nearest = closest_point_on_triangle(x[0], x[1], x[2], x[3]);
-    q = x[0] - nearest.point;
-    geometry.weight = {1.0, -nearest.weight[0], -nearest.weight[1], -nearest.weight[2]};
-  } else {
-    const SegmentPoints nearest = closest_points_of_segments(x[0], x[1], x[2], x[3]);
-    q = nearest.first - nearest.second;
-    geometry.weight = {1.0 - nearest.s, nearest.s, -(1.0 - nearest.t), -nearest.t};
-  }
-  geometry.distance = norm(q);
-  geometry.normal = geometry.distance > 0.0 ? q / geometry.distance : Vec3{0.0, 0.0, 0.0};
-  return geometry;
+  return geometry_of(shared::measure_pair_corners(shared_kind(kind), {{x[0], x[1], x[2], x[3]}}));
 }
 
 void SelfContacts::motion_boxes(std::span<const Vec3> start, std::span<const Vec3> end, double margin,
@@ -339,7 +305,7 @@ void SelfContacts::prune_blocks(std::span<const Vec3> x, double reach, int threa
     std::vector<SelfPair>& pairs = block_pairs_[b];
     std::size_t kept = 0;
     for (const SelfPair& pair : pairs) {
-      if (measure_pair(pair.kind, gather(pair, x)).distance < reach) pairs[kept++] = pair;
+      if (measure(pair, x).distance < reach) pairs[kept++] = pair;
     }
     pairs.resize(kept);
   });
@@ -362,7 +328,7 @@ void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Ve
   start_distance_.resize(active_.size());
   parallel_for(active_.size(), threads, [&](std::size_t k) {
     const SelfPair& pair = candidates_[active_[k]];
-    start_distance_[k] = measure_pair(pair.kind, gather(pair, start)).distance;
+    start_distance_[k] = measure(pair, start).distance;
   });
   selected_at_.assign(end.begin(), end.end());
   selection_current_ = true;
@@ -376,14 +342,14 @@ void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const
   parallel_for(active_.size(), threads, [&](std::size_t k) {
     const SelfPair& pair = candidates_[active_[k]];
     const bool within =
-        start_distance_[k] < thickness || measure_pair(pair.kind, gather(pair, end)).distance < thickness;
+        start_distance_[k] < thickness || measure(pair, end).distance < thickness;
     near_[k] = within && start_distance_[k] != 0.0 ? 1 : 0;
   });
   select_flagged(near_, threads);
   near_geometry_.resize(list_.size());
   parallel_for(list_.size(), threads, [&](std::size_t i) {
     const SelfPair& pair = candidates_[list_[i]];
-    near_geometry_[i] = measure_pair(pair.kind, gather(pair, start));
+    near_geometry_[i] = geometry_of(measure(pair, start));
   });
 }
 
@@ -447,7 +413,9 @@ bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, s
       // Earlier responses in this round may have changed this pair's motion.
       const double tau = first_touch(pair, start, state.position, thickness);
       if (tau < 0.0) continue;
-      const PairGeometry geometry = measure_pair(pair.kind, interpolate(pair, start, state.position, tau));
+      const PairGeometry geometry = geometry_of(shared::measure_pair_corners(
+          shared_kind(pair.kind),
+          shared::interpolate_pair(gather(pair, start), gather(pair, state.position), tau)));
       const double effective = effective_inverse_mass(pair, geometry.weight, inverse_mass_);
       if (geometry.distance == 0.0 || effective <= 0.0) continue;
       const Vec3& n = geometry.normal;

@@ -10,7 +10,8 @@
 //   model/lattice_springs.inc   the order of a lattice particle's radial springs
 //   model/collider_shapes.inc   the signed distances of the analytic collider shapes
 //   model/mesh_distance.inc     the signed distance of a triangle mesh collider, through its hierarchy
-//   core/closest_points.inc     the nearest point of a triangle
+//   core/closest_points.inc     the nearest point of a triangle, the nearest points of two segments
+//   collision/self_pair.inc     self-collision's pair distances and their first touch along a motion
 //   collision/obstacle_contact.inc  the obstacle pass's sweep, placement, friction and step limit
 //
 // Each is written in the subset of C++ and GLSL the two share: structs of plain fields, functions

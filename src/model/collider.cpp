@@ -41,6 +41,7 @@ void assert_prepared(const TriangleMesh& mesh) {
 // arrays.
 namespace shapes {
 using uint = std::uint32_t;
+using std::clamp;
 using std::sqrt;
 inline constexpr double kNoSurface = std::numeric_limits<double>::infinity();
 #include "core/closest_points.inc"
