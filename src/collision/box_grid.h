@@ -114,13 +114,23 @@ class BoxGrid {
   double cell_size() const { return cell_size_; }
   std::size_t bytes() const;
 
- private:
+  // The grid as built, which the device's grid (gpu/device_box_grid.h) reproduces: each bucket's
+  // entries are entries()[bucket_starts()[b] .. bucket_starts()[b + 1]), by box and then cell; the
+  // boxes kept aside, ascending; the cells the entered boxes span.
   using Cell = std::array<std::int64_t, 3>;
   struct Entry {
     Cell cell;
     std::uint32_t box;
     std::uint8_t lowest;  // bit a set where `cell` is the box's lowest cell along axis a
   };
+  std::span<const std::uint32_t> bucket_starts() const { return bucket_start_; }
+  std::span<const Entry> entries() const { return entries_; }
+  std::span<const std::uint32_t> oversize() const { return oversize_; }
+  std::array<Cell, 2> extent() const { return {extent_low_, extent_high_}; }
+  // A box more than this many cells across on some axis is kept aside.
+  static constexpr double kOversize = 8.0;
+
+ private:
   static constexpr unsigned kEveryAxis = 7;
   Cell cell_of(const Vec3& x) const;
   std::size_t bucket_of(const Cell& cell) const;
@@ -143,7 +153,6 @@ class BoxGrid {
   std::vector<std::uint32_t> oversize_;      // boxes kept aside (see the top of the file), ascending
   Cell extent_low_{};                        // the cells the entered boxes span
   Cell extent_high_{};
-  static constexpr double kOversize = 8.0;          // cells
   static constexpr std::size_t kBuildBlock = 4096;  // boxes, or buckets, per block of build()
   std::vector<std::uint32_t> fill_;                 // scratch of build(): next free entry per bucket
   std::vector<std::uint32_t> cells_of_;             // scratch of build(): cells each box enters, 0 kept aside

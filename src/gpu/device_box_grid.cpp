@@ -1,0 +1,127 @@
+#include "gpu/device_box_grid.h"
+
+#include <algorithm>
+#include <bit>
+#include <limits>
+#include <span>
+
+#include "collision/box_grid.h"
+#include "core/assert.h"
+#include "gpu/real_arrays.h"
+#include "gpu/shaders/box_grid.h"
+
+namespace clothsim::gpu {
+namespace {
+
+constexpr std::uint64_t kWord = sizeof(std::uint32_t);
+
+std::vector<std::uint32_t> words(Device& device, const Buffer& buffer, std::size_t count) {
+  std::vector<std::uint32_t> out(count);
+  if (count > 0) download(device, buffer, std::as_writable_bytes(std::span(out)));
+  return out;
+}
+
+}  // namespace
+
+DeviceBoxGrid::DeviceBoxGrid(Device& device, Precision precision, std::uint32_t capacity)
+    : device_(device),
+      precision_(precision),
+      capacity_(std::max<std::uint32_t>(capacity, 1)),
+      grid_real_(device, real_size(precision), Memory::device_local),
+      low_cell_(device, 3 * kWord * capacity_, Memory::device_local),
+      cells_of_(device, kWord * capacity_, Memory::device_local),
+      oversize_flag_(device, kWord * capacity_, Memory::device_local),
+      oversize_(device, kWord * capacity_, Memory::device_local),
+      extent_(device, 6 * kWord, Memory::device_local),
+      entries_(device, kEntryWords * kWord, Memory::device_local),
+      bucket_start_(device, 16 * kWord, Memory::device_local),
+      fill_(device, 16 * kWord, Memory::device_local),
+      sorted_(device, kWord, Memory::device_local),
+      cells_scan_(device, capacity_),
+      oversize_scan_(device, capacity_),
+      pass_(shader_pipeline(device, "box_grid", precision, 11, sizeof(GridPassConstants))) {
+  cells_scan_.bind(cells_of_);
+  oversize_scan_.bind(oversize_flag_);
+}
+
+void DeviceBoxGrid::bind() {
+  pass_.bind(std::vector<const Buffer*>{boxes_, &grid_real_, &low_cell_, &cells_of_, &oversize_flag_, &oversize_,
+                                        &extent_, &entries_, &bucket_start_, &fill_, &sorted_});
+}
+
+void DeviceBoxGrid::build(const Buffer& boxes, std::uint32_t count, double cell_size) {
+  CLOTHSIM_ASSERT(count <= capacity_, "at most the capacity's boxes");
+  CLOTHSIM_ASSERT(cell_size > 0.0, "a positive cell size");
+  boxes_ = &boxes;
+  upload(device_, grid_real_, real_bytes(std::vector<double>{cell_size}, precision_));
+  constexpr std::int32_t kFar = std::numeric_limits<std::int32_t>::max();
+  const std::array<std::int32_t, 6> no_extent{kFar, kFar, kFar, -kFar, -kFar, -kFar};
+  upload(device_, extent_, std::as_bytes(std::span(no_extent)));
+  bind();
+  // The cells each box enters and the boxes kept aside, counted and scanned.
+  device_.submit([&](VkCommandBuffer commands) {
+    const GridPassConstants cells{kGridCells, count, bucket_mask_, 0};
+    if (count > 0) pass_.dispatch(commands, &cells, count);
+    cells_scan_.record(commands, count);
+    oversize_scan_.record(commands, count);
+    const GridPassConstants aside{kGridOversize, count, bucket_mask_, 0};
+    if (count > 0) pass_.dispatch(commands, &aside, count);
+  });
+  entry_count_ = words(device_, cells_scan_.block_sums(), PrefixScan::blocks_for(count) + 1).back();
+  oversize_count_ = words(device_, oversize_scan_.block_sums(), PrefixScan::blocks_for(count) + 1).back();
+  // The CPU's buckets: twice the entries, a power of two, at least 16.
+  const std::uint32_t buckets = std::bit_ceil(std::max<std::uint32_t>(2 * entry_count_, 16));
+  bucket_mask_ = buckets - 1;
+  if (entries_.bytes() < std::uint64_t{entry_count_} * kEntryWords * kWord) {
+    entries_ = Buffer(device_, std::uint64_t{entry_count_} * kEntryWords * kWord, Memory::device_local);
+    sorted_ = Buffer(device_, std::uint64_t{entry_count_} * kWord, Memory::device_local);
+  }
+  if (bucket_start_.bytes() < std::uint64_t{buckets} * kWord) {
+    bucket_start_ = Buffer(device_, std::uint64_t{buckets} * kWord, Memory::device_local);
+    fill_ = Buffer(device_, std::uint64_t{buckets} * kWord, Memory::device_local);
+  }
+  if (!bucket_scan_ || bucket_scan_->capacity() < buckets) bucket_scan_.emplace(device_, buckets);
+  bucket_scan_->bind(bucket_start_);
+  bind();
+  const std::vector<std::uint32_t> zeros(buckets, 0u);
+  upload(device_, bucket_start_, std::as_bytes(std::span(zeros)));
+  upload(device_, fill_, std::as_bytes(std::span(zeros)));
+  // The entries, the buckets' counts, their starts, the entries in their buckets, sorted there.
+  device_.submit([&](VkCommandBuffer commands) {
+    const GridPassConstants write{kGridEntries, count, bucket_mask_, entry_count_};
+    if (count > 0) pass_.dispatch(commands, &write, count);
+    bucket_scan_->record(commands, buckets);
+    const GridPassConstants place{kGridFill, count, bucket_mask_, entry_count_};
+    if (entry_count_ > 0) pass_.dispatch(commands, &place, entry_count_);
+    const GridPassConstants sort{kGridSort, count, bucket_mask_, entry_count_};
+    pass_.dispatch(commands, &sort, buckets);
+  });
+}
+
+std::vector<std::uint32_t> DeviceBoxGrid::bucket_starts() const {
+  std::vector<std::uint32_t> starts = words(device_, bucket_start_, bucket_count());
+  starts.push_back(entry_count_);
+  return starts;
+}
+
+std::vector<std::uint32_t> DeviceBoxGrid::entries_by_bucket() const {
+  const std::vector<std::uint32_t> order = words(device_, sorted_, entry_count_);
+  const std::vector<std::uint32_t> all = words(device_, entries_, std::size_t{entry_count_} * kEntryWords);
+  std::vector<std::uint32_t> out;
+  out.reserve(all.size());
+  for (const std::uint32_t e : order) {
+    const auto first = all.begin() + static_cast<std::ptrdiff_t>(std::size_t{e} * kEntryWords);
+    out.insert(out.end(), first, first + kEntryWords);
+  }
+  return out;
+}
+
+std::vector<std::uint32_t> DeviceBoxGrid::oversize() const { return words(device_, oversize_, oversize_count_); }
+
+std::array<std::int32_t, 6> DeviceBoxGrid::extent() const {
+  std::array<std::int32_t, 6> out{};
+  download(device_, extent_, std::as_writable_bytes(std::span(out)));
+  return out;
+}
+
+}  // namespace clothsim::gpu

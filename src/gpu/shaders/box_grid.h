@@ -1,0 +1,35 @@
+// The layout shared by the device's box grid (gpu/device_box_grid.h) and its shader box_grid.comp:
+// the phases, the entry's words and the push constants, read by C++ and by GLSL.
+#if defined(__cplusplus)
+#pragma once
+#include <cstdint>
+namespace clothsim::gpu {
+using uint = std::uint32_t;
+#define CLOTHSIM_SLOT inline constexpr uint
+#else
+#define CLOTHSIM_SLOT const uint
+#endif
+
+CLOTHSIM_SLOT kGridCells = 0;     // per box: its lowest cell, how many it enters (0: kept aside), the extent
+CLOTHSIM_SLOT kGridOversize = 1;  // per box kept aside: its place in the list of them
+CLOTHSIM_SLOT kGridEntries = 2;   // per entered box: its entries, in cell order, and its buckets' counts
+CLOTHSIM_SLOT kGridFill = 3;      // per entry: the next free place of its bucket
+CLOTHSIM_SLOT kGridSort = 4;      // per bucket: its entries by entry index (box, then cell)
+
+// An entry's words: its cell (three ints), its box, and which of the box's lowest cells it is on
+// (bit a along axis a).
+CLOTHSIM_SLOT kEntryWords = 5;
+CLOTHSIM_SLOT kEntryBox = 3;
+CLOTHSIM_SLOT kEntryLowest = 4;
+
+struct GridPassConstants {
+  uint phase;        // kGrid*
+  uint boxes;        // how many
+  uint bucket_mask;  // buckets - 1, a power of two less one
+  uint entries;      // how many (kGridFill, kGridSort)
+};
+
+#if defined(__cplusplus)
+#undef CLOTHSIM_SLOT
+}  // namespace clothsim::gpu
+#endif
