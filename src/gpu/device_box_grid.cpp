@@ -124,4 +124,48 @@ std::array<std::int32_t, 6> DeviceBoxGrid::extent() const {
   return out;
 }
 
+DeviceGridQuery::DeviceGridQuery(Device& device, Precision precision, std::uint32_t capacity)
+    : device_(device),
+      capacity_(std::max<std::uint32_t>(capacity, 1)),
+      counts_(device, kWord * capacity_, Memory::device_local),
+      pairs_(device, 2 * kWord, Memory::device_local),
+      no_exclude_(device, 3 * kWord, Memory::device_local),
+      scan_(device, capacity_),
+      pass_(shader_pipeline(device, "box_grid_query", precision, 11, sizeof(GridQueryConstants))) {
+  scan_.bind(counts_);
+}
+
+std::uint32_t DeviceGridQuery::run(const DeviceBoxGrid& grid, const Buffer& stored, const Buffer& queries,
+                                   std::uint32_t count, const Buffer* exclude) {
+  CLOTHSIM_ASSERT(count <= capacity_, "at most the capacity's queries");
+  const DeviceBoxGrid::Arrays a = grid.arrays();
+  const auto bind = [&] {
+    pass_.bind(std::vector<const Buffer*>{&queries, &stored, a.grid_real, a.extent, a.entries, a.bucket_start, a.sorted,
+                                          a.oversize, exclude != nullptr ? exclude : &no_exclude_, &counts_, &pairs_});
+  };
+  GridQueryConstants constants{kQueryCount,
+                               count,
+                               grid.bucket_count() - 1,
+                               grid.entry_count(),
+                               grid.oversize_count(),
+                               exclude != nullptr ? 1u : 0u};
+  bind();
+  device_.submit([&](VkCommandBuffer commands) {
+    if (count > 0) pass_.dispatch(commands, &constants, count);
+    scan_.record(commands, count);
+  });
+  pair_count_ = words(device_, scan_.block_sums(), PrefixScan::blocks_for(count) + 1).back();
+  if (pairs_.bytes() < std::uint64_t{pair_count_} * 2 * kWord) {
+    pairs_ = Buffer(device_, std::uint64_t{pair_count_} * 2 * kWord, Memory::device_local);
+    bind();
+  }
+  constants.phase = kQueryWrite;
+  if (count > 0) device_.submit([&](VkCommandBuffer commands) { pass_.dispatch(commands, &constants, count); });
+  return pair_count_;
+}
+
+std::vector<std::uint32_t> DeviceGridQuery::pairs() const {
+  return words(device_, pairs_, 2 * std::size_t{pair_count_});
+}
+
 }  // namespace clothsim::gpu

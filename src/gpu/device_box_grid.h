@@ -32,6 +32,19 @@ class DeviceBoxGrid {
 
   std::uint32_t entry_count() const { return entry_count_; }
   std::uint32_t bucket_count() const { return bucket_mask_ + 1; }
+  std::uint32_t oversize_count() const { return oversize_count_; }
+
+  // The arrays a query reads (box_grid_query.comp): the cell size, the extent, the entries, the
+  // buckets' starts, the entries by bucket, the boxes kept aside.
+  struct Arrays {
+    const Buffer* grid_real;
+    const Buffer* extent;
+    const Buffer* entries;
+    const Buffer* bucket_start;
+    const Buffer* sorted;
+    const Buffer* oversize;
+  };
+  Arrays arrays() const { return {&grid_real_, &extent_, &entries_, &bucket_start_, &sorted_, &oversize_}; }
 
   // Read back (tests): each bucket's first entry and, last, the entries' count; the entries in
   // bucket order, kEntryWords each (box_grid.h); the boxes kept aside, ascending; the entered
@@ -54,6 +67,32 @@ class DeviceBoxGrid {
   Buffer grid_real_, low_cell_, cells_of_, oversize_flag_, oversize_, extent_, entries_, bucket_start_, fill_, sorted_;
   PrefixScan cells_scan_, oversize_scan_;
   std::optional<PrefixScan> bucket_scan_;
+  ComputePipeline pass_;
+};
+
+// Queries of a built DeviceBoxGrid (shaders/box_grid_query.comp): every stored box that each query
+// box overlaps, once, as (query, box) pairs in the order of the CPU's BoxGrid::for_each_overlap
+// over the queries in turn.
+class DeviceGridQuery {
+ public:
+  // For up to `capacity` queries, in `precision`'s Reals.
+  DeviceGridQuery(Device& device, Precision precision, std::uint32_t capacity);
+
+  // The pairs of the first `count` boxes of `queries` ([count][6] Reals) with the boxes `stored`
+  // that `grid` was built of; with `exclude` ([stored][3] words), a stored box whose words name
+  // the query is skipped (a triangle of which the particle is a corner). Returns how many. Two
+  // submissions: the pairs counted and scanned, then written (their array sized from the count).
+  std::uint32_t run(const DeviceBoxGrid& grid, const Buffer& stored, const Buffer& queries, std::uint32_t count,
+                    const Buffer* exclude);
+  // Read back (tests): [pairs][2].
+  std::vector<std::uint32_t> pairs() const;
+
+ private:
+  Device& device_;
+  std::uint32_t capacity_;
+  std::uint32_t pair_count_ = 0;
+  Buffer counts_, pairs_, no_exclude_;
+  PrefixScan scan_;
   ComputePipeline pass_;
 };
 

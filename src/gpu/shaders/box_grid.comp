@@ -28,30 +28,14 @@ layout(std430, binding = 10) buffer Sorted { uint sorted[]; };            // [en
 
 layout(push_constant) uniform Constants { GridPassConstants constants; };
 
-// BoxGrid::kOversize.
-const Real kOversize = Real(8.0);
-// Cells beyond this are clamped (BoxGrid's 64-bit cells clamp at 1e15; 2^30 cells of any size a
-// sheet has are far past its positions).
-const Real kFarCell = Real(1073741824.0);
+#include "gpu/shaders/box_grid.glsl"
 
 Vec3 box_low(uint b) { return Vec3(boxes[6u * b], boxes[6u * b + 1u], boxes[6u * b + 2u]); }
 Vec3 box_high(uint b) { return Vec3(boxes[6u * b + 3u], boxes[6u * b + 4u], boxes[6u * b + 5u]); }
 
-ivec3 cell_of(Vec3 x) {
-  const Real size = grid_real[0];
-  return ivec3(clamp(floor(x / size), Vec3(-kFarCell), Vec3(kFarCell)));
-}
-
 bool kept_aside(uint b) {
   const Vec3 span = box_high(b) - box_low(b);
   return max(span.x, max(span.y, span.z)) > kOversize * grid_real[0];
-}
-
-// Teschner et al.'s hash (BoxGrid::bucket_of): the low 32 bits of the 64-bit products are those of
-// the 32-bit ones, and the mask keeps fewer.
-uint bucket_of(ivec3 cell) {
-  return ((uint(cell.x) * 73856093u) ^ (uint(cell.y) * 19349663u) ^ (uint(cell.z) * 83492791u)) &
-         constants.bucket_mask;
 }
 
 ivec3 entry_cell(uint e) {
@@ -62,7 +46,7 @@ void main() {
   const uint k = invocation_index();
   if (constants.phase == kGridCells) {
     if (k >= constants.boxes) return;
-    const ivec3 low = cell_of(box_low(k));
+    const ivec3 low = cell_of(box_low(k), grid_real[0]);
     for (uint axis = 0u; axis < 3u; ++axis) low_cell[3u * k + axis] = low[axis];
     const bool aside = kept_aside(k);
     oversize_flag[k] = aside ? 1u : 0u;
@@ -70,7 +54,7 @@ void main() {
       cells_of[k] = 0u;
       return;
     }
-    const ivec3 high = cell_of(box_high(k));
+    const ivec3 high = cell_of(box_high(k), grid_real[0]);
     const ivec3 span = high - low + ivec3(1);
     cells_of[k] = uint(span.x) * uint(span.y) * uint(span.z);
     for (uint axis = 0u; axis < 3u; ++axis) {
@@ -82,7 +66,7 @@ void main() {
   } else if (constants.phase == kGridEntries) {
     if (k >= constants.boxes || kept_aside(k)) return;
     const ivec3 low = ivec3(low_cell[3u * k], low_cell[3u * k + 1u], low_cell[3u * k + 2u]);
-    const ivec3 high = cell_of(box_high(k));
+    const ivec3 high = cell_of(box_high(k), grid_real[0]);
     uint e = cells_of[k];
     for (int x = low.x; x <= high.x; ++x) {
       for (int y = low.y; y <= high.y; ++y) {
@@ -93,14 +77,14 @@ void main() {
           entries[kEntryWords * e + 2u] = uint(z);
           entries[kEntryWords * e + kEntryBox] = k;
           entries[kEntryWords * e + kEntryLowest] = lowest;
-          atomicAdd(bucket_start[bucket_of(ivec3(x, y, z))], 1u);
+          atomicAdd(bucket_start[bucket_of(ivec3(x, y, z), constants.bucket_mask)], 1u);
           ++e;
         }
       }
     }
   } else if (constants.phase == kGridFill) {
     if (k >= constants.entries) return;
-    const uint b = bucket_of(entry_cell(k));
+    const uint b = bucket_of(entry_cell(k), constants.bucket_mask);
     sorted[bucket_start[b] + atomicAdd(fill[b], 1u)] = k;
   } else {
     // kGridSort: an insertion sort; a bucket holds a few entries (about twice as many buckets as entries).

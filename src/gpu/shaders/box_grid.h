@@ -29,6 +29,19 @@ struct GridPassConstants {
   uint entries;      // how many (kGridFill, kGridSort)
 };
 
+// box_grid_query.comp's phases and push constants.
+CLOTHSIM_SLOT kQueryCount = 0;  // per query: how many stored boxes it finds
+CLOTHSIM_SLOT kQueryWrite = 1;  // per query: its pairs, from its scanned offset
+
+struct GridQueryConstants {
+  uint phase;            // kQuery*
+  uint queries;          // how many
+  uint bucket_mask;      // the grid's
+  uint entries;          // the grid's entries
+  uint oversize;         // the grid's boxes kept aside
+  uint exclude_corners;  // 1: skip a stored box whose 3 exclude words name the query
+};
+
 #if defined(__cplusplus)
 #undef CLOTHSIM_SLOT
 }  // namespace clothsim::gpu
