@@ -130,38 +130,61 @@ DeviceGridQuery::DeviceGridQuery(Device& device, Precision precision, std::uint3
       counts_(device, kWord * capacity_, Memory::device_local),
       pairs_(device, 2 * kWord, Memory::device_local),
       no_exclude_(device, 3 * kWord, Memory::device_local),
-      scan_(device, capacity_),
-      pass_(shader_pipeline(device, "box_grid_query", precision, 11, sizeof(GridQueryConstants))) {
-  scan_.bind(counts_);
+      pass_(shader_pipeline(device, "box_grid_query", precision, 11, sizeof(GridQueryConstants))) {}
+
+std::uint32_t DeviceGridQuery::count_and_write(GridQueryConstants constants, std::uint32_t invocations,
+                                               const std::vector<const Buffer*>& inputs) {
+  if (counts_.bytes() < std::uint64_t{invocations} * kWord) {
+    counts_ = Buffer(device_, std::uint64_t{invocations} * kWord, Memory::device_local);
+  }
+  if (!scan_ || scan_->capacity() < invocations) scan_.emplace(device_, std::max(invocations, capacity_));
+  scan_->bind(counts_);
+  const auto bind = [&] {
+    std::vector<const Buffer*> buffers = inputs;
+    buffers.insert(buffers.end(), {&counts_, &pairs_});
+    pass_.bind(buffers);
+  };
+  bind();
+  device_.submit([&](VkCommandBuffer commands) {
+    if (invocations > 0) pass_.dispatch(commands, &constants, invocations);
+    scan_->record(commands, invocations);
+  });
+  pair_count_ = words(device_, scan_->block_sums(), PrefixScan::blocks_for(invocations) + 1).back();
+  if (pairs_.bytes() < std::uint64_t{pair_count_} * 2 * kWord) {
+    pairs_ = Buffer(device_, std::uint64_t{pair_count_} * 2 * kWord, Memory::device_local);
+    bind();
+  }
+  constants.phase = constants.phase == kQueryCount ? kQueryWrite : kJoinWrite;
+  if (invocations > 0)
+    device_.submit([&](VkCommandBuffer commands) { pass_.dispatch(commands, &constants, invocations); });
+  return pair_count_;
 }
 
 std::uint32_t DeviceGridQuery::run(const DeviceBoxGrid& grid, const Buffer& stored, const Buffer& queries,
                                    std::uint32_t count, const Buffer* exclude) {
   CLOTHSIM_ASSERT(count <= capacity_, "at most the capacity's queries");
   const DeviceBoxGrid::Arrays a = grid.arrays();
-  const auto bind = [&] {
-    pass_.bind(std::vector<const Buffer*>{&queries, &stored, a.grid_real, a.extent, a.entries, a.bucket_start, a.sorted,
-                                          a.oversize, exclude != nullptr ? exclude : &no_exclude_, &counts_, &pairs_});
-  };
-  GridQueryConstants constants{kQueryCount,
-                               count,
-                               grid.bucket_count() - 1,
-                               grid.entry_count(),
-                               grid.oversize_count(),
-                               exclude != nullptr ? 1u : 0u};
-  bind();
-  device_.submit([&](VkCommandBuffer commands) {
-    if (count > 0) pass_.dispatch(commands, &constants, count);
-    scan_.record(commands, count);
-  });
-  pair_count_ = words(device_, scan_.block_sums(), PrefixScan::blocks_for(count) + 1).back();
-  if (pairs_.bytes() < std::uint64_t{pair_count_} * 2 * kWord) {
-    pairs_ = Buffer(device_, std::uint64_t{pair_count_} * 2 * kWord, Memory::device_local);
-    bind();
-  }
-  constants.phase = kQueryWrite;
-  if (count > 0) device_.submit([&](VkCommandBuffer commands) { pass_.dispatch(commands, &constants, count); });
-  return pair_count_;
+  const GridQueryConstants constants{kQueryCount,
+                                     count,
+                                     grid.bucket_count() - 1,
+                                     grid.entry_count(),
+                                     grid.oversize_count(),
+                                     exclude != nullptr ? 1u : 0u,
+                                     0};
+  return count_and_write(constants, count,
+                         {&queries, &stored, a.grid_real, a.extent, a.entries, a.bucket_start, a.sorted, a.oversize,
+                          exclude != nullptr ? exclude : &no_exclude_});
+}
+
+std::uint32_t DeviceGridQuery::join(const DeviceBoxGrid& grid, const Buffer& stored, std::uint32_t stored_count,
+                                    const Buffer* exclude) {
+  const DeviceBoxGrid::Arrays a = grid.arrays();
+  const GridQueryConstants constants{
+      kJoinCount,  0, grid.bucket_count() - 1, grid.entry_count(), grid.oversize_count(), exclude != nullptr ? 1u : 0u,
+      stored_count};
+  return count_and_write(constants, grid.bucket_count() + grid.oversize_count(),
+                         {&stored, &stored, a.grid_real, a.extent, a.entries, a.bucket_start, a.sorted, a.oversize,
+                          exclude != nullptr ? exclude : &no_exclude_});
 }
 
 std::vector<std::uint32_t> DeviceGridQuery::pairs() const {

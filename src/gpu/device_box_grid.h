@@ -18,6 +18,7 @@
 #include "gpu/compute_pipeline.h"
 #include "gpu/device.h"
 #include "gpu/prefix_scan.h"
+#include "gpu/shaders/box_grid.h"
 
 namespace clothsim::gpu {
 
@@ -72,7 +73,8 @@ class DeviceBoxGrid {
 
 // Queries of a built DeviceBoxGrid (shaders/box_grid_query.comp): every stored box that each query
 // box overlaps, once, as (query, box) pairs in the order of the CPU's BoxGrid::for_each_overlap
-// over the queries in turn.
+// over the queries in turn; and the grid joined with itself, every overlapping pair of its boxes
+// once, as (i, j), i < j, in the order of BoxGrid::for_each_pair over all the buckets.
 class DeviceGridQuery {
  public:
   // For up to `capacity` queries, in `precision`'s Reals.
@@ -84,15 +86,24 @@ class DeviceGridQuery {
   // submissions: the pairs counted and scanned, then written (their array sized from the count).
   std::uint32_t run(const DeviceBoxGrid& grid, const Buffer& stored, const Buffer& queries, std::uint32_t count,
                     const Buffer* exclude);
-  // Read back (tests): [pairs][2].
+  // The pairs of `grid`'s boxes `stored` ([stored_count][6] Reals) that overlap; with `exclude`
+  // ([stored][2] words), two boxes whose words share one are skipped (two edges with a particle in
+  // common). Returns how many; the same two submissions.
+  std::uint32_t join(const DeviceBoxGrid& grid, const Buffer& stored, std::uint32_t stored_count,
+                     const Buffer* exclude);
+  // Read back (tests): [pairs][2] of the last run() or join().
   std::vector<std::uint32_t> pairs() const;
 
  private:
+  // Counts for `invocations`, scanned, then the pairs written: the two submissions.
+  std::uint32_t count_and_write(GridQueryConstants constants, std::uint32_t invocations,
+                                const std::vector<const Buffer*>& inputs);
+
   Device& device_;
   std::uint32_t capacity_;
   std::uint32_t pair_count_ = 0;
   Buffer counts_, pairs_, no_exclude_;
-  PrefixScan scan_;
+  std::optional<PrefixScan> scan_;
   ComputePipeline pass_;
 };
 

@@ -32,6 +32,8 @@ struct GridPassConstants {
 // box_grid_query.comp's phases and push constants.
 CLOTHSIM_SLOT kQueryCount = 0;  // per query: how many stored boxes it finds
 CLOTHSIM_SLOT kQueryWrite = 1;  // per query: its pairs, from its scanned offset
+CLOTHSIM_SLOT kJoinCount = 2;   // per bucket, then per box kept aside: how many pairs of stored boxes it finds
+CLOTHSIM_SLOT kJoinWrite = 3;   // the same, writing them from its scanned offset
 
 struct GridQueryConstants {
   uint phase;            // kQuery*
@@ -39,7 +41,9 @@ struct GridQueryConstants {
   uint bucket_mask;      // the grid's
   uint entries;          // the grid's entries
   uint oversize;         // the grid's boxes kept aside
-  uint exclude_corners;  // 1: skip a stored box whose 3 exclude words name the query
+  uint exclude_corners;  // queries: 1 skips a stored box whose 3 exclude words name the query; the
+                         // join: 1 skips two boxes whose 2 exclude words share one (two edges' particles)
+  uint stored;           // the grid's boxes
 };
 
 #if defined(__cplusplus)

@@ -1,13 +1,16 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
 // The hashed grid's queries on the device (gpu/device_box_grid.h, DeviceGridQuery), as the CPU's
-// BoxGrid::for_each_overlap visits them: one invocation per query box, over the cells its box
-// overlaps within the entered boxes' extent, each bucket's entries of that cell whose box overlaps
-// the query, reported only in the cell of the two boxes' intersection's lowest corner (so once),
-// then the boxes kept aside. A stored box whose `exclude` words name the query is skipped (a
-// triangle of which the particle is a corner). Two passes: each query counts what it finds, the
-// counts are scanned (prefix_scan.comp), and each writes its (query, box) pairs from its offset,
-// in the CPU's order.
+// BoxGrid visits them. Queries (for_each_overlap): one invocation per query box, over the cells
+// its box overlaps within the entered boxes' extent, each bucket's entries of that cell whose box
+// overlaps the query, reported only in the cell of the two boxes' intersection's lowest corner (so
+// once), then the boxes kept aside; a stored box whose `exclude` words name the query is skipped
+// (a triangle of which the particle is a corner). The join (for_each_pair): one invocation per
+// bucket, each pair of its entries of one cell whose boxes overlap, reported in the lowest corner's
+// cell, then one per box kept aside, paired with every other box; two boxes whose `exclude` words
+// share one are skipped (two edges with a particle in common). Two passes each: every invocation
+// counts what it finds, the counts are scanned (prefix_scan.comp), and each writes its pairs from
+// its offset, in the CPU's order.
 #include "gpu/shaders/shared_text.glsl"
 #include "gpu/shaders/box_grid.h"
 
@@ -45,8 +48,71 @@ bool excluded(uint b, uint q) {
   return exclude[3u * b] == q || exclude[3u * b + 1u] == q || exclude[3u * b + 2u] == q;
 }
 
+bool kept_aside(uint b) {
+  const Vec3 span = Vec3(boxes[6u * b + 3u], boxes[6u * b + 4u], boxes[6u * b + 5u]) -
+                    Vec3(boxes[6u * b], boxes[6u * b + 1u], boxes[6u * b + 2u]);
+  return max(span.x, max(span.y, span.z)) > kOversize * grid_real[0];
+}
+
+bool share(uint a, uint b) {
+  if (constants.exclude_corners == 0u) return false;
+  return exclude[2u * a] == exclude[2u * b] || exclude[2u * a] == exclude[2u * b + 1u] ||
+         exclude[2u * a + 1u] == exclude[2u * b] || exclude[2u * a + 1u] == exclude[2u * b + 1u];
+}
+
+bool overlaps_box(uint a, uint b) {
+  return overlaps(a, Vec3(boxes[6u * b], boxes[6u * b + 1u], boxes[6u * b + 2u]),
+                  Vec3(boxes[6u * b + 3u], boxes[6u * b + 4u], boxes[6u * b + 5u]));
+}
+
+// Invocation k of the join: bucket k, or past the buckets the k-th box kept aside.
+void join(uint k, bool write) {
+  const uint first = write ? counts[k] : 0u;
+  uint found = 0u;
+  const uint buckets = constants.bucket_mask + 1u;
+  if (k < buckets) {
+    const uint end = k == constants.bucket_mask ? constants.entries : bucket_start[k + 1u];
+    for (uint s = bucket_start[k]; s < end; ++s) {
+      const uint a = kEntryWords * sorted[s];
+      for (uint t = s + 1u; t < end; ++t) {
+        const uint b = kEntryWords * sorted[t];
+        if (entries[a] != entries[b] || entries[a + 1u] != entries[b + 1u] || entries[a + 2u] != entries[b + 2u]) {
+          continue;
+        }
+        const uint box_a = entries[a + kEntryBox];
+        const uint box_b = entries[b + kEntryBox];
+        if ((entries[a + kEntryLowest] | entries[b + kEntryLowest]) != 7u || !overlaps_box(box_a, box_b) ||
+            share(box_a, box_b)) {
+          continue;
+        }
+        if (write) {
+          pairs[2u * (first + found)] = box_a;  // box_a < box_b: a bucket's entries are in box order
+          pairs[2u * (first + found) + 1u] = box_b;
+        }
+        ++found;
+      }
+    }
+  } else {
+    const uint big = oversize[k - buckets];
+    for (uint j = 0u; j < constants.stored; ++j) {
+      // Two boxes kept aside are paired once, when the smaller is `big`.
+      if (j == big || (j < big && kept_aside(j)) || !overlaps_box(big, j) || share(big, j)) continue;
+      if (write) {
+        pairs[2u * (first + found)] = min(big, j);
+        pairs[2u * (first + found) + 1u] = max(big, j);
+      }
+      ++found;
+    }
+  }
+  if (!write) counts[k] = found;
+}
+
 void main() {
   const uint q = invocation_index();
+  if (constants.phase == kJoinCount || constants.phase == kJoinWrite) {
+    if (q < constants.bucket_mask + 1u + constants.oversize) join(q, constants.phase == kJoinWrite);
+    return;
+  }
   if (q >= constants.queries) return;
   const bool write = constants.phase == kQueryWrite;
   const uint first = write ? counts[q] : 0u;
