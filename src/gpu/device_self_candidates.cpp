@@ -1,0 +1,79 @@
+#include "gpu/device_self_candidates.h"
+
+#include <algorithm>
+#include <span>
+
+#include "gpu/real_arrays.h"
+
+namespace clothsim::gpu {
+namespace {
+
+struct BoxesConstants {
+  std::uint32_t phase, particles, triangles, edges;
+};
+// self_boxes.comp's phases.
+constexpr std::uint32_t kBoxesPoints = 0;
+constexpr std::uint32_t kBoxesElements = 1;
+constexpr std::uint32_t kBoxesGrow = 2;
+constexpr std::uint32_t kBoxesCells = 3;
+
+template <std::size_t N>
+Buffer index_buffer(Device& device, const std::vector<std::array<std::uint32_t, N>>& items) {
+  std::vector<std::uint32_t> words;
+  for (const auto& item : items) words.insert(words.end(), item.begin(), item.end());
+  if (words.empty()) words.push_back(0);
+  Buffer buffer(device, words.size() * sizeof(std::uint32_t), Memory::device_local);
+  upload(device, buffer, std::as_bytes(std::span(words)));
+  return buffer;
+}
+
+std::uint64_t box_bytes(std::uint32_t count, Precision precision) {
+  return std::max<std::uint64_t>(count, 1) * 6 * real_size(precision);
+}
+
+}  // namespace
+
+DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, std::uint32_t particles,
+                                           const SheetElements& elements)
+    : device_(device),
+      precision_(precision),
+      particles_(particles),
+      triangles_(static_cast<std::uint32_t>(elements.triangle.size())),
+      edges_(static_cast<std::uint32_t>(elements.edge.size())),
+      triangle_corners_(index_buffer(device, elements.triangle)),
+      edge_ends_(index_buffer(device, elements.edge)),
+      point_boxes_(device, box_bytes(particles, precision), Memory::device_local),
+      triangle_boxes_(device, box_bytes(triangles_, precision), Memory::device_local),
+      edge_boxes_(device, box_bytes(edges_, precision), Memory::device_local),
+      self_real_(device, 3 * real_size(precision), Memory::device_local),
+      boxes_pass_(shader_pipeline(device, "self_boxes", precision, 8, sizeof(BoxesConstants))),
+      triangle_grid_(device, precision, triangles_),
+      edge_grid_(device, precision, edges_),
+      point_query_(device, precision, particles),
+      edge_query_(device, precision, 1) {}
+
+void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double margin) {
+  upload(device_, self_real_, real_bytes(std::vector<double>{margin, 0.0, 0.0}, precision_));
+  boxes_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
+                                              &triangle_boxes_, &edge_boxes_, &self_real_});
+  device_.submit([&](VkCommandBuffer commands) {
+    const auto pass = [&](std::uint32_t phase, std::uint32_t invocations) {
+      const BoxesConstants constants{phase, particles_, triangles_, edges_};
+      if (invocations > 0) boxes_pass_.dispatch(commands, &constants, invocations);
+    };
+    pass(kBoxesPoints, particles_);
+    pass(kBoxesElements, triangles_ + edges_);
+    pass(kBoxesGrow, particles_);
+    pass(kBoxesCells, 1);
+  });
+  std::vector<std::byte> bytes(3 * real_size(precision_));
+  download(device_, self_real_, bytes);
+  const std::vector<double> reals = reals_from_bytes(bytes, precision_);
+  triangle_grid_.build(triangle_boxes_, triangles_, reals[1]);
+  edge_grid_.build(edge_boxes_, edges_, reals[2]);
+  point_triangle_count_ =
+      point_query_.run(triangle_grid_, triangle_boxes_, point_boxes_, particles_, &triangle_corners_);
+  edge_pair_count_ = edge_query_.join(edge_grid_, edge_boxes_, edges_, &edge_ends_);
+}
+
+}  // namespace clothsim::gpu

@@ -1,0 +1,55 @@
+// Self-collision's candidates on the device (docs/gpu.md, "Not done yet"): stage 1 of the CPU's
+// self pass (collision/self_contacts.h, SelfContacts::find_candidates) with the same boxes, grids
+// and order, so the same pairs in the same order. From the positions at a motion's start and end:
+//   self_boxes       each particle's, triangle's and edge's box over the motion, grown by the margin,
+//                    and each grid's cell size (the mean extent, summed as the CPU sums it)
+//   box_grid         the triangles' grid and the edges' (gpu/device_box_grid.h)
+//   box_grid_query   each particle against the triangles' grid, its own triangles skipped; then
+//                    the edges' grid joined with itself, two edges with a particle in common skipped
+// The point-triangle pairs come first, by particle, then the edge pairs, by bucket, as on the CPU.
+// Each build reads back a few words between its submissions (the cell sizes, the counts that size
+// the arrays). No pass of the backend uses it yet: the pruning, the selection and the responses
+// are to come.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "collision/sheet_elements.h"
+#include "core/precision.h"
+#include "gpu/buffer.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/device.h"
+#include "gpu/device_box_grid.h"
+
+namespace clothsim::gpu {
+
+class DeviceSelfCandidates {
+ public:
+  // For a sheet of `particles` particles whose self-collision elements are `elements`.
+  DeviceSelfCandidates(Device& device, Precision precision, std::uint32_t particles, const SheetElements& elements);
+
+  // The candidates of the motion `start` -> `end` ([particles][3] Reals each) with boxes grown by
+  // `margin` m.
+  void find(const Buffer& start, const Buffer& end, double margin);
+
+  std::uint32_t point_triangle_count() const { return point_triangle_count_; }
+  std::uint32_t edge_pair_count() const { return edge_pair_count_; }
+  // Read back (tests): (particle, triangle) pairs, then (edge, edge) pairs, [pairs][2] each.
+  std::vector<std::uint32_t> point_triangle_pairs() const { return point_query_.pairs(); }
+  std::vector<std::uint32_t> edge_pairs() const { return edge_query_.pairs(); }
+
+ private:
+  Device& device_;
+  Precision precision_;
+  std::uint32_t particles_, triangles_, edges_;
+  std::uint32_t point_triangle_count_ = 0;
+  std::uint32_t edge_pair_count_ = 0;
+  Buffer triangle_corners_, edge_ends_, point_boxes_, triangle_boxes_, edge_boxes_, self_real_;
+  ComputePipeline boxes_pass_;
+  DeviceBoxGrid triangle_grid_, edge_grid_;
+  DeviceGridQuery point_query_, edge_query_;
+};
+
+}  // namespace clothsim::gpu
