@@ -93,6 +93,8 @@ class DeviceGridQuery {
                      const Buffer* exclude);
   // Read back (tests): [pairs][2] of the last run() or join().
   std::vector<std::uint32_t> pairs() const;
+  // The pairs on the device: at least 2 words a pair.
+  const Buffer& pair_buffer() const { return pairs_; }
 
  private:
   // Counts for `invocations`, scanned, then the pairs written: the two submissions.

@@ -46,13 +46,17 @@ DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, 
       triangle_boxes_(device, box_bytes(triangles_, precision), Memory::device_local),
       edge_boxes_(device, box_bytes(edges_, precision), Memory::device_local),
       self_real_(device, 3 * real_size(precision), Memory::device_local),
+      detect_real_(device, real_size(precision), Memory::device_local),
+      flags_(device, sizeof(std::uint32_t), Memory::device_local),
+      start_distance_(device, real_size(precision), Memory::device_local),
       boxes_pass_(shader_pipeline(device, "self_boxes", precision, 8, sizeof(BoxesConstants))),
+      detect_pass_(shader_pipeline(device, "self_detect", precision, 12, 2 * sizeof(std::uint32_t))),
       triangle_grid_(device, precision, triangles_),
       edge_grid_(device, precision, edges_),
       point_query_(device, precision, particles),
       edge_query_(device, precision, 1) {}
 
-void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double margin) {
+void DeviceSelfCandidates::make_boxes(const Buffer& start, const Buffer& end, double margin) {
   upload(device_, self_real_, real_bytes(std::vector<double>{margin, 0.0, 0.0}, precision_));
   boxes_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
                                               &triangle_boxes_, &edge_boxes_, &self_real_});
@@ -66,6 +70,10 @@ void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double m
     pass(kBoxesGrow, particles_);
     pass(kBoxesCells, 1);
   });
+}
+
+void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double margin) {
+  make_boxes(start, end, margin);
   std::vector<std::byte> bytes(3 * real_size(precision_));
   download(device_, self_real_, bytes);
   const std::vector<double> reals = reals_from_bytes(bytes, precision_);
@@ -74,6 +82,35 @@ void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double m
   point_triangle_count_ =
       point_query_.run(triangle_grid_, triangle_boxes_, point_boxes_, particles_, &triangle_corners_);
   edge_pair_count_ = edge_query_.join(edge_grid_, edge_boxes_, edges_, &edge_ends_);
+}
+
+void DeviceSelfCandidates::detect(const Buffer& start, const Buffer& end, double thickness) {
+  make_boxes(start, end, 0.5 * thickness);
+  upload(device_, detect_real_, real_bytes(std::vector<double>{thickness}, precision_));
+  const std::uint32_t candidates = point_triangle_count_ + edge_pair_count_;
+  if (flags_.bytes() < std::uint64_t{candidates} * sizeof(std::uint32_t)) {
+    flags_ = Buffer(device_, std::uint64_t{candidates} * sizeof(std::uint32_t), Memory::device_local);
+    start_distance_ = Buffer(device_, std::uint64_t{candidates} * real_size(precision_), Memory::device_local);
+  }
+  detect_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
+                                               &triangle_boxes_, &edge_boxes_, &point_query_.pair_buffer(),
+                                               &edge_query_.pair_buffer(), &flags_, &start_distance_, &detect_real_});
+  const std::array<std::uint32_t, 2> counts{point_triangle_count_, edge_pair_count_};
+  if (candidates > 0) {
+    device_.submit([&](VkCommandBuffer commands) { detect_pass_.dispatch(commands, counts.data(), candidates); });
+  }
+}
+
+std::vector<std::uint32_t> DeviceSelfCandidates::flags() const {
+  std::vector<std::uint32_t> out(point_triangle_count_ + edge_pair_count_);
+  if (!out.empty()) download(device_, flags_, std::as_writable_bytes(std::span(out)));
+  return out;
+}
+
+std::vector<double> DeviceSelfCandidates::start_distances() const {
+  std::vector<std::byte> bytes((point_triangle_count_ + edge_pair_count_) * real_size(precision_));
+  if (!bytes.empty()) download(device_, start_distance_, bytes);
+  return reals_from_bytes(bytes, precision_);
 }
 
 }  // namespace clothsim::gpu

@@ -34,6 +34,19 @@ class DeviceSelfCandidates {
   // `margin` m.
   void find(const Buffer& start, const Buffer& end, double margin);
 
+  // Stages 2 and 3's tests of the last find()'s candidates over the motion `start` -> `end`, as the
+  // CPU's self pass makes them (self_detect.comp): which are active (their boxes, grown by half
+  // the `thickness`, overlap), and of those the distance at the start, which are near and which
+  // touch.
+  void detect(const Buffer& start, const Buffer& end, double thickness);
+  // Read back (tests), per candidate: kActive, kNear and kTouching bits, and the distance at the
+  // start (0 where not active).
+  static constexpr std::uint32_t kActive = 1;
+  static constexpr std::uint32_t kNear = 2;
+  static constexpr std::uint32_t kTouching = 4;
+  std::vector<std::uint32_t> flags() const;
+  std::vector<double> start_distances() const;
+
   std::uint32_t point_triangle_count() const { return point_triangle_count_; }
   std::uint32_t edge_pair_count() const { return edge_pair_count_; }
   // Read back (tests): (particle, triangle) pairs, then (edge, edge) pairs, [pairs][2] each.
@@ -46,8 +59,12 @@ class DeviceSelfCandidates {
   std::uint32_t particles_, triangles_, edges_;
   std::uint32_t point_triangle_count_ = 0;
   std::uint32_t edge_pair_count_ = 0;
-  Buffer triangle_corners_, edge_ends_, point_boxes_, triangle_boxes_, edge_boxes_, self_real_;
-  ComputePipeline boxes_pass_;
+  // The motion's boxes grown by `margin`, and the grids' cell sizes into self_real_.
+  void make_boxes(const Buffer& start, const Buffer& end, double margin);
+
+  Buffer triangle_corners_, edge_ends_, point_boxes_, triangle_boxes_, edge_boxes_, self_real_, detect_real_, flags_,
+      start_distance_;
+  ComputePipeline boxes_pass_, detect_pass_;
   DeviceBoxGrid triangle_grid_, edge_grid_;
   DeviceGridQuery point_query_, edge_query_;
 };

@@ -1,15 +1,19 @@
 // Self-collision's candidates on the device (gpu/device_self_candidates.h) against the CPU's
 // (SelfContacts::find_candidates): the same pairs in the same order, for a folded sheet falling
 // onto itself and the floor (folded_sheet.h), over one short motion and over a long one, with a
-// small and a large margin.
+// small and a large margin; and stages 2 and 3's tests on them against the CPU's shared text.
 #include "gpu/device_self_candidates.h"
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
 #include <span>
 #include <vector>
 
 #include "collision/self_contacts.h"
+#include "collision/self_pair.h"
 #include "collision/sheet_elements.h"
 #include "folded_sheet.h"
 #include "gpu/real_arrays.h"
@@ -64,6 +68,75 @@ TEST_F(GpuTest, SelfCandidatesAreTheCpusInTheCpusOrder) {
       EXPECT_TRUE(std::equal(found.begin(), found.end(), cpu.candidates().begin())) << later << " " << margin;
     }
   }
+}
+
+struct DetectionCounts {
+  std::size_t active = 0, near = 0, touching = 0;
+};
+
+// Stages 2 and 3's tests on the device over the motion start -> end of `model`'s sheet, against the
+// CPU's shared text (collision/self_pair.h): every pair near is active; of the active ones, the
+// distance at the start within 4 ulps of the CPU's, near and touching as the CPU decides.
+DetectionCounts expect_detection_is_the_cpus(gpu::Device& device, const ClothModel& model,
+                                             const std::vector<Vec3>& start, const std::vector<Vec3>& end,
+                                             double thickness) {
+  SheetElements elements;
+  refresh_sheet_elements(model, elements);
+  const gpu::Buffer start_buffer = position_buffer(device, start);
+  const gpu::Buffer end_buffer = position_buffer(device, end);
+  gpu::DeviceSelfCandidates on_device(device, gpu::Precision::float64,
+                                      static_cast<std::uint32_t>(model.particle_count()), elements);
+  constexpr double kMargin = 0.03;
+  on_device.find(start_buffer, end_buffer, kMargin);
+  on_device.detect(start_buffer, end_buffer, thickness);
+  SelfContacts cpu;
+  cpu.find_candidates(model, start, end, kMargin, 1);
+  const std::vector<std::uint32_t> flags = on_device.flags();
+  const std::vector<double> distances = on_device.start_distances();
+  EXPECT_EQ(flags.size(), cpu.candidates().size());
+  DetectionCounts counts;
+  for (std::size_t k = 0; k < std::min(flags.size(), cpu.candidates().size()); ++k) {
+    const SelfPair& pair = cpu.candidates()[k];
+    const auto corners = [&](const std::vector<Vec3>& x) {
+      return self_pair::PairCorners{
+          {x[pair.particle[0]], x[pair.particle[1]], x[pair.particle[2]], x[pair.particle[3]]}};
+    };
+    const int kind =
+        pair.kind == SelfPair::Kind::point_triangle ? self_pair::kPairPointTriangle : self_pair::kPairEdgeEdge;
+    const double d0 = self_pair::measure_pair_corners(kind, corners(start)).distance;
+    const double d1 = self_pair::measure_pair_corners(kind, corners(end)).distance;
+    const bool near = (d0 < thickness || d1 < thickness) && d0 != 0.0;
+    const bool active = (flags[k] & gpu::DeviceSelfCandidates::kActive) != 0;
+    EXPECT_TRUE(active || !near) << k;
+    if (!active) {
+      EXPECT_EQ(flags[k], 0u) << k;
+      continue;
+    }
+    ++counts.active;
+    EXPECT_LE(std::abs(distances[k] - d0), 4 * std::numeric_limits<double>::epsilon() * d0) << k;
+    EXPECT_EQ((flags[k] & gpu::DeviceSelfCandidates::kNear) != 0, near) << k;
+    const bool touches = self_pair::first_touch(kind, corners(start), corners(end), thickness, d0) >= 0.0;
+    EXPECT_EQ((flags[k] & gpu::DeviceSelfCandidates::kTouching) != 0, touches) << k;
+    counts.near += near ? 1 : 0;
+    counts.touching += touches ? 1 : 0;
+  }
+  return counts;
+}
+
+TEST_F(GpuTest, SelfDetectionIsTheCpusOnTheCandidates) {
+  // The folded sheet over a step: with a thickness of 8 mm its layers, 6 mm apart, are near; moved
+  // 12 mm down, its upper layer passes through the lower one, and pairs touch.
+  Simulation simulation = testing::folded_sheet(IntegratorKind::implicit_euler, 1e-3, 1);
+  ASSERT_TRUE(simulation.advance_to(0.02)) << simulation.failure()->message;
+  const std::vector<Vec3> start = simulation.state().position;
+  ASSERT_TRUE(simulation.advance_to(0.03)) << simulation.failure()->message;
+  std::vector<Vec3> end = simulation.state().position;
+  const DetectionCounts near = expect_detection_is_the_cpus(device(), simulation.model(), start, end, 0.008);
+  EXPECT_GT(near.active, 100u);
+  EXPECT_GT(near.near, 50u);
+  for (std::size_t p = 8 * 16; p < end.size(); ++p) end[p].y -= 0.012;
+  const DetectionCounts through = expect_detection_is_the_cpus(device(), simulation.model(), start, end, 0.008);
+  EXPECT_GT(through.touching, 50u);
 }
 
 }  // namespace
