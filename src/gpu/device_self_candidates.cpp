@@ -4,18 +4,10 @@
 #include <span>
 
 #include "gpu/real_arrays.h"
+#include "gpu/shaders/self_step.h"
 
 namespace clothsim::gpu {
 namespace {
-
-struct BoxesConstants {
-  std::uint32_t phase, particles, triangles, edges;
-};
-// self_boxes.comp's phases.
-constexpr std::uint32_t kBoxesPoints = 0;
-constexpr std::uint32_t kBoxesElements = 1;
-constexpr std::uint32_t kBoxesGrow = 2;
-constexpr std::uint32_t kBoxesCells = 3;
 
 template <std::size_t N>
 Buffer index_buffer(Device& device, const std::vector<std::array<std::uint32_t, N>>& items) {
@@ -49,8 +41,8 @@ DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, 
       detect_real_(device, real_size(precision), Memory::device_local),
       flags_(device, sizeof(std::uint32_t), Memory::device_local),
       start_distance_(device, real_size(precision), Memory::device_local),
-      boxes_pass_(shader_pipeline(device, "self_boxes", precision, 8, sizeof(BoxesConstants))),
-      detect_pass_(shader_pipeline(device, "self_detect", precision, 12, 2 * sizeof(std::uint32_t))),
+      boxes_pass_(shader_pipeline(device, "self_boxes", precision, 8, sizeof(BoxesPassConstants))),
+      detect_pass_(shader_pipeline(device, "self_detect", precision, 12, sizeof(DetectPassConstants))),
       triangle_grid_(device, precision, triangles_),
       edge_grid_(device, precision, edges_),
       point_query_(device, precision, particles),
@@ -62,7 +54,7 @@ void DeviceSelfCandidates::make_boxes(const Buffer& start, const Buffer& end, do
                                               &triangle_boxes_, &edge_boxes_, &self_real_});
   device_.submit([&](VkCommandBuffer commands) {
     const auto pass = [&](std::uint32_t phase, std::uint32_t invocations) {
-      const BoxesConstants constants{phase, particles_, triangles_, edges_};
+      const BoxesPassConstants constants{phase, particles_, triangles_, edges_};
       if (invocations > 0) boxes_pass_.dispatch(commands, &constants, invocations);
     };
     pass(kBoxesPoints, particles_);
@@ -95,9 +87,9 @@ void DeviceSelfCandidates::detect(const Buffer& start, const Buffer& end, double
   detect_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
                                                &triangle_boxes_, &edge_boxes_, &point_query_.pair_buffer(),
                                                &edge_query_.pair_buffer(), &flags_, &start_distance_, &detect_real_});
-  const std::array<std::uint32_t, 2> counts{point_triangle_count_, edge_pair_count_};
+  const DetectPassConstants counts{point_triangle_count_, edge_pair_count_};
   if (candidates > 0) {
-    device_.submit([&](VkCommandBuffer commands) { detect_pass_.dispatch(commands, counts.data(), candidates); });
+    device_.submit([&](VkCommandBuffer commands) { detect_pass_.dispatch(commands, &counts, candidates); });
   }
 }
 

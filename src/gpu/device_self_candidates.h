@@ -39,11 +39,8 @@ class DeviceSelfCandidates {
   // the `thickness`, overlap), and of those the distance at the start, which are near and which
   // touch.
   void detect(const Buffer& start, const Buffer& end, double thickness);
-  // Read back (tests), per candidate: kActive, kNear and kTouching bits, and the distance at the
+  // Read back (tests), per candidate: its kPair* bits (shaders/self_step.h), and the distance at the
   // start (0 where not active).
-  static constexpr std::uint32_t kActive = 1;
-  static constexpr std::uint32_t kNear = 2;
-  static constexpr std::uint32_t kTouching = 4;
   std::vector<std::uint32_t> flags() const;
   std::vector<double> start_distances() const;
 

@@ -17,6 +17,7 @@
 #include "collision/sheet_elements.h"
 #include "folded_sheet.h"
 #include "gpu/real_arrays.h"
+#include "gpu/shaders/self_step.h"
 #include "gpu_fixture.h"
 
 namespace clothsim {
@@ -106,7 +107,7 @@ DetectionCounts expect_detection_is_the_cpus(gpu::Device& device, const ClothMod
     const double d0 = self_pair::measure_pair_corners(kind, corners(start)).distance;
     const double d1 = self_pair::measure_pair_corners(kind, corners(end)).distance;
     const bool near = (d0 < thickness || d1 < thickness) && d0 != 0.0;
-    const bool active = (flags[k] & gpu::DeviceSelfCandidates::kActive) != 0;
+    const bool active = (flags[k] & gpu::kPairActive) != 0;
     EXPECT_TRUE(active || !near) << k;
     if (!active) {
       EXPECT_EQ(flags[k], 0u) << k;
@@ -114,9 +115,9 @@ DetectionCounts expect_detection_is_the_cpus(gpu::Device& device, const ClothMod
     }
     ++counts.active;
     EXPECT_LE(std::abs(distances[k] - d0), 4 * std::numeric_limits<double>::epsilon() * d0) << k;
-    EXPECT_EQ((flags[k] & gpu::DeviceSelfCandidates::kNear) != 0, near) << k;
+    EXPECT_EQ((flags[k] & gpu::kPairNear) != 0, near) << k;
     const bool touches = self_pair::first_touch(kind, corners(start), corners(end), thickness, d0) >= 0.0;
-    EXPECT_EQ((flags[k] & gpu::DeviceSelfCandidates::kTouching) != 0, touches) << k;
+    EXPECT_EQ((flags[k] & gpu::kPairTouching) != 0, touches) << k;
     counts.near += near ? 1 : 0;
     counts.touching += touches ? 1 : 0;
   }

@@ -6,6 +6,7 @@
 // boxes grown; and each grid's cell size, BoxGrid's mean extent of its boxes, summed in box order
 // by one invocation (the same additions in the same order as the CPU's, so the same cells).
 #include "gpu/shaders/shared_text.glsl"
+#include "gpu/shaders/self_step.h"
 
 layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
 layout(local_size_x_id = 0) in;
@@ -21,18 +22,7 @@ layout(std430, binding = 6) buffer EdgeBoxes { Real edge_boxes[]; };
 // [0] the margin, m; [1] and [2] the triangles' and the edges' mean extent, the grids' cell sizes.
 layout(std430, binding = 7) buffer SelfReal { Real self_real[]; };
 
-// The phases, each one pass.
-const uint kBoxesPoints = 0u;    // per particle: its motion's box
-const uint kBoxesElements = 1u;  // per triangle, then per edge: its particles' boxes' union, grown
-const uint kBoxesGrow = 2u;      // per particle: its box grown
-const uint kBoxesCells = 3u;     // one invocation: the two grids' cell sizes
-
-layout(push_constant) uniform Constants {
-  uint phase;
-  uint particles;
-  uint triangles;
-  uint edges;
-} constants;
+layout(push_constant) uniform Constants { BoxesPassConstants constants; };
 
 Vec3 at(uint p, bool at_end) {
   return at_end ? Vec3(end[3u * p], end[3u * p + 1u], end[3u * p + 2u])

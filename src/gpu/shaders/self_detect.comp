@@ -10,6 +10,7 @@
 #include "gpu/shaders/shared_text.glsl"
 #include "core/closest_points.inc"
 #include "collision/self_pair.inc"
+#include "gpu/shaders/self_step.h"
 
 layout(constant_id = 0) const uint kWorkgroupSize = 64u;  // the workgroup size, specialized by ComputePipeline
 layout(local_size_x_id = 0) in;
@@ -24,17 +25,13 @@ layout(std430, binding = 5) readonly buffer TriangleBoxes { Real triangle_boxes[
 layout(std430, binding = 6) readonly buffer EdgeBoxes { Real edge_boxes[]; };
 layout(std430, binding = 7) readonly buffer PointPairs { uint point_pairs[]; };  // [pairs][2]: particle, triangle
 layout(std430, binding = 8) readonly buffer EdgePairs { uint edge_pairs[]; };    // [pairs][2]: edge, edge
-layout(std430, binding = 9) writeonly buffer Flags { uint flags[]; };  // [candidates]: kActive | kNear | kTouching
+layout(std430, binding = 9) writeonly buffer Flags { uint flags[]; };  // [candidates]: kPair* bits
 layout(std430, binding = 10) writeonly buffer StartDistance { Real start_distance[]; };  // [candidates], m
 
-const uint kActive = 1u, kNear = 2u, kTouching = 4u;
+// [0]: the thickness, m (in a buffer of Reals: a push constant would need a double's layout).
+layout(std430, binding = 11) readonly buffer SelfReal { Real self_real[]; };
 
-layout(push_constant) uniform Constants {
-  uint point_pairs;
-  uint edge_pairs;
-} constants;
-// The thickness, m, from the specialization's Real: a push constant would need a double's layout.
-layout(std430, binding = 11) readonly buffer SelfReal { Real self_real[]; };  // [3]: the thickness
+layout(push_constant) uniform Constants { DetectPassConstants constants; };
 
 Vec3 box_low(uint kind, uint b) {
   const uint i = 6u * b;
@@ -89,8 +86,8 @@ void main() {
     const PairCorners at_end = corners_of(particles, true);
     distance = measure_pair_corners(kind, at_start).distance;
     const bool within = distance < thickness || measure_pair_corners(kind, at_end).distance < thickness;
-    flag = kActive | (within && distance != Real(0.0) ? kNear : 0u) |
-           (first_touch(kind, at_start, at_end, thickness, distance) >= Real(0.0) ? kTouching : 0u);
+    flag = kPairActive | (within && distance != Real(0.0) ? kPairNear : 0u) |
+           (first_touch(kind, at_start, at_end, thickness, distance) >= Real(0.0) ? kPairTouching : 0u);
   }
   flags[c] = flag;
   start_distance[c] = distance;
