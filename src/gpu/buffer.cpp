@@ -140,6 +140,13 @@ void record_copy(VkCommandBuffer commands, const Buffer& source, const Buffer& d
   record_upload(commands, source, destination, bytes);
 }
 
+void record_zero(VkCommandBuffer commands, const Buffer& destination, std::uint64_t bytes) {
+  compute_write_barrier(commands);
+  vkCmdFillBuffer(commands, destination.handle(), 0, bytes, 0u);
+  memory_barrier(commands, VK_PIPELINE_STAGE_TRANSFER_BIT, VK_ACCESS_TRANSFER_WRITE_BIT,
+                 VK_PIPELINE_STAGE_COMPUTE_SHADER_BIT, VK_ACCESS_SHADER_READ_BIT | VK_ACCESS_SHADER_WRITE_BIT);
+}
+
 void download(Device& device, const Buffer& source, std::span<std::byte> destination) {
   if (destination.size() > source.bytes()) throw GpuError("download: more bytes than the buffer holds");
   if (destination.empty()) return;

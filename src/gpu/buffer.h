@@ -71,6 +71,10 @@ void record_upload(VkCommandBuffer commands, const Buffer& source, const Buffer&
 // the compute passes before it and visible to those after it.
 void record_copy(VkCommandBuffer commands, const Buffer& source, const Buffer& destination, std::uint64_t bytes);
 
+// Records zeros into the first `bytes` (a multiple of 4) of a device buffer, after the compute
+// passes before it and visible to those after it: counters cleared without a submission of their own.
+void record_zero(VkCommandBuffer commands, const Buffer& destination, std::uint64_t bytes);
+
 // The barrier between a compute pass and whatever reads its output next: a later pass or a copy.
 void compute_write_barrier(VkCommandBuffer commands);
 

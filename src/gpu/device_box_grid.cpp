@@ -14,6 +14,7 @@ namespace clothsim::gpu {
 namespace {
 
 constexpr std::uint64_t kWord = sizeof(std::uint32_t);
+static_assert(BoxGrid::kOversize == kOversizeCells, "the device keeps the CPU's boxes aside");
 
 std::vector<std::uint32_t> words(Device& device, const Buffer& buffer, std::size_t count) {
   std::vector<std::uint32_t> out(count);
@@ -67,8 +68,8 @@ void DeviceBoxGrid::build(const Buffer& boxes, std::uint32_t count, double cell_
     const GridPassConstants aside{kGridOversize, count, bucket_mask_, 0};
     if (count > 0) pass_.dispatch(commands, &aside, count);
   });
-  entry_count_ = words(device_, cells_scan_.block_sums(), PrefixScan::blocks_for(count) + 1).back();
-  oversize_count_ = words(device_, oversize_scan_.block_sums(), PrefixScan::blocks_for(count) + 1).back();
+  entry_count_ = cells_scan_.total(count);
+  oversize_count_ = oversize_scan_.total(count);
   // The CPU's buckets: twice the entries, a power of two, at least 16.
   const std::uint32_t buckets = std::bit_ceil(std::max<std::uint32_t>(2 * entry_count_, 16));
   bucket_mask_ = buckets - 1;
@@ -83,11 +84,10 @@ void DeviceBoxGrid::build(const Buffer& boxes, std::uint32_t count, double cell_
   if (!bucket_scan_ || bucket_scan_->capacity() < buckets) bucket_scan_.emplace(device_, buckets);
   bucket_scan_->bind(bucket_start_);
   bind();
-  const std::vector<std::uint32_t> zeros(buckets, 0u);
-  upload(device_, bucket_start_, std::as_bytes(std::span(zeros)));
-  upload(device_, fill_, std::as_bytes(std::span(zeros)));
   // The entries, the buckets' counts, their starts, the entries in their buckets, sorted there.
   device_.submit([&](VkCommandBuffer commands) {
+    record_zero(commands, bucket_start_, std::uint64_t{buckets} * kWord);
+    record_zero(commands, fill_, std::uint64_t{buckets} * kWord);
     const GridPassConstants write{kGridEntries, count, bucket_mask_, entry_count_};
     if (count > 0) pass_.dispatch(commands, &write, count);
     bucket_scan_->record(commands, buckets);
@@ -149,7 +149,7 @@ std::uint32_t DeviceGridQuery::count_and_write(GridQueryConstants constants, std
     if (invocations > 0) pass_.dispatch(commands, &constants, invocations);
     scan_->record(commands, invocations);
   });
-  pair_count_ = words(device_, scan_->block_sums(), PrefixScan::blocks_for(invocations) + 1).back();
+  pair_count_ = scan_->total(invocations);
   if (pairs_.bytes() < std::uint64_t{pair_count_} * 2 * kWord) {
     pairs_ = Buffer(device_, std::uint64_t{pair_count_} * 2 * kWord, Memory::device_local);
     bind();

@@ -48,7 +48,7 @@ DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, 
       point_query_(device, precision, particles),
       edge_query_(device, precision, 1) {}
 
-void DeviceSelfCandidates::make_boxes(const Buffer& start, const Buffer& end, double margin) {
+void DeviceSelfCandidates::make_boxes(const Buffer& start, const Buffer& end, double margin, bool cell_sizes) {
   upload(device_, self_real_, real_bytes(std::vector<double>{margin, 0.0, 0.0}, precision_));
   boxes_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
                                               &triangle_boxes_, &edge_boxes_, &self_real_});
@@ -60,12 +60,12 @@ void DeviceSelfCandidates::make_boxes(const Buffer& start, const Buffer& end, do
     pass(kBoxesPoints, particles_);
     pass(kBoxesElements, triangles_ + edges_);
     pass(kBoxesGrow, particles_);
-    pass(kBoxesCells, 1);
+    if (cell_sizes) pass(kBoxesCells, 1);
   });
 }
 
 void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double margin) {
-  make_boxes(start, end, margin);
+  make_boxes(start, end, margin, true);
   std::vector<std::byte> bytes(3 * real_size(precision_));
   download(device_, self_real_, bytes);
   const std::vector<double> reals = reals_from_bytes(bytes, precision_);
@@ -77,7 +77,7 @@ void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double m
 }
 
 void DeviceSelfCandidates::detect(const Buffer& start, const Buffer& end, double thickness) {
-  make_boxes(start, end, 0.5 * thickness);
+  make_boxes(start, end, 0.5 * thickness, false);  // no grid to build
   upload(device_, detect_real_, real_bytes(std::vector<double>{thickness}, precision_));
   const std::uint32_t candidates = point_triangle_count_ + edge_pair_count_;
   if (flags_.bytes() < std::uint64_t{candidates} * sizeof(std::uint32_t)) {

@@ -56,8 +56,9 @@ class DeviceSelfCandidates {
   std::uint32_t particles_, triangles_, edges_;
   std::uint32_t point_triangle_count_ = 0;
   std::uint32_t edge_pair_count_ = 0;
-  // The motion's boxes grown by `margin`, and the grids' cell sizes into self_real_.
-  void make_boxes(const Buffer& start, const Buffer& end, double margin);
+  // The motion's boxes grown by `margin`, and with `cell_sizes` the grids' cell sizes into
+  // self_real_ (one invocation's sum over every box: only where a grid is built).
+  void make_boxes(const Buffer& start, const Buffer& end, double margin, bool cell_sizes);
 
   Buffer triangle_corners_, edge_ends_, point_boxes_, triangle_boxes_, edge_boxes_, self_real_, detect_real_, flags_,
       start_distance_;

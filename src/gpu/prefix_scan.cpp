@@ -1,6 +1,8 @@
 #include "gpu/prefix_scan.h"
 
 #include <array>
+#include <span>
+#include <vector>
 
 #include "core/assert.h"
 #include "gpu/shaders/prefix_scan.h"
@@ -10,7 +12,8 @@ namespace clothsim::gpu {
 std::uint32_t PrefixScan::blocks_for(std::uint32_t count) { return (count + kScanWorkgroup - 1) / kScanWorkgroup; }
 
 PrefixScan::PrefixScan(Device& device, std::uint32_t capacity)
-    : capacity_(capacity),
+    : device_(device),
+      capacity_(capacity),
       block_sums_(device, (std::uint64_t{blocks_for(capacity)} + 1) * sizeof(std::uint32_t), Memory::device_local),
       // The shader reads no Reals: either precision's variant is the same program.
       pass_(shader_pipeline(device, "prefix_scan", Precision::float32, 2, sizeof(ScanPassConstants), kScanWorkgroup)) {}
@@ -19,6 +22,13 @@ void PrefixScan::bind(const Buffer& values) {
   CLOTHSIM_ASSERT(values.bytes() >= std::uint64_t{capacity_} * sizeof(std::uint32_t), "the values fill the capacity");
   const std::array<const Buffer*, 2> buffers{&values, &block_sums_};
   pass_.bind(buffers);
+}
+
+std::uint32_t PrefixScan::total(std::uint32_t count) const {
+  // The blocks' sums up to the total: the download reads from the buffer's start.
+  std::vector<std::uint32_t> sums(blocks_for(count) + 1);
+  download(device_, block_sums_, std::as_writable_bytes(std::span(sums)));
+  return sums.back();
 }
 
 void PrefixScan::record(VkCommandBuffer commands, std::uint32_t count) const {

@@ -25,11 +25,15 @@ class PrefixScan {
   // those before it, and the total is written to word blocks_for(count) of block_sums().
   void record(VkCommandBuffer commands, std::uint32_t count) const;
 
+  // The total of the last record()'s `count` values, read back after its submission.
+  std::uint32_t total(std::uint32_t count) const;
+
   std::uint32_t capacity() const { return capacity_; }
   const Buffer& block_sums() const { return block_sums_; }
   static std::uint32_t blocks_for(std::uint32_t count);
 
  private:
+  Device& device_;
   std::uint32_t capacity_;
   Buffer block_sums_;  // [blocks_for(capacity) + 1]
   ComputePipeline pass_;

@@ -30,14 +30,6 @@ layout(push_constant) uniform Constants { GridPassConstants constants; };
 
 #include "gpu/shaders/box_grid.glsl"
 
-Vec3 box_low(uint b) { return Vec3(boxes[6u * b], boxes[6u * b + 1u], boxes[6u * b + 2u]); }
-Vec3 box_high(uint b) { return Vec3(boxes[6u * b + 3u], boxes[6u * b + 4u], boxes[6u * b + 5u]); }
-
-bool kept_aside(uint b) {
-  const Vec3 span = box_high(b) - box_low(b);
-  return max(span.x, max(span.y, span.z)) > kOversize * grid_real[0];
-}
-
 ivec3 entry_cell(uint e) {
   return ivec3(int(entries[kEntryWords * e]), int(entries[kEntryWords * e + 1u]), int(entries[kEntryWords * e + 2u]));
 }

@@ -15,6 +15,8 @@ CLOTHSIM_SLOT kGridOversize = 1;  // per box kept aside: its place in the list o
 CLOTHSIM_SLOT kGridEntries = 2;   // per entered box: its entries, in cell order, and its buckets' counts
 CLOTHSIM_SLOT kGridFill = 3;      // per entry: the next free place of its bucket
 CLOTHSIM_SLOT kGridSort = 4;      // per bucket: its entries by entry index (box, then cell)
+// A box more than this many cells across on some axis is kept aside (BoxGrid::kOversize).
+CLOTHSIM_SLOT kOversizeCells = 8;
 
 // An entry's words: its cell (three ints), its box, and which of the box's lowest cells it is on
 // (bit a along axis a).

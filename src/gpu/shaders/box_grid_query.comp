@@ -38,20 +38,12 @@ Vec3 query_low(uint q) { return Vec3(queries[6u * q], queries[6u * q + 1u], quer
 Vec3 query_high(uint q) { return Vec3(queries[6u * q + 3u], queries[6u * q + 4u], queries[6u * q + 5u]); }
 
 bool overlaps(uint b, Vec3 low, Vec3 high) {
-  const Vec3 box_low = Vec3(boxes[6u * b], boxes[6u * b + 1u], boxes[6u * b + 2u]);
-  const Vec3 box_high = Vec3(boxes[6u * b + 3u], boxes[6u * b + 4u], boxes[6u * b + 5u]);
-  return all(lessThanEqual(box_low, high)) && all(lessThanEqual(low, box_high));
+  return all(lessThanEqual(box_low(b), high)) && all(lessThanEqual(low, box_high(b)));
 }
 
 bool excluded(uint b, uint q) {
   if (constants.exclude_corners == 0u) return false;
   return exclude[3u * b] == q || exclude[3u * b + 1u] == q || exclude[3u * b + 2u] == q;
-}
-
-bool kept_aside(uint b) {
-  const Vec3 span = Vec3(boxes[6u * b + 3u], boxes[6u * b + 4u], boxes[6u * b + 5u]) -
-                    Vec3(boxes[6u * b], boxes[6u * b + 1u], boxes[6u * b + 2u]);
-  return max(span.x, max(span.y, span.z)) > kOversize * grid_real[0];
 }
 
 bool share(uint a, uint b) {
@@ -60,10 +52,7 @@ bool share(uint a, uint b) {
          exclude[2u * a + 1u] == exclude[2u * b] || exclude[2u * a + 1u] == exclude[2u * b + 1u];
 }
 
-bool overlaps_box(uint a, uint b) {
-  return overlaps(a, Vec3(boxes[6u * b], boxes[6u * b + 1u], boxes[6u * b + 2u]),
-                  Vec3(boxes[6u * b + 3u], boxes[6u * b + 4u], boxes[6u * b + 5u]));
-}
+bool overlaps_box(uint a, uint b) { return overlaps(a, box_low(b), box_high(b)); }
 
 // Invocation k of the join: bucket k, or past the buckets the k-th box kept aside.
 void join(uint k, bool write) {
