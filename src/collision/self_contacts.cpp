@@ -45,13 +45,11 @@ shared::PairCorners gather(const SelfPair& pair, std::span<const Vec3> x) {
   return {{x[pair.particle[0]], x[pair.particle[1]], x[pair.particle[2]], x[pair.particle[3]]}};
 }
 
-
 Vec3 weighted_sum(const std::array<double, 4>& weight, const SelfPair& pair, std::span<const Vec3> x) {
   Vec3 sum{0.0, 0.0, 0.0};
   for (int k = 0; k < 4; ++k) sum += weight[k] * x[pair.particle[k]];
   return sum;
 }
-
 
 PairGeometry geometry_of(const shared::PairMeasure& measure) {
   const auto& w = measure.weight;
