@@ -37,8 +37,6 @@ constexpr int kProximitySweeps = 4;
 constexpr int kImpactRounds = 8;
 // Stage 4 merges and moves zones at most this many times.
 constexpr int kZoneRounds = 32;
-// A pair counts as in contact at the step's start within this fraction over the thickness.
-constexpr double kSustainedSlack = 0.01;
 
 // The pair's 4 corners at positions x.
 shared::PairCorners gather(const SelfPair& pair, std::span<const Vec3> x) {
@@ -70,8 +68,7 @@ shared::PairMeasure measure(const SelfPair& pair, std::span<const Vec3> x) {
 // `start_distance` is its distance at start.
 double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness,
                    double start_distance) {
-  return shared::first_touch(shared_kind(pair.kind), gather(pair, start), gather(pair, end),
-                             thickness, start_distance);
+  return shared::first_touch(shared_kind(pair.kind), gather(pair, start), gather(pair, end), thickness, start_distance);
 }
 
 double first_touch(const SelfPair& pair, std::span<const Vec3> start, std::span<const Vec3> end, double thickness) {
@@ -88,22 +85,16 @@ void spread(const SelfPair& pair, const std::array<double, 4>& weight, std::span
   }
 }
 
-// K = sum_k c_k^2 w_k, but at least kLeastShare times the largest w_k of the pair. Where the
-// particles that carry most of the weight cannot move (anchored), K is small and the exact
-// response would move the others by 1 / c_k times the change, without bound (a triangle corner of
-// weight 0.01 by 100 times); with the floor none moves by more than 1 / kLeastShare times, the
-// change is made only in part, and the remaining rounds (or stage 4) finish it.
-constexpr double kLeastShare = 0.25;
+// K = sum_k c_k^2 w_k, at least a share of the largest w_k (collision/self_pair.inc).
 double effective_inverse_mass(const SelfPair& pair, const std::array<double, 4>& weight,
                               std::span<const double> inverse_mass) {
-  double sum = 0.0;
-  double largest = 0.0;
+  shared::PairValues c{};
+  shared::PairValues w{};
   for (int k = 0; k < 4; ++k) {
-    const double w = inverse_mass[pair.particle[k]];
-    sum += weight[k] * weight[k] * w;
-    largest = std::max(largest, w);
+    c.value[k] = weight[k];
+    w.value[k] = inverse_mass[pair.particle[k]];
   }
-  return std::max(sum, kLeastShare * largest);
+  return shared::effective_inverse_mass(c, w);
 }
 
 // Removes the pair's closing relative velocity along n (inelastic) and, by Coulomb friction, at
@@ -154,8 +145,7 @@ PairGeometry measure_pair(SelfPair::Kind kind, const std::array<Vec3, 4>& x) {
   return geometry_of(shared::measure_pair_corners(shared_kind(kind), {{x[0], x[1], x[2], x[3]}}));
 }
 
-void SelfContacts::motion_boxes(std::span<const Vec3> start, std::span<const Vec3> end, double margin,
-                                int threads) {
+void SelfContacts::motion_boxes(std::span<const Vec3> start, std::span<const Vec3> end, double margin, int threads) {
   const auto& triangles = elements_.triangle;
   const auto& edges = elements_.edge;
   point_box_.resize(end.size());
@@ -266,30 +256,37 @@ void SelfContacts::refresh_candidates(const ClothModel& model, std::span<const V
     // The active pairs were selected with boxes grown by h / 2 for a touching distance of at
     // most h / 10; end positions moved less than the difference since still leave every pair
     // that can touch among them (the start positions do not change within a step).
-    const double changed =
-        parallel_max(end.size(), threads, [&](std::size_t p) { return squared_norm(end[p] - selected_at_[p]); }, 0.0);
+    const double changed = parallel_max(
+        end.size(), threads, [&](std::size_t p) { return squared_norm(end[p] - selected_at_[p]); }, 0.0);
     if (std::sqrt(changed) <= kReselect * thickness) return;
   }
   if (!keep) {
-    // The reach: at least the thickness and kLeastSteps steps of this step's motion; up to
-    // kMostSteps steps of it (or half the last reach, so that one short step of an adaptive
-    // integrator does not make the next few find them again every step) as long as pruning still
-    // drops the lattice's neighbouring cells (L / sqrt(2) apart). A larger reach finds the
-    // candidates less often but keeps more of them, which every step tests.
-    const double moved = std::sqrt(
-        parallel_max(end.size(), threads, [&](std::size_t p) { return squared_norm(end[p] - start[p]); }, 0.0));
-    const double last = same_sheet ? 0.5 * found_reach_ : 0.0;
-    const double neighbours = 0.5 * (std::numbers::sqrt2 / 2.0 * model.spacing - thickness);
-    const double reach = std::max(
-        {kLeastReach * thickness, kLeastSteps * moved, std::min(std::max(kMostSteps * moved, last), neighbours)});
+    const double moved = std::sqrt(parallel_max(
+        end.size(), threads, [&](std::size_t p) { return squared_norm(end[p] - start[p]); }, 0.0));
+    const double reach = candidate_reach(moved, same_sheet ? found_reach_ : 0.0, thickness, model.spacing);
     search(model, start, end, thickness + reach, threads);
-    // This step's motion is within `moved` of the end positions, later ones within the reach.
-    prune_blocks(end, thickness + 2.0 * std::max(reach, moved), threads);
+    prune_blocks(end, prune_distance(moved, reach, thickness), threads);
     join_blocks(threads);
     found_thickness_ = thickness;
     found_reach_ = reach;
   }
   select_active(start, end, thickness, threads);
+}
+
+double SelfContacts::candidate_reach(double moved, double last_reach, double thickness, double spacing) {
+  // At least the thickness and kLeastSteps steps of this step's motion; up to kMostSteps steps of
+  // it (or half the last reach, so that one short step of an adaptive integrator does not make the
+  // next few find them again every step) as long as pruning still drops the lattice's
+  // neighbouring cells (L / sqrt(2) apart). A larger reach finds the candidates less often but
+  // keeps more of them, which every step tests.
+  const double neighbours = 0.5 * (std::numbers::sqrt2 / 2.0 * spacing - thickness);
+  return std::max({kLeastReach * thickness, kLeastSteps * moved,
+                   std::min(std::max(kMostSteps * moved, 0.5 * last_reach), neighbours)});
+}
+
+double SelfContacts::prune_distance(double moved, double reach, double thickness) {
+  // This step's motion is within `moved` of the end positions, later ones within the reach.
+  return thickness + 2.0 * std::max(reach, moved);
 }
 
 void SelfContacts::prune_blocks(std::span<const Vec3> x, double reach, int threads) {
@@ -321,7 +318,8 @@ void SelfContacts::select_active(std::span<const Vec3> start, std::span<const Ve
     const Box& second = point ? triangle_box_[pair.element[1]] : edge_box_[pair.element[1]];
     active_flag_[i] = overlap(first, second) ? 1 : 0;
   });
-  parallel_select(candidates_.size(), threads, [&](std::size_t i) { return active_flag_[i] != 0; }, active_);
+  parallel_select(
+      candidates_.size(), threads, [&](std::size_t i) { return active_flag_[i] != 0; }, active_);
   // Their distances at the step's start, which stages 2 and 3 read every round.
   start_distance_.resize(active_.size());
   parallel_for(active_.size(), threads, [&](std::size_t k) {
@@ -339,8 +337,7 @@ void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const
   // have no side to keep (a crossing in the making, which stage 3 stops).
   parallel_for(active_.size(), threads, [&](std::size_t k) {
     const SelfPair& pair = candidates_[active_[k]];
-    const bool within =
-        start_distance_[k] < thickness || measure(pair, end).distance < thickness;
+    const bool within = start_distance_[k] < thickness || measure(pair, end).distance < thickness;
     near_[k] = within && start_distance_[k] != 0.0 ? 1 : 0;
   });
   select_flagged(near_, threads);
@@ -352,7 +349,8 @@ void SelfContacts::detect_proximity(std::span<const Vec3> start, std::span<const
 }
 
 void SelfContacts::select_flagged(std::span<const std::uint8_t> flag, int threads) {
-  parallel_select(active_.size(), threads, [&](std::size_t k) { return flag[k] != 0; }, list_);
+  parallel_select(
+      active_.size(), threads, [&](std::size_t k) { return flag[k] != 0; }, list_);
   parallel_for(list_.size(), threads, [&](std::size_t i) { list_[i] = active_[list_[i]]; });
 }
 
@@ -379,7 +377,7 @@ std::size_t SelfContacts::resolve_proximity(const ClothModel& model, ClothState&
       const Vec3 friction_change =
           remove_closing_velocity(pair, start.weight, inverse_mass_, effective, n, mu, state.velocity);
       // In contact through the whole step: friction acted all along it (obstacle pass, step 4).
-      if (squared_norm(friction_change) > 0.0 && start.distance <= (1.0 + kSustainedSlack) * thickness) {
+      if (squared_norm(friction_change) > 0.0 && start.distance <= (1.0 + shared::kSustainedSlack) * thickness) {
         spread(pair, start.weight, inverse_mass_, effective, friction_change, 0.5 * step, state.position);
       }
     }
@@ -412,8 +410,7 @@ bool SelfContacts::resolve_impacts(const ClothModel& model, ClothState& state, s
       const double tau = first_touch(pair, start, state.position, thickness);
       if (tau < 0.0) continue;
       const PairGeometry geometry = geometry_of(shared::measure_pair_corners(
-          shared_kind(pair.kind),
-          shared::interpolate_pair(gather(pair, start), gather(pair, state.position), tau)));
+          shared_kind(pair.kind), shared::interpolate_pair(gather(pair, start), gather(pair, state.position), tau)));
       const double effective = effective_inverse_mass(pair, geometry.weight, inverse_mass_);
       if (geometry.distance == 0.0 || effective <= 0.0) continue;
       const Vec3& n = geometry.normal;

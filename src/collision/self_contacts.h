@@ -89,6 +89,15 @@ class SelfContacts {
   std::span<const SelfPair> candidates() const { return candidates_; }
   const SheetElements& elements() const { return elements_; }
   std::size_t bytes() const;
+
+  // Stage 1's reach (m): how far particles may move from where the candidates were found before
+  // they are found again, for a step in which they moved at most `moved` m, after a last reach of
+  // `last_reach` (0 for none), on a lattice of `spacing` m. The device's pass takes it too.
+  static double candidate_reach(double moved, double last_reach, double thickness, double spacing);
+  // The distance (m) at the step's end positions beyond which a candidate found with that reach
+  // is dropped: it cannot come within the thickness before the candidates are found again.
+  static double prune_distance(double moved, double reach, double thickness);
+
   // The bytes the pass holds on the lattice of `counts` (sim/memory_estimate.h): its per-particle
   // and per-element arrays, the two grids, and the candidate pairs. The number of candidates and
   // of grid entries depends on how the sheet lies and how fast it moves, so those two are

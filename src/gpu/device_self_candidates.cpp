@@ -41,8 +41,14 @@ DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, 
       detect_real_(device, real_size(precision), Memory::device_local),
       flags_(device, sizeof(std::uint32_t), Memory::device_local),
       start_distance_(device, real_size(precision), Memory::device_local),
+      keep_(device, sizeof(std::uint32_t), Memory::device_local),
+      keep_flag_(device, sizeof(std::uint32_t), Memory::device_local),
+      pairs_(device, 2 * sizeof(std::uint32_t), Memory::device_local),
+      select_real_(device, real_size(precision), Memory::device_local),
       boxes_pass_(shader_pipeline(device, "self_boxes", precision, 8, sizeof(BoxesPassConstants))),
-      detect_pass_(shader_pipeline(device, "self_detect", precision, 12, sizeof(DetectPassConstants))),
+      select_pass_(shader_pipeline(device, "self_select", precision, 9, sizeof(SelectPassConstants))),
+      detect_pass_(shader_pipeline(device, "self_detect", precision, 11, sizeof(DetectPassConstants))),
+      keep_scan_(device, 1),
       triangle_grid_(device, precision, triangles_),
       edge_grid_(device, precision, edges_),
       point_query_(device, precision, particles),
@@ -74,33 +80,69 @@ void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double m
   point_triangle_count_ =
       point_query_.run(triangle_grid_, triangle_boxes_, point_boxes_, particles_, &triangle_corners_);
   edge_pair_count_ = edge_query_.join(edge_grid_, edge_boxes_, edges_, &edge_ends_);
+  select(nullptr, 0.0);
+}
+
+void DeviceSelfCandidates::prune(const Buffer& x, double reach) { select(&x, reach); }
+
+void DeviceSelfCandidates::select(const Buffer* x, double reach) {
+  const std::uint32_t found = point_triangle_count_ + edge_pair_count_;
+  if (keep_scan_.capacity() < found) {
+    // Room for the search's pairs, and some to spare: a sheet that folds finds more every step.
+    const std::uint32_t capacity = found + found / 2;
+    keep_ = Buffer(device_, std::uint64_t{capacity} * sizeof(std::uint32_t), Memory::device_local);
+    keep_flag_ = Buffer(device_, std::uint64_t{capacity} * sizeof(std::uint32_t), Memory::device_local);
+    pairs_ = Buffer(device_, std::uint64_t{capacity} * 2 * sizeof(std::uint32_t), Memory::device_local);
+    keep_scan_.reserve(capacity);
+    keep_scan_.bind(keep_);
+  }
+  upload(device_, select_real_, real_bytes(std::vector<double>{reach}, precision_));
+  select_pass_.bind(std::vector<const Buffer*>{x != nullptr ? x : &select_real_, &triangle_corners_, &edge_ends_,
+                                               &point_query_.pair_buffer(), &edge_query_.pair_buffer(), &keep_,
+                                               &keep_flag_, &pairs_, &select_real_});
+  const std::uint32_t keep_all = x == nullptr ? 1u : 0u;
+  device_.submit([&](VkCommandBuffer commands) {
+    if (found == 0) return;
+    const SelectPassConstants measure{kSelectMeasure, point_triangle_count_, edge_pair_count_, keep_all};
+    select_pass_.dispatch(commands, &measure, found);
+    keep_scan_.record(commands, found);
+    const SelectPassConstants write{kSelectWrite, point_triangle_count_, edge_pair_count_, keep_all};
+    select_pass_.dispatch(commands, &write, found);
+  });
+  kept_count_ = found == 0 ? 0 : keep_scan_.total(found);
 }
 
 void DeviceSelfCandidates::detect(const Buffer& start, const Buffer& end, double thickness) {
   make_boxes(start, end, 0.5 * thickness, false);  // no grid to build
   upload(device_, detect_real_, real_bytes(std::vector<double>{thickness}, precision_));
-  const std::uint32_t candidates = point_triangle_count_ + edge_pair_count_;
+  const std::uint32_t candidates = kept_count_;
   if (flags_.bytes() < std::uint64_t{candidates} * sizeof(std::uint32_t)) {
     flags_ = Buffer(device_, std::uint64_t{candidates} * sizeof(std::uint32_t), Memory::device_local);
     start_distance_ = Buffer(device_, std::uint64_t{candidates} * real_size(precision_), Memory::device_local);
   }
   detect_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
-                                               &triangle_boxes_, &edge_boxes_, &point_query_.pair_buffer(),
-                                               &edge_query_.pair_buffer(), &flags_, &start_distance_, &detect_real_});
-  const DetectPassConstants counts{point_triangle_count_, edge_pair_count_};
+                                               &triangle_boxes_, &edge_boxes_, &pairs_, &flags_, &start_distance_,
+                                               &detect_real_});
+  const DetectPassConstants counts{candidates};
   if (candidates > 0) {
     device_.submit([&](VkCommandBuffer commands) { detect_pass_.dispatch(commands, &counts, candidates); });
   }
 }
 
 std::vector<std::uint32_t> DeviceSelfCandidates::flags() const {
-  std::vector<std::uint32_t> out(point_triangle_count_ + edge_pair_count_);
+  std::vector<std::uint32_t> out(kept_count_);
   if (!out.empty()) download(device_, flags_, std::as_writable_bytes(std::span(out)));
   return out;
 }
 
+std::vector<std::uint32_t> DeviceSelfCandidates::pairs() const {
+  std::vector<std::uint32_t> out(2 * std::size_t{kept_count_});
+  if (!out.empty()) download(device_, pairs_, std::as_writable_bytes(std::span(out)));
+  return out;
+}
+
 std::vector<double> DeviceSelfCandidates::start_distances() const {
-  std::vector<std::byte> bytes((point_triangle_count_ + edge_pair_count_) * real_size(precision_));
+  std::vector<std::byte> bytes(std::size_t{kept_count_} * real_size(precision_));
   if (!bytes.empty()) download(device_, start_distance_, bytes);
   return reals_from_bytes(bytes, precision_);
 }

@@ -6,10 +6,11 @@
 //   box_grid         the triangles' grid and the edges' (gpu/device_box_grid.h)
 //   box_grid_query   each particle against the triangles' grid, its own triangles skipped; then
 //                    the edges' grid joined with itself, two edges with a particle in common skipped
+//   self_select      the pairs kept (all, or those nearer than a reach at given positions), in
+//                    their order, as two words each (shaders/self_step.h)
 // The point-triangle pairs come first, by particle, then the edge pairs, by bucket, as on the CPU.
 // Each build reads back a few words between its submissions (the cell sizes, the counts that size
-// the arrays). No pass of the backend uses it yet: the pruning, the selection and the responses
-// are to come.
+// the arrays). The self pass on the device (gpu/device_self_contacts.h) uses it.
 #pragma once
 
 #include <array>
@@ -22,6 +23,7 @@
 #include "gpu/compute_pipeline.h"
 #include "gpu/device.h"
 #include "gpu/device_box_grid.h"
+#include "gpu/prefix_scan.h"
 
 namespace clothsim::gpu {
 
@@ -31,8 +33,11 @@ class DeviceSelfCandidates {
   DeviceSelfCandidates(Device& device, Precision precision, std::uint32_t particles, const SheetElements& elements);
 
   // The candidates of the motion `start` -> `end` ([particles][3] Reals each) with boxes grown by
-  // `margin` m.
+  // `margin` m, all kept.
   void find(const Buffer& start, const Buffer& end, double margin);
+  // Keeps of the last find()'s candidates those nearer than `reach` m at positions `x`, in order
+  // (SelfContacts::prune_blocks).
+  void prune(const Buffer& x, double reach);
 
   // Stages 2 and 3's tests of the last find()'s candidates over the motion `start` -> `end`, as the
   // CPU's self pass makes them (self_detect.comp): which are active (their boxes, grown by half
@@ -42,7 +47,15 @@ class DeviceSelfCandidates {
   // Read back (tests), per candidate: its kPair* bits (shaders/self_step.h), and the distance at the
   // start (0 where not active).
   std::vector<std::uint32_t> flags() const;
+  const Buffer& flag_buffer() const { return flags_; }
   std::vector<double> start_distances() const;
+
+  // The candidates kept: [candidate_count()][2] words (shaders/self_step.h, kEdgePairBit).
+  std::uint32_t candidate_count() const { return kept_count_; }
+  const Buffer& pair_buffer() const { return pairs_; }
+  std::vector<std::uint32_t> pairs() const;  // read back (tests)
+  const Buffer& triangle_buffer() const { return triangle_corners_; }
+  const Buffer& edge_buffer() const { return edge_ends_; }
 
   std::uint32_t point_triangle_count() const { return point_triangle_count_; }
   std::uint32_t edge_pair_count() const { return edge_pair_count_; }
@@ -56,13 +69,17 @@ class DeviceSelfCandidates {
   std::uint32_t particles_, triangles_, edges_;
   std::uint32_t point_triangle_count_ = 0;
   std::uint32_t edge_pair_count_ = 0;
+  std::uint32_t kept_count_ = 0;
   // The motion's boxes grown by `margin`, and with `cell_sizes` the grids' cell sizes into
   // self_real_ (one invocation's sum over every box: only where a grid is built).
   void make_boxes(const Buffer& start, const Buffer& end, double margin, bool cell_sizes);
+  // The search's pairs kept into pairs_: all (no `x`), or those nearer than `reach` at `x`.
+  void select(const Buffer* x, double reach);
 
   Buffer triangle_corners_, edge_ends_, point_boxes_, triangle_boxes_, edge_boxes_, self_real_, detect_real_, flags_,
-      start_distance_;
-  ComputePipeline boxes_pass_, detect_pass_;
+      start_distance_, keep_, keep_flag_, pairs_, select_real_;
+  ComputePipeline boxes_pass_, select_pass_, detect_pass_;
+  PrefixScan keep_scan_;
   DeviceBoxGrid triangle_grid_, edge_grid_;
   DeviceGridQuery point_query_, edge_query_;
 };

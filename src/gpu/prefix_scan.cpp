@@ -18,6 +18,13 @@ PrefixScan::PrefixScan(Device& device, std::uint32_t capacity)
       // The shader reads no Reals: either precision's variant is the same program.
       pass_(shader_pipeline(device, "prefix_scan", Precision::float32, 2, sizeof(ScanPassConstants), kScanWorkgroup)) {}
 
+void PrefixScan::reserve(std::uint32_t capacity) {
+  if (capacity <= capacity_) return;
+  capacity_ = capacity;
+  block_sums_ =
+      Buffer(device_, (std::uint64_t{blocks_for(capacity)} + 1) * sizeof(std::uint32_t), Memory::device_local);
+}
+
 void PrefixScan::bind(const Buffer& values) {
   CLOTHSIM_ASSERT(values.bytes() >= std::uint64_t{capacity_} * sizeof(std::uint32_t), "the values fill the capacity");
   const std::array<const Buffer*, 2> buffers{&values, &block_sums_};

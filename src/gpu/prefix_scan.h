@@ -19,6 +19,8 @@ class PrefixScan {
   // For up to `capacity` values.
   PrefixScan(Device& device, std::uint32_t capacity);
 
+  // Room for `capacity` values, if it had less (then bind() again).
+  void reserve(std::uint32_t capacity);
   // The values the passes scan: at least capacity() uint32s (again whenever the buffer is replaced).
   void bind(const Buffer& values);
   // Records the passes over the first `count` values (at most capacity()): each becomes the sum of

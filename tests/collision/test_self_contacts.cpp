@@ -14,8 +14,9 @@
 #include "collision/box_grid.h"
 #include "collision/self_contacts.h"
 #include "core/closest_points.h"
-#include "model/cloth_model.h"
 #include "folded_sheet.h"
+#include "folded_strip.h"
+#include "model/cloth_model.h"
 #include "sheet_crossings.h"
 #include "sim/simulation.h"
 #include "test_checks.h"
@@ -297,35 +298,15 @@ TEST(SelfContacts, EveryIntegratorKeepsAFoldedSheetUncrossed) {
 // layer in the step. At neither end of the step is it within the thickness of anything (stage 2
 // sees nothing), so only the continuous test finds it; without it the step ends crossed.
 TEST(SelfContacts, ImpactStageStopsAParticlePassingThroughWithinAStep) {
-  LatticeDef def;
-  def.rows = 3;
-  def.cols = 6;
-  def.spacing = 0.1;
-  ClothModel model = build_lattice(def, Environment{{0.0, 0.0, 0.0}, 0.0}, {});
-  model.collision.self = true;
-  model.collision.thickness = 0.005;
-  ClothState state = make_rest_state(model);
-  // Columns 0-2 flat at y = 0; column 3 the crease; columns 4-5 folded back 5 cm above, shifted so
-  // that no top particle lies over a bottom one.
-  const std::array<double, 6> column_x{0.0, 0.1, 0.2, 0.25, 0.23, 0.13};
-  const std::array<double, 6> column_y{0.0, 0.0, 0.0, 0.025, 0.05, 0.05};
-  for (int row = 0; row < def.rows; ++row) {
-    for (int col = 0; col < def.cols; ++col) {
-      const double shift = col >= 4 ? 0.04 : 0.0;
-      state.position[static_cast<std::size_t>(row * def.cols + col)] =
-          Vec3{column_x[static_cast<std::size_t>(col)], column_y[static_cast<std::size_t>(col)], 0.1 * row + shift};
-    }
-  }
-  ASSERT_EQ(testing::count_sheet_crossings(model, state.position), 0u) << "the fold starts uncrossed";
-  const std::vector<Vec3> start = state.position;
-  const std::size_t moved = 1 * def.cols + 5;  // row 1, col 5: above the bottom layer's cell (0..0.1, 0.1..0.2)
-  state.position[moved].y = -0.05;
-  state.velocity[moved] = Vec3{0.0, -10.0, 0.0};
-  state.time = 0.01;
+  testing::FoldedStrip strip = testing::folded_strip();
+  const ClothModel& model = strip.model;
+  ClothState& state = strip.state;
+  const std::size_t moved = strip.moved;
+  ASSERT_EQ(testing::count_sheet_crossings(model, strip.start), 0u) << "the fold starts uncrossed";
   ASSERT_GT(testing::count_sheet_crossings(model, state.position), 0u) << "the step as taken crosses";
 
   SelfContacts contacts;
-  const SelfContactCounts counts = contacts.apply(model, state, start, 0.01, kAllForceTerms, 1);
+  const SelfContactCounts counts = contacts.apply(model, state, strip.start, 0.01, kAllForceTerms, 1);
   EXPECT_GT(counts.impacts, 0u);
   EXPECT_EQ(counts.unresolved, 0u);
   EXPECT_EQ(testing::count_sheet_crossings(model, state.position), 0u);

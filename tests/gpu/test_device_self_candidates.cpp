@@ -1,12 +1,14 @@
 // Self-collision's candidates on the device (gpu/device_self_candidates.h) against the CPU's
 // (SelfContacts::find_candidates): the same pairs in the same order, for a folded sheet falling
 // onto itself and the floor (folded_sheet.h), over one short motion and over a long one, with a
-// small and a large margin; and stages 2 and 3's tests on them against the CPU's shared text.
+// small and a large margin, and pruned; and stages 2 and 3's tests on them against the CPU's shared
+// text.
 #include "gpu/device_self_candidates.h"
 
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <span>
@@ -67,6 +69,22 @@ TEST_F(GpuTest, SelfCandidatesAreTheCpusInTheCpusOrder) {
       EXPECT_GT(cpu.candidates().size(), 1000u) << later << " " << margin;
       ASSERT_EQ(found.size(), cpu.candidates().size()) << later << " " << margin;
       EXPECT_TRUE(std::equal(found.begin(), found.end(), cpu.candidates().begin())) << later << " " << margin;
+      // Pruned at the end positions as the CPU prunes (SelfContacts::prune_blocks): the pairs nearer
+      // than the reach, in their order, as two words each (shaders/self_step.h).
+      constexpr double reach = 0.01;  // the layers are 4 to 6 mm apart
+      std::vector<std::uint32_t> kept;
+      for (const SelfPair& pair : cpu.candidates()) {
+        const std::array<Vec3, 4> corners{end[pair.particle[0]], end[pair.particle[1]], end[pair.particle[2]],
+                                          end[pair.particle[3]]};
+        if (measure_pair(pair.kind, corners).distance >= reach) continue;
+        const bool point = pair.kind == SelfPair::Kind::point_triangle;
+        kept.insert(kept.end(), {pair.element[0] | (point ? 0u : gpu::kEdgePairBit), pair.element[1]});
+      }
+      EXPECT_EQ(on_device.pairs().size(), found.size() * 2) << "find keeps them all";
+      on_device.prune(end_buffer, reach);
+      EXPECT_GT(kept.size(), 200u);
+      EXPECT_LT(kept.size() / 2, found.size()) << "some are dropped";
+      EXPECT_EQ(on_device.pairs(), kept) << later << " " << margin;
     }
   }
 }

@@ -2,8 +2,8 @@
 #extension GL_GOOGLE_include_directive : require
 // Self-collision's detection on the device (gpu/device_self_candidates.h), stages 2 and 3's tests
 // of the CPU's self pass (SelfContacts::select_active, detect_proximity, detect_impacts), one
-// invocation per candidate, in the candidates' order (the particle-triangle pairs, then the edge
-// pairs). Active: the two elements' boxes over the motion, grown by half the thickness, overlap
+// invocation per kept candidate, in their order (self_select.comp: the particle-triangle pairs,
+// then the edge pairs). Active: the two elements' boxes over the motion, grown by half the thickness, overlap
 // (the others can neither come within the thickness nor touch). Of an active pair: its distance at
 // the motion's start; near, within the thickness at the start or the end and apart at the start;
 // touching, its first touch along the motion (collision/self_pair.inc).
@@ -23,13 +23,12 @@ layout(std430, binding = 3) readonly buffer Edges { uint edges[]; };          //
 layout(std430, binding = 4) readonly buffer PointBoxes { Real point_boxes[]; };  // grown by half the thickness
 layout(std430, binding = 5) readonly buffer TriangleBoxes { Real triangle_boxes[]; };
 layout(std430, binding = 6) readonly buffer EdgeBoxes { Real edge_boxes[]; };
-layout(std430, binding = 7) readonly buffer PointPairs { uint point_pairs[]; };  // [pairs][2]: particle, triangle
-layout(std430, binding = 8) readonly buffer EdgePairs { uint edge_pairs[]; };    // [pairs][2]: edge, edge
-layout(std430, binding = 9) writeonly buffer Flags { uint flags[]; };  // [candidates]: kPair* bits
-layout(std430, binding = 10) writeonly buffer StartDistance { Real start_distance[]; };  // [candidates], m
+layout(std430, binding = 7) readonly buffer Pairs { uint pairs[]; };  // [candidates][2] (self_step.h, kEdgePairBit)
+layout(std430, binding = 8) writeonly buffer Flags { uint flags[]; };  // [candidates]: kPair* bits
+layout(std430, binding = 9) writeonly buffer StartDistance { Real start_distance[]; };  // [candidates], m
 
 // [0]: the thickness, m (in a buffer of Reals: a push constant would need a double's layout).
-layout(std430, binding = 11) readonly buffer SelfReal { Real self_real[]; };
+layout(std430, binding = 10) readonly buffer SelfReal { Real self_real[]; };
 
 layout(push_constant) uniform Constants { DetectPassConstants constants; };
 
@@ -62,18 +61,18 @@ PairCorners corners_of(uint particles[4], bool at_end) {
 
 void main() {
   const uint c = invocation_index();
-  if (c >= constants.point_pairs + constants.edge_pairs) return;
-  const bool point = c < constants.point_pairs;
+  if (c >= constants.candidates) return;
+  const bool point = (pairs[2u * c] & kEdgePairBit) == 0u;
   uint particles[4];
   bool selected;
   if (point) {
-    const uint p = point_pairs[2u * c];
-    const uint t = point_pairs[2u * c + 1u];
+    const uint p = pairs[2u * c];
+    const uint t = pairs[2u * c + 1u];
     particles = uint[4](p, triangles[3u * t], triangles[3u * t + 1u], triangles[3u * t + 2u]);
     selected = boxes_overlap(0u, p, 1u, t);
   } else {
-    const uint e = edge_pairs[2u * (c - constants.point_pairs)];
-    const uint f = edge_pairs[2u * (c - constants.point_pairs) + 1u];
+    const uint e = pairs[2u * c] & ~kEdgePairBit;
+    const uint f = pairs[2u * c + 1u];
     particles = uint[4](edges[2u * e], edges[2u * e + 1u], edges[2u * f], edges[2u * f + 1u]);
     selected = boxes_overlap(2u, e, 2u, f);
   }

@@ -1,0 +1,202 @@
+#include "gpu/device_self_contacts.h"
+
+#include <algorithm>
+#include <cmath>
+#include <span>
+
+#include "collision/sheet_elements.h"
+#include "gpu/real_arrays.h"
+#include "gpu/shaders/self_step.h"
+
+namespace clothsim::gpu {
+namespace {
+
+constexpr std::uint64_t kWord = sizeof(std::uint32_t);
+
+SheetElements elements_of(const ClothModel& model) {
+  SheetElements elements;
+  refresh_sheet_elements(model, elements);
+  return elements;
+}
+
+std::vector<double> inverse_masses(const ClothModel& model) {
+  return {model.particle_inverse_mass.begin(), model.particle_inverse_mass.end()};
+}
+
+Buffer real_buffer(Device& device, Precision precision, const std::vector<double>& values) {
+  const std::vector<std::byte> bytes = real_bytes(values, precision);
+  Buffer buffer(device, std::max<std::uint64_t>(bytes.size(), 8), Memory::device_local);
+  if (!bytes.empty()) upload(device, buffer, bytes);
+  return buffer;
+}
+
+}  // namespace
+
+DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, const ClothModel& model)
+    : device_(device),
+      precision_(precision),
+      particles_(static_cast<std::uint32_t>(model.particle_count())),
+      built_broken_(model.broken_connector_count),
+      built_anchors_(model.anchors.size()),
+      thickness_(model.collision.thickness),
+      friction_(model.collision.friction),
+      spacing_(model.spacing),
+      candidates_(device, precision, particles_, elements_of(model)),
+      inverse_mass_(real_buffer(device, precision, inverse_masses(model))),
+      found_at_(device, std::uint64_t{particles_} * 3 * real_size(precision), Memory::device_local),
+      block_motion_(device,
+                    std::uint64_t{workgroups_for(particles_, kMotionWorkgroup)} * kMotionValues * real_size(precision),
+                    Memory::device_local),
+      motion_(device, kMotionValues * real_size(precision), Memory::device_local),
+      slot_(device, kWord, Memory::device_local),
+      list_(device, kWord, Memory::device_local),
+      table_start_(device, std::uint64_t{particles_} * kWord, Memory::device_local),
+      table_fill_(device, std::uint64_t{particles_} * kWord, Memory::device_local),
+      entries_(device, 4 * kWord, Memory::device_local),
+      geometry_(device, kGeometryReals * real_size(precision), Memory::device_local),
+      change_(device, kChangeReals * real_size(precision), Memory::device_local),
+      counters_(device, kCounters * kWord, Memory::device_local),
+      respond_real_(real_buffer(device, precision, {0.0, 0.0, 0.0})),
+      motion_pass_(shader_pipeline(device, "self_motion", precision, 5, sizeof(MotionPassConstants), kMotionWorkgroup)),
+      list_pass_(shader_pipeline(device, "self_list", precision, 3, sizeof(ListPassConstants))),
+      respond_pass_(shader_pipeline(device, "self_respond", precision, 15, sizeof(RespondPassConstants))),
+      slot_scan_(device, 1),
+      table_scan_(device, particles_) {
+  table_scan_.bind(table_start_);
+}
+
+bool DeviceSelfContacts::made_for(const ClothModel& model) const {
+  return model.particle_count() == particles_ && model.broken_connector_count == built_broken_ &&
+         model.anchors.size() == built_anchors_ && model.collision.thickness == thickness_ &&
+         model.collision.friction == friction_;
+}
+
+void DeviceSelfContacts::refresh(const Buffer& start, const Buffer& end) {
+  // How far the particles are from where the candidates were found, and how far they moved.
+  motion_pass_.bind(std::vector<const Buffer*>{&start, &end, &found_at_, &block_motion_, &motion_});
+  const std::uint32_t blocks = workgroups_for(particles_, kMotionWorkgroup);
+  device_.submit([&](VkCommandBuffer commands) {
+    const MotionPassConstants per_block{kMotionBlocks, particles_, blocks, 0};
+    motion_pass_.dispatch(commands, &per_block, particles_);
+    const MotionPassConstants total{kMotionTotal, particles_, blocks, 0};
+    motion_pass_.dispatch(commands, &total, kMotionWorkgroup);
+  });
+  std::vector<std::byte> bytes(kMotionValues * real_size(precision_));
+  download(device_, motion_, bytes);
+  const std::vector<double> motion = reals_from_bytes(bytes, precision_);
+  // While every position of the motion stays within the reach of where the candidates were found,
+  // they hold every pair that can come within the thickness (SelfContacts::refresh_candidates).
+  if (found_ && std::sqrt(motion[kMotionFromFound]) <= reach_) return;
+  const double moved = std::sqrt(motion[kMotionOfStep]);
+  const double reach = SelfContacts::candidate_reach(moved, found_ ? reach_ : 0.0, thickness_, spacing_);
+  candidates_.find(start, end, thickness_ + reach);
+  candidates_.prune(end, SelfContacts::prune_distance(moved, reach, thickness_));
+  device_.submit([&](VkCommandBuffer commands) { record_copy(commands, end, found_at_, found_at_.bytes()); });
+  reach_ = reach;
+  found_ = true;
+}
+
+std::uint32_t DeviceSelfContacts::detect_and_list(const Buffer& start, const Buffer& end, std::uint32_t mask) {
+  candidates_.detect(start, end, thickness_);
+  const std::uint32_t candidates = candidates_.candidate_count();
+  if (candidates == 0) return 0;
+  if (slot_.bytes() < std::uint64_t{candidates} * kWord) {
+    const std::uint64_t capacity = candidates + candidates / 2;
+    slot_ = Buffer(device_, capacity * kWord, Memory::device_local);
+    list_ = Buffer(device_, capacity * kWord, Memory::device_local);
+    slot_scan_.reserve(static_cast<std::uint32_t>(capacity));
+  }
+  slot_scan_.bind(slot_);
+  list_pass_.bind(std::vector<const Buffer*>{&candidates_.flag_buffer(), &slot_, &list_});
+  device_.submit([&](VkCommandBuffer commands) {
+    const ListPassConstants count{kListCount, candidates, mask, 0};
+    list_pass_.dispatch(commands, &count, candidates);
+    slot_scan_.record(commands, candidates);
+    const ListPassConstants write{kListWrite, candidates, mask, 0};
+    list_pass_.dispatch(commands, &write, candidates);
+  });
+  return slot_scan_.total(candidates);
+}
+
+void DeviceSelfContacts::prepare_responses(std::uint32_t listed, const Buffer& start, const Buffer& position,
+                                           const Buffer& velocity) {
+  if (listed > list_capacity_) {
+    list_capacity_ = listed + listed / 2;
+    const std::uint64_t real = real_size(precision_);
+    entries_ = Buffer(device_, std::uint64_t{list_capacity_} * 4 * kWord, Memory::device_local);
+    geometry_ = Buffer(device_, std::uint64_t{list_capacity_} * kGeometryReals * real, Memory::device_local);
+    change_ = Buffer(device_, std::uint64_t{list_capacity_} * kChangeReals * real, Memory::device_local);
+  }
+  respond_pass_.bind(std::vector<const Buffer*>{&start, &position, &velocity, &inverse_mass_,
+                                                &candidates_.triangle_buffer(), &candidates_.edge_buffer(),
+                                                &candidates_.pair_buffer(), &list_, &table_start_, &table_fill_,
+                                                &entries_, &geometry_, &change_, &counters_, &respond_real_});
+}
+
+void DeviceSelfContacts::respond(VkCommandBuffer commands, std::uint32_t phase, std::uint32_t listed,
+                                 bool first_round) const {
+  const bool per_particle = phase == kRespondSort || phase == kRespondGather;
+  const RespondPassConstants constants{phase, listed, particles_, first_round ? 1u : 0u};
+  respond_pass_.dispatch(commands, &constants, per_particle ? particles_ : listed);
+}
+
+void DeviceSelfContacts::record_table(VkCommandBuffer commands, std::uint32_t listed) const {
+  record_zero(commands, table_start_, std::uint64_t{particles_} * kWord);
+  record_zero(commands, table_fill_, std::uint64_t{particles_} * kWord);
+  respond(commands, kRespondCount, listed, false);
+  table_scan_.record(commands, particles_);
+  respond(commands, kRespondFill, listed, false);
+  respond(commands, kRespondSort, listed, false);
+  respond(commands, kRespondShare, listed, false);
+}
+
+std::vector<std::uint32_t> DeviceSelfContacts::counters() const {
+  std::vector<std::uint32_t> out(kCounters);
+  download(device_, counters_, std::as_writable_bytes(std::span(out)));
+  return out;
+}
+
+SelfContactCounts DeviceSelfContacts::apply(const Buffer& start, const Buffer& position, const Buffer& velocity,
+                                            double step) {
+  SelfContactCounts counts;
+  upload(device_, respond_real_, real_bytes(std::vector<double>{thickness_, friction_, step}, precision_));
+  device_.submit([&](VkCommandBuffer commands) { record_zero(commands, counters_, kCounters * kWord); });
+
+  // Stage 2: the near pairs pushed to the thickness, on the side they were on at the start.
+  refresh(start, position);
+  const std::uint32_t near = detect_and_list(start, position, kPairNear);
+  if (near > 0) {
+    prepare_responses(near, start, position, velocity);
+    device_.submit([&](VkCommandBuffer commands) {
+      record_table(commands, near);
+      respond(commands, kRespondNearStart, near, false);
+      for (int iteration = 0; iteration < kProximityIterations; ++iteration) {
+        respond(commands, kRespondProximity, near, iteration == 0);
+        respond(commands, kRespondGather, near, false);
+      }
+    });
+  }
+
+  // Stage 3: rounds of detection along the motion and response to the touching pairs.
+  std::uint32_t touching = 0;
+  for (int round = 0; round <= kImpactRounds; ++round) {
+    refresh(start, position);
+    touching = detect_and_list(start, position, kPairTouching);
+    if (touching == 0 || round == kImpactRounds) break;
+    prepare_responses(touching, start, position, velocity);
+    device_.submit([&](VkCommandBuffer commands) {
+      record_table(commands, touching);
+      for (int iteration = 0; iteration < kImpactIterations; ++iteration) {
+        respond(commands, kRespondImpact, touching, false);
+        respond(commands, kRespondGather, touching, false);
+      }
+    });
+  }
+  const std::vector<std::uint32_t> counted = counters();
+  counts.contacts = counted[kCounterPushed];
+  counts.impacts = counted[kCounterImpacts];
+  counts.unresolved = touching;
+  return counts;
+}
+
+}  // namespace clothsim::gpu

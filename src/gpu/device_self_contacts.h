@@ -1,0 +1,86 @@
+// Self-collision on the device: the CPU's self pass (collision/self_contacts.h) on state that stays
+// on the device, driven by the host, which reads back a few words between its submissions (how far
+// the sheet moved, how many pairs each stage lists). docs/gpu.md, "Self-collision on the device".
+//
+// After a step from positions x0 to the state (x1, v1):
+//   1. candidates  found (gpu/device_self_candidates.h) with boxes over the step grown by the
+//                  thickness and a reach, the CPU's pairs in its order, pruned as the CPU prunes
+//                  them, and kept over the next steps while no particle moves further than the
+//                  reach (the CPU's rule, SelfContacts::refresh_candidates)
+//   2. proximity   the pairs within the thickness at x0 or x1 held on their side of x0, the
+//                  thickness apart, with inelastic contact and Coulomb friction
+//   3. impacts     the pairs whose motion touches (conservative advancement) have their closing
+//                  motion removed, in rounds of detection and response
+// Stages 2 and 3 respond as the CPU does to each pair, but all of a round's pairs at once, each
+// particle taking its pairs' changes in pair order, scaled by each pair's share (Jacobi iterations,
+// shaders/self_respond.comp), where the CPU goes through the pairs one after another. The results
+// differ from the CPU's by more than rounding and are the same on every run on a device: no sum
+// depends on the order of atomic operations. Pairs still touching after the rounds are reported
+// (SelfContactCounts::unresolved), and stage 4, the impact zones, is the caller's: the host's self
+// pass on the state read back.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "collision/self_contacts.h"
+#include "core/precision.h"
+#include "gpu/buffer.h"
+#include "gpu/compute_pipeline.h"
+#include "gpu/device.h"
+#include "gpu/device_self_candidates.h"
+#include "gpu/prefix_scan.h"
+#include "model/cloth_model.h"
+
+namespace clothsim::gpu {
+
+class DeviceSelfContacts {
+ public:
+  // For `model`'s sheet as it is now (its elements, masses and anchors, its thickness and friction).
+  DeviceSelfContacts(Device& device, Precision precision, const ClothModel& model);
+
+  // Whether this pass was made for the sheet `model` has now: the same particles, the same broken
+  // connectors and anchors (else make a new one).
+  bool made_for(const ClothModel& model) const;
+
+  // Stages 1 to 3 after a step of `step` s from `start` to (`position`, `velocity`), [particles][3]
+  // Reals each, which it changes. Returns what it did; `work` is not booked here.
+  SelfContactCounts apply(const Buffer& start, const Buffer& position, const Buffer& velocity, double step);
+
+  // Stage 3's rounds of detection and response, at most (the CPU's is 8 Gauss-Seidel sweeps).
+  static constexpr int kImpactRounds = 8;
+  // Jacobi iterations on each round's touching pairs, and stage 2's on the near pairs.
+  static constexpr int kImpactIterations = 16;
+  static constexpr int kProximityIterations = 32;
+
+ private:
+  // Stage 1: the candidates kept, or found again, for the motion start -> end.
+  void refresh(const Buffer& start, const Buffer& end);
+  // Stages 2 and 3's tests on the kept candidates, then those flagged with `mask` listed; their count.
+  std::uint32_t detect_and_list(const Buffer& start, const Buffer& end, std::uint32_t mask);
+  // Room for `listed` pairs in the response arrays, and the response pass bound.
+  void prepare_responses(std::uint32_t listed, const Buffer& start, const Buffer& position, const Buffer& velocity);
+  // Records the table from particles to the `listed` pairs and each pair's share.
+  void record_table(VkCommandBuffer commands, std::uint32_t listed) const;
+  void respond(VkCommandBuffer commands, std::uint32_t phase, std::uint32_t listed, bool first_round) const;
+  std::vector<std::uint32_t> counters() const;
+
+  Device& device_;
+  Precision precision_;
+  std::uint32_t particles_;
+  std::size_t built_broken_;   // the model's broken connectors when made
+  std::size_t built_anchors_;  // and its anchors
+  double thickness_, friction_;
+  double spacing_;
+  DeviceSelfCandidates candidates_;
+  bool found_ = false;  // candidates found at least once
+  double reach_ = 0.0;  // m: how far a particle may move from found_at_ before they are found again
+
+  Buffer inverse_mass_, found_at_, block_motion_, motion_, slot_, list_, table_start_, table_fill_, entries_, geometry_,
+      change_, counters_, respond_real_;
+  std::uint32_t list_capacity_ = 0;
+  ComputePipeline motion_pass_, list_pass_, respond_pass_;
+  PrefixScan slot_scan_, table_scan_;
+};
+
+}  // namespace clothsim::gpu
