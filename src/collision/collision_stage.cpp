@@ -9,7 +9,11 @@ namespace clothsim {
 double CollisionStage::begin_step(const ClothModel& model, const ClothState& state, int threads,
                                   CollisionPasses passes) {
   passes_ = passes;
-  active_ = passes == CollisionPasses::all ? !model.colliders.empty() || model.collision.self : model.collision.self;
+  switch (passes) {
+    case CollisionPasses::all: active_ = !model.colliders.empty() || model.collision.self; break;
+    case CollisionPasses::self_only: active_ = model.collision.self; break;
+    case CollisionPasses::none: active_ = false; break;
+  }
   if (!active_) {
     obstacles_.surface_contacts().any = false;
     return std::numeric_limits<double>::infinity();

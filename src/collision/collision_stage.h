@@ -6,7 +6,8 @@
 //   apply       after the step: the obstacle pass (collision/obstacle_contacts.h), then the
 //               self-collision pass (collision/self_contacts.h)
 // An integrator that resolves the obstacles itself (a device integrator, gpu/device_integrator.h)
-// leaves the stage the self pass alone: CollisionPasses::self_only.
+// leaves the stage the self pass alone: CollisionPasses::self_only; one that runs the self pass too
+// (gpu/device_implicit_euler.h) leaves it nothing: CollisionPasses::none.
 //
 // The self pass has the last word, because it is the one that guarantees something across steps
 // (no crossing), which any later move could break. It may push a particle lying on an obstacle
@@ -29,8 +30,9 @@
 
 namespace clothsim {
 
-// Which passes the stage runs: both, or the self pass alone (the obstacles resolved by the integrator).
-enum class CollisionPasses : std::uint8_t { all, self_only };
+// Which passes the stage runs: both, the self pass alone (the obstacles resolved by the integrator),
+// or none (both resolved by the integrator).
+enum class CollisionPasses : std::uint8_t { all, self_only, none };
 
 struct CollisionCounts {
   ContactCounts obstacles;
@@ -39,7 +41,7 @@ struct CollisionCounts {
 
 class CollisionStage {
  public:
-  // Before a step; +infinity when nothing limits it (always, self_only).
+  // Before a step; +infinity when nothing limits it (always, self_only and none).
   double begin_step(const ClothModel& model, const ClothState& state, int threads,
                     CollisionPasses passes = CollisionPasses::all);
   // After the step begun by begin_step(), the passes it was begun for; their energy changes are

@@ -23,7 +23,8 @@ std::uint32_t reduce_workgroups(std::uint64_t items) { return workgroups_for(ite
 }  // namespace
 
 std::array<std::uint64_t, DeviceImplicitEuler::array_count> DeviceImplicitEuler::array_bytes(
-    const LatticeCounts& counts, Precision precision, std::uint32_t anchor_capacity, std::size_t colliders) {
+    const LatticeCounts& counts, Precision precision, std::uint32_t anchor_capacity, std::size_t colliders,
+    bool self_collision) {
   using A = DeviceImplicitEuler;
   const std::uint64_t real = real_size(precision);
   const std::uint64_t n = counts.particles;
@@ -35,7 +36,7 @@ std::array<std::uint64_t, DeviceImplicitEuler::array_count> DeviceImplicitEuler:
     bytes[a] = 3 * n * real;
   }
   bytes[A::jacobi] = 9 * n * real;
-  const bool obstacles = colliders > 0;
+  const bool obstacles = colliders > 0 || self_collision;  // the obstacle pass's arrays
   const std::uint64_t obstacle_blocks =
       obstacles ? DeviceImplicitEuler::obstacle_blocks(counts.particles, counts.connectors, counts.radials) : 0;
   // The laws' passes write theirs there too: one block per workgroup of connectors, then of radial springs.
@@ -86,7 +87,9 @@ std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts,
                                                     Precision precision, std::size_t colliders,
                                                     const IntegratorSettings& settings) {
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
-  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders)) total += bytes;
+  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders, false)) {
+    total += bytes;
+  }
   total += StateChecksPass::bytes_for(counts, DeviceForcePath::general);
   if (DeviceMultigrid::applies(counts, settings)) {
     total += DeviceMultigrid::bytes_for(static_cast<std::uint32_t>(counts.rows),
@@ -133,7 +136,7 @@ DeviceImplicitEuler::DeviceImplicitEuler(const ClothModel& model, const Integrat
   CLOTHSIM_ASSERT(settings.cg_max_iterations >= 1, "at least one CG iteration");
   const LatticeCounts counts = element_counts(model);
   // The obstacles' arrays as placeholders; prepare_obstacles() sizes them for the colliders.
-  const std::array<std::uint64_t, array_count> bytes = array_bytes(counts, precision_, anchor_capacity_, 0);
+  const std::array<std::uint64_t, array_count> bytes = array_bytes(counts, precision_, anchor_capacity_, 0, false);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   if (DeviceMultigrid::applies(counts, settings)) {
@@ -314,7 +317,7 @@ void DeviceImplicitEuler::record_buffers() {
     record_upload(commands, uint_input_, arrays_[solve_uint], uint_input_.bytes());
     record_upload(commands, anchor_input_, arrays_[anchor_rows], anchor_input_.bytes());
     // The step's start, from which the obstacle pass after it sweeps.
-    if (collider_count_ > 0) {
+    if (obstacle_pass_) {
       record_copy(commands, forces_.buffer(DeviceForces::position), arrays_[start_position],
                   arrays_[start_position].bytes());
     }
@@ -381,7 +384,7 @@ void DeviceImplicitEuler::record_buffers() {
     timer.mark(commands, StepStage::solution_update);
     record_solve_readback(commands);
   });
-  if (collider_count_ > 0) record_obstacle_buffers();
+  if (obstacle_pass_) record_obstacle_buffers();
   record_event_buffers();
 }
 
@@ -390,8 +393,9 @@ void DeviceImplicitEuler::release_buffers() {
     if (commands != VK_NULL_HANDLE) device_.release(commands);
     commands = VK_NULL_HANDLE;
   };
-  for (VkCommandBuffer* commands : {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_,
-                                    &impulse_commands_, &contacts_commands_, &obstacle_commands_, &events_commands_}) {
+  for (VkCommandBuffer* commands :
+       {&forces_commands_, &prepare_commands_, &end_commands_, &release_commands_, &impulse_commands_,
+        &contacts_commands_, &obstacle_commands_, &booking_commands_, &events_commands_}) {
     release(*commands);
   }
   for (std::array<VkCommandBuffer, 2>* buffers : {&first_commands_, &iteration_commands_, &restart_commands_}) {
@@ -510,12 +514,13 @@ StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uin
     record_buffers();
   }
   const double t0 = state.time;  // the colliders' paths are written relative to it
-  if (collider_count_ > 0) begin_obstacles(t0);
+  if (obstacle_pass_) begin_obstacles(t0);
+  if (runs_self_contacts()) begin_self_contacts();
   StepOutcome outcome{StepStatus::ok, 0.0, 0, false};
   std::uint32_t steps = 0;
   while (state.time < t_limit && (max_steps == 0 || steps < max_steps)) {
     // An impact ahead on an obstacle limits the step, as the collision stage does on the CPU.
-    const double limit = collider_count_ > 0 ? std::min(t_limit, step_limit_) : t_limit;
+    const double limit = obstacle_pass_ ? std::min(t_limit, step_limit_) : t_limit;
     bool clipped = false;
     const double h = clip_step(state.time, settings_.time_step, limit, clipped);
     const double end_time = clipped ? limit : state.time + h;
@@ -533,7 +538,7 @@ StepOutcome DeviceImplicitEuler::run(ClothState& state, double t_limit, std::uin
     state.anchor_work += h * output_real(kAnchorPower);
     const double start_time = state.time;
     state.time = end_time;
-    if (collider_count_ > 0) resolve_obstacles(state, start_time - t0, end_time - t0);
+    if (obstacle_pass_) resolve_obstacles(state, start_time - t0, end_time - t0);
     if (runs_spring_events()) apply_spring_events(state);
     record_accepted_step(h);
     ++steps;

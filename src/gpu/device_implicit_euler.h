@@ -39,7 +39,12 @@
 // The device holds the particles resting on a surface as the CPU does (implicit_diagonal: along
 // the normal or in all directions, the held directions filtered out of the solve) and lets go of
 // those the surface would pull and solves again. So the host has nothing to do between steps with
-// obstacles alone; self-collision still runs on the host between them (CollisionPasses::self_only).
+// obstacles alone.
+//
+// Self-collision (device_implicit_self.cpp): the collision stage's self pass on the device after the
+// obstacle pass (gpu/device_self_contacts.h), which enters the particles it moves in the obstacle
+// pass's ledger so that the booking after both books both passes' work; where the device's rounds
+// leave pairs touching, the host's pass finishes that step on the state read back (the zones).
 //
 // Tearing, permanent stretching and creasing (device_implicit_events.cpp): after the obstacle pass,
 //   implicit_events    the CPU's laws (events/spring_laws.inc) per connector, then per radial spring,
@@ -65,14 +70,16 @@
 #include <unordered_map>
 #include <vector>
 
+#include "collision/self_contacts.h"
 #include "gpu/buffer.h"
 #include "gpu/compute_pipeline.h"
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
 #include "gpu/device_multigrid.h"
+#include "gpu/device_self_contacts.h"
 #include "gpu/pass_timer.h"
-#include "gpu/state_checks.h"
 #include "gpu/shaders/implicit_step.h"
+#include "gpu/state_checks.h"
 #include "integrators/integrator.h"
 
 namespace clothsim::gpu {
@@ -104,10 +111,14 @@ class DeviceImplicitEuler final : public Integrator {
   // take_obstacle_contacts() gives the counts since the last call.
   bool runs_obstacle_contacts() const override { return !model_.colliders.empty(); }
   IntegratorContacts take_obstacle_contacts() override;
+  // Self-collision, on the device after the obstacle pass (gpu/device_self_contacts.h), the host's
+  // pass finishing a step where the device's leaves pairs touching (device_implicit_self.cpp).
+  bool runs_self_contacts() const override { return model_.collision.self; }
+  IntegratorSelfContacts take_self_contacts() override;
   // The model's laws (tearing, permanent stretching, creasing), applied on the device after each
-  // step (device_implicit_events.cpp), where every spring term is on (DeviceForces' flags of a
-  // spring whose term is off say absent, not broken) and without self-collision (the laws act after
-  // the self pass, on the host); take_spring_events() carries the changes into the model.
+  // step and its collision passes (device_implicit_events.cpp), where every spring term is on
+  // (DeviceForces' flags of a spring whose term is off say absent, not broken);
+  // take_spring_events() carries the changes into the model.
   bool runs_spring_events() const override;
   IntegratorEvents take_spring_events(ClothModel& model) override;
 
@@ -142,13 +153,13 @@ class DeviceImplicitEuler final : public Integrator {
     hold,               // [particles], uint: kHold*
     slipped,            // [particles], uint: 1 where held stuck by more than friction in the last step
     // With colliders (a placeholder each without): the obstacle pass's arrays.
-    surface_contacts,       // [particles][kContactReals]: the surface each particle rests on at the step's start
-    impulse,                // [3 particles], N s: the surface impulses of the held particles
-    start_position,         // [3 particles], m: the step's start, from which the pass sweeps
-    contact_before,         // [particles][6]: a moved particle's state before the pass
-    moved,                  // [particles], uint: 1 where the pass moved the particle
-    colliders,              // [colliders][kColliderReals] (device_step.h)
-    mesh_reals,             // the mesh colliders' arrays (gpu/device_colliders.h)
+    surface_contacts,  // [particles][kContactReals]: the surface each particle rests on at the step's start
+    impulse,           // [3 particles], N s: the surface impulses of the held particles
+    start_position,    // [3 particles], m: the step's start, from which the pass sweeps
+    contact_before,    // [particles][6]: a moved particle's state before the pass
+    moved,             // [particles], uint: 1 where the pass moved the particle
+    colliders,         // [colliders][kColliderReals] (device_step.h)
+    mesh_reals,        // the mesh colliders' arrays (gpu/device_colliders.h)
     mesh_uints,
     obstacle_control_real,  // [kControlReals]: the pass's times and thickness at device_step.h's slots
     obstacle_control_uint,  // [kControlUints]: kAccepted, 1
@@ -162,10 +173,12 @@ class DeviceImplicitEuler final : public Integrator {
 
  private:
   // Each array's bytes; `colliders`: the model's obstacles, whose pass holds arrays per particle
-  // and partial results per workgroup of its three phases (placeholders without; the meshes' arrays
+  // and partial results per workgroup of its three phases (placeholders without obstacles and
+  // without self-collision, whose pass the obstacle pass's arrays serve too; the meshes' arrays
   // are besides).
   static std::array<std::uint64_t, array_count> array_bytes(const LatticeCounts& counts, Precision precision,
-                                                            std::uint32_t anchor_capacity, std::size_t colliders);
+                                                            std::uint32_t anchor_capacity, std::size_t colliders,
+                                                            bool self_collision);
   // Steps to t_limit, or max_steps of them (0: no limit), as named stages.
   StepOutcome run(ClothState& state, double t_limit, std::uint32_t max_steps);
   // One step of h ending at end_time: its scalars and anchor rows written, the passes before the
@@ -182,12 +195,21 @@ class DeviceImplicitEuler final : public Integrator {
   // Whether this step's solve takes the V-cycle, from the stiffness ratio the passes before it read.
   bool choose_vcycle() const;
   // The obstacles (device_implicit_obstacles.cpp): the arrays sized for the model's colliders when
-  // their number changed (true: the passes are then to be bound and recorded anew); at an advance's start from t0,
-  // the colliders' rows and the surface contacts and first limit of the state there; after a step
-  // from tau0 to tau1 (s from t0), the pass, its work booked in `state` and its counts kept.
+  // their number changed, or when self-collision was switched, whose pass uses them too (true: the
+  // passes are then to be bound and recorded anew); at an advance's start from t0, the colliders'
+  // rows and the surface contacts and first limit of the state there; after a step from tau0 to
+  // tau1 (s from t0), the pass, then the self pass where it runs, their work booked in `state`
+  // and their counts kept.
   bool prepare_obstacles();
   void begin_obstacles(double t0);
   void resolve_obstacles(ClothState& state, double tau0, double tau1);
+  // Self-collision (device_implicit_self.cpp): at an advance's start, the pass made for the sheet
+  // as it is and its candidates forgotten; after a step's obstacle pass, the device's pass with the
+  // obstacle pass's ledger; where it leaves pairs touching, after the booking, the host's self pass
+  // on the state read back, which finishes it with the impact zones and books its own work.
+  void begin_self_contacts();
+  std::size_t resolve_self_contacts(double h);
+  void finish_self_contacts_on_host(ClothState& state, double h);
   // The obstacle pass's results the last submission copied back: the resting flag for the next
   // step's holds and the step limit it sets.
   void read_obstacle_outputs(double time);
@@ -263,16 +285,24 @@ class DeviceImplicitEuler final : public Integrator {
   std::unordered_map<VkCommandBuffer, std::unique_ptr<PassTimer>> timers_;
   // With colliders: the surface contacts and the first limit at an advance's start; the pass after
   // a step. Host-visible: the pass's control reals, written before each.
-  VkCommandBuffer contacts_commands_ = VK_NULL_HANDLE, obstacle_commands_ = VK_NULL_HANDLE;
+  // The pass's resolution and its booking are two buffers, with the self pass between them.
+  VkCommandBuffer contacts_commands_ = VK_NULL_HANDLE, obstacle_commands_ = VK_NULL_HANDLE,
+                  booking_commands_ = VK_NULL_HANDLE;
+  bool obstacle_pass_ = false;  // its arrays are sized and it runs (colliders, or self-collision)
   Buffer obstacle_input_, colliders_input_;
-  std::size_t collider_count_ = 0;   // the colliders the obstacle arrays are sized for
-  IntegratorContacts contacts_;      // since the last take_obstacle_contacts()
-  double step_limit_ = 0.0;          // s: the next step may not end after it (+infinity: no limit)
-  bool holding_ = false;             // the next step holds the particles resting on a surface
+  std::size_t collider_count_ = 0;  // the colliders the obstacle arrays are sized for
+  IntegratorContacts contacts_;     // since the last take_obstacle_contacts()
+  double step_limit_ = 0.0;         // s: the next step may not end after it (+infinity: no limit)
+  bool holding_ = false;            // the next step holds the particles resting on a surface
   // With the laws: their passes after a step, and the changes since the last take_spring_events().
   VkCommandBuffer events_commands_ = VK_NULL_HANDLE;
   std::uint32_t recorded_laws_ = 0;  // the laws events_commands_ was recorded for (live edits change them)
   IntegratorEvents events_;
+  // With self-collision: the device's pass, made for the sheet as it is; the host's, for the steps
+  // it finishes; the counts since the last take_self_contacts().
+  std::optional<DeviceSelfContacts> self_;
+  SelfContacts host_self_;
+  IntegratorSelfContacts self_counts_;
 
   // Whether forces_'s force array holds f at the device's state (the last step's end).
   bool forces_current_ = false;

@@ -35,9 +35,8 @@ bool DeviceImplicitEuler::records_spring_events() const {
 }
 
 bool DeviceImplicitEuler::runs_spring_events() const {
-  // With self-collision the laws act after the self pass, which runs on the host between single
-  // steps: there the host applies them too, to the state and the springs that pass left.
-  return records_spring_events() && !model_.collision.self;
+  // After the step's collision passes, self-collision's included, which run on the device too.
+  return records_spring_events();
 }
 
 void DeviceImplicitEuler::upload_events() {
@@ -68,8 +67,8 @@ void DeviceImplicitEuler::bind_event_passes() {
       shared(F::position), shared(F::connector_particles), shared(F::connector_rest_length),
       shared(F::connector_stiffness), shared(F::connector_active), shared(F::radial_particles),
       shared(F::radial_rest_angle), shared(F::radial_stiffness), shared(F::radial_fade_length),
-      shared(F::radial_active), own(connector_events), own(radial_arms), own(radial_yield_angle),
-      own(connector_broke), own(block_sums), own(solve_real), own(solve_uint)});
+      shared(F::radial_active), own(connector_events), own(radial_arms), own(radial_yield_angle), own(connector_broke),
+      own(block_sums), own(solve_real), own(solve_uint)});
 }
 
 // The connectors' phase, then the radial springs' (which read which connectors broke), their

@@ -32,13 +32,18 @@ std::uint64_t DeviceImplicitEuler::obstacle_blocks(std::uint64_t particles, std:
 
 bool DeviceImplicitEuler::prepare_obstacles() {
   const std::size_t count = model_.colliders.size();
-  if (count == collider_count_) return false;
-  // The colliders of a new model, or colliders added since the arrays were made (a live edit).
-  // Colliders are never removed, and a mesh never changes after it is read.
+  const bool wanted = count > 0 || model_.collision.self;
+  if (count == collider_count_ && wanted == obstacle_pass_) return false;
+  // The colliders of a new model, or colliders added since the arrays were made (a live edit), or
+  // self-collision switched on or off. Colliders are never removed, and a mesh never changes after
+  // it is read.
+  obstacle_pass_ = wanted;
+  collider_count_ = count;
+  if (!wanted) return true;
   constexpr std::array<Array, 9> kSized = {
       surface_contacts,      impulse,   start_position, contact_before, moved, colliders, obstacle_control_real,
       obstacle_control_uint, block_sums};
-  const auto bytes = array_bytes(element_counts(model_), precision_, anchor_capacity_, count);
+  const auto bytes = array_bytes(element_counts(model_), precision_, anchor_capacity_, count, true);
   const MeshArrays meshes = mesh_arrays(model_.colliders);
   const std::uint64_t real = real_size(precision_);
   std::uint64_t total = meshes.reals.size() * real + meshes.uints.size() * 4;
@@ -55,7 +60,6 @@ bool DeviceImplicitEuler::prepare_obstacles() {
   std::vector<std::uint32_t> control(kControlUints, 0u);
   control[kAccepted] = 1u;
   upload(device_, arrays_[obstacle_control_uint], index_bytes<std::uint32_t>(control));
-  collider_count_ = count;
   return true;
 }
 
@@ -105,8 +109,8 @@ void DeviceImplicitEuler::record_obstacle_reduction(VkCommandBuffer commands, st
 }
 
 // The surface contacts and the first limit at an advance's start: the particles' phase alone
-// (nothing has moved). The pass after a step: the resolution, then the three phases' blocks one
-// after the other in block_sums, and their sums.
+// (nothing has moved). The pass after a step: the resolution; then, after the self pass where it
+// runs, the booking: the three phases' blocks one after the other in block_sums, and their sums.
 void DeviceImplicitEuler::record_obstacle_buffers() {
   const auto colliders_count = static_cast<std::uint32_t>(collider_count_);
   const std::uint32_t particle_blocks = obstacle_workgroups(particles_);
@@ -126,6 +130,9 @@ void DeviceImplicitEuler::record_obstacle_buffers() {
     const ObstaclePassConstants resolve{particles_, static_cast<std::uint32_t>(model_.rows),
                                         static_cast<std::uint32_t>(model_.cols), colliders_count, 1};
     obstacle_contacts_pass_.dispatch(commands, &resolve, particles_);
+    timer.mark(commands, StepStage::collisions);
+  });
+  booking_commands_ = record_timed(1, [&](VkCommandBuffer commands, PassTimer& timer) {
     const std::array<std::uint32_t, 3> counts = {particles_, connectors_, radials_};
     std::uint32_t first_block = 0;
     for (std::uint32_t phase = kObstacleParticlesPhase; phase <= kObstacleRadialsPhase; ++phase) {
@@ -169,6 +176,8 @@ void DeviceImplicitEuler::begin_obstacles(double t0) {
 void DeviceImplicitEuler::resolve_obstacles(ClothState& state, double tau0, double tau1) {
   write_obstacle_control(tau0, tau1);
   submit(obstacle_commands_);
+  const std::size_t unresolved = runs_self_contacts() ? resolve_self_contacts(tau1 - tau0) : 0;
+  submit(booking_commands_);
   state.contact_work += output_real(kObstacleWork);
   const auto moved_particles = static_cast<std::size_t>(output_real(kObstacleMoved));
   contacts_.last = moved_particles;
@@ -177,6 +186,7 @@ void DeviceImplicitEuler::resolve_obstacles(ClothState& state, double tau0, doub
   // The next step's forces are at the state the pass left, where it changed one.
   if (output_uint(kStateChanged) != 0) forces_current_ = false;
   read_obstacle_outputs(state.time);
+  if (unresolved > 0) finish_self_contacts_on_host(state, tau1 - tau0);
 }
 
 IntegratorContacts DeviceImplicitEuler::take_obstacle_contacts() {

@@ -59,7 +59,7 @@ DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, cons
       respond_real_(real_buffer(device, precision, {0.0, 0.0, 0.0})),
       motion_pass_(shader_pipeline(device, "self_motion", precision, 5, sizeof(MotionPassConstants), kMotionWorkgroup)),
       list_pass_(shader_pipeline(device, "self_list", precision, 3, sizeof(ListPassConstants))),
-      respond_pass_(shader_pipeline(device, "self_respond", precision, 15, sizeof(RespondPassConstants))),
+      respond_pass_(shader_pipeline(device, "self_respond", precision, 17, sizeof(RespondPassConstants))),
       slot_scan_(device, 1),
       table_scan_(device, particles_) {
   table_scan_.bind(table_start_);
@@ -119,7 +119,7 @@ std::uint32_t DeviceSelfContacts::detect_and_list(const Buffer& start, const Buf
 }
 
 void DeviceSelfContacts::prepare_responses(std::uint32_t listed, const Buffer& start, const Buffer& position,
-                                           const Buffer& velocity) {
+                                           const Buffer& velocity, const MovedLedger& ledger) {
   if (listed > list_capacity_) {
     list_capacity_ = listed + listed / 2;
     const std::uint64_t real = real_size(precision_);
@@ -127,27 +127,27 @@ void DeviceSelfContacts::prepare_responses(std::uint32_t listed, const Buffer& s
     geometry_ = Buffer(device_, std::uint64_t{list_capacity_} * kGeometryReals * real, Memory::device_local);
     change_ = Buffer(device_, std::uint64_t{list_capacity_} * kChangeReals * real, Memory::device_local);
   }
-  respond_pass_.bind(std::vector<const Buffer*>{&start, &position, &velocity, &inverse_mass_,
-                                                &candidates_.triangle_buffer(), &candidates_.edge_buffer(),
-                                                &candidates_.pair_buffer(), &list_, &table_start_, &table_fill_,
-                                                &entries_, &geometry_, &change_, &counters_, &respond_real_});
+  respond_pass_.bind(std::vector<const Buffer*>{
+      &start, &position, &velocity, &inverse_mass_, &candidates_.triangle_buffer(), &candidates_.edge_buffer(),
+      &candidates_.pair_buffer(), &list_, &table_start_, &table_fill_, &entries_, &geometry_, &change_, &counters_,
+      &respond_real_, ledger_ ? ledger.before : &respond_real_, ledger_ ? ledger.moved : &counters_});
 }
 
 void DeviceSelfContacts::respond(VkCommandBuffer commands, std::uint32_t phase, std::uint32_t listed,
                                  bool first_round) const {
   const bool per_particle = phase == kRespondSort || phase == kRespondGather;
-  const RespondPassConstants constants{phase, listed, particles_, first_round ? 1u : 0u};
+  const RespondPassConstants constants{phase, listed, particles_, first_round ? 1u : 0u, ledger_ ? 1u : 0u};
   respond_pass_.dispatch(commands, &constants, per_particle ? particles_ : listed);
 }
 
 void DeviceSelfContacts::record_table(VkCommandBuffer commands, std::uint32_t listed) const {
   record_zero(commands, table_start_, std::uint64_t{particles_} * kWord);
   record_zero(commands, table_fill_, std::uint64_t{particles_} * kWord);
-  respond(commands, kRespondCount, listed, false);
+  respond(commands, kRespondCount, listed);
   table_scan_.record(commands, particles_);
-  respond(commands, kRespondFill, listed, false);
-  respond(commands, kRespondSort, listed, false);
-  respond(commands, kRespondShare, listed, false);
+  respond(commands, kRespondFill, listed);
+  respond(commands, kRespondSort, listed);
+  respond(commands, kRespondShare, listed);
 }
 
 std::vector<std::uint32_t> DeviceSelfContacts::counters() const {
@@ -157,8 +157,9 @@ std::vector<std::uint32_t> DeviceSelfContacts::counters() const {
 }
 
 SelfContactCounts DeviceSelfContacts::apply(const Buffer& start, const Buffer& position, const Buffer& velocity,
-                                            double step) {
+                                            double step, const MovedLedger& ledger) {
   SelfContactCounts counts;
+  ledger_ = ledger.before != nullptr && ledger.moved != nullptr;
   upload(device_, respond_real_, real_bytes(std::vector<double>{thickness_, friction_, step}, precision_));
   device_.submit([&](VkCommandBuffer commands) { record_zero(commands, counters_, kCounters * kWord); });
 
@@ -166,13 +167,13 @@ SelfContactCounts DeviceSelfContacts::apply(const Buffer& start, const Buffer& p
   refresh(start, position);
   const std::uint32_t near = detect_and_list(start, position, kPairNear);
   if (near > 0) {
-    prepare_responses(near, start, position, velocity);
+    prepare_responses(near, start, position, velocity, ledger);
     device_.submit([&](VkCommandBuffer commands) {
       record_table(commands, near);
-      respond(commands, kRespondNearStart, near, false);
+      respond(commands, kRespondNearStart, near);
       for (int iteration = 0; iteration < kProximityIterations; ++iteration) {
         respond(commands, kRespondProximity, near, iteration == 0);
-        respond(commands, kRespondGather, near, false);
+        respond(commands, kRespondGather, near);
       }
     });
   }
@@ -183,12 +184,12 @@ SelfContactCounts DeviceSelfContacts::apply(const Buffer& start, const Buffer& p
     refresh(start, position);
     touching = detect_and_list(start, position, kPairTouching);
     if (touching == 0 || round == kImpactRounds) break;
-    prepare_responses(touching, start, position, velocity);
+    prepare_responses(touching, start, position, velocity, ledger);
     device_.submit([&](VkCommandBuffer commands) {
       record_table(commands, touching);
       for (int iteration = 0; iteration < kImpactIterations; ++iteration) {
-        respond(commands, kRespondImpact, touching, false);
-        respond(commands, kRespondGather, touching, false);
+        respond(commands, kRespondImpact, touching);
+        respond(commands, kRespondGather, touching);
       }
     });
   }

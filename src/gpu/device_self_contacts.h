@@ -34,6 +34,14 @@
 
 namespace clothsim::gpu {
 
+// A ledger of the particles the passes after a step moved: each one's state before it was first
+// changed ([particles][6] Reals: x, v) and a flag ([particles] words, 0 where none did), which the
+// integrator's booking of the energy change reads (obstacle_energy_elements.comp).
+struct MovedLedger {
+  const Buffer* before = nullptr;
+  const Buffer* moved = nullptr;
+};
+
 class DeviceSelfContacts {
  public:
   // For `model`'s sheet as it is now (its elements, masses and anchors, its thickness and friction).
@@ -44,8 +52,13 @@ class DeviceSelfContacts {
   bool made_for(const ClothModel& model) const;
 
   // Stages 1 to 3 after a step of `step` s from `start` to (`position`, `velocity`), [particles][3]
-  // Reals each, which it changes. Returns what it did; `work` is not booked here.
-  SelfContactCounts apply(const Buffer& start, const Buffer& position, const Buffer& velocity, double step);
+  // Reals each, which it changes; with a ledger, each particle it is the first to change is entered
+  // there (kMovedBySelf). Returns what it did; `work` is not booked here.
+  SelfContactCounts apply(const Buffer& start, const Buffer& position, const Buffer& velocity, double step,
+                          const MovedLedger& ledger = {});
+  // Forgets the candidates: the next apply() finds them again. A run restored at a frame then takes
+  // the steps the saved one took, its candidates found at the same frame.
+  void forget_candidates() { found_ = false; }
 
   // Stage 3's rounds of detection and response, at most (the CPU's is 8 Gauss-Seidel sweeps).
   static constexpr int kImpactRounds = 8;
@@ -59,10 +72,11 @@ class DeviceSelfContacts {
   // Stages 2 and 3's tests on the kept candidates, then those flagged with `mask` listed; their count.
   std::uint32_t detect_and_list(const Buffer& start, const Buffer& end, std::uint32_t mask);
   // Room for `listed` pairs in the response arrays, and the response pass bound.
-  void prepare_responses(std::uint32_t listed, const Buffer& start, const Buffer& position, const Buffer& velocity);
+  void prepare_responses(std::uint32_t listed, const Buffer& start, const Buffer& position, const Buffer& velocity,
+                         const MovedLedger& ledger);
   // Records the table from particles to the `listed` pairs and each pair's share.
   void record_table(VkCommandBuffer commands, std::uint32_t listed) const;
-  void respond(VkCommandBuffer commands, std::uint32_t phase, std::uint32_t listed, bool first_round) const;
+  void respond(VkCommandBuffer commands, std::uint32_t phase, std::uint32_t listed, bool first_round = false) const;
   std::vector<std::uint32_t> counters() const;
 
   Device& device_;
@@ -79,6 +93,7 @@ class DeviceSelfContacts {
   Buffer inverse_mass_, found_at_, block_motion_, motion_, slot_, list_, table_start_, table_fill_, entries_, geometry_,
       change_, counters_, respond_real_;
   std::uint32_t list_capacity_ = 0;
+  bool ledger_ = false;  // the bound ledger is kept
   ComputePipeline motion_pass_, list_pass_, respond_pass_;
   PrefixScan slot_scan_, table_scan_;
 };

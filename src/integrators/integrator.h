@@ -140,6 +140,18 @@ struct IntegratorContacts {
   std::size_t most = 0;     // the most in one of its steps
 };
 
+// Self-collision resolved by an integrator that runs the collision stage's self pass itself, between
+// its own steps (gpu/device_implicit_euler.h), over one advance; in pairs of elements, as
+// ContactStatistics counts them.
+struct IntegratorSelfContacts {
+  std::size_t last = 0;          // pairs pushed apart after the advance's last step
+  std::uint64_t steps = 0;       // the same, summed over the advance's steps
+  std::size_t most = 0;          // the most in one of its steps
+  std::uint64_t impacts = 0;     // responses to pairs whose motion touched
+  std::uint64_t zones = 0;       // impact zones moved as one
+  std::uint64_t unresolved = 0;  // pairs left touching after the zones (0 expected)
+};
+
 // What the Simulation checks after an advance, computed by an integrator whose state lives on a
 // device (Integrator::check_state).
 struct StateChecks {
@@ -191,6 +203,12 @@ class Integrator {
   // contact work is in the state already.
   virtual bool runs_obstacle_contacts() const { return false; }
   virtual IntegratorContacts take_obstacle_contacts() { return {}; }
+  // True when the integrator also runs the collision stage's self pass (collision/self_contacts.h)
+  // after each of its steps, after its obstacle pass (so only an integrator that runs the obstacles
+  // runs it, where there are any). The Simulation then runs no collision stage at all and calls
+  // take_self_contacts() after each advance() for the counts; the contact work is in the state.
+  virtual bool runs_self_contacts() const { return false; }
+  virtual IntegratorSelfContacts take_self_contacts() { return {}; }
   // The energies of `state` and the Simulation's checks of it (Simulation::check_state: a
   // non-finite value; a live connector longer than `explosion_stretch` times its rest length),
   // computed where the integrator keeps the state: a device integrator sums them there, and the

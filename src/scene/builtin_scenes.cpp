@@ -313,8 +313,8 @@ SceneSpec pile() {
 
 // tear-crumple: the paper's three goals (tearing, permanent stretching, creasing) and both kinds of
 // contact at once. A soft paper thrown down onto a ball wraps it, yields where it is pulled round,
-// creases where it folds, tears on from a notch cut in its edge and folds onto itself; the host
-// keeps it from crossing itself on either backend (docs/gpu.md).
+// creases where it folds, tears on from a notch cut in its edge and folds onto itself, never
+// crossing itself on either backend (on the device, implicit Euler's own self pass: docs/gpu.md).
 SceneSpec tear_crumple() {
   SceneSpec spec;
   spec.name = "tear-crumple";

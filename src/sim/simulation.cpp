@@ -123,15 +123,17 @@ std::string blow_up_advice(IntegratorKind kind) {
 
 double Simulation::begin_collisions() {
   StageTimer timer(profile_, StepStage::collisions);
-  const CollisionPasses passes =
-      integrator_->runs_obstacle_contacts() ? CollisionPasses::self_only : CollisionPasses::all;
+  const CollisionPasses passes = integrator_->runs_self_contacts()       ? CollisionPasses::none
+                                 : integrator_->runs_obstacle_contacts() ? CollisionPasses::self_only
+                                                                         : CollisionPasses::all;
   return collision_stage_->begin_step(*model_, state_, threads_, passes);
 }
 
 bool Simulation::host_works_between_steps() const {
   const bool events = model_->limits.changes_sheet() && !integrator_->runs_spring_events();
   const bool obstacles = !model_->colliders.empty() && !integrator_->runs_obstacle_contacts();
-  return events || obstacles || model_->collision.self;
+  const bool self = model_->collision.self && !integrator_->runs_self_contacts();
+  return events || obstacles || self;
 }
 
 bool Simulation::integrate(double time) {
@@ -191,6 +193,16 @@ void Simulation::collide() {
     statistics.contacts = counts.obstacles.contacts;
     statistics.contact_steps += counts.obstacles.contacts;
     statistics.max_in_a_step = std::max(statistics.max_in_a_step, counts.obstacles.contacts);
+  }
+  if (integrator_->runs_self_contacts()) {
+    const IntegratorSelfContacts self = integrator_->take_self_contacts();
+    statistics.self_contacts = self.last;
+    statistics.self_contact_steps += self.steps;
+    statistics.self_max_in_a_step = std::max(statistics.self_max_in_a_step, self.most);
+    statistics.self_impacts += self.impacts;
+    statistics.self_impact_zones += self.zones;
+    statistics.self_unresolved += self.unresolved;
+    return;
   }
   statistics.self_contacts = counts.self.contacts;
   statistics.self_contact_steps += counts.self.contacts;

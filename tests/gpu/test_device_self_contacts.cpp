@@ -71,13 +71,13 @@ struct PassResult {
 
 PassResult run_pass(gpu::Device& device, const ClothModel& model, std::span<const Vec3> start,
                     std::span<const Vec3> end, std::span<const Vec3> velocity, double step,
-                    Precision precision = Precision::float64) {
+                    Precision precision = Precision::float64, const gpu::MovedLedger& ledger = {}) {
   const gpu::Buffer start_buffer = vector_buffer(device, start, precision);
   const gpu::Buffer position = vector_buffer(device, end, precision);
   const gpu::Buffer velocity_buffer = vector_buffer(device, velocity, precision);
   gpu::DeviceSelfContacts pass(device, precision, model);
   PassResult result;
-  result.counts = pass.apply(start_buffer, position, velocity_buffer, step);
+  result.counts = pass.apply(start_buffer, position, velocity_buffer, step, ledger);
   result.position = vectors(device, position, end.size(), precision);
   result.velocity = vectors(device, velocity_buffer, end.size(), precision);
   return result;
@@ -110,6 +110,47 @@ TEST_F(GpuTest, SelfContactsPushAFoldedSheetsLayersToTheThickness) {
     EXPECT_EQ(again.position, pass.position);
     EXPECT_EQ(again.velocity, pass.velocity);
   }
+}
+
+// The ledger the integrator's booking of the pass's work reads (obstacle_energy_elements.comp): each
+// particle the pass changed is marked kMovedBySelf with its state before, unless an earlier pass
+// marked it (then its mark and its state before that pass stay); the others are left unmarked.
+TEST_F(GpuTest, SelfContactsKeepTheLedgerOfWhatTheyMoved) {
+  Simulation simulation = testing::folded_sheet(IntegratorKind::implicit_euler, 1e-3, 1);
+  ASSERT_TRUE(simulation.advance_to(0.02)) << simulation.failure()->message;
+  const std::vector<Vec3> start = simulation.state().position;
+  ASSERT_TRUE(simulation.advance_to(0.03)) << simulation.failure()->message;
+  ClothModel model = simulation.model();
+  model.collision.thickness = 0.008;
+  const ClothState& state = simulation.state();
+  const std::size_t n = state.position.size();
+  // Particle 0 as if the obstacle pass had moved it, from a state of its own.
+  std::vector<std::uint32_t> marks(n, 0u);
+  marks[0] = 1u;
+  std::vector<double> before_reals(6 * n, 0.0);
+  for (int k = 0; k < 6; ++k) before_reals[static_cast<std::size_t>(k)] = 100.0 + k;
+  gpu::Buffer before(device(), before_reals.size() * 8, gpu::Memory::device_local);
+  gpu::upload(device(), before, gpu::real_bytes(before_reals, Precision::float64));
+  gpu::Buffer moved(device(), n * 4, gpu::Memory::device_local);
+  gpu::upload(device(), moved, std::as_bytes(std::span(marks)));
+  const PassResult pass = run_pass(device(), model, start, state.position, state.velocity, 0.01, Precision::float64,
+                                   gpu::MovedLedger{&before, &moved});
+  std::vector<std::byte> bytes(before_reals.size() * 8);
+  gpu::download(device(), before, bytes);
+  const std::vector<double> kept = gpu::reals_from_bytes(bytes, Precision::float64);
+  gpu::download(device(), moved, std::as_writable_bytes(std::span(marks)));
+  std::size_t changed = 0;
+  for (std::size_t p = 1; p < n; ++p) {
+    const bool changed_here = pass.position[p] != state.position[p] || pass.velocity[p] != state.velocity[p];
+    changed += changed_here ? 1 : 0;
+    EXPECT_EQ(marks[p], changed_here ? gpu::kMovedBySelf : 0u) << p;
+    if (!changed_here) continue;
+    EXPECT_EQ((Vec3{kept[6 * p], kept[6 * p + 1], kept[6 * p + 2]}), state.position[p]) << p;
+    EXPECT_EQ((Vec3{kept[6 * p + 3], kept[6 * p + 4], kept[6 * p + 5]}), state.velocity[p]) << p;
+  }
+  EXPECT_GT(changed, 100u);
+  EXPECT_EQ(marks[0], 1u);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_EQ(kept[k], 100.0 + static_cast<double>(k));
 }
 
 // A patch of the folded sheet's upper layer moved 12 mm down through the lower layer within the

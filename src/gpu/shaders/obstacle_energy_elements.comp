@@ -1,14 +1,14 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// What the obstacle pass did to implicit Euler's step on the device, on DeviceForces' element
-// arrays (gpu/device_implicit_obstacles.cpp; obstacle_energy.comp is the lattice path's), and
-// what the next step needs from the state it left. One dispatch per phase, each workgroup writing
-// its kObstacleBlockReals at first_block + its index in block_obstacles, which implicit_reduce
-// (kReduceObstacles) adds in order:
+// What the obstacle pass (and the self pass after it, where it runs on the device) did to implicit
+// Euler's step on the device, on DeviceForces' element arrays (gpu/device_implicit_obstacles.cpp;
+// obstacle_energy.comp is the lattice path's), and what the next step needs from the state it left.
+// One dispatch per phase, each workgroup writing its kObstacleBlockReals at first_block + its index
+// in block_obstacles, which implicit_reduce (kReduceObstacles) adds in order:
 //   kObstacleParticlesPhase   per particle: a moved particle's change of kinetic and gravitational
 //                             energy, the work of the impulse its surface exerted while it was held
 //                             (ImplicitEuler::book_surface_impulses: impulse . v at the step's end),
-//                             1 if it moved, and, for a free particle, the surface it now rests on
+//                             1 if the obstacle pass moved it, and, for a free particle, the surface it now rests on
 //                             (its row of surface_contacts, for the next step's holds) or the
 //                             earliest time at which it would be impact_depth() inside a collider's
 //                             shell (ObstacleContacts::begin_step on the CPU); any resting particle
@@ -115,7 +115,9 @@ Real[3] item_values(uint i) {
       const Vec3 v0 = before_velocity(i);
       values[0] = Real(0.5) * particle_mass[i] * (dot(v1, v1) - dot(v0, v0)) -
                   particle_mass[i] * dot(gravity, after_position(i) - before_position(i));
-      values[1] = Real(1.0);
+      // The particles the obstacle pass moved; the self pass marks those it moved first 2
+      // (shaders/self_step.h, kMovedBySelf), whose energy change is booked here too.
+      values[1] = moved[i] == 1u ? Real(1.0) : Real(0.0);
       // A particle the pass touched may be left as it was (one resting at the thickness): the
       // step's end forces then still hold, as the CPU finds by comparing the states.
       if (after_position(i) != before_position(i) || v1 != v0) solve_uint[kStateChanged] = 1u;

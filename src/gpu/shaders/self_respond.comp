@@ -21,7 +21,8 @@
 //                       through the step)
 //   impact              each touching pair's closing motion over the step removed at its first
 //                       touch, with friction, and its closing velocity
-//   gather              each particle's changes, summed in pair order
+//   gather              each particle's changes, summed in pair order (with a ledger, its state
+//                       before the first change kept)
 #include "gpu/shaders/shared_text.glsl"
 #include "core/closest_points.inc"
 #include "collision/self_pair.inc"
@@ -47,6 +48,10 @@ layout(std430, binding = 12) buffer Change { Real change[]; };          // [list
 layout(std430, binding = 13) buffer Counters { uint counters[]; };      // [kCounters]
 // [0] the thickness, m; [1] the friction coefficient; [2] the step, s.
 layout(std430, binding = 14) readonly buffer RespondReal { Real respond_real[]; };
+// With a ledger: each particle's state before the passes changed it ([particles][6]: x, v), and
+// whether one did (0, the obstacle pass's 1, kMovedBySelf).
+layout(std430, binding = 15) buffer Before { Real before[]; };
+layout(std430, binding = 16) buffer Moved { uint moved_flag[]; };
 
 layout(push_constant) uniform Constants { RespondPassConstants constants; };
 
@@ -222,6 +227,14 @@ void gather(uint p) {
     const Real factor = change[g + 7u] * geometry[kGeometryReals * i + 3u + k] * w / effective;
     moved += factor * Vec3(change[g], change[g + 1u], change[g + 2u]);
     sped += factor * Vec3(change[g + 3u], change[g + 4u], change[g + 5u]);
+  }
+  if (moved == Vec3(0.0) && sped == Vec3(0.0)) return;
+  if (constants.ledger != 0u && moved_flag[p] == 0u) {
+    for (uint a = 0u; a < 3u; ++a) {
+      before[6u * p + a] = position[3u * p + a];
+      before[6u * p + 3u + a] = velocity[3u * p + a];
+    }
+    moved_flag[p] = kMovedBySelf;
   }
   for (uint a = 0u; a < 3u; ++a) {
     position[3u * p + a] += moved[a];

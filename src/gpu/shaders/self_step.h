@@ -102,11 +102,18 @@ CLOTHSIM_SLOT kCounters = 2;
 CLOTHSIM_SLOT kGeometryReals = 9;
 CLOTHSIM_SLOT kChangeReals = 8;
 
+// The mark the gather leaves in a ledger of moved particles (the obstacle pass's `moved`, where
+// obstacle_contacts.comp marks 1) on a particle it is the first to change, its state before the
+// change kept beside it, so that the two passes' energy change is booked together
+// (obstacle_energy_elements.comp).
+CLOTHSIM_SLOT kMovedBySelf = 2;
+
 struct RespondPassConstants {
   uint phase;  // kRespond*
   uint pairs;  // listed
   uint particles;
   uint first_round;  // 1: count the pushed pairs
+  uint ledger;       // 1: the gather keeps the ledger of moved particles
 };
 
 #if defined(__cplusplus)
