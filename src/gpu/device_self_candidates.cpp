@@ -54,24 +54,29 @@ DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, 
       point_query_(device, precision, particles),
       edge_query_(device, precision, 1) {}
 
-void DeviceSelfCandidates::make_boxes(const Buffer& start, const Buffer& end, double margin, bool cell_sizes) {
-  upload(device_, self_real_, real_bytes(std::vector<double>{margin, 0.0, 0.0}, precision_));
+void DeviceSelfCandidates::bind_boxes(const Buffer& start, const Buffer& end, double margin) {
+  if (margin != margin_) {
+    upload(device_, self_real_, real_bytes(std::vector<double>{margin}, precision_));
+    margin_ = margin;
+  }
   boxes_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
                                               &triangle_boxes_, &edge_boxes_, &self_real_});
-  device_.submit([&](VkCommandBuffer commands) {
-    const auto pass = [&](std::uint32_t phase, std::uint32_t invocations) {
-      const BoxesPassConstants constants{phase, particles_, triangles_, edges_};
-      if (invocations > 0) boxes_pass_.dispatch(commands, &constants, invocations);
-    };
-    pass(kBoxesPoints, particles_);
-    pass(kBoxesElements, triangles_ + edges_);
-    pass(kBoxesGrow, particles_);
-    if (cell_sizes) pass(kBoxesCells, 1);
-  });
+}
+
+void DeviceSelfCandidates::record_boxes(VkCommandBuffer commands, bool cell_sizes) const {
+  const auto pass = [&](std::uint32_t phase, std::uint32_t invocations) {
+    const BoxesPassConstants constants{phase, particles_, triangles_, edges_};
+    if (invocations > 0) boxes_pass_.dispatch(commands, &constants, invocations);
+  };
+  pass(kBoxesPoints, particles_);
+  pass(kBoxesElements, triangles_ + edges_);
+  pass(kBoxesGrow, particles_);
+  if (cell_sizes) pass(kBoxesCells, 1);
 }
 
 void DeviceSelfCandidates::find(const Buffer& start, const Buffer& end, double margin) {
-  make_boxes(start, end, margin, true);
+  bind_boxes(start, end, margin);
+  device_.submit([&](VkCommandBuffer commands) { record_boxes(commands, true); });
   std::vector<std::byte> bytes(3 * real_size(precision_));
   download(device_, self_real_, bytes);
   const std::vector<double> reals = reals_from_bytes(bytes, precision_);
@@ -112,9 +117,12 @@ void DeviceSelfCandidates::select(const Buffer* x, double reach) {
   kept_count_ = found == 0 ? 0 : keep_scan_.total(found);
 }
 
-void DeviceSelfCandidates::detect(const Buffer& start, const Buffer& end, double thickness) {
-  make_boxes(start, end, 0.5 * thickness, false);  // no grid to build
-  upload(device_, detect_real_, real_bytes(std::vector<double>{thickness}, precision_));
+void DeviceSelfCandidates::prepare_detect(const Buffer& start, const Buffer& end, double thickness) {
+  bind_boxes(start, end, 0.5 * thickness);
+  if (thickness != detect_thickness_) {
+    upload(device_, detect_real_, real_bytes(std::vector<double>{thickness}, precision_));
+    detect_thickness_ = thickness;
+  }
   const std::uint32_t candidates = kept_count_;
   if (flags_.bytes() < std::uint64_t{candidates} * sizeof(std::uint32_t)) {
     flags_ = Buffer(device_, std::uint64_t{candidates} * sizeof(std::uint32_t), Memory::device_local);
@@ -123,10 +131,17 @@ void DeviceSelfCandidates::detect(const Buffer& start, const Buffer& end, double
   detect_pass_.bind(std::vector<const Buffer*>{&start, &end, &triangle_corners_, &edge_ends_, &point_boxes_,
                                                &triangle_boxes_, &edge_boxes_, &pairs_, &flags_, &start_distance_,
                                                &detect_real_});
-  const DetectPassConstants counts{candidates};
-  if (candidates > 0) {
-    device_.submit([&](VkCommandBuffer commands) { detect_pass_.dispatch(commands, &counts, candidates); });
-  }
+}
+
+void DeviceSelfCandidates::record_detect(VkCommandBuffer commands) const {
+  record_boxes(commands, false);  // grown by half the thickness; no grid to build
+  const DetectPassConstants counts{kept_count_};
+  if (kept_count_ > 0) detect_pass_.dispatch(commands, &counts, kept_count_);
+}
+
+void DeviceSelfCandidates::detect(const Buffer& start, const Buffer& end, double thickness) {
+  prepare_detect(start, end, thickness);
+  device_.submit([&](VkCommandBuffer commands) { record_detect(commands); });
 }
 
 std::vector<std::uint32_t> DeviceSelfCandidates::flags() const {

@@ -44,6 +44,10 @@ class DeviceSelfCandidates {
   // the `thickness`, overlap), and of those the distance at the start, which are near and which
   // touch.
   void detect(const Buffer& start, const Buffer& end, double thickness);
+  // The same in two parts, to record into a submission of the caller's: its arrays sized and its
+  // passes bound (outside the submission), then its passes recorded.
+  void prepare_detect(const Buffer& start, const Buffer& end, double thickness);
+  void record_detect(VkCommandBuffer commands) const;
   // Read back (tests), per candidate: its kPair* bits (shaders/self_step.h), and the distance at the
   // start (0 where not active).
   std::vector<std::uint32_t> flags() const;
@@ -70,9 +74,12 @@ class DeviceSelfCandidates {
   std::uint32_t point_triangle_count_ = 0;
   std::uint32_t edge_pair_count_ = 0;
   std::uint32_t kept_count_ = 0;
-  // The motion's boxes grown by `margin`, and with `cell_sizes` the grids' cell sizes into
-  // self_real_ (one invocation's sum over every box: only where a grid is built).
-  void make_boxes(const Buffer& start, const Buffer& end, double margin, bool cell_sizes);
+  double margin_ = -1.0;            // m: the margin self_real_ holds (none yet)
+  double detect_thickness_ = -1.0;  // m: the thickness detect_real_ holds
+  // The motion's boxes grown by `margin`: bound, then recorded, with `cell_sizes` the grids' cell
+  // sizes into self_real_ (one invocation's sum over every box: only where a grid is built).
+  void bind_boxes(const Buffer& start, const Buffer& end, double margin);
+  void record_boxes(VkCommandBuffer commands, bool cell_sizes) const;
   // The search's pairs kept into pairs_: all (no `x`), or those nearer than `reach` at `x`.
   void select(const Buffer* x, double reach);
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <span>
 
 #include "collision/sheet_elements.h"
@@ -57,8 +58,10 @@ DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, cons
       change_(device, kChangeReals * real_size(precision), Memory::device_local),
       counters_(device, kCounters * kWord, Memory::device_local),
       respond_real_(real_buffer(device, precision, {0.0, 0.0, 0.0})),
+      listed_(device, kWord, Memory::device_local),
+      readback_(device, kCountersOffset + kCounters * kWord, Memory::host_visible),
       motion_pass_(shader_pipeline(device, "self_motion", precision, 5, sizeof(MotionPassConstants), kMotionWorkgroup)),
-      list_pass_(shader_pipeline(device, "self_list", precision, 3, sizeof(ListPassConstants))),
+      list_pass_(shader_pipeline(device, "self_list", precision, 4, sizeof(ListPassConstants))),
       respond_pass_(shader_pipeline(device, "self_respond", precision, 17, sizeof(RespondPassConstants))),
       slot_scan_(device, 1),
       table_scan_(device, particles_) {
@@ -71,35 +74,11 @@ bool DeviceSelfContacts::made_for(const ClothModel& model) const {
          model.collision.friction == friction_;
 }
 
-void DeviceSelfContacts::refresh(const Buffer& start, const Buffer& end) {
-  // How far the particles are from where the candidates were found, and how far they moved.
-  motion_pass_.bind(std::vector<const Buffer*>{&start, &end, &found_at_, &block_motion_, &motion_});
-  const std::uint32_t blocks = workgroups_for(particles_, kMotionWorkgroup);
-  device_.submit([&](VkCommandBuffer commands) {
-    const MotionPassConstants per_block{kMotionBlocks, particles_, blocks, 0};
-    motion_pass_.dispatch(commands, &per_block, particles_);
-    const MotionPassConstants total{kMotionTotal, particles_, blocks, 0};
-    motion_pass_.dispatch(commands, &total, kMotionWorkgroup);
-  });
-  std::vector<std::byte> bytes(kMotionValues * real_size(precision_));
-  download(device_, motion_, bytes);
-  const std::vector<double> motion = reals_from_bytes(bytes, precision_);
-  // While every position of the motion stays within the reach of where the candidates were found,
-  // they hold every pair that can come within the thickness (SelfContacts::refresh_candidates).
-  if (found_ && std::sqrt(motion[kMotionFromFound]) <= reach_) return;
-  const double moved = std::sqrt(motion[kMotionOfStep]);
-  const double reach = SelfContacts::candidate_reach(moved, found_ ? reach_ : 0.0, thickness_, spacing_);
-  candidates_.find(start, end, thickness_ + reach);
-  candidates_.prune(end, SelfContacts::prune_distance(moved, reach, thickness_));
-  device_.submit([&](VkCommandBuffer commands) { record_copy(commands, end, found_at_, found_at_.bytes()); });
-  reach_ = reach;
-  found_ = true;
-}
-
-std::uint32_t DeviceSelfContacts::detect_and_list(const Buffer& start, const Buffer& end, std::uint32_t mask) {
-  candidates_.detect(start, end, thickness_);
+DeviceSelfContacts::Detection DeviceSelfContacts::submit_detection(const Buffer& start, const Buffer& end,
+                                                                   std::uint32_t mask, bool motion,
+                                                                   bool zero_counters) {
+  candidates_.prepare_detect(start, end, thickness_);
   const std::uint32_t candidates = candidates_.candidate_count();
-  if (candidates == 0) return 0;
   if (slot_.bytes() < std::uint64_t{candidates} * kWord) {
     const std::uint64_t capacity = candidates + candidates / 2;
     slot_ = Buffer(device_, capacity * kWord, Memory::device_local);
@@ -107,15 +86,52 @@ std::uint32_t DeviceSelfContacts::detect_and_list(const Buffer& start, const Buf
     slot_scan_.reserve(static_cast<std::uint32_t>(capacity));
   }
   slot_scan_.bind(slot_);
-  list_pass_.bind(std::vector<const Buffer*>{&candidates_.flag_buffer(), &slot_, &list_});
+  list_pass_.bind(std::vector<const Buffer*>{&candidates_.flag_buffer(), &slot_, &list_, &listed_});
+  if (motion) motion_pass_.bind(std::vector<const Buffer*>{&start, &end, &found_at_, &block_motion_, &motion_});
+  const std::uint32_t blocks = workgroups_for(particles_, kMotionWorkgroup);
+  const std::uint64_t motion_bytes = kMotionValues * real_size(precision_);
   device_.submit([&](VkCommandBuffer commands) {
-    const ListPassConstants count{kListCount, candidates, mask, 0};
-    list_pass_.dispatch(commands, &count, candidates);
-    slot_scan_.record(commands, candidates);
-    const ListPassConstants write{kListWrite, candidates, mask, 0};
-    list_pass_.dispatch(commands, &write, candidates);
+    if (zero_counters) record_zero(commands, counters_, kCounters * kWord);
+    if (motion) {
+      const MotionPassConstants per_block{kMotionBlocks, particles_, blocks, 0};
+      motion_pass_.dispatch(commands, &per_block, particles_);
+      const MotionPassConstants total{kMotionTotal, particles_, blocks, 0};
+      motion_pass_.dispatch(commands, &total, kMotionWorkgroup);
+      record_readback(commands, motion_, readback_, motion_bytes);
+    }
+    candidates_.record_detect(commands);
+    if (candidates > 0) {
+      const ListPassConstants count{kListCount, candidates, mask, 0};
+      list_pass_.dispatch(commands, &count, candidates);
+      slot_scan_.record(commands, candidates);
+      const ListPassConstants write{kListWrite, candidates, mask, 0};
+      list_pass_.dispatch(commands, &write, candidates);
+    }
+    const ListPassConstants total{kListTotal, candidates, mask, 0};
+    list_pass_.dispatch(commands, &total, 1);
+    record_readback(commands, listed_, readback_, kWord, kListedOffset);
+    record_readback(commands, counters_, readback_, kCounters * kWord, kCountersOffset);
   });
-  return slot_scan_.total(candidates);
+  Detection detection;
+  std::memcpy(&detection.listed, readback_.mapped() + kListedOffset, kWord);
+  if (motion) detection.motion = reals_from_bytes(std::span(readback_.mapped(), motion_bytes), precision_);
+  return detection;
+}
+
+std::uint32_t DeviceSelfContacts::detect_and_list(const Buffer& start, const Buffer& end, std::uint32_t mask,
+                                                  bool zero_counters) {
+  const Detection detection = submit_detection(start, end, mask, true, zero_counters);
+  // While every position of the motion stays within the reach of where the candidates were found,
+  // they hold every pair that can come within the thickness (SelfContacts::refresh_candidates).
+  if (found_ && std::sqrt(detection.motion[kMotionFromFound]) <= reach_) return detection.listed;
+  const double moved = std::sqrt(detection.motion[kMotionOfStep]);
+  const double reach = SelfContacts::candidate_reach(moved, found_ ? reach_ : 0.0, thickness_, spacing_);
+  candidates_.find(start, end, thickness_ + reach);
+  candidates_.prune(end, SelfContacts::prune_distance(moved, reach, thickness_));
+  device_.submit([&](VkCommandBuffer commands) { record_copy(commands, end, found_at_, found_at_.bytes()); });
+  reach_ = reach;
+  found_ = true;
+  return submit_detection(start, end, mask, false, false).listed;
 }
 
 void DeviceSelfContacts::prepare_responses(std::uint32_t listed, const Buffer& start, const Buffer& position,
@@ -150,22 +166,17 @@ void DeviceSelfContacts::record_table(VkCommandBuffer commands, std::uint32_t li
   respond(commands, kRespondShare, listed);
 }
 
-std::vector<std::uint32_t> DeviceSelfContacts::counters() const {
-  std::vector<std::uint32_t> out(kCounters);
-  download(device_, counters_, std::as_writable_bytes(std::span(out)));
-  return out;
-}
-
 SelfContactCounts DeviceSelfContacts::apply(const Buffer& start, const Buffer& position, const Buffer& velocity,
                                             double step, const MovedLedger& ledger) {
   SelfContactCounts counts;
   ledger_ = ledger.before != nullptr && ledger.moved != nullptr;
-  upload(device_, respond_real_, real_bytes(std::vector<double>{thickness_, friction_, step}, precision_));
-  device_.submit([&](VkCommandBuffer commands) { record_zero(commands, counters_, kCounters * kWord); });
+  if (step != respond_step_) {
+    upload(device_, respond_real_, real_bytes(std::vector<double>{thickness_, friction_, step}, precision_));
+    respond_step_ = step;
+  }
 
   // Stage 2: the near pairs pushed to the thickness, on the side they were on at the start.
-  refresh(start, position);
-  const std::uint32_t near = detect_and_list(start, position, kPairNear);
+  const std::uint32_t near = detect_and_list(start, position, kPairNear, true);
   if (near > 0) {
     prepare_responses(near, start, position, velocity, ledger);
     device_.submit([&](VkCommandBuffer commands) {
@@ -181,8 +192,7 @@ SelfContactCounts DeviceSelfContacts::apply(const Buffer& start, const Buffer& p
   // Stage 3: rounds of detection along the motion and response to the touching pairs.
   std::uint32_t touching = 0;
   for (int round = 0; round <= kImpactRounds; ++round) {
-    refresh(start, position);
-    touching = detect_and_list(start, position, kPairTouching);
+    touching = detect_and_list(start, position, kPairTouching, false);
     if (touching == 0 || round == kImpactRounds) break;
     prepare_responses(touching, start, position, velocity, ledger);
     device_.submit([&](VkCommandBuffer commands) {
@@ -193,7 +203,9 @@ SelfContactCounts DeviceSelfContacts::apply(const Buffer& start, const Buffer& p
       }
     });
   }
-  const std::vector<std::uint32_t> counted = counters();
+  // As the last detection, after the last responses, read them back.
+  std::vector<std::uint32_t> counted(kCounters);
+  std::memcpy(counted.data(), readback_.mapped() + kCountersOffset, kCounters * kWord);
   counts.contacts = counted[kCounterPushed];
   counts.impacts = counted[kCounterImpacts];
   counts.unresolved = touching;

@@ -67,17 +67,23 @@ class DeviceSelfContacts {
   static constexpr int kProximityIterations = 32;
 
  private:
-  // Stage 1: the candidates kept, or found again, for the motion start -> end.
-  void refresh(const Buffer& start, const Buffer& end);
-  // Stages 2 and 3's tests on the kept candidates, then those flagged with `mask` listed; their count.
-  std::uint32_t detect_and_list(const Buffer& start, const Buffer& end, std::uint32_t mask);
+  // Stage 1 and stages 2 and 3's tests over the motion start -> end, those flagged with `mask`
+  // listed; their count. One submission (with `zero_counters`, the counters zeroed in it) makes the
+  // tests on the candidates kept and reads back how far the particles moved; where one went past
+  // the reach, the candidates are found again and a second makes the tests anew.
+  std::uint32_t detect_and_list(const Buffer& start, const Buffer& end, std::uint32_t mask, bool zero_counters);
+  struct Detection {
+    std::uint32_t listed = 0;
+    std::vector<double> motion;  // [kMotionValues] squared distances (with `motion`)
+  };
+  Detection submit_detection(const Buffer& start, const Buffer& end, std::uint32_t mask, bool motion,
+                             bool zero_counters);
   // Room for `listed` pairs in the response arrays, and the response pass bound.
   void prepare_responses(std::uint32_t listed, const Buffer& start, const Buffer& position, const Buffer& velocity,
                          const MovedLedger& ledger);
   // Records the table from particles to the `listed` pairs and each pair's share.
   void record_table(VkCommandBuffer commands, std::uint32_t listed) const;
   void respond(VkCommandBuffer commands, std::uint32_t phase, std::uint32_t listed, bool first_round = false) const;
-  std::vector<std::uint32_t> counters() const;
 
   Device& device_;
   Precision precision_;
@@ -91,7 +97,13 @@ class DeviceSelfContacts {
   double reach_ = 0.0;  // m: how far a particle may move from found_at_ before they are found again
 
   Buffer inverse_mass_, found_at_, block_motion_, motion_, slot_, list_, table_start_, table_fill_, entries_, geometry_,
-      change_, counters_, respond_real_;
+      change_, counters_, respond_real_, listed_;
+  // Host-visible: the motion's maxima at its start, the listed pairs' count at kListedOffset, the
+  // counters at kCountersOffset, as the last detection left them.
+  Buffer readback_;
+  static constexpr std::uint64_t kListedOffset = 16;
+  static constexpr std::uint64_t kCountersOffset = 24;
+  double respond_step_ = -1.0;  // s: the step respond_real_ holds (none yet)
   std::uint32_t list_capacity_ = 0;
   bool ledger_ = false;  // the bound ledger is kept
   ComputePipeline motion_pass_, list_pass_, respond_pass_;

@@ -50,9 +50,11 @@ struct DetectPassConstants {
   uint candidates;
 };
 
-// self_list.comp's phases: the candidates with any bit of a mask, counted, then listed.
+// self_list.comp's phases: the candidates with any bit of a mask, counted, then listed, then (one
+// invocation) how many.
 CLOTHSIM_SLOT kListCount = 0;
 CLOTHSIM_SLOT kListWrite = 1;
+CLOTHSIM_SLOT kListTotal = 2;
 
 struct ListPassConstants {
   uint phase;  // kList*
