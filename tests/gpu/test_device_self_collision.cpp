@@ -82,6 +82,27 @@ TEST(DeviceSelfCollision, TearCrumpleTearsCreasesAndNeverCrosses) {
   testing::expect_tear_crumple_run(spec, spec.output.duration, 30);
 }
 
+// Self-collision switched off and on again between frames (the viewer's panel, a script): the
+// device's pass stops and starts with it, its arrays made for it, and the sheet stays uncrossed
+// while it is on.
+TEST(DeviceSelfCollision, ImplicitEulerSwitchesItsSelfPassBetweenFrames) {
+  const BackendSettings vulkan{Backend::vulkan, 0, request(Precision::float64)};
+  Simulation simulation = testing::folded_sheet(IntegratorKind::implicit_euler, 1e-3, 1, vulkan);
+  simulation.set_self_collision(false);
+  ASSERT_TRUE(simulation.advance_to(0.01)) << simulation.failure()->message;
+  EXPECT_EQ(simulation.contact_statistics().self_contact_steps, 0u);
+  simulation.set_self_collision(true);
+  for (int frame = 2; frame <= 8; ++frame) {
+    ASSERT_TRUE(simulation.advance_to(0.01 * frame)) << simulation.failure()->message;
+    EXPECT_EQ(count_sheet_crossings(simulation.model(), simulation.state().position), 0u) << "frame " << frame;
+  }
+  const std::uint64_t on = simulation.contact_statistics().self_contact_steps;
+  EXPECT_GT(on, 100u);
+  simulation.set_self_collision(false);
+  ASSERT_TRUE(simulation.advance_to(0.09)) << simulation.failure()->message;
+  EXPECT_EQ(simulation.contact_statistics().self_contact_steps, on);
+}
+
 // tear-crumple saved while it folds onto itself and restored: the restored run goes on bit for bit
 // (the device's self pass keeps nothing between advances that a checkpoint lacks: it finds its
 // candidates again at each advance's start, and the host's pass that finishes a step is new each
