@@ -20,10 +20,6 @@ SheetElements elements_of(const ClothModel& model) {
   return elements;
 }
 
-std::vector<double> inverse_masses(const ClothModel& model) {
-  return {model.particle_inverse_mass.begin(), model.particle_inverse_mass.end()};
-}
-
 Buffer real_buffer(Device& device, Precision precision, const std::vector<double>& values) {
   const std::vector<std::byte> bytes = real_bytes(values, precision);
   Buffer buffer(device, std::max<std::uint64_t>(bytes.size(), 8), Memory::device_local);
@@ -38,12 +34,12 @@ DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, cons
       precision_(precision),
       particles_(static_cast<std::uint32_t>(model.particle_count())),
       built_broken_(model.broken_connector_count),
-      built_anchors_(model.anchors.size()),
+      built_inverse_mass_(model.particle_inverse_mass.begin(), model.particle_inverse_mass.end()),
       thickness_(model.collision.thickness),
       friction_(model.collision.friction),
       spacing_(model.spacing),
       candidates_(device, precision, particles_, elements_of(model)),
-      inverse_mass_(real_buffer(device, precision, inverse_masses(model))),
+      inverse_mass_(real_buffer(device, precision, built_inverse_mass_)),
       found_at_(device, std::uint64_t{particles_} * 3 * real_size(precision), Memory::device_local),
       block_motion_(device,
                     std::uint64_t{workgroups_for(particles_, kMotionWorkgroup)} * kMotionValues * real_size(precision),
@@ -70,8 +66,8 @@ DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, cons
 
 bool DeviceSelfContacts::made_for(const ClothModel& model) const {
   return model.particle_count() == particles_ && model.broken_connector_count == built_broken_ &&
-         model.anchors.size() == built_anchors_ && model.collision.thickness == thickness_ &&
-         model.collision.friction == friction_;
+         std::ranges::equal(model.particle_inverse_mass, built_inverse_mass_) &&
+         model.collision.thickness == thickness_ && model.collision.friction == friction_;
 }
 
 DeviceSelfContacts::Detection DeviceSelfContacts::submit_detection(const Buffer& start, const Buffer& end,

@@ -48,7 +48,8 @@ class DeviceSelfContacts {
   DeviceSelfContacts(Device& device, Precision precision, const ClothModel& model);
 
   // Whether this pass was made for the sheet `model` has now: the same particles, the same broken
-  // connectors and anchors (else make a new one).
+  // connectors, the same inverse masses (anchors set or let go, masses edited live), thickness and
+  // friction (else make a new one).
   bool made_for(const ClothModel& model) const;
 
   // Stages 1 to 3 after a step of `step` s from `start` to (`position`, `velocity`), [particles][3]
@@ -88,8 +89,8 @@ class DeviceSelfContacts {
   Device& device_;
   Precision precision_;
   std::uint32_t particles_;
-  std::size_t built_broken_;   // the model's broken connectors when made
-  std::size_t built_anchors_;  // and its anchors
+  std::size_t built_broken_;                // the model's broken connectors when made
+  std::vector<double> built_inverse_mass_;  // [particles] the model's when made (0 anchored)
   double thickness_, friction_;
   double spacing_;
   DeviceSelfCandidates candidates_;
