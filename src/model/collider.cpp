@@ -44,6 +44,7 @@ using uint = std::uint32_t;
 using std::clamp;
 using std::sqrt;
 inline constexpr double kNoSurface = std::numeric_limits<double>::infinity();
+inline constexpr double kRealEpsilon = std::numeric_limits<double>::epsilon();
 #include "core/closest_points.inc"
 struct MeshView {
   const TriangleMesh* mesh;

@@ -147,6 +147,37 @@ TEST(ColliderMesh, HierarchyAgreesWithBruteForce) {
   }
 }
 
+// A box is skipped only when farther than the best triangle by more than rounding. Here a sliver's
+// nearest point to x, computed on one of its edges, lies 1e-16 m outside its own box, so it is
+// nearer than its box's distance as computed, which is also the exact distance of four triangles
+// meeting at the box's top corner, visited first. Skipping the box when merely as far as them
+// (as the traversal did until a fuzz run found it) returned their distance, one unit in the last
+// place above the thin triangle's, where the search over every triangle returns the least.
+TEST(ColliderMesh, HierarchyFindsATriangleThatRoundingPutsBeyondItsBox) {
+  TriangleMesh mesh;
+  const Vec3 top{0.79928721379418843, 0.94170030792588055, 0.11586461863460351};
+  mesh.vertex = {top,
+                 {-0.79025818328130681, -0.75896653928966096, -0.48283254199342729},
+                 {-0.17165911817973378, -0.097122645389906254, -0.24984005377568277}};
+  mesh.triangle.push_back({0, 1, 2});  // a sliver: its third corner 8e-7 m from the line of the others
+  for (std::uint32_t k = 0; k < 4; ++k) {
+    const auto first = static_cast<std::uint32_t>(mesh.vertex.size());
+    mesh.vertex.push_back(top + Vec3{-2.0 - 0.1 * k, -1.0, 0.3});
+    mesh.vertex.push_back(top + Vec3{-2.0 - 0.1 * k, -1.0, -0.3});
+    mesh.triangle.push_back({0, first, first + 1});
+  }
+  prepare_triangle_mesh(mesh);
+  // Straight above the top corner: every triangle's box is as far as the corner.
+  const Vec3 x{top.x, 1.695937914099352, top.z};
+  Collider collider;
+  collider.shape = ColliderShape::mesh;
+  collider.mesh = std::make_shared<const TriangleMesh>(mesh);
+  const double least = mesh_distance_brute_force(mesh, x).distance;
+  const double to_corner = x.y - top.y;
+  ASSERT_LT(std::abs(least), to_corner);  // the sliver, nearer by rounding
+  EXPECT_EQ(signed_distance(collider, x, 0.0).distance, least);
+}
+
 TEST(ColliderMesh, MovesAlongItsPath) {
   Collider mesh;
   mesh.shape = ColliderShape::mesh;

@@ -76,6 +76,11 @@ uint mesh_triangle_count(MeshView m) { return m.triangles; }
 
 // An empty mesh's distance: far beyond any scene, within float's range.
 const Real kNoSurface = Real(1e30);
+#if CLOTHSIM_FLOAT64
+const Real kRealEpsilon = Real(2.220446049250313e-16);  // 2^-52
+#else
+const Real kRealEpsilon = Real(1.1920928955078125e-7);  // 2^-23
+#endif
 #include "model/mesh_distance.inc"
 
 // The signed distance of x from the collider, queried in the shape's frame as given, as
