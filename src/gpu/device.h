@@ -32,6 +32,9 @@ struct DeviceSelection {
   std::uint32_t index = 0;  // the device, as `clothsim devices` numbers it
   Precision precision = Precision::float32;
   bool validation = kValidationByDefault;  // the validation layers, where installed
+  // The explicit methods' stages on a lattice sheet in one pass each (lattice_stage.comp), or in
+  // three (rk_stage_state, lattice_elements, stage_acceleration): the same bits, kept to compare.
+  bool fused_stages = true;
 };
 
 class Device {

@@ -149,6 +149,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       adaptive_(settings.kind == IntegratorKind::rkf45),
       symplectic_(settings.kind == IntegratorKind::symplectic_euler),
       lattice_(force_path(model, options) == DeviceForcePath::lattice),
+      fused_stages_(lattice_ && selection.fused_stages),
       precision_(selection.precision),
       device_(DeviceOptions{selection.index, selection.validation}),
       forces_(checked(device_, model, settings.kind, selection.precision, force_path(model, options)), model,
@@ -165,6 +166,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       stage_state_pass_(shader_pipeline(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
       lattice_pass_(shader_pipeline(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
       acceleration_pass_(shader_pipeline(device_, "stage_acceleration", precision_, 16, sizeof(StagePassConstants))),
+      lattice_stage_pass_(shader_pipeline(device_, "lattice_stage", precision_, 16, sizeof(LatticePassConstants))),
       solution_pass_(
           shader_pipeline(device_, "rk_solution", precision_, 16, sizeof(StagePassConstants), kReduceWorkgroup)),
       control_pass_(
@@ -216,6 +218,11 @@ void DeviceIntegrator::bind_passes() {
   bind(lattice_pass_, {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces),
                        own(particle_power), own(control_uint), own(event_params), own(state_position),
                        own(state_velocity), own(rows)});
+  bind(lattice_stage_pass_, {own(state_position), own(state_velocity), own(state_position_low),
+                             own(state_velocity_low), own(acceleration), own(rows), own(control_real),
+                             own(control_uint), own(particle_anchor), own(anchor_paths), own(lattice_params),
+                             own(event_params), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
+                             own(particle_power)});
   if (!lattice_) forces_.read_origin_from(arrays_[state_position], arrays_[state_velocity]);
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
@@ -262,6 +269,13 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
   const std::uint32_t lattice_cols = lattice_ ? static_cast<std::uint32_t>(model_.cols) : 0u;
   const std::uint32_t damped = (options_.terms & kSpringDamping) != 0 ? 1u : 0u;
   for (std::uint32_t i = 0; i < stages; ++i) {
+    if (fused_stages_) {
+      const LatticePassConstants lattice{
+          particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i, stages, params_particle_};
+      lattice_stage_pass_.dispatch(commands, &lattice, particles_);
+      timer.mark(commands, StepStage::forces);
+      continue;
+    }
     const StagePassConstants stage{particles_, i, stages, 0, lattice_cols};
     stage_state_pass_.dispatch(commands, &stage, particles_);
     timer.mark(commands, StepStage::stage_sums);
@@ -511,20 +525,28 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
   double reals = 0.0;
   double indices = 0.0;
   for (std::size_t i = 0; i < stages; ++i) {
-    // rk_stage_state: the state in, the stage state out, and the earlier stages' accelerations
-    // its Nystrom row weighs.
+    // The earlier stages' accelerations stage i's Nystrom row weighs.
     std::size_t weighed = 0;
     for (std::size_t l = 0; l < i; ++l) {
       const std::size_t row = i * kRowReals;
       if (row_reals[row + 1 + l] != 0.0 || row_reals[row + 1 + kMaxDeviceStages + l] != 0.0) ++weighed;
     }
+    const double params = params_particle_ == kOwnParams ? kLatticeParams + 2 : 0.0;
+    if (fused_stages_) {
+      // lattice_stage: the same state, low parts and accelerations in (its neighbours' as cached),
+      // the spring parameters, mass and inverse mass, the acceleration out and the three power
+      // sums read and written; no stage state and no springs' forces between passes.
+      reals += 6 + low + 3 * static_cast<double>(weighed) + params + 1 + 1 + 3 + 2 + 4;
+      indices += 1;  // the particle's anchor
+      continue;
+    }
+    // rk_stage_state: the state in, the stage state out, and those accelerations.
     reals += 6 + low + 6 + 3 * static_cast<double>(weighed);
     indices += 1;  // the particle's anchor
     // lattice_elements: the stage state (in float32 its offsets, and the state they are from), the
     // particle's spring parameters and its two connectors' original lengths in (on a uniform sheet
     // one particle's, read once for all); its force and its four neighbours' shares out, and its
     // damping power sum read and written.
-    const double params = params_particle_ == kOwnParams ? kLatticeParams + 2 : 0.0;
     reals += 6 + origin + params + kLatticeForces + 2;
     // stage_acceleration: the stage velocity (in float32 its offset and the state's), mass and
     // inverse mass, the forces gathered, the acceleration out, the drag and anchor power sums

@@ -4,7 +4,10 @@
 // The state, the model and the method's scratch live in device memory. An attempt at a step is
 // a fixed sequence of passes, recorded once into a command buffer and submitted as often as
 // needed (docs/gpu.md, "The step on the device"):
-//   for each stage i:  rk_stage_state        y_i = y + h sum_j a_ij (V_j, K_j); anchors on their paths
+//   for each stage i:  lattice_stage         on a lattice sheet, the three passes below in one: each
+//                                            particle forms the stage states its springs and its
+//                                            neighbours' reach, sums their forces on it, writes K_i
+//   or                 rk_stage_state        y_i = y + h sum_j a_ij (V_j, K_j); anchors on their paths
 //                      lattice_elements      each particle's own springs: their forces on it and on its
 //                                            four neighbours, their damping power (a lattice sheet), or
 //                      connector, radial     the element forces into slots (DeviceForces, any sheet)
@@ -228,6 +231,7 @@ class DeviceIntegrator final : public Integrator {
   bool adaptive_;
   bool symplectic_;
   bool lattice_;
+  bool fused_stages_;  // lattice_stage for each stage (the lattice path, DeviceSelection::fused_stages)
   std::uint32_t laws_ = 0;  // EventPassConstants::laws of the recorded attempts
   // LatticePassConstants::params_particle of the recorded attempts (device_lattice.cpp).
   std::uint32_t params_particle_ = kOwnParams;
@@ -248,8 +252,9 @@ class DeviceIntegrator final : public Integrator {
   // What goes up each advance (the control words, the anchor paths, the collider rows), through
   // one staging buffer that grows as needed: upload_input().
   Buffer input_staging_;
-  ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, solution_pass_, control_pass_,
-      events_connectors_pass_, events_radial_pass_, accept_pass_, obstacle_contacts_pass_, obstacle_energy_pass_;
+  ComputePipeline stage_state_pass_, lattice_pass_, acceleration_pass_, lattice_stage_pass_, solution_pass_,
+      control_pass_, events_connectors_pass_, events_radial_pass_, accept_pass_, obstacle_contacts_pass_,
+      obstacle_energy_pass_;
   std::map<std::uint32_t, RecordedAttempts> recorded_;  // by attempts per submission
   std::optional<StateChecksPass> state_checks_;          // where check_state() runs on the device
 

@@ -140,7 +140,8 @@ std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, con
   }
 #if CLOTHSIM_HAVE_VULKAN
   try {
-    const gpu::DeviceSelection selection{backend.device, precision};
+    gpu::DeviceSelection selection{backend.device, precision};
+    selection.fused_stages = backend.fused_stages;
     if (integrator.kind == IntegratorKind::implicit_euler) {
       return std::make_unique<gpu::DeviceImplicitEuler>(model, integrator, options, selection);
     }

@@ -1,6 +1,8 @@
 // A particle's place in a rows x cols lattice (build_lattice's numbering, p = row cols + col):
 // whether it has a neighbour in each direction (0 east, 1 south, 2 west, 3 north) and which.
 // The lattice path's passes (lattice_elements, lattice_events_*) walk a particle's springs by it.
+#ifndef CLOTHSIM_LATTICE_CELL_GLSL
+#define CLOTHSIM_LATTICE_CELL_GLSL
 struct LatticeCell {
   bool has[4];
   uint neighbour[4];
@@ -26,3 +28,5 @@ uint arm_event_params(uint d, LatticeCell cell, uint p) {
 // The arms of a particle's radial springs, kRadialArmB and kRadialArmC, in build_lattice's order:
 // the model's table.
 #include "model/lattice_springs.inc"
+
+#endif

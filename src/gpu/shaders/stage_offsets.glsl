@@ -24,29 +24,28 @@
 
 #include "gpu/shaders/device_step.h"  // CLOTHSIM_STAGE_OFFSETS
 
-// GLSL passes no buffer to a function: one reader per array.
-#ifndef CLOTHSIM_STAGE_VELOCITY_ONLY
-Vec3 stage_offset_position(uint q) { return Vec3(position[3 * q], position[3 * q + 1], position[3 * q + 2]); }
-Vec3 origin_position_of(uint q) {
-  return Vec3(origin_position[3 * q], origin_position[3 * q + 1], origin_position[3 * q + 2]);
-}
+#include "gpu/shaders/stage_point.glsl"
 
-// Particle q's stage position, relative to particle `origin`'s in float32.
-Vec3 stage_position_near(uint q, uint origin) {
-#if CLOTHSIM_STAGE_OFFSETS
-  if (q == origin) return Vec3(0.0);
-  return (origin_position_of(q) - origin_position_of(origin)) +
-         (stage_offset_position(q) - stage_offset_position(origin));
-#else
-  return stage_offset_position(q);
-#endif
-}
-#endif
-
-Vec3 stage_offset_velocity(uint q) { return Vec3(velocity[3 * q], velocity[3 * q + 1], velocity[3 * q + 2]); }
+// GLSL passes no buffer to a function: one reader per array. An includer that defines
+// CLOTHSIM_STAGE_COMPUTED has no stage arrays: it defines stage_offset_point(q), formed from the
+// state where it is needed (lattice_stage, from stage_state.glsl), and reads no stage velocity
+// alone.
 Vec3 origin_velocity_of(uint q) {
   return Vec3(origin_velocity[3 * q], origin_velocity[3 * q + 1], origin_velocity[3 * q + 2]);
 }
+
+// The stage velocity itself of particle q, from what the stage arrays hold (for drag and the
+// anchors' power).
+Vec3 stage_velocity_from(uint q, Vec3 stage_velocity) {
+#if CLOTHSIM_STAGE_OFFSETS
+  return origin_velocity_of(q) + stage_velocity;
+#else
+  return stage_velocity;
+#endif
+}
+
+#ifndef CLOTHSIM_STAGE_COMPUTED
+Vec3 stage_offset_velocity(uint q) { return Vec3(velocity[3 * q], velocity[3 * q + 1], velocity[3 * q + 2]); }
 
 // Particle q's stage velocity, relative to particle `origin`'s in float32.
 Vec3 stage_velocity_near(uint q, uint origin) {
@@ -59,13 +58,53 @@ Vec3 stage_velocity_near(uint q, uint origin) {
 #endif
 }
 
-// Particle q's stage velocity itself (for drag and the anchors' power).
-Vec3 stage_velocity(uint q) {
+Vec3 stage_velocity(uint q) { return stage_velocity_from(q, stage_offset_velocity(q)); }
+#endif
+
+#ifndef CLOTHSIM_STAGE_VELOCITY_ONLY
+Vec3 origin_position_of(uint q) {
+  return Vec3(origin_position[3 * q], origin_position[3 * q + 1], origin_position[3 * q + 2]);
+}
+
+#ifndef CLOTHSIM_STAGE_COMPUTED
+Vec3 stage_offset_position(uint q) { return Vec3(position[3 * q], position[3 * q + 1], position[3 * q + 2]); }
+
+// Particle q's stage position, relative to particle `origin`'s in float32.
+Vec3 stage_position_near(uint q, uint origin) {
 #if CLOTHSIM_STAGE_OFFSETS
-  return origin_velocity_of(q) + stage_offset_velocity(q);
+  if (q == origin) return Vec3(0.0);
+  return (origin_position_of(q) - origin_position_of(origin)) +
+         (stage_offset_position(q) - stage_offset_position(origin));
 #else
-  return stage_offset_velocity(q);
+  return stage_offset_position(q);
 #endif
 }
+
+StagePoint stage_offset_point(uint q) {
+  StagePoint point;
+  point.position = stage_offset_position(q);
+  point.velocity = stage_offset_velocity(q);
+  return point;
+}
+#endif
+
+// Particle q's stage state `stage` (its stage_offset_point), relative in float32 to particle
+// `origin`'s, whose own is `at_origin`: what stage_position_near and stage_velocity_near give.
+StagePoint stage_point_relative(uint q, StagePoint stage, uint origin, StagePoint at_origin) {
+#if CLOTHSIM_STAGE_OFFSETS
+  StagePoint point;
+  if (q == origin) {
+    point.position = Vec3(0.0);
+    point.velocity = Vec3(0.0);
+    return point;
+  }
+  point.position = (origin_position_of(q) - origin_position_of(origin)) + (stage.position - at_origin.position);
+  point.velocity = (origin_velocity_of(q) - origin_velocity_of(origin)) + (stage.velocity - at_origin.velocity);
+  return point;
+#else
+  return stage;
+#endif
+}
+#endif
 
 #endif

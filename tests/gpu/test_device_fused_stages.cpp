@@ -1,0 +1,184 @@
+// The lattice path's stages in one pass each (lattice_stage.comp) against the three passes each
+// they replace (rk_stage_state, lattice_elements, stage_acceleration; issue 22 item 1). The fused
+// pass forms the stage states and the neighbours' spring sums itself, with the same functions and
+// in the same order, so each attempt gives the same bits; the step control then takes the same
+// steps, and a whole run is the same run. Held bit for bit in both precisions, on sheets that
+// reach every case the pass has: edges and corners on each side of a lattice that is not square,
+// anchors on each kind of path and one let go, springs torn, yielded and creased between steps
+// (each particle reading its own springs), and a uniform sheet (every particle reading one
+// particle's springs).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <vector>
+
+#include "device_models.h"
+#include "gpu/device_integrator.h"
+#include "scene/builtin_scenes.h"
+#include "scene/scene.h"
+#include "scene/validate_scene.h"
+#include "scene_simulation.h"
+#include "sim/simulation.h"
+
+namespace clothsim {
+namespace {
+
+using testing::paper_lattice;
+using testing::vulkan;
+
+BackendSettings device(Precision precision, bool fused) {
+  BackendSettings backend = vulkan(precision);
+  backend.fused_stages = fused;
+  return backend;
+}
+
+// A 10 x 13 sheet pulled by anchors on a line, a sinusoid and keyframes, with one anchor let go
+// at 0.1 s, that tears (break strain 4 % +- 30 %), yields (2 %, hardening 0.5) and creases (2
+// degrees).
+SceneSpec changing_sheet(const BackendSettings& backend) {
+  SceneSpec spec = scene_from_paper_args("10,13,1,4,1,1400,200,80,5,1", "test");
+  set_scene_field(spec, "anchors",
+                  R"([{"row": 0, "col": 0, "path": {"type": "linear", "velocity": [0.2, 0.1, 0]}},
+                      {"row": 0, "col": 12, "path": {"type": "sinusoid", "amplitude": [0, 0.3, 0.1], "frequency": 3,
+                                                     "phase": 0.4}},
+                      {"row": 0, "col": 6, "release_time": 0.1},
+                      {"row": 9, "col": 0, "path": {"type": "keyframes", "keys": [[0, 0, 0, 0], [0.3, 0, -2, 0]]}},
+                      {"row": 9, "col": 12, "path": {"type": "keyframes", "keys": [[0, 0, 0, 0], [0.3, 0, -2, 0]]}}])",
+                  "test");
+  set_scene_field(spec, "springs.connector.break_strain", "0.04", "test");
+  set_scene_field(spec, "springs.connector.break_strain_variation", "0.3", "test");
+  set_scene_field(spec, "springs.connector.yield_strain", "0.02", "test");
+  set_scene_field(spec, "springs.connector.hardening", "0.5", "test");
+  set_scene_field(spec, "springs.adjacent.yield_angle_deg", "2", "test");
+  set_scene_field(spec, "springs.opposite.yield_angle_deg", "2", "test");
+  validate_scene(spec, "test");
+  spec.backend = backend;
+  return spec;
+}
+
+struct RunResult {
+  ClothState state;
+  IntegratorStats stats;
+  SpringEventCounts events;
+  std::vector<std::uint8_t> live;
+  std::vector<double> rest_length, rest_angle;
+  double balance_error = 0.0;
+};
+
+RunResult run(const SceneSpec& spec, double t) {
+  Simulation simulation = make_simulation(spec);
+  const int frames = static_cast<int>(std::lround(t * spec.output.fps));
+  for (int k = 1; k <= frames; ++k) {
+    EXPECT_TRUE(simulation.advance_to(static_cast<double>(k) / spec.output.fps)) << simulation.failure()->message;
+  }
+  const ClothModel& model = simulation.model();
+  return {simulation.state(),      simulation.integrator_stats(), simulation.event_totals(),
+          model.connector_live,    model.connector_rest_length,   model.radial_rest_angle,
+          simulation.energy_balance().error()};
+}
+
+// The first particle whose position or velocity differs in any bit, or -1.
+long first_difference(const ClothState& a, const ClothState& b) {
+  for (std::size_t p = 0; p < a.position.size(); ++p) {
+    if (!(a.position[p] == b.position[p]) || !(a.velocity[p] == b.velocity[p])) return static_cast<long>(p);
+  }
+  return -1;
+}
+
+void expect_same_run(const RunResult& fused, const RunResult& split, const char* what) {
+  EXPECT_EQ(first_difference(fused.state, split.state), -1) << what;
+  EXPECT_EQ(fused.stats.accepted_steps, split.stats.accepted_steps) << what;
+  EXPECT_EQ(fused.stats.rejected_steps, split.stats.rejected_steps) << what;
+  EXPECT_EQ(fused.stats.force_evaluations, split.stats.force_evaluations) << what;
+  EXPECT_EQ(fused.events.breaks, split.events.breaks) << what;
+  EXPECT_EQ(fused.events.yields, split.events.yields) << what;
+  EXPECT_EQ(fused.events.creases, split.events.creases) << what;
+  EXPECT_EQ(fused.live, split.live) << what;
+  EXPECT_EQ(fused.rest_length, split.rest_length) << what;
+  EXPECT_EQ(fused.rest_angle, split.rest_angle) << what;
+  EXPECT_EQ(fused.state.fracture_work, split.state.fracture_work) << what;
+  EXPECT_EQ(fused.state.plastic_work, split.state.plastic_work) << what;
+  EXPECT_EQ(fused.balance_error, split.balance_error) << what;
+}
+
+TEST(DeviceFusedStages, ASheetThatTearsYieldsAndCreasesOnPathsRunsTheSameBits) {
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    const RunResult fused = run(changing_sheet(device(precision, true)), 0.3);
+    const RunResult split = run(changing_sheet(device(precision, false)), 0.3);
+    std::printf("%s: %llu steps, %zu breaks, %zu yields, %zu creases\n", to_string(precision),
+                static_cast<unsigned long long>(fused.stats.accepted_steps), fused.events.breaks, fused.events.yields,
+                fused.events.creases);
+    ASSERT_GT(fused.events.breaks, 0u) << "the sheet tears";
+    ASSERT_GT(fused.events.yields, 0u) << "the sheet yields";
+    ASSERT_GT(fused.events.creases, 0u) << "the sheet creases";
+    expect_same_run(fused, split, to_string(precision));
+  }
+}
+
+TEST(DeviceFusedStages, AUniformSheetRunsTheSameBits) {
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    SceneSpec spec = builtin_scene("paper-fig5");
+    spec.backend = device(precision, true);
+    const RunResult fused = run(spec, 0.25);
+    spec.backend = device(precision, false);
+    const RunResult split = run(spec, 0.25);
+    expect_same_run(fused, split, to_string(precision));
+  }
+}
+
+// RK4 and symplectic Euler take the fused stages too: 30 steps from a deformed, moving sheet of
+// 7 x 10.
+TEST(DeviceFusedStages, EveryExplicitMethodTakesTheSameSteps) {
+  const ClothModel model = paper_lattice(7, 10);
+  for (IntegratorKind kind : {IntegratorKind::symplectic_euler, IntegratorKind::rk4, IntegratorKind::rkf45}) {
+    IntegratorSettings settings;
+    settings.kind = kind;
+    settings.time_step = 2e-4;
+    std::vector<ClothState> ends;
+    for (bool fused : {true, false}) {
+      gpu::DeviceSelection selection{0, Precision::float64, true};
+      selection.fused_stages = fused;
+      gpu::DeviceIntegrator integrator(model, settings, ForceOptions{}, selection);
+      ClothState state;
+      state.position = model.particle_rest_position;
+      state.velocity.resize(model.particle_count());
+      for (std::size_t p = 0; p < state.position.size(); ++p) {  // stretched, sheared and bent, moving
+        const double s = static_cast<double>(p);
+        state.position[p] += Vec3{0.05 * std::sin(s), 0.08 * std::cos(0.7 * s), 0.03 * std::sin(1.3 * s)};
+        state.velocity[p] = Vec3{0.3 * std::cos(s), -0.2, 0.4 * std::sin(0.5 * s)};
+      }
+      for (int k = 1; k <= 30; ++k) ASSERT_EQ(integrator.step(state, k * 2e-4).status, StepStatus::ok);
+      ends.push_back(state);
+    }
+    EXPECT_EQ(first_difference(ends[0], ends[1]), -1) << to_string(kind);
+  }
+}
+
+// Fused, an RKF45 attempt moves less than half the bytes a particle (counted from the passes'
+// arrays), and its profile has the stage's one pass under "forces".
+TEST(DeviceFusedStages, AnAttemptMovesLessThanHalfTheBytes) {
+  const ClothModel model = paper_lattice(8, 8);
+  for (Precision precision : {Precision::float32, Precision::float64}) {
+    double traffic[2] = {0.0, 0.0};
+    for (bool fused : {true, false}) {
+      gpu::DeviceSelection selection{0, precision, true};
+      selection.fused_stages = fused;
+      gpu::DeviceIntegrator integrator(model, IntegratorSettings{}, ForceOptions{}, selection);
+      ClothState state;
+      state.position = model.particle_rest_position;
+      state.velocity.assign(model.particle_count(), Vec3{});
+      ASSERT_EQ(integrator.step(state, 0.01).status, StepStatus::ok);
+      traffic[fused ? 0 : 1] = integrator.traffic_per_particle_and_attempt();
+      const StepProfile& profile = integrator.profile();
+      EXPECT_GT(profile.seconds(StepStage::forces), 0.0);
+      EXPECT_EQ(profile.timed(StepStage::stage_sums), !fused) << "the stage sums are the fused pass's";
+    }
+    std::printf("%s: %.0f bytes a particle and attempt fused, %.0f in three passes a stage\n", to_string(precision),
+                traffic[0], traffic[1]);
+    EXPECT_LT(traffic[0], 0.5 * traffic[1]) << to_string(precision);
+  }
+}
+
+}  // namespace
+}  // namespace clothsim
