@@ -14,9 +14,9 @@
 #include "commands.h"
 #include "core/error.h"
 #include "memory_check.h"
+#include "perf/suite.h"
 #include "run/run_memory.h"
 #include "run/run_writer.h"
-#include "perf/suite.h"
 #include "sim/backend.h"
 
 namespace clothsim::cli {
@@ -34,6 +34,7 @@ struct BenchFlags {
   std::string backend;
   int device = 0;
   std::string precision;
+  std::string stage_passes;
   MemoryFlags memory;  // --max-memory (memory_check.h)
 
   bool given(const char* flag) const { return app->count(flag) > 0; }
@@ -93,6 +94,15 @@ BenchOptions make_options(const BenchFlags& flags) {
       throw InputError("--precision", "", "expected float64, float32 or auto, got '" + flags.precision + "'");
     }
     options.backend.precision = precision;
+  }
+  if (flags.given("--stage-passes")) {
+    if (flags.stage_passes != "fused" && flags.stage_passes != "split") {
+      throw InputError("--stage-passes", "", "expected fused or split, got '" + flags.stage_passes + "'");
+    }
+    if (options.backend.kind != Backend::vulkan) {
+      throw InputError("--stage-passes", "", "applies to the vulkan backend only (--backend vulkan)");
+    }
+    options.backend.fused_stages = flags.stage_passes == "fused";
   }
   for (IntegratorKind kind : options.integrators) {
     const std::string unsupported = unsupported_by_backend(features_of(kind), options.backend);
@@ -223,6 +233,11 @@ Subcommand add_bench_command(CLI::App& parent) {
          "float64 (the cpu default), float32 (the vulkan default; float32 springs on the cpu) or auto (float32 where "
          "rkf45's tolerances allow it)")
       ->type_name("float32|float64");
+  app->add_option("--stage-passes", flags->stage_passes,
+                  "the vulkan backend's explicit stages on a lattice: fused (one pass a stage) or split (three: the "
+                  "stage state, the springs, the accelerations); the same results. Default: fused on a GPU, split on "
+                  "a CPU device such as lavapipe (docs/gpu.md)")
+      ->type_name("fused|split");
   add_memory_flag(*app, flags->memory);
   app->footer(
       "Each case is the paper's material on an N x N lattice held by its centre particle, falling from rest, "

@@ -10,6 +10,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 
 #include <vulkan/vulkan.h>
@@ -32,9 +33,11 @@ struct DeviceSelection {
   std::uint32_t index = 0;  // the device, as `clothsim devices` numbers it
   Precision precision = Precision::float32;
   bool validation = kValidationByDefault;  // the validation layers, where installed
-  // The explicit methods' stages on a lattice sheet in one pass each (lattice_stage.comp), or in
-  // three (rk_stage_state, lattice_elements, stage_acceleration): the same bits, kept to compare.
-  bool fused_stages = true;
+  // The explicit methods' stages on a lattice sheet in one pass each (lattice_stage.comp) or in
+  // three (rk_stage_state, lattice_elements, stage_acceleration): the same bits. Unset: one on a
+  // GPU, three on a CPU device such as lavapipe, where the one pass's extra arithmetic costs more
+  // than the memory it saves (docs/gpu.md, "One pass per stage").
+  std::optional<bool> fused_stages = std::nullopt;
 };
 
 class Device {

@@ -51,8 +51,8 @@ std::uint32_t workgroups_of(std::uint64_t items) { return workgroups_for(items, 
 Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision,
                 DeviceForcePath path) {
   device.require_precision(precision);
-  device.require_memory(DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind,
-                                                           precision, path, model.colliders.size()),
+  device.require_memory(DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision,
+                                                           path, model.colliders.size()),
                         "the scene");
   return device;
 }
@@ -60,7 +60,7 @@ Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Pr
 // The lattice path (lattice_elements) on a lattice model unless the general kernel is asked for.
 DeviceForcePath force_path(const ClothModel& model, const ForceOptions& options) {
   return model.layout == ModelLayout::lattice && options.kernel != ForceKernel::general ? DeviceForcePath::lattice
-                                                                                         : DeviceForcePath::general;
+                                                                                        : DeviceForcePath::general;
 }
 
 std::vector<double> nystrom_rows(const ButcherTableau& tableau) {
@@ -149,7 +149,6 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       adaptive_(settings.kind == IntegratorKind::rkf45),
       symplectic_(settings.kind == IntegratorKind::symplectic_euler),
       lattice_(force_path(model, options) == DeviceForcePath::lattice),
-      fused_stages_(lattice_ && selection.fused_stages),
       precision_(selection.precision),
       device_(DeviceOptions{selection.index, selection.validation}),
       forces_(checked(device_, model, settings.kind, selection.precision, force_path(model, options)), model,
@@ -161,7 +160,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       control_real_readback_(device_, kControlReals * real_size(precision_), Memory::host_visible),
       control_uint_readback_(device_, kControlUints * 4, Memory::host_visible),
       state_staging_(device_, std::uint64_t{particles_} * (splits_state(precision_) ? 12 : 6) * real_size(precision_),
-                      Memory::host_visible),
+                     Memory::host_visible),
       input_staging_(device_, kInputStagingBytes, Memory::host_visible),
       stage_state_pass_(shader_pipeline(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
       lattice_pass_(shader_pipeline(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
@@ -181,6 +180,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
           shader_pipeline(device_, "obstacle_contacts", precision_, 17, sizeof(ObstaclePassConstants))),
       obstacle_energy_pass_(shader_pipeline(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants),
                                             kReduceWorkgroup)) {
+  fused_stages_ = lattice_ && selection.fused_stages.value_or(device_.info().type != "cpu");
   if (!lattice_ && model.limits.changes_sheet()) {
     throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
   }
@@ -206,23 +206,21 @@ void DeviceIntegrator::bind_passes() {
   const auto forces = [&](F::Array a) { return &forces_.buffer(a); };
   // float32: the trial state's low parts, in the stage arrays (free from rk_solution on).
   const auto trial_low = forces;
-  bind(stage_state_pass_,
-       {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real), own(control_uint),
-        own(particle_anchor), own(anchor_paths), forces(F::position), forces(F::velocity), own(state_position_low),
-        own(state_velocity_low)});
+  bind(stage_state_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
+                           own(control_uint), own(particle_anchor), own(anchor_paths), forces(F::position),
+                           forces(F::velocity), own(state_position_low), own(state_velocity_low)});
   bind(acceleration_pass_, {forces(F::velocity), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
                             forces(F::gather_offset), forces(F::gather_slot), forces(F::slot_force), own(rows),
                             own(control_real), own(control_uint), own(particle_anchor), own(anchor_paths),
                             own(acceleration), own(particle_power), own(lattice_forces), own(state_velocity)});
   // The force passes read the stage as offsets from the state in float32 (shaders/stage_offsets.glsl).
-  bind(lattice_pass_, {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces),
-                       own(particle_power), own(control_uint), own(event_params), own(state_position),
-                       own(state_velocity), own(rows)});
-  bind(lattice_stage_pass_, {own(state_position), own(state_velocity), own(state_position_low),
-                             own(state_velocity_low), own(acceleration), own(rows), own(control_real),
-                             own(control_uint), own(particle_anchor), own(anchor_paths), own(lattice_params),
-                             own(event_params), forces(F::particle_mass), own(inverse_mass), forces(F::environment),
-                             own(particle_power)});
+  bind(lattice_pass_,
+       {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces), own(particle_power),
+        own(control_uint), own(event_params), own(state_position), own(state_velocity), own(rows)});
+  bind(lattice_stage_pass_,
+       {own(state_position), own(state_velocity), own(state_position_low), own(state_velocity_low), own(acceleration),
+        own(rows), own(control_real), own(control_uint), own(particle_anchor), own(anchor_paths), own(lattice_params),
+        own(event_params), forces(F::particle_mass), own(inverse_mass), forces(F::environment), own(particle_power)});
   if (!lattice_) forces_.read_origin_from(arrays_[state_position], arrays_[state_velocity]);
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
@@ -232,15 +230,15 @@ void DeviceIntegrator::bind_passes() {
                        own(block_events), own(block_obstacles)});
   // The explicit methods hold no particle on a surface (`holds` 0): the surface contacts, impulses
   // and holds are never read, and other arrays stand in for them.
-  bind(obstacle_contacts_pass_, {own(control_real), own(control_uint), own(state_position), own(trial_position),
-                                 own(trial_velocity), own(particle_anchor), own(colliders), own(contact_before),
-                                 own(moved), own(mesh_reals), own(mesh_uints), trial_low(F::position),
-                                 trial_low(F::velocity), own(contact_before), own(contact_before), own(moved),
-                                 forces(F::particle_mass)});
-  bind(obstacle_energy_pass_, {own(control_real), own(control_uint), own(trial_position), own(trial_velocity),
-                               own(contact_before), own(moved), own(particle_anchor), own(colliders),
-                               forces(F::particle_mass), forces(F::environment), own(lattice_params),
-                               own(event_params), own(block_obstacles), own(mesh_reals), own(mesh_uints)});
+  bind(obstacle_contacts_pass_,
+       {own(control_real), own(control_uint), own(state_position), own(trial_position), own(trial_velocity),
+        own(particle_anchor), own(colliders), own(contact_before), own(moved), own(mesh_reals), own(mesh_uints),
+        trial_low(F::position), trial_low(F::velocity), own(contact_before), own(contact_before), own(moved),
+        forces(F::particle_mass)});
+  bind(obstacle_energy_pass_,
+       {own(control_real), own(control_uint), own(trial_position), own(trial_velocity), own(contact_before), own(moved),
+        own(particle_anchor), own(colliders), forces(F::particle_mass), forces(F::environment), own(lattice_params),
+        own(event_params), own(block_obstacles), own(mesh_reals), own(mesh_uints)});
   bind(events_connectors_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
                                  own(event_flags), own(control_real), own(control_uint)});
   bind(events_radial_pass_, {own(state_position), own(lattice_params), own(event_params), own(event_energy),
@@ -264,6 +262,13 @@ void DeviceIntegrator::bind_passes() {
 
 DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with the device's pool
 
+std::uint32_t DeviceIntegrator::lattice_stage_invocations() const {
+  // A workgroup of kStageTile x kStageTile invocations a tile (lattice_stage.comp).
+  constexpr std::uint32_t kStageTile = 8;
+  const auto tiles = [](int count) { return (static_cast<std::uint32_t>(count) + kStageTile - 1) / kStageTile; };
+  return tiles(model_.rows) * tiles(model_.cols) * kStageTile * kStageTile;
+}
+
 void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer) const {
   const auto stages = static_cast<std::uint32_t>(tableau_.stages);
   const std::uint32_t lattice_cols = lattice_ ? static_cast<std::uint32_t>(model_.cols) : 0u;
@@ -272,7 +277,7 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
     if (fused_stages_) {
       const LatticePassConstants lattice{
           particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i, stages, params_particle_};
-      lattice_stage_pass_.dispatch(commands, &lattice, particles_);
+      lattice_stage_pass_.dispatch(commands, &lattice, lattice_stage_invocations());
       timer.mark(commands, StepStage::forces);
       continue;
     }
@@ -358,8 +363,8 @@ void DeviceIntegrator::write_anchor_paths(double t0) {
 
 void DeviceIntegrator::upload_input(Buffer& destination, std::span<const std::byte> bytes) {
   if (input_staging_.bytes() < bytes.size()) {
-    input_staging_ = Buffer(device_, std::max<std::uint64_t>(bytes.size(), 2 * input_staging_.bytes()),
-                            Memory::host_visible);
+    input_staging_ =
+        Buffer(device_, std::max<std::uint64_t>(bytes.size(), 2 * input_staging_.bytes()), Memory::host_visible);
   }
   upload(device_, destination, bytes, &input_staging_);
 }

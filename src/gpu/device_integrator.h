@@ -51,8 +51,8 @@
 #include "gpu/device.h"
 #include "gpu/device_forces.h"
 #include "gpu/pass_timer.h"
-#include "gpu/state_checks.h"
 #include "gpu/shaders/device_step.h"
+#include "gpu/state_checks.h"
 #include "integrators/integrator.h"
 #include "integrators/tableau.h"
 
@@ -201,6 +201,8 @@ class DeviceIntegrator final : public Integrator {
   RecordedAttempts& attempts_buffer(std::uint32_t attempts);
   // One attempt's passes, each run of them marked with its stage of the step (pass_timer.h).
   void record_attempt(VkCommandBuffer commands, PassTimer& timer) const;
+  // lattice_stage's invocations: the lattice's tiles, a workgroup each.
+  std::uint32_t lattice_stage_invocations() const;
   // Drops the recorded command buffers, to be recorded again (the passes or their arrays changed).
   void release_recorded();
   // Binds every pass's arrays (again after the anchor table grows).
@@ -231,8 +233,8 @@ class DeviceIntegrator final : public Integrator {
   bool adaptive_;
   bool symplectic_;
   bool lattice_;
-  bool fused_stages_;  // lattice_stage for each stage (the lattice path, DeviceSelection::fused_stages)
-  std::uint32_t laws_ = 0;  // EventPassConstants::laws of the recorded attempts
+  bool fused_stages_ = false;  // lattice_stage for each stage (the lattice path, DeviceSelection::fused_stages)
+  std::uint32_t laws_ = 0;     // EventPassConstants::laws of the recorded attempts
   // LatticePassConstants::params_particle of the recorded attempts (device_lattice.cpp).
   std::uint32_t params_particle_ = kOwnParams;
   // The colliders the obstacle arrays are sized for; the recorded attempts run the obstacle passes
@@ -256,7 +258,7 @@ class DeviceIntegrator final : public Integrator {
       control_pass_, events_connectors_pass_, events_radial_pass_, accept_pass_, obstacle_contacts_pass_,
       obstacle_energy_pass_;
   std::map<std::uint32_t, RecordedAttempts> recorded_;  // by attempts per submission
-  std::optional<StateChecksPass> state_checks_;          // where check_state() runs on the device
+  std::optional<StateChecksPass> state_checks_;         // where check_state() runs on the device
 
   // What the host last exchanged with the device: a fingerprint of the state (not a copy of it).
   bool exchanged_ = false;

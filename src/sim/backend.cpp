@@ -77,7 +77,8 @@ std::string unsupported_by_backend(const BackendFeatures& features, const Backen
   }
   if (backend.kind == Backend::cpu) {
     // float32 is the lattice kernel's, for the methods that only evaluate forces.
-    if (float32 && !features.lattice) return "float32 (precision) on a sheet that is not a lattice; use precision float64";
+    if (float32 && !features.lattice)
+      return "float32 (precision) on a sheet that is not a lattice; use precision float64";
     return "";
   }
   if (features.integrator.kind == IntegratorKind::imex) return "imex (integrator.method)";
@@ -98,7 +99,8 @@ std::string backend_refusal(const std::string& unsupported, const BackendSetting
   std::string message = "the " + std::string(to_string(backend.kind)) + " backend does not run " + unsupported;
   // A phrase with its own advice (after "; ") names what no backend runs; the rest the CPU runs.
   const bool advised = unsupported.find("; ") != std::string::npos;
-  if (backend.kind == Backend::vulkan && !advised) message += " yet; use backend cpu (docs/gpu.md lists what runs where)";
+  if (backend.kind == Backend::vulkan && !advised)
+    message += " yet; use backend cpu (docs/gpu.md lists what runs where)";
   return message;
 }
 

@@ -28,9 +28,9 @@ struct BackendSettings {
   Backend kind = Backend::cpu;
   std::uint32_t device = 0;                   // the Vulkan device, as `clothsim devices` numbers it
   std::optional<PrecisionRequest> precision;  // unset: the backend's default (resolved_precision)
-  // The device's explicit methods on a lattice sheet: each stage in one pass (true) or in three,
-  // the same bits (gpu::DeviceSelection::fused_stages; kept to compare the two).
-  bool fused_stages = true;
+  // The device's explicit methods on a lattice sheet: each stage in one pass (true) or in three
+  // (false), the same bits; unset, the device's choice (gpu::DeviceSelection::fused_stages).
+  std::optional<bool> fused_stages = std::nullopt;
   // The precision the backend computes in for `integrator`: the one asked for; for `auto`,
   // automatic_precision's choice; unset, float64 on the CPU and float32 on a device (twice the
   // throughput there, and every device has it), but float64 for implicit Euler on either.
