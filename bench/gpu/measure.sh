@@ -1,10 +1,10 @@
 #!/usr/bin/env bash
 # Measures the Vulkan backend on a machine with a GPU, for docs/performance.md ("The Vulkan
-# backend on an NVIDIA H200") and docs/gpu.md: the devices, the GPU tests on the device, then
-# `clothsim bench` with RKF45 on the paper's material from 25^2 to 2048^2, float32 and float64,
-# three repetitions each, and the CPU backend on all the machine's cores for comparison; where a
-# 1024^2 frame's time goes; implicit Euler (cotton) and the obstacle and self-collision passes on
-# the device against the CPU.
+# backend on an NVIDIA H200") and docs/gpu.md: the devices, the GPU tests on the device, one pass
+# a stage against three (--stage-passes), then `clothsim bench` with RKF45 on the paper's material
+# from 25^2 to 2048^2, float32 and float64, three repetitions each, and the CPU backend on all the
+# machine's cores for comparison; where a 1024^2 frame's time goes; implicit Euler (cotton) and
+# the obstacle and self-collision passes on the device against the CPU.
 #
 #   bench/gpu/measure.sh BIN OUT [BUDGET_S]
 #
@@ -66,6 +66,19 @@ export -f gpu_tests
 export bin
 step test_gpu 130 test_gpu.txt bash -c gpu_tests
 [ -f "$out/test_gpu.txt" ] && grep -E '^\[  (PASSED|FAILED) |^shard|FAILED  \]' "$out/test_gpu.txt" | sort | uniq -c
+
+# Issue 22: each explicit stage in one pass (lattice_stage) against three, alternating. On lavapipe
+# the one pass is slower (docs/gpu.md, "One pass per stage"); which of the two a GPU runs faster
+# decides its default (DeviceSelection::fused_stages).
+for rep in 1 2 3; do
+  for precision in float32 float64; do
+    for passes in fused split; do
+      step "stages $passes $precision $rep" 40 "stages-$passes-$precision-$rep.csv.log" "$clothsim" bench \
+        --backend vulkan --precision "$precision" --integrators rkf45 --sizes 25,128,512,1024 --seconds 1.5 \
+        --sim-cap 60 --stage-passes "$passes" --csv "$out/stages-$passes-$precision-$rep.csv"
+    done
+  done
+done
 
 # RKF45 on the paper's material (issue 22): throughput from the paper's 25^2 to 2048^2; the large
 # lattices with a longer budget, so that the first frame's one-time work (the model's upload, the

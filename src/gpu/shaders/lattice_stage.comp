@@ -11,9 +11,9 @@
 //      that particle's own sum);
 //   3. gathers each tile particle's force from its own sum and its neighbours' shares, and writes
 //      K_i and its powers (stage_acceleration.glsl).
-// The same bits as the three passes, with the tile's edges formed twice (1.6 times the stage
-// states and 1.3 times the springs of the three passes, at 8 x 8) and a third of the dispatches
-// (docs/gpu.md, "One pass per stage").
+// The same bits as the three passes, with the tile's edges formed twice (2.25 times the stage
+// states and 1.25 times the radial springs of the three passes, at 8 x 8) and a third of the
+// dispatches (docs/gpu.md, "One pass per stage").
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
