@@ -18,8 +18,8 @@ namespace clothsim::gpu {
 
 void DeviceImplicitEuler::begin_self_contacts() {
   // A torn sheet has other triangles and edges; anchors set or let go and masses edited, other
-  // inverse masses.
-  if (!self_ || !self_->made_for(model_)) self_.emplace(device_, precision_, model_);
+  // inverse masses: the pass takes them in place where it can.
+  if (!self_ || !self_->refresh(model_)) self_.emplace(device_, precision_, model_);
   // Found again at each advance's start, so that a run restored at a frame finds the same ones.
   self_->forget_candidates();
 }

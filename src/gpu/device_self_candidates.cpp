@@ -32,6 +32,8 @@ DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, 
       particles_(particles),
       triangles_(static_cast<std::uint32_t>(elements.triangle.size())),
       edges_(static_cast<std::uint32_t>(elements.edge.size())),
+      triangle_capacity_(triangles_),
+      edge_capacity_(edges_),
       triangle_corners_(index_buffer(device, elements.triangle)),
       edge_ends_(index_buffer(device, elements.edge)),
       point_boxes_(device, box_bytes(particles, precision), Memory::device_local),
@@ -53,6 +55,18 @@ DeviceSelfCandidates::DeviceSelfCandidates(Device& device, Precision precision, 
       edge_grid_(device, precision, edges_),
       point_query_(device, precision, particles),
       edge_query_(device, precision, 1) {}
+
+bool DeviceSelfCandidates::set_elements(const SheetElements& elements) {
+  const auto triangles = static_cast<std::uint32_t>(elements.triangle.size());
+  const auto edges = static_cast<std::uint32_t>(elements.edge.size());
+  if (triangles > triangle_capacity_ || edges > edge_capacity_) return false;
+  triangles_ = triangles;
+  edges_ = edges;
+  triangle_corners_ = index_buffer(device_, elements.triangle);
+  edge_ends_ = index_buffer(device_, elements.edge);
+  point_triangle_count_ = edge_pair_count_ = kept_count_ = 0;
+  return true;
+}
 
 void DeviceSelfCandidates::bind_boxes(const Buffer& start, const Buffer& end, double margin) {
   if (margin != margin_) {

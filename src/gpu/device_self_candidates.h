@@ -32,6 +32,11 @@ class DeviceSelfCandidates {
   // For a sheet of `particles` particles whose self-collision elements are `elements`.
   DeviceSelfCandidates(Device& device, Precision precision, std::uint32_t particles, const SheetElements& elements);
 
+  // Takes the sheet's elements as they are now (a torn sheet's), keeping the passes and the grids:
+  // false, changing nothing, where there are more of either kind than it was made for. The next
+  // find() finds the candidates anew.
+  bool set_elements(const SheetElements& elements);
+
   // The candidates of the motion `start` -> `end` ([particles][3] Reals each) with boxes grown by
   // `margin` m, all kept.
   void find(const Buffer& start, const Buffer& end, double margin);
@@ -71,6 +76,7 @@ class DeviceSelfCandidates {
   Device& device_;
   Precision precision_;
   std::uint32_t particles_, triangles_, edges_;
+  std::uint32_t triangle_capacity_, edge_capacity_;  // the elements made for: the boxes' and grids' room
   std::uint32_t point_triangle_count_ = 0;
   std::uint32_t edge_pair_count_ = 0;
   std::uint32_t kept_count_ = 0;

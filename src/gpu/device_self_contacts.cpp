@@ -64,10 +64,23 @@ DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, cons
   table_scan_.bind(table_start_);
 }
 
-bool DeviceSelfContacts::made_for(const ClothModel& model) const {
-  return model.particle_count() == particles_ && model.broken_connector_count == built_broken_ &&
-         std::ranges::equal(model.particle_inverse_mass, built_inverse_mass_) &&
-         model.collision.thickness == thickness_ && model.collision.friction == friction_;
+bool DeviceSelfContacts::refresh(const ClothModel& model) {
+  if (model.particle_count() != particles_) return false;
+  if (model.broken_connector_count != built_broken_) {
+    if (!candidates_.set_elements(elements_of(model))) return false;
+    built_broken_ = model.broken_connector_count;
+    found_ = false;
+  }
+  if (!std::ranges::equal(model.particle_inverse_mass, built_inverse_mass_)) {
+    built_inverse_mass_.assign(model.particle_inverse_mass.begin(), model.particle_inverse_mass.end());
+    upload(device_, inverse_mass_, real_bytes(built_inverse_mass_, precision_));
+  }
+  if (model.collision.thickness != thickness_ || model.collision.friction != friction_) {
+    thickness_ = model.collision.thickness;
+    friction_ = model.collision.friction;
+    respond_step_ = -1.0;  // apply() uploads the response's constants again
+  }
+  return true;
 }
 
 DeviceSelfContacts::Detection DeviceSelfContacts::submit_detection(const Buffer& start, const Buffer& end,

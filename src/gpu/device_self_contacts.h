@@ -47,10 +47,12 @@ class DeviceSelfContacts {
   // For `model`'s sheet as it is now (its elements, masses and anchors, its thickness and friction).
   DeviceSelfContacts(Device& device, Precision precision, const ClothModel& model);
 
-  // Whether this pass was made for the sheet `model` has now: the same particles, the same broken
-  // connectors, the same inverse masses (anchors set or let go, masses edited live), thickness and
-  // friction (else make a new one).
-  bool made_for(const ClothModel& model) const;
+  // Brings this pass to the sheet `model` has now, keeping its passes and arrays: a torn sheet's
+  // elements, the inverse masses of anchors set or let go and of masses edited live, the thickness
+  // and the friction. False, changing nothing, where it cannot: other particles, or more elements
+  // than it was made for (then make a new one). Making one compiles a dozen pipelines, which on
+  // lavapipe took longer than the steps between two tears.
+  bool refresh(const ClothModel& model);
 
   // Stages 1 to 3 after a step of `step` s from `start` to (`position`, `velocity`), [particles][3]
   // Reals each, which it changes; with a ledger, each particle it is the first to change is entered
@@ -89,8 +91,8 @@ class DeviceSelfContacts {
   Device& device_;
   Precision precision_;
   std::uint32_t particles_;
-  std::size_t built_broken_;                // the model's broken connectors when made
-  std::vector<double> built_inverse_mass_;  // [particles] the model's when made (0 anchored)
+  std::size_t built_broken_;                // the model's broken connectors when last refreshed
+  std::vector<double> built_inverse_mass_;  // [particles] the model's when last refreshed (0 anchored)
   double thickness_, friction_;
   double spacing_;
   DeviceSelfCandidates candidates_;

@@ -21,6 +21,7 @@
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/self_step.h"
 #include "gpu_fixture.h"
+#include "model/model_edits.h"
 
 namespace clothsim {
 namespace {
@@ -34,6 +35,23 @@ gpu::Buffer position_buffer(gpu::Device& device, std::span<const Vec3> x) {
   gpu::Buffer buffer(device, bytes.size(), gpu::Memory::device_local);
   gpu::upload(device, buffer, bytes);
   return buffer;
+}
+
+// The last find()'s candidates as the CPU lists them (SelfContacts::candidates).
+std::vector<SelfPair> found_pairs(const gpu::DeviceSelfCandidates& on_device, const SheetElements& elements) {
+  std::vector<SelfPair> found;
+  const std::vector<std::uint32_t> points = on_device.point_triangle_pairs();
+  for (std::size_t k = 0; k + 1 < points.size(); k += 2) {
+    const auto& t = elements.triangle[points[k + 1]];
+    found.push_back({{points[k], t[0], t[1], t[2]}, {points[k], points[k + 1]}, SelfPair::Kind::point_triangle});
+  }
+  const std::vector<std::uint32_t> edges = on_device.edge_pairs();
+  for (std::size_t k = 0; k + 1 < edges.size(); k += 2) {
+    const auto& e = elements.edge[edges[k]];
+    const auto& f = elements.edge[edges[k + 1]];
+    found.push_back({{e[0], e[1], f[0], f[1]}, {edges[k], edges[k + 1]}, SelfPair::Kind::edge_edge});
+  }
+  return found;
 }
 
 TEST_F(GpuTest, SelfCandidatesAreTheCpusInTheCpusOrder) {
@@ -54,18 +72,7 @@ TEST_F(GpuTest, SelfCandidatesAreTheCpusInTheCpusOrder) {
       SelfContacts cpu;
       cpu.find_candidates(model, start, end, margin, 1);
       on_device.find(start_buffer, end_buffer, margin);
-      std::vector<SelfPair> found;
-      const std::vector<std::uint32_t> points = on_device.point_triangle_pairs();
-      for (std::size_t k = 0; k + 1 < points.size(); k += 2) {
-        const auto& t = elements.triangle[points[k + 1]];
-        found.push_back({{points[k], t[0], t[1], t[2]}, {points[k], points[k + 1]}, SelfPair::Kind::point_triangle});
-      }
-      const std::vector<std::uint32_t> edges = on_device.edge_pairs();
-      for (std::size_t k = 0; k + 1 < edges.size(); k += 2) {
-        const auto& e = elements.edge[edges[k]];
-        const auto& f = elements.edge[edges[k + 1]];
-        found.push_back({{e[0], e[1], f[0], f[1]}, {edges[k], edges[k + 1]}, SelfPair::Kind::edge_edge});
-      }
+      const std::vector<SelfPair> found = found_pairs(on_device, elements);
       EXPECT_GT(cpu.candidates().size(), 1000u) << later << " " << margin;
       ASSERT_EQ(found.size(), cpu.candidates().size()) << later << " " << margin;
       EXPECT_TRUE(std::equal(found.begin(), found.end(), cpu.candidates().begin())) << later << " " << margin;
@@ -87,6 +94,38 @@ TEST_F(GpuTest, SelfCandidatesAreTheCpusInTheCpusOrder) {
       EXPECT_EQ(on_device.pairs(), kept) << later << " " << margin;
     }
   }
+}
+
+// A sheet torn after its candidates' search was made: the search takes the torn sheet's triangles
+// and edges in place (DeviceSelfContacts::refresh, at a tear) and finds the CPU's candidates of the
+// torn sheet; more elements than it was made for it refuses, changing nothing.
+TEST_F(GpuTest, SelfCandidatesTakeATornSheetsElementsInPlace) {
+  Simulation simulation = testing::folded_sheet(IntegratorKind::implicit_euler, 1e-3, 1);
+  ASSERT_TRUE(simulation.advance_to(0.03)) << simulation.failure()->message;
+  const std::vector<Vec3> start = simulation.state().position;
+  ASSERT_TRUE(simulation.advance_to(0.06)) << simulation.failure()->message;
+  const std::vector<Vec3> end = simulation.state().position;
+  ClothModel torn = simulation.model();
+  SheetElements intact;
+  refresh_sheet_elements(torn, intact);
+  const auto particles = static_cast<std::uint32_t>(torn.particle_count());
+  gpu::DeviceSelfCandidates on_device(device(), gpu::Precision::float64, particles, intact);
+  for (std::uint32_t c = 0; c < torn.connector_count(); c += 7) break_connector(torn, c);
+  SheetElements elements;
+  refresh_sheet_elements(torn, elements);
+  ASSERT_LT(elements.triangle.size(), intact.triangle.size());
+  ASSERT_LT(elements.edge.size(), intact.edge.size());
+  ASSERT_TRUE(on_device.set_elements(elements));
+  constexpr double margin = 0.03;
+  SelfContacts cpu;
+  cpu.find_candidates(torn, start, end, margin, 1);
+  on_device.find(position_buffer(device(), start), position_buffer(device(), end), margin);
+  EXPECT_GT(cpu.candidates().size(), 1000u);
+  const std::vector<SelfPair> found = found_pairs(on_device, elements);
+  ASSERT_EQ(found.size(), cpu.candidates().size());
+  EXPECT_TRUE(std::equal(found.begin(), found.end(), cpu.candidates().begin()));
+  gpu::DeviceSelfCandidates made_torn(device(), gpu::Precision::float64, particles, elements);
+  EXPECT_FALSE(made_torn.set_elements(intact));
 }
 
 struct DetectionCounts {

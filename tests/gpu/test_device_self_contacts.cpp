@@ -18,6 +18,7 @@
 #include "gpu/real_arrays.h"
 #include "gpu/shaders/self_step.h"
 #include "gpu_fixture.h"
+#include "model/model_edits.h"
 #include "sheet_crossings.h"
 
 namespace clothsim {
@@ -110,6 +111,46 @@ TEST_F(GpuTest, SelfContactsPushAFoldedSheetsLayersToTheThickness) {
     EXPECT_EQ(again.position, pass.position);
     EXPECT_EQ(again.velocity, pass.velocity);
   }
+}
+
+// A pass brought in place to a sheet that changed since it was made (a tenth of its connectors
+// torn, a particle in fifty anchored, another thickness and friction) responds as a pass made anew
+// for it: the same bits.
+TEST_F(GpuTest, SelfContactsRefreshedInPlaceAreAsMadeAnew) {
+  Simulation simulation = testing::folded_sheet(IntegratorKind::implicit_euler, 1e-3, 1);
+  ASSERT_TRUE(simulation.advance_to(0.02)) << simulation.failure()->message;
+  const std::vector<Vec3> start = simulation.state().position;
+  ASSERT_TRUE(simulation.advance_to(0.03)) << simulation.failure()->message;
+  const ClothState& state = simulation.state();
+  const ClothModel& before = simulation.model();
+  ClothModel after = before;
+  for (std::uint32_t c = 0; c < after.connector_count(); c += 10) break_connector(after, c);
+  for (std::uint32_t p = 0; p < after.particle_count(); p += 50) set_anchor(after, p, AnchorPath{});
+  after.collision.thickness = 0.008;
+  after.collision.friction = 0.4;
+  const auto precision = Precision::float64;
+  const gpu::Buffer start_buffer = vector_buffer(device(), start, precision);
+  const auto apply = [&](gpu::DeviceSelfContacts& pass) {
+    const gpu::Buffer position = vector_buffer(device(), state.position, precision);
+    const gpu::Buffer velocity = vector_buffer(device(), state.velocity, precision);
+    PassResult result;
+    result.counts = pass.apply(start_buffer, position, velocity, 0.01);
+    result.position = vectors(device(), position, state.position.size(), precision);
+    result.velocity = vectors(device(), velocity, state.velocity.size(), precision);
+    return result;
+  };
+  gpu::DeviceSelfContacts refreshed(device(), precision, before);
+  apply(refreshed);  // candidates found for the sheet before
+  ASSERT_TRUE(refreshed.refresh(after));
+  refreshed.forget_candidates();
+  gpu::DeviceSelfContacts anew(device(), precision, after);
+  const PassResult in_place = apply(refreshed);
+  const PassResult made = apply(anew);
+  EXPECT_GT(made.counts.contacts, 1000u);
+  EXPECT_EQ(in_place.counts.contacts, made.counts.contacts);
+  EXPECT_EQ(in_place.position, made.position);
+  EXPECT_EQ(in_place.velocity, made.velocity);
+  for (std::uint32_t p = 0; p < after.particle_count(); p += 50) EXPECT_EQ(in_place.position[p], state.position[p]);
 }
 
 // The ledger the integrator's booking of the pass's work reads (obstacle_energy_elements.comp): each
