@@ -71,7 +71,7 @@ namespace {
 Device& checked(Device& device, const ClothModel& model, Precision precision, const IntegratorSettings& settings) {
   device.require_precision(precision);
   device.require_memory(DeviceImplicitEuler::device_bytes_for(element_counts(model), model.anchors.size(), precision,
-                                                              model.colliders.size(), settings),
+                                                              model.colliders.size(), settings, model.collision.self),
                         "the scene");
   return device;
 }
@@ -85,11 +85,12 @@ ComputePipeline make_pass(Device& device, const char* name, Precision precision,
 
 std::uint64_t DeviceImplicitEuler::device_bytes_for(const LatticeCounts& counts, std::size_t anchors,
                                                     Precision precision, std::size_t colliders,
-                                                    const IntegratorSettings& settings) {
+                                                    const IntegratorSettings& settings, bool self_collision) {
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, 1, DeviceForcePath::general);
-  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders, false)) {
+  for (std::uint64_t bytes : array_bytes(counts, precision, anchor_row_capacity(anchors), colliders, self_collision)) {
     total += bytes;
   }
+  if (self_collision) total += DeviceSelfContacts::bytes_for(counts, precision);
   total += StateChecksPass::bytes_for(counts, DeviceForcePath::general);
   if (DeviceMultigrid::applies(counts, settings)) {
     total += DeviceMultigrid::bytes_for(static_cast<std::uint32_t>(counts.rows),

@@ -124,9 +124,10 @@ class DeviceImplicitEuler final : public Integrator {
 
   // Device memory for a model of these counts, bytes: DeviceForces' general path and the arrays below.
   // `colliders`: the model's obstacles (the obstacle pass's arrays; their meshes' are besides); the
-  // V-cycle's levels where DeviceMultigrid::applies(counts, settings).
+  // V-cycle's levels where DeviceMultigrid::applies(counts, settings); with `self_collision`, the
+  // self pass's arrays (DeviceSelfContacts::bytes_for) and the obstacle pass's, which it books in.
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, Precision precision,
-                                        std::size_t colliders, const IntegratorSettings& settings);
+                                        std::size_t colliders, const IntegratorSettings& settings, bool self_collision);
   // The workgroups of the obstacle pass's three phases (obstacle_energy_elements), in block_sums.
   static std::uint64_t obstacle_blocks(std::uint64_t particles, std::uint64_t connectors, std::uint64_t radials);
   // Whether the last step's solve took the V-cycle.

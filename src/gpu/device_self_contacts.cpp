@@ -1,12 +1,14 @@
 #include "gpu/device_self_contacts.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <span>
 
 #include "collision/sheet_elements.h"
 #include "gpu/real_arrays.h"
+#include "gpu/shaders/box_grid.h"
 #include "gpu/shaders/self_step.h"
 
 namespace clothsim::gpu {
@@ -62,6 +64,32 @@ DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, cons
       slot_scan_(device, 1),
       table_scan_(device, particles_) {
   table_scan_.bind(table_start_);
+}
+
+std::uint64_t DeviceSelfContacts::bytes_for(const LatticeCounts& counts, Precision precision) {
+  const std::uint64_t real = real_size(precision);
+  const std::uint64_t n = counts.particles;
+  const std::uint64_t cells = counts.rows > 0 && counts.cols > 0 ? (counts.rows - 1) * (counts.cols - 1) : 0;
+  const std::uint64_t triangles = 2 * cells;
+  const std::uint64_t edges = counts.connectors + cells;
+  // The elements and the motion's boxes (a low and a high corner each).
+  std::uint64_t bytes = (3 * triangles + 2 * edges) * kWord + (n + triangles + edges) * 6 * real;
+  // Each grid: a low cell (3 words), a cell count, the oversize marks (2) and two prefix sums a box;
+  // five words and a sorted one an entry; two bucket arrays of twice the entries.
+  for (const std::uint64_t boxes : {triangles, edges}) {
+    const auto entries = static_cast<std::uint64_t>(SelfContacts::kGridEntriesPerBox * static_cast<double>(boxes));
+    bytes += boxes * 8 * kWord + entries * (kEntryWords + 1) * kWord +
+             2 * std::bit_ceil(std::max<std::uint64_t>(2 * entries, 16)) * kWord;
+  }
+  // By particle: the inverse mass, where the candidates were found, the query's count, the
+  // response table's start and fill.
+  bytes += n * (4 * real + 3 * kWord);
+  // By candidate: the search's pair (2 words), its keep mark and scan (2), the kept pair (2), its
+  // flags, the list's slot and entry (3) and its start distance; listed, its response's entries
+  // (4 words), geometry and change.
+  const auto candidates = static_cast<std::uint64_t>(SelfContacts::kCandidatesPerParticle * static_cast<double>(n));
+  bytes += candidates * (9 * kWord + real) + candidates * (4 * kWord + (kGeometryReals + kChangeReals) * real);
+  return bytes;
 }
 
 bool DeviceSelfContacts::refresh(const ClothModel& model) {

@@ -63,6 +63,12 @@ class DeviceSelfContacts {
   // the steps the saved one took, its candidates found at the same frame.
   void forget_candidates() { found_ = false; }
 
+  // Device memory the pass holds for a sheet of these counts, bytes: its arrays by particle and by
+  // element, and those that grow with the contact counted as the CPU counts its own
+  // (SelfContacts::bytes_for: kCandidatesPerParticle candidates a particle, kGridEntriesPerBox grid
+  // entries a box), each candidate listed for a response.
+  static std::uint64_t bytes_for(const LatticeCounts& counts, Precision precision);
+
   // Stage 3's rounds of detection and response, at most (the CPU's is 8 Gauss-Seidel sweeps).
   static constexpr int kImpactRounds = 8;
   // Jacobi iterations on each round's touching pairs, and stage 2's on the near pairs.

@@ -209,7 +209,8 @@ MemoryAllowance check_run_memory(const SceneSpec& spec, const RenderPlan& plan, 
 // the lattice's shape, before its model is built. Throws BackendError.
 void check_backend_fits(const SceneSpec& spec) {
   const SimulationShape shape = simulation_shape(spec);
-  clothsim::check_backend_fits(shape.counts, shape.anchors, spec.integrator, spec.backend, spec.colliders.size());
+  clothsim::check_backend_fits(shape.counts, shape.anchors, spec.integrator, spec.backend, spec.colliders.size(),
+                               spec.collision.self);
 }
 
 }  // namespace

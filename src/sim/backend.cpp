@@ -105,7 +105,7 @@ std::string backend_refusal(const std::string& unsupported, const BackendSetting
 }
 
 void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const IntegratorSettings& integrator,
-                        const BackendSettings& backend, std::size_t colliders) {
+                        const BackendSettings& backend, std::size_t colliders, bool self_collision) {
   if (backend.kind == Backend::cpu) return;
 #if CLOTHSIM_HAVE_VULKAN
   try {
@@ -114,7 +114,8 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
     device.require_precision(precision);
     const std::uint64_t bytes =
         integrator.kind == IntegratorKind::implicit_euler
-            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders, integrator)
+            ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders, integrator,
+                                                         self_collision)
             : gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
                                                       gpu::DeviceForcePath::lattice, colliders);
     device.require_memory(bytes, "the scene");
@@ -126,6 +127,7 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
   (void)anchors;
   (void)integrator;
   (void)colliders;
+  (void)self_collision;
   throw BackendError(kNoVulkan);
 #endif
 }

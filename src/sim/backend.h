@@ -87,8 +87,9 @@ class BackendError : public std::runtime_error {
 // the device and the device memory for it: opens the device (a Vulkan instance, a few
 // milliseconds) and compares. Nothing to check on the CPU (its memory is checked from the scene:
 // sim/memory_estimate.h). Throws BackendError.
+// `self_collision`: collision.self, whose pass implicit Euler runs on the device.
 void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const IntegratorSettings& integrator,
-                        const BackendSettings& backend, std::size_t colliders = 0);
+                        const BackendSettings& backend, std::size_t colliders = 0, bool self_collision = false);
 
 // The integrator of `integrator.kind` on `backend`. Throws BackendError.
 std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, const IntegratorSettings& integrator,

@@ -1,13 +1,18 @@
-// Self-collision with the Vulkan backend (collision/self_contacts.h): the host's self pass runs
-// between the device's steps, the device integrator asked for one step at a time
-// (Simulation::host_works_between_steps), after the device's own obstacle pass. Held against the
-// CPU's runs and the brute-force crossing count (tests/collision/sheet_crossings.h) at every frame.
+// Self-collision with the Vulkan backend (collision/self_contacts.h): with the explicit methods the
+// host's self pass runs between the device's steps, the device integrator asked for one step at a
+// time (Simulation::host_works_between_steps), after the device's own obstacle pass; implicit Euler
+// runs the device's pass (gpu/device_self_contacts.h), which the memory check counts. Held against
+// the CPU's runs and the brute-force crossing count (tests/collision/sheet_crossings.h) at every
+// frame.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <string>
 
+#include "device_models.h"
 #include "folded_sheet.h"
+#include "gpu/device_implicit_euler.h"
+#include "gpu/device_self_contacts.h"
 #include "io/restored_run.h"
 #include "scene/builtin_scenes.h"
 #include "scene/scene.h"
@@ -112,6 +117,33 @@ TEST(DeviceSelfCollision, ARestoredRunGoesOnBitForBit) {
   spec.backend = BackendSettings{Backend::vulkan, 0, std::nullopt};
   const ContactStatistics contacts = testing::expect_restored_run_matches(spec, 0.12, 0.18, 2);
   EXPECT_GT(contacts.self_contact_steps, 1000u);
+}
+
+// The memory check before a run counts the device's self pass (DeviceSelfContacts::bytes_for) and
+// the obstacle pass's arrays it books its work in: a square sheet of implicit Euler whose other
+// arrays fit the device but whose self pass does not is refused with collision.self, before
+// anything is allocated, and passes without it.
+TEST(DeviceSelfCollision, TheMemoryCheckCountsTheSelfPass) {
+  IntegratorSettings settings;
+  settings.kind = IntegratorKind::implicit_euler;
+  const auto bytes = [&](std::size_t side, bool self) {
+    return gpu::DeviceImplicitEuler::device_bytes_for(lattice_counts(side, side), 4, Precision::float64, 0, settings,
+                                                      self);
+  };
+  const LatticeCounts small = lattice_counts(64, 64);
+  EXPECT_GE(bytes(64, true) - bytes(64, false), gpu::DeviceSelfContacts::bytes_for(small, Precision::float64));
+  const std::uint64_t memory = gpu::Device(gpu::DeviceOptions{0, false}).info().device_local_bytes;
+  std::size_t side = 64;
+  while (bytes(side, true) <= memory) side += side / 16;
+  ASSERT_LT(bytes(side, false), memory) << "a side where only the self pass does not fit: " << side;
+  const BackendSettings backend = testing::vulkan(Precision::float64);
+  try {
+    check_backend_fits(lattice_counts(side, side), 4, settings, backend, 0, true);
+    FAIL() << side << " x " << side << " with self-collision fits";
+  } catch (const BackendError& error) {
+    EXPECT_NE(std::string(error.what()).find("the scene needs"), std::string::npos) << error.what();
+  }
+  EXPECT_NO_THROW(check_backend_fits(lattice_counts(side, side), 4, settings, backend, 0, false));
 }
 
 }  // namespace
