@@ -531,9 +531,7 @@ SelfContactCounts SelfContacts::apply(const ClothModel& model, ClothState& state
 
 std::size_t SelfContacts::bytes_for(const LatticeCounts& counts) {
   const std::size_t n = counts.particles;
-  const std::size_t cells = counts.rows > 0 && counts.cols > 0 ? (counts.rows - 1) * (counts.cols - 1) : 0;
-  const std::size_t triangles = 2 * cells;
-  const std::size_t edges = counts.connectors + cells;  // connectors, then one diagonal per cell
+  const auto [triangles, edges] = sheet_element_counts(counts);
   std::size_t bytes = triangles * sizeof(elements_.triangle[0]) + edges * sizeof(elements_.edge[0]);
   bytes += (n + triangles + edges) * sizeof(Box);
   // Each grid: a low cell and a cell count per box, entries for the cells each box spans, two bucket arrays of

@@ -62,4 +62,9 @@ void refresh_sheet_elements(const ClothModel& model, SheetElements& elements) {
   elements.built_broken = model.broken_connector_count;
 }
 
+SheetElementCounts sheet_element_counts(const LatticeCounts& counts) {
+  const std::size_t cells = counts.rows > 0 && counts.cols > 0 ? (counts.rows - 1) * (counts.cols - 1) : 0;
+  return {2 * cells, counts.connectors + cells};
+}
+
 }  // namespace clothsim

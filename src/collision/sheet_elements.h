@@ -32,6 +32,15 @@ struct SheetElements {
   std::size_t built_broken = static_cast<std::size_t>(-1);
 };
 
+// How many triangles and edges an untorn lattice of `counts` has: two triangles a cell; the
+// connectors and one diagonal a cell. The most a torn one has, for what is sized before the
+// elements are built (SelfContacts::bytes_for, gpu::DeviceSelfContacts::bytes_for).
+struct SheetElementCounts {
+  std::size_t triangles = 0;
+  std::size_t edges = 0;
+};
+SheetElementCounts sheet_element_counts(const LatticeCounts& counts);
+
 // Brings `elements` up to date with `model` (a rows x cols lattice): rebuilt when the particle
 // count or the number of broken connectors differs from what they were built for.
 void refresh_sheet_elements(const ClothModel& model, SheetElements& elements);

@@ -263,8 +263,7 @@ void DeviceIntegrator::bind_passes() {
 DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with the device's pool
 
 std::uint32_t DeviceIntegrator::lattice_stage_invocations() const {
-  // A workgroup of kStageTile x kStageTile invocations a tile (lattice_stage.comp).
-  constexpr std::uint32_t kStageTile = 8;
+  // A workgroup of kStageTile x kStageTile invocations a tile (lattice_stage.comp, device_step.h).
   const auto tiles = [](int count) { return (static_cast<std::uint32_t>(count) + kStageTile - 1) / kStageTile; };
   return tiles(model_.rows) * tiles(model_.cols) * kStageTile * kStageTile;
 }

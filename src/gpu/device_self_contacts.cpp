@@ -69,9 +69,9 @@ DeviceSelfContacts::DeviceSelfContacts(Device& device, Precision precision, cons
 std::uint64_t DeviceSelfContacts::bytes_for(const LatticeCounts& counts, Precision precision) {
   const std::uint64_t real = real_size(precision);
   const std::uint64_t n = counts.particles;
-  const std::uint64_t cells = counts.rows > 0 && counts.cols > 0 ? (counts.rows - 1) * (counts.cols - 1) : 0;
-  const std::uint64_t triangles = 2 * cells;
-  const std::uint64_t edges = counts.connectors + cells;
+  const SheetElementCounts elements = sheet_element_counts(counts);
+  const std::uint64_t triangles = elements.triangles;
+  const std::uint64_t edges = elements.edges;
   // The elements and the motion's boxes (a low and a high corner each).
   std::uint64_t bytes = (3 * triangles + 2 * edges) * kWord + (n + triangles + edges) * 6 * real;
   // Each grid: a low cell (3 words), a cell count, the oversize marks (2) and two prefix sums a box;

@@ -70,18 +70,26 @@ struct PassResult {
   SelfContactCounts counts;
 };
 
-PassResult run_pass(gpu::Device& device, const ClothModel& model, std::span<const Vec3> start,
-                    std::span<const Vec3> end, std::span<const Vec3> velocity, double step,
-                    Precision precision = Precision::float64, const gpu::MovedLedger& ledger = {}) {
+// `pass` applied after a step of `step` s from `start` to (`end`, `velocity`).
+PassResult apply_pass(gpu::Device& device, gpu::DeviceSelfContacts& pass, std::span<const Vec3> start,
+                      std::span<const Vec3> end, std::span<const Vec3> velocity, double step,
+                      Precision precision = Precision::float64, const gpu::MovedLedger& ledger = {}) {
   const gpu::Buffer start_buffer = vector_buffer(device, start, precision);
   const gpu::Buffer position = vector_buffer(device, end, precision);
   const gpu::Buffer velocity_buffer = vector_buffer(device, velocity, precision);
-  gpu::DeviceSelfContacts pass(device, precision, model);
   PassResult result;
   result.counts = pass.apply(start_buffer, position, velocity_buffer, step, ledger);
   result.position = vectors(device, position, end.size(), precision);
   result.velocity = vectors(device, velocity_buffer, end.size(), precision);
   return result;
+}
+
+// A pass made for `model`, applied once.
+PassResult run_pass(gpu::Device& device, const ClothModel& model, std::span<const Vec3> start,
+                    std::span<const Vec3> end, std::span<const Vec3> velocity, double step,
+                    Precision precision = Precision::float64, const gpu::MovedLedger& ledger = {}) {
+  gpu::DeviceSelfContacts pass(device, precision, model);
+  return apply_pass(device, pass, start, end, velocity, step, precision, ledger);
 }
 
 // The folded sheet's layers, 6 mm apart, with a thickness of 8 mm: every near pair pushed apart to
@@ -129,15 +137,8 @@ TEST_F(GpuTest, SelfContactsRefreshedInPlaceAreAsMadeAnew) {
   after.collision.thickness = 0.008;
   after.collision.friction = 0.4;
   const auto precision = Precision::float64;
-  const gpu::Buffer start_buffer = vector_buffer(device(), start, precision);
   const auto apply = [&](gpu::DeviceSelfContacts& pass) {
-    const gpu::Buffer position = vector_buffer(device(), state.position, precision);
-    const gpu::Buffer velocity = vector_buffer(device(), state.velocity, precision);
-    PassResult result;
-    result.counts = pass.apply(start_buffer, position, velocity, 0.01);
-    result.position = vectors(device(), position, state.position.size(), precision);
-    result.velocity = vectors(device(), velocity, state.velocity.size(), precision);
-    return result;
+    return apply_pass(device(), pass, start, state.position, state.velocity, 0.01, precision);
   };
   gpu::DeviceSelfContacts refreshed(device(), precision, before);
   apply(refreshed);  // candidates found for the sheet before

@@ -119,6 +119,8 @@ CLOTHSIM_SLOT kObstacleBlockReals = 3;  // contact work (J), particles moved, th
 // springs' force on itself (3) and on its four neighbours (4 x 3) in `lattice_forces`.
 CLOTHSIM_SLOT kLatticeParams = 32;
 CLOTHSIM_SLOT kLatticeForces = 15;
+// lattice_stage's tile: kStageTile x kStageTile particles a workgroup, one an invocation.
+CLOTHSIM_SLOT kStageTile = 8;
 CLOTHSIM_SLOT kSpringParams = 4;       // Reals per spring
 CLOTHSIM_SLOT kConnectorParams = 0;    // connector d at kConnectorParams + kSpringParams * d
 CLOTHSIM_SLOT kRadialParams = 8;       // radial spring k at kRadialParams + kSpringParams * k

@@ -17,7 +17,7 @@
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
-const uint kTile = 8u;  // a workgroup's tile is kTile x kTile particles, one an invocation
+const uint kTile = kStageTile;  // device_step.h
 const uint kWorkgroupSize = kTile * kTile;
 layout(local_size_x = 64) in;  // kWorkgroupSize: ComputePipeline's default size, which dispatch() counts by
 #include "gpu/shaders/invocation.glsl"

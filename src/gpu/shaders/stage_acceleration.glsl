@@ -11,11 +11,7 @@
 #define CLOTHSIM_STAGE_ACCELERATION_GLSL
 
 #include "gpu/shaders/anchor_motion.glsl"
-
-// Gravity and air drag on particle p at velocity v.
-Vec3 environment_force(uint p, Vec3 v) {
-  return particle_mass[p] * Vec3(environment[0], environment[1], environment[2]) - environment[3] * v;
-}
+#include "gpu/shaders/environment_force.glsl"
 
 // The lattice path's force on p: gravity and drag, its own springs' force on it, and each
 // neighbour's springs' force on it (`from`, by direction: 0 east, 1 south, 2 west, 3 north), added

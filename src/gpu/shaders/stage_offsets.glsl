@@ -34,6 +34,13 @@ Vec3 origin_velocity_of(uint q) {
   return Vec3(origin_velocity[3 * q], origin_velocity[3 * q + 1], origin_velocity[3 * q + 2]);
 }
 
+// float32: particle q's stage value relative to particle `origin`'s, from the two particles'
+// values at the step's start and their stage offsets. The step's start, the same in every stage,
+// drops out of a difference of two stages' values.
+Vec3 offset_between(Vec3 start_q, Vec3 start_origin, Vec3 stage_q, Vec3 stage_origin) {
+  return (start_q - start_origin) + (stage_q - stage_origin);
+}
+
 // The stage velocity itself of particle q, from what the stage arrays hold (for drag and the
 // anchors' power).
 Vec3 stage_velocity_from(uint q, Vec3 stage_velocity) {
@@ -51,8 +58,8 @@ Vec3 stage_offset_velocity(uint q) { return Vec3(velocity[3 * q], velocity[3 * q
 Vec3 stage_velocity_near(uint q, uint origin) {
 #if CLOTHSIM_STAGE_OFFSETS
   if (q == origin) return Vec3(0.0);
-  return (origin_velocity_of(q) - origin_velocity_of(origin)) +
-         (stage_offset_velocity(q) - stage_offset_velocity(origin));
+  return offset_between(origin_velocity_of(q), origin_velocity_of(origin), stage_offset_velocity(q),
+                        stage_offset_velocity(origin));
 #else
   return stage_offset_velocity(q);
 #endif
@@ -73,8 +80,8 @@ Vec3 stage_offset_position(uint q) { return Vec3(position[3 * q], position[3 * q
 Vec3 stage_position_near(uint q, uint origin) {
 #if CLOTHSIM_STAGE_OFFSETS
   if (q == origin) return Vec3(0.0);
-  return (origin_position_of(q) - origin_position_of(origin)) +
-         (stage_offset_position(q) - stage_offset_position(origin));
+  return offset_between(origin_position_of(q), origin_position_of(origin), stage_offset_position(q),
+                        stage_offset_position(origin));
 #else
   return stage_offset_position(q);
 #endif
@@ -98,8 +105,10 @@ StagePoint stage_point_relative(uint q, StagePoint stage, uint origin, StagePoin
     point.velocity = Vec3(0.0);
     return point;
   }
-  point.position = (origin_position_of(q) - origin_position_of(origin)) + (stage.position - at_origin.position);
-  point.velocity = (origin_velocity_of(q) - origin_velocity_of(origin)) + (stage.velocity - at_origin.velocity);
+  point.position =
+      offset_between(origin_position_of(q), origin_position_of(origin), stage.position, at_origin.position);
+  point.velocity =
+      offset_between(origin_velocity_of(q), origin_velocity_of(origin), stage.velocity, at_origin.velocity);
   return point;
 #else
   return stage;
