@@ -47,6 +47,14 @@ constexpr std::uint32_t kMaxAttemptsPerSubmission = 256;
 
 std::uint32_t workgroups_of(std::uint64_t items) { return workgroups_for(items, kReduceWorkgroup); }
 
+// lattice_stage's tiles on a rows x cols lattice (0 x 0 off the lattice path: none).
+std::uint32_t stage_tiles(std::size_t rows, std::size_t cols) {
+  const auto tiles = [](std::size_t count) {
+    return static_cast<std::uint32_t>((count + kStageTile - 1) / kStageTile);
+  };
+  return tiles(rows) * tiles(cols);
+}
+
 // The checks before anything is allocated: the device, its precision and its memory.
 Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision,
                 DeviceForcePath path) {
@@ -108,8 +116,10 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   bytes[A::particle_anchor] = n * 4;
   bytes[A::inverse_mass] = n * real;
   bytes[A::anchor_paths] = std::uint64_t{anchor_capacity} * kPathReals * real;
-  bytes[A::block_error] = workgroups_of(n) * real;
-  bytes[A::block_particle] = workgroups_of(n) * 4;
+  // One block per workgroup of rk_solution, or per tile of lattice_stage's last stage (more).
+  const std::uint64_t error_blocks = std::max<std::uint64_t>(workgroups_of(n), stage_tiles(counts.rows, counts.cols));
+  bytes[A::block_error] = error_blocks * real;
+  bytes[A::block_particle] = error_blocks * 4;
   bytes[A::particle_power] = 3 * n * real;
   bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
   bytes[A::lattice_params] = n * kLatticeParams * real;
@@ -165,7 +175,7 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       stage_state_pass_(shader_pipeline(device_, "rk_stage_state", precision_, 12, sizeof(StagePassConstants))),
       lattice_pass_(shader_pipeline(device_, "lattice_elements", precision_, 10, sizeof(LatticePassConstants))),
       acceleration_pass_(shader_pipeline(device_, "stage_acceleration", precision_, 16, sizeof(StagePassConstants))),
-      lattice_stage_pass_(shader_pipeline(device_, "lattice_stage", precision_, 16, sizeof(LatticePassConstants))),
+      lattice_stage_pass_(shader_pipeline(device_, "lattice_stage", precision_, 22, sizeof(LatticePassConstants))),
       solution_pass_(
           shader_pipeline(device_, "rk_solution", precision_, 16, sizeof(StagePassConstants), kReduceWorkgroup)),
       control_pass_(
@@ -217,10 +227,14 @@ void DeviceIntegrator::bind_passes() {
   bind(lattice_pass_,
        {forces(F::position), forces(F::velocity), own(lattice_params), own(lattice_forces), own(particle_power),
         own(control_uint), own(event_params), own(state_position), own(state_velocity), own(rows)});
-  bind(lattice_stage_pass_,
-       {own(state_position), own(state_velocity), own(state_position_low), own(state_velocity_low), own(acceleration),
-        own(rows), own(control_real), own(control_uint), own(particle_anchor), own(anchor_paths), own(lattice_params),
-        own(event_params), forces(F::particle_mass), own(inverse_mass), forces(F::environment), own(particle_power)});
+  bind(lattice_stage_pass_, {own(state_position),      own(state_velocity), own(state_position_low),
+                             own(state_velocity_low),  own(acceleration),   own(rows),
+                             own(control_real),        own(control_uint),   own(particle_anchor),
+                             own(anchor_paths),        own(lattice_params), own(event_params),
+                             forces(F::particle_mass), own(inverse_mass),   forces(F::environment),
+                             own(particle_power),      own(trial_position), own(trial_velocity),
+                             own(block_error),         own(block_particle), trial_low(F::position),
+                             trial_low(F::velocity)});
   if (!lattice_) forces_.read_origin_from(arrays_[state_position], arrays_[state_velocity]);
   bind(solution_pass_, {own(state_position), own(state_velocity), own(acceleration), own(rows), own(control_real),
                         own(control_uint), own(particle_anchor), own(anchor_paths), own(trial_position),
@@ -264,18 +278,24 @@ DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with
 
 std::uint32_t DeviceIntegrator::lattice_stage_invocations() const {
   // A workgroup of kStageTile x kStageTile invocations a tile (lattice_stage.comp, device_step.h).
-  const auto tiles = [](int count) { return (static_cast<std::uint32_t>(count) + kStageTile - 1) / kStageTile; };
-  return tiles(model_.rows) * tiles(model_.cols) * kStageTile * kStageTile;
+  return stage_tiles(static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols)) * kStageTile *
+         kStageTile;
 }
 
 void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer) const {
   const auto stages = static_cast<std::uint32_t>(tableau_.stages);
   const std::uint32_t lattice_cols = lattice_ ? static_cast<std::uint32_t>(model_.cols) : 0u;
   const std::uint32_t damped = (options_.terms & kSpringDamping) != 0 ? 1u : 0u;
+  const std::uint32_t symplectic = symplectic_ ? 1u : 0u;
+  const auto lattice_constants = [&](std::uint32_t stage) {
+    return LatticePassConstants{
+        particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, stage, stages, params_particle_,
+        symplectic};
+  };
   for (std::uint32_t i = 0; i < stages; ++i) {
     if (fused_stages_) {
-      const LatticePassConstants lattice{
-          particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i, stages, params_particle_};
+      // The last stage's pass forms the trial state and its error too (timed with the forces).
+      const LatticePassConstants lattice = lattice_constants(i);
       lattice_stage_pass_.dispatch(commands, &lattice, lattice_stage_invocations());
       timer.mark(commands, StepStage::forces);
       continue;
@@ -284,8 +304,7 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
     stage_state_pass_.dispatch(commands, &stage, particles_);
     timer.mark(commands, StepStage::stage_sums);
     if (lattice_) {
-      const LatticePassConstants lattice{
-          particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, i, stages, params_particle_};
+      const LatticePassConstants lattice = lattice_constants(i);
       lattice_pass_.dispatch(commands, &lattice, particles_);
     } else {
       forces_.record_element_passes(commands, i);
@@ -293,10 +312,15 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
     acceleration_pass_.dispatch(commands, &stage, particles_);
     timer.mark(commands, StepStage::forces);
   }
-  const StagePassConstants solution{particles_, 0, stages, symplectic_ ? 1u : 0u, lattice_cols};
-  solution_pass_.dispatch(commands, &solution, particles_);
+  std::uint32_t error_blocks = workgroups_of(particles_);
+  if (fused_stages_) {
+    error_blocks = lattice_stage_invocations() / (kStageTile * kStageTile);
+  } else {
+    const StagePassConstants solution{particles_, 0, stages, symplectic, lattice_cols};
+    solution_pass_.dispatch(commands, &solution, particles_);
+  }
   const std::uint32_t obstacles = runs_obstacle_contacts() ? 1u : 0u;
-  const ReducePassConstants decide{particles_, workgroups_of(particles_), 0, stages, obstacles};
+  const ReducePassConstants decide{particles_, error_blocks, 0, stages, obstacles};
   control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
   timer.mark(commands, StepStage::solution_and_error);
   if (obstacles != 0u) record_obstacle_passes(commands, timer);
@@ -528,12 +552,16 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
   const double low = splits_state(precision_) ? 6.0 : 0.0;
   double reals = 0.0;
   double indices = 0.0;
+  // Whether Nystrom row `row` (a stage's, then the solution's and the error's) weighs stage l.
+  const auto weighs = [&](std::size_t row, std::size_t l) {
+    const std::size_t base = row * kRowReals;
+    return row_reals[base + 1 + l] != 0.0 || row_reals[base + 1 + kMaxDeviceStages + l] != 0.0;
+  };
   for (std::size_t i = 0; i < stages; ++i) {
     // The earlier stages' accelerations stage i's Nystrom row weighs.
     std::size_t weighed = 0;
     for (std::size_t l = 0; l < i; ++l) {
-      const std::size_t row = i * kRowReals;
-      if (row_reals[row + 1 + l] != 0.0 || row_reals[row + 1 + kMaxDeviceStages + l] != 0.0) ++weighed;
+      if (weighs(i, l)) ++weighed;
     }
     const double params = params_particle_ == kOwnParams ? kLatticeParams + 2 : 0.0;
     if (fused_stages_) {
@@ -558,8 +586,20 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
     reals += 3 + origin / 2 + 1 + 1 + kLatticeForces + 3 + 4;
     indices += 1;
   }
-  // rk_solution: the state and every stage's acceleration in, the trial state out.
-  reals += 12 + 2 * low + 3 * static_cast<double>(stages);
+  if (fused_stages_) {
+    // lattice_stage's last pass also forms the trial state: the particle's state and the
+    // accelerations its stage row weighed are at hand; the ones only the solution or error rows
+    // weigh are read, the trial state written, and the last stage's acceleration kept, not written.
+    std::size_t more = 0;
+    for (std::size_t l = 0; l + 1 < stages; ++l) {
+      const bool solution = weighs(stages, l) || weighs(stages + 1, l);
+      if (solution && !weighs(stages - 1, l)) ++more;
+    }
+    reals += 3 * static_cast<double>(more) + 6 + low - 3;
+  } else {
+    // rk_solution: the state and every stage's acceleration in, the trial state out.
+    reals += 12 + 2 * low + 3 * static_cast<double>(stages);
+  }
   indices += 1;
   // rk_accept: the trial state in, the state out, the three power sums in.
   reals += 12 + 2 * low + 3;

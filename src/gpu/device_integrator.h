@@ -6,7 +6,9 @@
 // needed (docs/gpu.md, "The step on the device"):
 //   for each stage i:  lattice_stage         on a lattice sheet, the three passes below in one: each
 //                                            particle forms the stage states its springs and its
-//                                            neighbours' reach, sums their forces on it, writes K_i
+//                                            neighbours' reach, sums their forces on it, writes K_i;
+//                                            the last stage's forms rk_solution's trial state and
+//                                            errors (per tile) as well, and rk_solution does not run
 //   or                 rk_stage_state        y_i = y + h sum_j a_ij (V_j, K_j); anchors on their paths
 //                      lattice_elements      each particle's own springs: their forces on it and on its
 //                                            four neighbours, their damping power (a lattice sheet), or

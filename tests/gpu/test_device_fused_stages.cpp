@@ -11,8 +11,11 @@
 
 #include <cmath>
 #include <cstdio>
+#include <optional>
+#include <string>
 #include <vector>
 
+#include "collision/obstacle_fixtures.h"
 #include "device_models.h"
 #include "gpu/device_integrator.h"
 #include "scene/builtin_scenes.h"
@@ -64,6 +67,7 @@ struct RunResult {
   std::vector<std::uint8_t> live;
   std::vector<double> rest_length, rest_angle;
   double balance_error = 0.0;
+  std::uint64_t contact_steps = 0;  // particles in contact with an obstacle, summed over the steps
 };
 
 RunResult run(const SceneSpec& spec, double t) {
@@ -79,7 +83,8 @@ RunResult run(const SceneSpec& spec, double t) {
           model.connector_live,
           model.connector_rest_length,
           model.radial_rest_angle,
-          simulation.energy_balance().error()};
+          simulation.energy_balance().error(),
+          simulation.contact_statistics().contact_steps};
 }
 
 // The first particle whose position or velocity differs in any bit, or -1.
@@ -131,6 +136,25 @@ TEST(DeviceFusedStages, AUniformSheetRunsTheSameBits) {
   }
 }
 
+// The obstacle pass reads the trial state the last stage's pass forms: paper-fig5 folding onto a
+// sphere under one side (its top 0.5 m below the sheet) runs the same bits either way.
+TEST(DeviceFusedStages, ASheetOnAnObstacleRunsTheSameBits) {
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    SceneSpec spec = builtin_scene("paper-fig5");
+    set_scene_field(spec, "springs.opposite.damping", "20", "test");
+    ColliderSpec ball;
+    ball.collider = obstacle_fixtures::sphere({3.0, -2.5, 0.0}, 2.0);
+    spec.colliders.push_back(ball);
+    spec.backend = device(precision, true);
+    const RunResult fused = run(spec, 0.5);
+    spec.backend = device(precision, false);
+    const RunResult split = run(spec, 0.5);
+    ASSERT_GT(fused.contact_steps, 0u) << "the sheet reaches the sphere";
+    expect_same_run(fused, split, to_string(precision));
+    EXPECT_EQ(fused.contact_steps, split.contact_steps) << to_string(precision);
+  }
+}
+
 // RK4 and symplectic Euler take the fused stages too: 30 steps from a deformed, moving sheet of
 // 7 x 10.
 TEST(DeviceFusedStages, EveryExplicitMethodTakesTheSameSteps) {
@@ -156,6 +180,43 @@ TEST(DeviceFusedStages, EveryExplicitMethodTakesTheSameSteps) {
       ends.push_back(state);
     }
     EXPECT_EQ(first_difference(ends[0], ends[1]), -1) << to_string(kind);
+  }
+}
+
+// The last stage's pass forms the trial state and each tile's largest error (rk_solution's work):
+// a run that blows up (RK4 at 10 ms steps) and one whose step underflows (RKF45 asked for 1e-14)
+// stop at the same time and step with the same diagnosis, naming the same particle, as with
+// rk_solution's workgroups of 256 particles.
+TEST(DeviceFusedStages, AFailureIsDiagnosedAsWithThreePasses) {
+  const auto failure = [](Precision precision, bool fused, bool underflow) {
+    SceneSpec spec = builtin_scene("paper-fig5");
+    spec.backend = device(precision, fused);
+    if (underflow) {
+      spec.integrator.relative_tolerance = spec.integrator.absolute_tolerance = 1e-14;
+      spec.integrator.min_step = spec.integrator.time_step = 1e-4;
+    } else {
+      spec.integrator.kind = IntegratorKind::rk4;
+      spec.integrator.time_step = 0.01;
+    }
+    Simulation simulation = make_simulation(spec);
+    bool failed = false;
+    for (int frame = 1; frame <= 30 && !failed; ++frame) failed = !simulation.advance_to(frame / 60.0);
+    EXPECT_TRUE(failed);
+    return simulation.failure();
+  };
+  for (Precision precision : {Precision::float64, Precision::float32}) {
+    for (bool underflow : {false, true}) {
+      const std::optional<Diagnosis> fused = failure(precision, true, underflow);
+      const std::optional<Diagnosis> split = failure(precision, false, underflow);
+      ASSERT_TRUE(fused.has_value() && split.has_value()) << to_string(precision);
+      std::printf("%s: %s (%s)\n", to_string(precision), fused->message.c_str(), fused->element.c_str());
+      EXPECT_EQ(fused->time, split->time) << to_string(precision);
+      EXPECT_EQ(fused->step, split->step) << to_string(precision);
+      EXPECT_EQ(fused->message, split->message) << to_string(precision);
+      EXPECT_EQ(fused->element, split->element) << to_string(precision);
+      EXPECT_NE(fused->message.find(underflow ? "step size underflow" : "blown up"), std::string::npos)
+          << fused->message;
+    }
   }
 }
 

@@ -167,6 +167,9 @@ struct LatticePassConstants {
   // them) the interior particle whose parameters and arm lengths every particle reads: one
   // particle's 32 reals, in the cache for all, instead of each particle's own.
   uint params_particle;
+  // lattice_stage's last stage, which forms the trial state as well: 1 for symplectic Euler's
+  // update instead of the row b (StagePassConstants::symplectic).
+  uint symplectic;
 };
 
 struct EventPassConstants {

@@ -10,7 +10,9 @@
 //      the ring around the tile those that act on the tile (the same terms in the same order as
 //      that particle's own sum);
 //   3. gathers each tile particle's force from its own sum and its neighbours' shares, and writes
-//      K_i and its powers (stage_acceleration.glsl).
+//      K_i and its powers (stage_acceleration.glsl);
+//   4. in the attempt's last stage, forms with K_i at hand the trial state and its scaled error
+//      (rk_trial.glsl, rk_solution's work) and the tile's largest error for rk_control.
 // The same bits as the three passes, with the tile's edges formed twice (2.25 times the stage
 // states and 1.25 times the radial springs of the three passes, at 8 x 8) and a third of the
 // dispatches (docs/gpu.md, "One pass per stage").
@@ -39,6 +41,13 @@ layout(std430, binding = 12) readonly buffer Mass { Real particle_mass[]; };    
 layout(std430, binding = 13) readonly buffer InverseMass { Real inverse_mass[]; };  // 1/kg; 0 anchored
 layout(std430, binding = 14) readonly buffer Environment { Real environment[]; };   // gravity (3), drag
 layout(std430, binding = 15) buffer ParticlePower { Real particle_power[]; };  // [3][particles], W (device_step.h)
+// The last stage's: the trial state (float32: its low parts too) and each tile's largest error.
+layout(std430, binding = 16) writeonly buffer TrialPosition { Real trial_position[]; };
+layout(std430, binding = 17) writeonly buffer TrialVelocity { Real trial_velocity[]; };
+layout(std430, binding = 18) writeonly buffer BlockError { Real block_error[]; };
+layout(std430, binding = 19) writeonly buffer BlockParticle { uint block_particle[]; };
+layout(std430, binding = 20) writeonly buffer TrialPositionLow { Real trial_position_low[]; };
+layout(std430, binding = 21) buffer TrialVelocityLow { Real trial_velocity_low[]; };
 
 layout(push_constant) uniform Constants { LatticePassConstants constants; };
 
@@ -68,6 +77,13 @@ StagePoint stage_offset_point(uint q) {
 #include "gpu/shaders/stage_offsets.glsl"
 #include "gpu/shaders/lattice_spring_sums.glsl"
 #include "gpu/shaders/stage_acceleration.glsl"
+
+Vec3 last_acceleration;  // the last stage's K of this invocation's particle, not written out
+Vec3 trial_acceleration(uint l, uint p) {
+  return l == constants.stage ? last_acceleration : stage_acceleration_of(l, p);
+}
+#define CLOTHSIM_REDUCE_SIZE kWorkgroupSize
+#include "gpu/shaders/rk_trial.glsl"
 
 void store_share(uint row, uint col, uint arm, Vec3 force) {
   const uint at = 12u * ring_slot(row, col) + 3u * arm;
@@ -130,17 +146,43 @@ void main() {
 
   // 3. The force on the tile particle: gravity and drag, its own springs, then each neighbour's
   // share on its arm toward p, (d + 2) % 4: lattice_elements' slot of it.
-  if (!inside) return;
-  const LatticeCell cell = lattice_cell(p, lattice_rows, cols);
-  Vec3 from[4];
-  from[0] = cell.has[0] ? share(row, col + 1u, 2u) : Vec3(0.0);
-  from[1] = cell.has[1] ? share(row + 1u, col, 3u) : Vec3(0.0);
-  from[2] = cell.has[2] ? share(row, col - 1u, 0u) : Vec3(0.0);
-  from[3] = cell.has[3] ? share(row - 1u, col, 1u) : Vec3(0.0);
-  // Weighed by the solution row, summed over the stages (device_step.h), as lattice_elements does.
-  const uint n = constants.particle_count;
-  const Real weight = rows[solution_weight_slot(constants.stages, constants.stage)];
-  particle_power[2u * n + p] = (constants.stage == 0u ? Real(0.0) : particle_power[2u * n + p]) + weight * own.power;
-  const Vec3 v = stage_velocity_from(p, stage_offset_point(p).velocity);
-  store_stage_acceleration(p, v, lattice_force_on(p, v, own.own, cell.has, from));
+  const bool last = constants.stage + 1u == constants.stages;
+  if (inside) {
+    const LatticeCell cell = lattice_cell(p, lattice_rows, cols);
+    Vec3 from[4];
+    from[0] = cell.has[0] ? share(row, col + 1u, 2u) : Vec3(0.0);
+    from[1] = cell.has[1] ? share(row + 1u, col, 3u) : Vec3(0.0);
+    from[2] = cell.has[2] ? share(row, col - 1u, 0u) : Vec3(0.0);
+    from[3] = cell.has[3] ? share(row - 1u, col, 1u) : Vec3(0.0);
+    // Weighed by the solution row, summed over the stages (device_step.h), as lattice_elements does.
+    const uint n = constants.particle_count;
+    const Real weight = rows[solution_weight_slot(constants.stages, constants.stage)];
+    particle_power[2u * n + p] = (constants.stage == 0u ? Real(0.0) : particle_power[2u * n + p]) + weight * own.power;
+    const Vec3 v = stage_velocity_from(p, stage_offset_point(p).velocity);
+    const Vec3 force = lattice_force_on(p, v, own.own, cell.has, from);
+    if (last) {
+      last_acceleration = acceleration_and_powers(p, v, force);
+    } else {
+      store_stage_acceleration(p, v, force);
+    }
+  }
+  if (!last) return;
+
+  // 4. The trial state and its error (rk_solution's, the same bits), and the tile's largest error.
+  Real ratio = Real(0.0);
+  if (inside) {
+    StepStart start;
+    start.x0 = state_vector(0u, p);
+    start.v0 = state_vector(1u, p);
+#if CLOTHSIM_STAGE_OFFSETS
+    start.low_x0 = state_low_vector(0u, p);
+    start.low_v0 = state_low_vector(1u, p);
+#endif
+    ratio = trial_and_error(p, constants.symplectic != 0u, start);
+  }
+  reduce_largest_error(ratio, inside ? p : 0xffffffffu);
+  if (local == 0u) {
+    block_error[tile] = largest_error[0];
+    block_particle[tile] = largest_particle[0];
+  }
 }

@@ -13,6 +13,7 @@
 #define CLOTHSIM_STAGE_STATE_GLSL
 
 #include "gpu/shaders/anchor_motion.glsl"
+#include "gpu/shaders/stage_accelerations.glsl"
 #include "gpu/shaders/stage_point.glsl"
 
 Vec3 state_vector(uint array, uint p) {
@@ -28,11 +29,6 @@ Vec3 state_low_vector(uint array, uint p) {
   return Vec3(origin_velocity_low[3 * p], origin_velocity_low[3 * p + 1], origin_velocity_low[3 * p + 2]);
 }
 #endif
-
-Vec3 stage_acceleration_of(uint l, uint p) {
-  const uint base = 3 * (l * constants.particle_count + p);
-  return Vec3(acceleration[base], acceleration[base + 1], acceleration[base + 2]);
-}
 
 StagePoint stage_state(uint p, uint stage) {
   const Real h = control_real[kStep];
