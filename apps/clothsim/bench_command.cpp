@@ -96,13 +96,14 @@ BenchOptions make_options(const BenchFlags& flags) {
     options.backend.precision = precision;
   }
   if (flags.given("--stage-passes")) {
-    if (flags.stage_passes != "fused" && flags.stage_passes != "split") {
-      throw InputError("--stage-passes", "", "expected fused or split, got '" + flags.stage_passes + "'");
+    StagePasses passes{};
+    if (!parse_stage_passes(flags.stage_passes, passes)) {
+      throw InputError("--stage-passes", "", "expected split, fused or chained, got '" + flags.stage_passes + "'");
     }
     if (options.backend.kind != Backend::vulkan) {
       throw InputError("--stage-passes", "", "applies to the vulkan backend only (--backend vulkan)");
     }
-    options.backend.fused_stages = flags.stage_passes == "fused";
+    options.backend.stage_passes = passes;
   }
   for (IntegratorKind kind : options.integrators) {
     const std::string unsupported = unsupported_by_backend(features_of(kind), options.backend);
@@ -234,10 +235,11 @@ Subcommand add_bench_command(CLI::App& parent) {
          "rkf45's tolerances allow it)")
       ->type_name("float32|float64");
   app->add_option("--stage-passes", flags->stage_passes,
-                  "the vulkan backend's explicit stages on a lattice: fused (one pass a stage) or split (three: the "
-                  "stage state, the springs, the accelerations); the same results. Default: fused on a GPU, split on "
-                  "a CPU device such as lavapipe (docs/gpu.md)")
-      ->type_name("fused|split");
+                  "the vulkan backend's explicit stages on a lattice: split (three passes a stage: the stage state, "
+                  "the springs, the accelerations), fused (one pass a stage) or chained (up to 3 stages a pass in "
+                  "float32, 1 in float64); the same results. Default: chained on a GPU, split on a CPU device such "
+                  "as lavapipe (docs/gpu.md)")
+      ->type_name("split|fused|chained");
   add_memory_flag(*app, flags->memory);
   app->footer(
       "Each case is the paper's material on an N x N lattice held by its centre particle, falling from rest, "

@@ -16,6 +16,7 @@
 #include <vulkan/vulkan.h>
 
 #include "core/precision.h"
+#include "core/stage_passes.h"
 #include "gpu/instance.h"
 
 namespace clothsim::gpu {
@@ -33,11 +34,11 @@ struct DeviceSelection {
   std::uint32_t index = 0;  // the device, as `clothsim devices` numbers it
   Precision precision = Precision::float32;
   bool validation = kValidationByDefault;  // the validation layers, where installed
-  // The explicit methods' stages on a lattice sheet in one pass each (lattice_stage.comp) or in
-  // three (rk_stage_state, lattice_elements, stage_acceleration): the same bits. Unset: one on a
-  // GPU, three on a CPU device such as lavapipe, where the one pass's extra arithmetic costs more
-  // than the memory it saves (docs/gpu.md, "One pass per stage").
-  std::optional<bool> fused_stages = std::nullopt;
+  // The explicit methods' stages on a lattice sheet: three passes a stage, one, or several stages
+  // chained in a pass (core/stage_passes.h); the same bits. Unset: chained on a GPU, split on a
+  // CPU device such as lavapipe, where the one pass's extra arithmetic costs more than the memory
+  // it saves (docs/gpu.md, "One pass per stage").
+  std::optional<StagePasses> stage_passes = std::nullopt;
 };
 
 class Device {

@@ -190,7 +190,13 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
           shader_pipeline(device_, "obstacle_contacts", precision_, 17, sizeof(ObstaclePassConstants))),
       obstacle_energy_pass_(shader_pipeline(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants),
                                             kReduceWorkgroup)) {
-  fused_stages_ = lattice_ && selection.fused_stages.value_or(device_.info().type != "cpu");
+  const StagePasses passes =
+      selection.stage_passes.value_or(device_.info().type == "cpu" ? StagePasses::split : StagePasses::chained);
+  if (lattice_ && passes != StagePasses::split) {
+    const bool wide = passes == StagePasses::chained;
+    chained_stages_ =
+        wide ? (precision_ == Precision::float64 ? kMaxChainedStagesFloat64 : kMaxChainedStagesFloat32) : 1u;
+  }
   if (!lattice_ && model.limits.changes_sheet()) {
     throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
   }
@@ -288,34 +294,41 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
   const std::uint32_t damped = (options_.terms & kSpringDamping) != 0 ? 1u : 0u;
   const std::uint32_t symplectic = symplectic_ ? 1u : 0u;
   const auto lattice_constants = [&](std::uint32_t stage) {
-    return LatticePassConstants{
-        particles_, static_cast<std::uint32_t>(model_.rows), lattice_cols, damped, stage, stages, params_particle_,
-        symplectic};
+    return LatticePassConstants{particles_,
+                                static_cast<std::uint32_t>(model_.rows),
+                                lattice_cols,
+                                damped,
+                                stage,
+                                stages,
+                                params_particle_,
+                                symplectic,
+                                1};
   };
-  for (std::uint32_t i = 0; i < stages; ++i) {
-    if (fused_stages_) {
-      // The last stage's pass forms the trial state and its error too (timed with the forces).
-      const LatticePassConstants lattice = lattice_constants(i);
+  std::uint32_t error_blocks = workgroups_of(particles_);
+  if (chained_stages_ != 0) {
+    // lattice_stage, chained_stages_ stages a pass; the pass that ends the attempt forms the trial
+    // state and each tile's largest error too (timed with the forces).
+    for (std::uint32_t first = 0; first < stages; first += chained_stages_) {
+      LatticePassConstants lattice = lattice_constants(first);
+      lattice.pass_stages = std::min(chained_stages_, stages - first);
       lattice_stage_pass_.dispatch(commands, &lattice, lattice_stage_invocations());
       timer.mark(commands, StepStage::forces);
-      continue;
     }
-    const StagePassConstants stage{particles_, i, stages, 0, lattice_cols};
-    stage_state_pass_.dispatch(commands, &stage, particles_);
-    timer.mark(commands, StepStage::stage_sums);
-    if (lattice_) {
-      const LatticePassConstants lattice = lattice_constants(i);
-      lattice_pass_.dispatch(commands, &lattice, particles_);
-    } else {
-      forces_.record_element_passes(commands, i);
-    }
-    acceleration_pass_.dispatch(commands, &stage, particles_);
-    timer.mark(commands, StepStage::forces);
-  }
-  std::uint32_t error_blocks = workgroups_of(particles_);
-  if (fused_stages_) {
     error_blocks = lattice_stage_invocations() / (kStageTile * kStageTile);
   } else {
+    for (std::uint32_t i = 0; i < stages; ++i) {
+      const StagePassConstants stage{particles_, i, stages, 0, lattice_cols};
+      stage_state_pass_.dispatch(commands, &stage, particles_);
+      timer.mark(commands, StepStage::stage_sums);
+      if (lattice_) {
+        const LatticePassConstants lattice = lattice_constants(i);
+        lattice_pass_.dispatch(commands, &lattice, particles_);
+      } else {
+        forces_.record_element_passes(commands, i);
+      }
+      acceleration_pass_.dispatch(commands, &stage, particles_);
+      timer.mark(commands, StepStage::forces);
+    }
     const StagePassConstants solution{particles_, 0, stages, symplectic, lattice_cols};
     solution_pass_.dispatch(commands, &solution, particles_);
   }
@@ -557,46 +570,52 @@ double DeviceIntegrator::traffic_per_particle_and_attempt() const {
     const std::size_t base = row * kRowReals;
     return row_reals[base + 1 + l] != 0.0 || row_reals[base + 1 + kMaxDeviceStages + l] != 0.0;
   };
-  for (std::size_t i = 0; i < stages; ++i) {
-    // The earlier stages' accelerations stage i's Nystrom row weighs.
-    std::size_t weighed = 0;
-    for (std::size_t l = 0; l < i; ++l) {
-      if (weighs(i, l)) ++weighed;
-    }
-    const double params = params_particle_ == kOwnParams ? kLatticeParams + 2 : 0.0;
-    if (fused_stages_) {
-      // lattice_stage: the same state, low parts and accelerations in (its neighbours' as cached),
-      // the spring parameters, mass and inverse mass, the acceleration out and the three power
-      // sums read and written; no stage state and no springs' forces between passes.
-      reals += 6 + low + 3 * static_cast<double>(weighed) + params + 1 + 1 + 3 + 2 + 4;
+  const double params = params_particle_ == kOwnParams ? kLatticeParams + 2 : 0.0;
+  if (chained_stages_ != 0) {
+    // lattice_stage, a pass for each chained_stages_ stages from `first`: the state and low parts
+    // in (its neighbours' as cached), the earlier passes' accelerations any of its stages weighs,
+    // the spring parameters, mass and inverse mass once; for each stage its acceleration out; the
+    // three power sums read (after stage 0) and written once; no stage state, springs' forces or
+    // (within the pass) accelerations between passes. The pass that ends the attempt also forms the trial state:
+    // the accelerations only the solution or error rows weigh in, the trial state out, and the
+    // last stage's acceleration kept, not written.
+    const std::size_t chain = chained_stages_;
+    for (std::size_t first = 0; first < stages; first += chain) {
+      const std::size_t end = std::min(stages, first + chain);
+      std::size_t earlier = 0;
+      for (std::size_t l = 0; l < first; ++l) {
+        bool weighed = false;
+        for (std::size_t i = first; i < end; ++i) weighed = weighed || weighs(i, l);
+        if (end == stages) weighed = weighed || weighs(stages, l) || weighs(stages + 1, l);
+        if (weighed) ++earlier;
+      }
+      const double powers = first == 0 ? 3 : 6;
+      reals +=
+          6 + low + 3 * static_cast<double>(earlier) + params + 1 + 1 + powers + 3 * static_cast<double>(end - first);
       indices += 1;  // the particle's anchor
-      continue;
     }
-    // rk_stage_state: the state in, the stage state out, and those accelerations.
-    reals += 6 + low + 6 + 3 * static_cast<double>(weighed);
-    indices += 1;  // the particle's anchor
-    // lattice_elements: the stage state (in float32 its offsets, and the state they are from), the
-    // particle's spring parameters and its two connectors' original lengths in (on a uniform sheet
-    // one particle's, read once for all); its force and its four neighbours' shares out, and its
-    // damping power sum read and written.
-    reals += 6 + origin + params + kLatticeForces + 2;
-    // stage_acceleration: the stage velocity (in float32 its offset and the state's), mass and
-    // inverse mass, the forces gathered, the acceleration out, the drag and anchor power sums
-    // read and written.
-    reals += 3 + origin / 2 + 1 + 1 + kLatticeForces + 3 + 4;
-    indices += 1;
-  }
-  if (fused_stages_) {
-    // lattice_stage's last pass also forms the trial state: the particle's state and the
-    // accelerations its stage row weighed are at hand; the ones only the solution or error rows
-    // weigh are read, the trial state written, and the last stage's acceleration kept, not written.
-    std::size_t more = 0;
-    for (std::size_t l = 0; l + 1 < stages; ++l) {
-      const bool solution = weighs(stages, l) || weighs(stages + 1, l);
-      if (solution && !weighs(stages - 1, l)) ++more;
-    }
-    reals += 3 * static_cast<double>(more) + 6 + low - 3;
+    reals += 6 + low - 3;
   } else {
+    for (std::size_t i = 0; i < stages; ++i) {
+      // The earlier stages' accelerations stage i's Nystrom row weighs.
+      std::size_t weighed = 0;
+      for (std::size_t l = 0; l < i; ++l) {
+        if (weighs(i, l)) ++weighed;
+      }
+      // rk_stage_state: the state in, the stage state out, and those accelerations.
+      reals += 6 + low + 6 + 3 * static_cast<double>(weighed);
+      indices += 1;  // the particle's anchor
+      // lattice_elements: the stage state (in float32 its offsets, and the state they are from),
+      // the particle's spring parameters and its two connectors' original lengths in (on a uniform
+      // sheet one particle's, read once for all); its force and its four neighbours' shares out,
+      // and its damping power sum read and written.
+      reals += 6 + origin + params + kLatticeForces + 2;
+      // stage_acceleration: the stage velocity (in float32 its offset and the state's), mass and
+      // inverse mass, the forces gathered, the acceleration out, the drag and anchor power sums
+      // read and written.
+      reals += 3 + origin / 2 + 1 + 1 + kLatticeForces + 3 + 4;
+      indices += 1;
+    }
     // rk_solution: the state and every stage's acceleration in, the trial state out.
     reals += 12 + 2 * low + 3 * static_cast<double>(stages);
   }

@@ -4,12 +4,13 @@
 // The state, the model and the method's scratch live in device memory. An attempt at a step is
 // a fixed sequence of passes, recorded once into a command buffer and submitted as often as
 // needed (docs/gpu.md, "The step on the device"):
-//   for each stage i:  lattice_stage         on a lattice sheet, the three passes below in one: each
-//                                            particle forms the stage states its springs and its
-//                                            neighbours' reach, sums their forces on it, writes K_i;
-//                                            the last stage's forms rk_solution's trial state and
-//                                            errors (per tile) as well, and rk_solution does not run
-//   or                 rk_stage_state        y_i = y + h sum_j a_ij (V_j, K_j); anchors on their paths
+//   on a lattice:      lattice_stage         the three passes below in one, for up to three stages
+//                                            a pass (float32; one in float64): each tile forms the
+//                                            stage states its springs and its neighbours' reach, sums
+//                                            their forces, K_i; the pass that ends the attempt forms
+//                                            rk_solution's trial state and errors (per tile) as well,
+//                                            and rk_solution does not run
+//   or for each stage: rk_stage_state        y_i = y + h sum_j a_ij (V_j, K_j); anchors on their paths
 //                      lattice_elements      each particle's own springs: their forces on it and on its
 //                                            four neighbours, their damping power (a lattice sheet), or
 //                      connector, radial     the element forces into slots (DeviceForces, any sheet)
@@ -235,8 +236,10 @@ class DeviceIntegrator final : public Integrator {
   bool adaptive_;
   bool symplectic_;
   bool lattice_;
-  bool fused_stages_ = false;  // lattice_stage for each stage (the lattice path, DeviceSelection::fused_stages)
-  std::uint32_t laws_ = 0;     // EventPassConstants::laws of the recorded attempts
+  // On the lattice path, the stages lattice_stage chains in a pass (DeviceSelection::stage_passes);
+  // 0: three passes a stage.
+  std::uint32_t chained_stages_ = 0;
+  std::uint32_t laws_ = 0;  // EventPassConstants::laws of the recorded attempts
   // LatticePassConstants::params_particle of the recorded attempts (device_lattice.cpp).
   std::uint32_t params_particle_ = kOwnParams;
   // The colliders the obstacle arrays are sized for; the recorded attempts run the obstacle passes

@@ -62,7 +62,7 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
   if (options.backend.kind == Backend::vulkan) {
     // The device's rate is not the CPU kernel's: no FLOP count, no share of the CPU's peak.
     result.kernel = std::string("vulkan-") + to_string(options.backend.resolved_precision(spec.integrator));
-    if (options.backend.fused_stages) result.kernel += *options.backend.fused_stages ? "-fused" : "-split";
+    if (options.backend.stage_passes) result.kernel += std::string("-") + to_string(*options.backend.stage_passes);
   } else {
     ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
     probe.resize(simulation.model());

@@ -145,7 +145,7 @@ std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, con
 #if CLOTHSIM_HAVE_VULKAN
   try {
     gpu::DeviceSelection selection{backend.device, precision};
-    selection.fused_stages = backend.fused_stages;
+    selection.stage_passes = backend.stage_passes;
     if (integrator.kind == IntegratorKind::implicit_euler) {
       return std::make_unique<gpu::DeviceImplicitEuler>(model, integrator, options, selection);
     }

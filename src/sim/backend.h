@@ -12,6 +12,7 @@
 #include <string_view>
 
 #include "core/precision.h"
+#include "core/stage_passes.h"
 #include "integrators/integrator.h"
 #include "model/cloth_model.h"
 #include "model/spring_limits.h"
@@ -28,9 +29,10 @@ struct BackendSettings {
   Backend kind = Backend::cpu;
   std::uint32_t device = 0;                   // the Vulkan device, as `clothsim devices` numbers it
   std::optional<PrecisionRequest> precision;  // unset: the backend's default (resolved_precision)
-  // The device's explicit methods on a lattice sheet: each stage in one pass (true) or in three
-  // (false), the same bits; unset, the device's choice (gpu::DeviceSelection::fused_stages).
-  std::optional<bool> fused_stages = std::nullopt;
+  // The device's explicit methods on a lattice sheet: three passes a stage, one, or several stages
+  // chained in a pass (core/stage_passes.h), the same bits; unset, the device's choice
+  // (gpu::DeviceSelection::stage_passes).
+  std::optional<StagePasses> stage_passes = std::nullopt;
   // The precision the backend computes in for `integrator`: the one asked for; for `auto`,
   // automatic_precision's choice; unset, float64 on the CPU and float32 on a device (twice the
   // throughput there, and every device has it), but float64 for implicit Euler on either.

@@ -81,8 +81,9 @@ TEST_F(BackendTest, WhatTheDeviceDoesNotRunIsRefused) {
   // Refused on every backend: the message ends with its own advice, not with backend cpu's.
   const Result float32 =
       clothsim({"run", "tear-pull", "--backend", "vulkan", "--precision", "float32", "--render", "none"});
-  expect_refused(float32, "the vulkan backend does not run float32 (precision) with implicit-euler (integrator.method), "
-                          "whose Newton solve needs float64 forces; use precision float64 or auto");
+  expect_refused(float32,
+                 "the vulkan backend does not run float32 (precision) with implicit-euler (integrator.method), "
+                 "whose Newton solve needs float64 forces; use precision float64 or auto");
   EXPECT_FALSE(contains(float32.err, "use backend cpu")) << float32.err;
   expect_refused(clothsim({"run", "paper-fig5", "--backend", "vulkan", "--integrator", "imex", "--render", "none"}),
                  "field 'backend': the vulkan backend does not run imex (integrator.method) yet");
@@ -127,6 +128,25 @@ TEST_F(BackendTest, TheBenchRunsOnTheDevice) {
   const Result refused = clothsim({"bench", "--backend", "vulkan", "--integrators", "imex"});
   EXPECT_EQ(refused.exit_code, 2) << describe(refused);
   EXPECT_TRUE(contains(refused.err, "does not run imex"));
+}
+
+// --stage-passes chooses how the explicit stages run on the device, and the kernel column says so;
+// a value it does not know, or another backend, is refused.
+TEST_F(BackendTest, TheBenchChoosesTheStagePasses) {
+  for (const char* passes : {"split", "fused", "chained"}) {
+    const Result result =
+        clothsim({"bench", "--backend", "vulkan", "--sizes", "9", "--integrators", "rkf45", "--seconds", "0.2",
+                  "--sim-cap", "0.05", "--stage-passes", passes, "--csv", "bench.csv"});
+    ASSERT_EQ(result.exit_code, 0) << describe(result);
+    EXPECT_TRUE(contains(read_text(work_ / "bench.csv"), std::string(",rkf45,vulkan-float32-") + passes + ","))
+        << passes;
+  }
+  const Result unknown = clothsim({"bench", "--backend", "vulkan", "--stage-passes", "twice"});
+  EXPECT_EQ(unknown.exit_code, 2) << describe(unknown);
+  EXPECT_TRUE(contains(unknown.err, "expected split, fused or chained, got 'twice'")) << unknown.err;
+  const Result cpu = clothsim({"bench", "--stage-passes", "chained"});
+  EXPECT_EQ(cpu.exit_code, 2) << describe(cpu);
+  EXPECT_TRUE(contains(cpu.err, "applies to the vulkan backend only")) << cpu.err;
 }
 
 #else

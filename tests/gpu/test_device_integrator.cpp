@@ -487,7 +487,7 @@ TEST(DeviceIntegrator, TheLatticePathHoldsNoElementArrays) {
 // passes a stage, which name the stage sums apart (test_device_fused_stages.cpp has the one pass).
 TEST(DeviceIntegrator, TheProfileNamesTheCpusStagesAndTheTraffic) {
   SceneSpec spec = device_scene("paper-fig5", vulkan(Precision::float32));
-  spec.backend.fused_stages = false;
+  spec.backend.stage_passes = StagePasses::split;
   spec.lattice.limits.break_strain = 10.0;  // the event passes run (and never break a spring)
   Simulation simulation = make_simulation(spec);
   ASSERT_TRUE(simulation.advance_to(0.2));
@@ -514,7 +514,7 @@ TEST(DeviceIntegrator, TheProfileNamesTheCpusStagesAndTheTraffic) {
     ClothModel model = paper_lattice(8, 8);
     model.limits.break_strain = break_strain;
     gpu::DeviceSelection split = device0(precision);
-    split.fused_stages = false;
+    split.stage_passes = StagePasses::split;
     gpu::DeviceIntegrator device(model, IntegratorSettings{}, ForceOptions{}, split);
     ClothState state;  // one step, which sets the passes up for the model's laws
     state.position = model.particle_rest_position;

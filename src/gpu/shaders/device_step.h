@@ -121,6 +121,10 @@ CLOTHSIM_SLOT kLatticeParams = 32;
 CLOTHSIM_SLOT kLatticeForces = 15;
 // lattice_stage's tile: kStageTile x kStageTile particles a workgroup, one an invocation.
 CLOTHSIM_SLOT kStageTile = 8;
+// The most stages lattice_stage chains in one pass, by precision: its shared arrays, sized for
+// them, stay within the 32 kB every device offers (docs/gpu.md, "Stages chained in a pass").
+CLOTHSIM_SLOT kMaxChainedStagesFloat32 = 3;
+CLOTHSIM_SLOT kMaxChainedStagesFloat64 = 1;
 CLOTHSIM_SLOT kSpringParams = 4;       // Reals per spring
 CLOTHSIM_SLOT kConnectorParams = 0;    // connector d at kConnectorParams + kSpringParams * d
 CLOTHSIM_SLOT kRadialParams = 8;       // radial spring k at kRadialParams + kSpringParams * k
@@ -161,15 +165,16 @@ struct LatticePassConstants {
   uint rows;
   uint cols;
   uint damped;  // 1: the springs' damping acts (kSpringDamping)
-  uint stage;   // the stage whose damping power is weighed into particle_power
+  uint stage;   // the stage whose damping power is weighed into particle_power (lattice_stage: its first)
   uint stages;  // the method's stages (where its solution row is in `rows`)
   // kOwnParams, or on a uniform sheet (every spring of a kind the same, and no law that changes
   // them) the interior particle whose parameters and arm lengths every particle reads: one
   // particle's 32 reals, in the cache for all, instead of each particle's own.
   uint params_particle;
-  // lattice_stage's last stage, which forms the trial state as well: 1 for symplectic Euler's
-  // update instead of the row b (StagePassConstants::symplectic).
+  // lattice_stage's pass that ends the attempt forms the trial state as well: 1 for symplectic
+  // Euler's update instead of the row b (StagePassConstants::symplectic).
   uint symplectic;
+  uint pass_stages;  // lattice_stage: the stages it chains, from `stage` on
 };
 
 struct EventPassConstants {

@@ -1,21 +1,25 @@
 #version 450
 #extension GL_GOOGLE_include_directive : require
-// One stage of a Runge-Kutta attempt on a lattice sheet in one pass: the work of rk_stage_state,
-// lattice_elements and stage_acceleration, without the stage state and the springs' forces going
-// through device memory between them. A workgroup takes a tile of kTile x kTile particles and,
-// in its shared memory:
-//   1. forms the stage state (stage_state.glsl) of the tile and two cells around it, all that the
-//      tile's springs and its neighbours' springs reach;
-//   2. sums the springs (lattice_spring_sums.glsl) of each tile particle, and of each particle on
-//      the ring around the tile those that act on the tile (the same terms in the same order as
-//      that particle's own sum);
-//   3. gathers each tile particle's force from its own sum and its neighbours' shares, and writes
-//      K_i and its powers (stage_acceleration.glsl);
-//   4. in the attempt's last stage, forms with K_i at hand the trial state and its scaled error
+// Consecutive stages of a Runge-Kutta attempt on a lattice sheet in one pass: for each, the work
+// of rk_stage_state, lattice_elements and stage_acceleration, without the stage states, the
+// springs' forces or (between the pass's own stages) the accelerations going through device
+// memory. A workgroup takes a tile of kTile x kTile particles. A stage's force on a particle
+// reaches two cells, so for the pass's stage j of G, K_j is formed on the tile and
+// reach_j = 2 (G - 1 - j) cells around it, all that the pass's later stages reach; for each stage,
+// in shared memory:
+//   1. the stage states (stage_state.glsl) of that region and two cells around it, with the pass's
+//      earlier stages' accelerations from shared memory and the earlier passes' from the stages'
+//      arrays;
+//   2. the springs' sums (lattice_spring_sums.glsl) of each particle of the region, and of each
+//      particle on the ring around it those that act on the region (the same terms in the same
+//      order as that particle's own sum);
+//   3. each particle's force gathered from its own sum and its neighbours' shares, and K_j: kept
+//      in shared memory for the pass's later stages, and for the tile's particles written with
+//      their powers (stage_acceleration.glsl);
+//   4. after the attempt's last stage, with its K at hand, the trial state and its scaled error
 //      (rk_trial.glsl, rk_solution's work) and the tile's largest error for rk_control.
-// The same bits as the three passes, with the tile's edges formed twice (2.25 times the stage
-// states and 1.25 times the radial springs of the three passes, at 8 x 8) and a third of the
-// dispatches (docs/gpu.md, "One pass per stage").
+// The same bits as the three passes a stage; the cells around the tile are formed again by each
+// tile that reaches them (docs/gpu.md, "One pass per stage", "Stages chained in a pass").
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 
@@ -28,7 +32,7 @@ layout(std430, binding = 0) readonly buffer Position { Real origin_position[]; }
 layout(std430, binding = 1) readonly buffer Velocity { Real origin_velocity[]; };  // m/s
 layout(std430, binding = 2) readonly buffer PositionLow { Real origin_position_low[]; };  // float32: low parts
 layout(std430, binding = 3) readonly buffer VelocityLow { Real origin_velocity_low[]; };
-// [stages][3 particles], m/s^2: the earlier stages' read, this stage's written.
+// [stages][3 particles], m/s^2: the earlier passes' read, the pass's own written.
 layout(std430, binding = 4) buffer Acceleration { Real acceleration[]; };
 layout(std430, binding = 5) readonly buffer Rows { Real rows[]; };  // the method's Nystrom rows
 layout(std430, binding = 6) readonly buffer ControlReal { Real control_real[]; };
@@ -51,24 +55,65 @@ layout(std430, binding = 21) buffer TrialVelocityLow { Real trial_velocity_low[]
 
 layout(push_constant) uniform Constants { LatticePassConstants constants; };
 
-#include "gpu/shaders/stage_state.glsl"
+// The stages a pass can chain (device_step.h; at most 3), and the regions at the most:
+// the first stage's states reach 2 G cells around the tile, its springs' sums 2 G - 1, its K 2 G - 2.
+#if CLOTHSIM_FLOAT64
+const uint kChain = kMaxChainedStagesFloat64;
+#else
+const uint kChain = kMaxChainedStagesFloat32;
+#endif
+const uint kStateSide = kTile + 4u * kChain;
+const uint kShareSide = kStateSide - 2u;
+shared Real halo_position[3u * kStateSide * kStateSide];  // stage states (float32: offsets from the state)
+shared Real halo_velocity[3u * kStateSide * kStateSide];
+shared Real ring_shares[12u * kShareSide * kShareSide];  // each particle's springs' forces on its four arms
+// The pass's stages but its last: K on the tile and its reach, stage j after stage j - 1's.
+const uint kChainAccelerations =
+    kChain == 1u ? 1u : 3u * ((kChain == 3u ? (kTile + 8u) * (kTile + 8u) : 0u) + (kTile + 4u) * (kTile + 4u));
+shared Real chain_acceleration[kChainAccelerations];
+// A region's particles an invocation takes at the most: K's region of the first stage.
+const uint kPerInvocation = ((kTile + 4u * kChain - 4u) * (kTile + 4u * kChain - 4u) + kWorkgroupSize - 1u) /
+                            kWorkgroupSize;
 
-// The tile with two cells around it (kHalo x kHalo) and with one (kRing x kRing), from the
-// tile's first row and column less two and one.
-const uint kHalo = kTile + 4u;
-const uint kRing = kTile + 2u;
-shared Real halo_position[3u * kHalo * kHalo];  // stage states (float32: offsets from the state)
-shared Real halo_velocity[3u * kHalo * kHalo];
-shared Real ring_shares[12u * kRing * kRing];  // each particle's springs' forces on its four arms
-uint tile_row;                                 // the tile's first lattice row and column
+// The tile's particles' power sums over the stages (device_step.h's three, drag, anchors and
+// damping, by invocation), kept here between the pass's stages, which take a particle in
+// different invocations.
+shared Real tile_power[3u * kWorkgroupSize];
+
+uint tile_row;  // the tile's first lattice row and column
 uint tile_col;
+uint state_reach;  // the current stage's regions around the tile: its states', its springs' sums'
+uint sum_reach;
 
-uint halo_slot(uint q) { return (q / constants.cols + 2u - tile_row) * kHalo + (q % constants.cols + 2u - tile_col); }
-uint ring_slot(uint row, uint col) { return (row + 1u - tile_row) * kRing + (col + 1u - tile_col); }
+// Slot of lattice (row, col) in a square region `reach` cells around the tile (rows and columns
+// before the tile's as unsigned numbers past the lattice, the same arithmetic both ways).
+uint region_slot(uint row, uint col, uint reach) {
+  return (row + reach - tile_row) * (kTile + 2u * reach) + (col + reach - tile_col);
+}
+
+// Where the pass's stage j keeps its K: after the earlier stages' regions.
+uint chain_slot(uint j, uint row, uint col) {
+  uint base = 0u;
+  for (uint k = 0u; k < j; ++k) {
+    const uint side = kTile + 4u * (constants.pass_stages - 1u - k);
+    base += side * side;
+  }
+  return 3u * (base + region_slot(row, col, 2u * (constants.pass_stages - 1u - j)));
+}
+
+#include "gpu/shaders/stage_accelerations.glsl"
+// K_l of particle p for a stage state: the pass's own earlier stages' from shared memory.
+Vec3 earlier_acceleration(uint l, uint p) {
+  if (l < constants.stage) return stage_acceleration_of(l, p);
+  const uint at = chain_slot(l - constants.stage, p / constants.cols, p % constants.cols);
+  return Vec3(chain_acceleration[at], chain_acceleration[at + 1u], chain_acceleration[at + 2u]);
+}
+#define CLOTHSIM_EARLIER_ACCELERATION earlier_acceleration
+#include "gpu/shaders/stage_state.glsl"
 
 #define CLOTHSIM_STAGE_COMPUTED
 StagePoint stage_offset_point(uint q) {
-  const uint slot = 3u * halo_slot(q);
+  const uint slot = 3u * region_slot(q / constants.cols, q % constants.cols, state_reach);
   StagePoint point;
   point.position = Vec3(halo_position[slot], halo_position[slot + 1u], halo_position[slot + 2u]);
   point.velocity = Vec3(halo_velocity[slot], halo_velocity[slot + 1u], halo_velocity[slot + 2u]);
@@ -78,42 +123,42 @@ StagePoint stage_offset_point(uint q) {
 #include "gpu/shaders/lattice_spring_sums.glsl"
 #include "gpu/shaders/stage_acceleration.glsl"
 
-Vec3 last_acceleration;  // the last stage's K of this invocation's particle, not written out
+Vec3 last_acceleration;  // the attempt's last stage's K of this invocation's tile particle
 Vec3 trial_acceleration(uint l, uint p) {
-  return l == constants.stage ? last_acceleration : stage_acceleration_of(l, p);
+  return l + 1u == constants.stages ? last_acceleration : earlier_acceleration(l, p);
 }
 #define CLOTHSIM_REDUCE_SIZE kWorkgroupSize
 #include "gpu/shaders/rk_trial.glsl"
 
 void store_share(uint row, uint col, uint arm, Vec3 force) {
-  const uint at = 12u * ring_slot(row, col) + 3u * arm;
+  const uint at = 12u * region_slot(row, col, sum_reach) + 3u * arm;
   ring_shares[at] = force.x;
   ring_shares[at + 1u] = force.y;
   ring_shares[at + 2u] = force.z;
 }
 
 Vec3 share(uint row, uint col, uint arm) {
-  const uint at = 12u * ring_slot(row, col) + 3u * arm;
+  const uint at = 12u * region_slot(row, col, sum_reach) + 3u * arm;
   return Vec3(ring_shares[at], ring_shares[at + 1u], ring_shares[at + 2u]);
 }
 
-void main() {
-  if (control_uint[kActive] == 0u) return;  // the same for the whole dispatch, before any barrier
+// The pass's stage j (the attempt's stage constants.stage + j), K formed `reach` cells around the
+// tile. Every invocation calls it: its barriers are the workgroup's.
+void chained_stage(uint j, uint reach) {
+  const uint stage = constants.stage + j;
   const uint lattice_rows = constants.rows;
   const uint cols = constants.cols;
-  const uint tiles_across = (cols + kTile - 1u) / kTile;
-  const uint tile = workgroup_index();
-  tile_row = (tile / tiles_across) * kTile;
-  tile_col = (tile % tiles_across) * kTile;
   const uint local = gl_LocalInvocationID.x;
+  state_reach = reach + 2u;
+  sum_reach = reach + 1u;
 
-  // 1. The stage states of the tile and two cells around it (rows and columns before the tile's
-  // first as unsigned numbers past the lattice).
-  for (uint slot = local; slot < kHalo * kHalo; slot += kWorkgroupSize) {
-    const uint row = tile_row + slot / kHalo - 2u;
-    const uint col = tile_col + slot % kHalo - 2u;
+  // 1. The stage states of the region and two cells around it.
+  const uint state_side = kTile + 2u * state_reach;
+  for (uint slot = local; slot < state_side * state_side; slot += kWorkgroupSize) {
+    const uint row = tile_row + slot / state_side - state_reach;
+    const uint col = tile_col + slot % state_side - state_reach;
     if (row >= lattice_rows || col >= cols) continue;
-    const StagePoint point = stage_state(row * cols + col, constants.stage);
+    const StagePoint point = stage_state(row * cols + col, stage);
     for (uint k = 0u; k < 3u; ++k) {
       halo_position[3u * slot + k] = point.position[k];
       halo_velocity[3u * slot + k] = point.velocity[k];
@@ -121,52 +166,98 @@ void main() {
   }
   barrier();
 
-  // 2. This invocation's tile particle's springs, and one particle of the ring's springs on the
-  // tile (the ring's kTile particles on each side, corners excluded: they touch no tile particle).
-  const uint row = tile_row + local / kTile;
-  const uint col = tile_col + local % kTile;
-  const bool inside = row < lattice_rows && col < cols;
-  const uint p = row * cols + col;
-  LatticeSpringSums own;
-  if (inside) {
-    own = particle_spring_sums(p, kEveryArm);
-    for (uint d = 0u; d < 4u; ++d) store_share(row, col, d, own.to[d]);
+  // 2. The springs of each particle of the region (its own sum kept by the invocation that takes
+  // it, in the same order in step 3), and of each particle on the ring around it, corners
+  // excluded, those on the region.
+  const uint side = kTile + 2u * reach;
+  Vec3 own[kPerInvocation];
+  Real own_power[kPerInvocation];
+  // The region's slots this invocation takes: a count bounded by a constant, which a GPU's
+  // compiler unrolls to keep `own` in registers, and which lavapipe runs as a short loop (the
+  // constant count alone, unrolled, ran it twice as slowly).
+  const uint count = (side * side + kWorkgroupSize - 1u) / kWorkgroupSize;
+  for (uint i = 0u; i < kPerInvocation && i < count; ++i) {
+    const uint slot = local + i * kWorkgroupSize;
+    const uint row = tile_row + slot / side - reach;
+    const uint col = tile_col + slot % side - reach;
+    if (slot >= side * side || row >= lattice_rows || col >= cols) continue;
+    const LatticeSpringSums sums = particle_spring_sums(row * cols + col, kEveryArm);
+    own[i] = sums.own;
+    own_power[i] = sums.power;
+    for (uint d = 0u; d < 4u; ++d) store_share(row, col, d, sums.to[d]);
   }
-  if (local < 4u * kTile) {
-    const uint side = local / kTile;  // 0 north, 1 south, 2 west, 3 east of the tile
-    const uint along = local % kTile;
-    const uint ring_row = side == 0u ? tile_row - 1u : (side == 1u ? tile_row + kTile : tile_row + along);
-    const uint ring_col = side < 2u ? tile_col + along : (side == 2u ? tile_col - 1u : tile_col + kTile);
-    const uint arm = side == 0u ? 1u : (side == 1u ? 3u : (side == 2u ? 0u : 2u));  // toward the tile
+  for (uint item = local; item < 4u * side; item += kWorkgroupSize) {
+    const uint edge = item / side;  // 0 north, 1 south, 2 west, 3 east of the region
+    const uint along = item % side;
+    const uint first_row = tile_row - reach;
+    const uint first_col = tile_col - reach;
+    const uint ring_row = edge == 0u ? first_row - 1u : (edge == 1u ? first_row + side : first_row + along);
+    const uint ring_col = edge < 2u ? first_col + along : (edge == 2u ? first_col - 1u : first_col + side);
+    const uint arm = edge == 0u ? 1u : (edge == 1u ? 3u : (edge == 2u ? 0u : 2u));  // toward the region
     if (ring_row < lattice_rows && ring_col < cols) {
       store_share(ring_row, ring_col, arm, particle_spring_sums(ring_row * cols + ring_col, arm).to[arm]);
     }
   }
   barrier();
 
-  // 3. The force on the tile particle: gravity and drag, its own springs, then each neighbour's
-  // share on its arm toward p, (d + 2) % 4: lattice_elements' slot of it.
-  const bool last = constants.stage + 1u == constants.stages;
-  if (inside) {
+  // 3. The force on each particle of the region: gravity and drag, its own springs, then each
+  // neighbour's share on its arm toward p, (d + 2) % 4: lattice_elements' slot of it. Then K.
+  const bool last = stage + 1u == constants.stages;
+  for (uint i = 0u; i < kPerInvocation && i < count; ++i) {
+    const uint slot = local + i * kWorkgroupSize;
+    const uint row = tile_row + slot / side - reach;
+    const uint col = tile_col + slot % side - reach;
+    if (slot >= side * side || row >= lattice_rows || col >= cols) continue;
+    const uint p = row * cols + col;
     const LatticeCell cell = lattice_cell(p, lattice_rows, cols);
     Vec3 from[4];
     from[0] = cell.has[0] ? share(row, col + 1u, 2u) : Vec3(0.0);
     from[1] = cell.has[1] ? share(row + 1u, col, 3u) : Vec3(0.0);
     from[2] = cell.has[2] ? share(row, col - 1u, 0u) : Vec3(0.0);
     from[3] = cell.has[3] ? share(row - 1u, col, 1u) : Vec3(0.0);
-    // Weighed by the solution row, summed over the stages (device_step.h), as lattice_elements does.
-    const uint n = constants.particle_count;
-    const Real weight = rows[solution_weight_slot(constants.stages, constants.stage)];
-    particle_power[2u * n + p] = (constants.stage == 0u ? Real(0.0) : particle_power[2u * n + p]) + weight * own.power;
     const Vec3 v = stage_velocity_from(p, stage_offset_point(p).velocity);
-    const Vec3 force = lattice_force_on(p, v, own.own, cell.has, from);
+    const StageAcceleration k = stage_acceleration_from(p, stage, v, lattice_force_on(p, v, own[i], cell.has, from));
+    if (j + 1u < constants.pass_stages) {
+      const uint at = chain_slot(j, row, col);
+      for (uint c = 0u; c < 3u; ++c) chain_acceleration[at + c] = k.a[c];
+    }
+    if (row - tile_row >= kTile || col - tile_col >= kTile) continue;  // another tile's
+    // The tile's particle: its powers, weighed by the solution row and summed over the stages
+    // (device_step.h), as lattice_elements and stage_acceleration add them.
+    const uint sums = 3u * ((row - tile_row) * kTile + (col - tile_col));
+    add_stage_powers(stage, v, k.anchor_power, tile_power[sums], tile_power[sums + 1u]);
+    const Real weight = rows[solution_weight_slot(constants.stages, stage)];
+    tile_power[sums + 2u] = (stage == 0u ? Real(0.0) : tile_power[sums + 2u]) + weight * own_power[i];
     if (last) {
-      last_acceleration = acceleration_and_powers(p, v, force);
+      last_acceleration = k.a;
     } else {
-      store_stage_acceleration(p, v, force);
+      store_acceleration(p, stage, k.a);
     }
   }
-  if (!last) return;
+  barrier();
+}
+
+void main() {
+  if (control_uint[kActive] == 0u) return;  // the same for the whole dispatch, before any barrier
+  const uint tiles_across = (constants.cols + kTile - 1u) / kTile;
+  const uint tile = workgroup_index();
+  tile_row = (tile / tiles_across) * kTile;
+  tile_col = (tile % tiles_across) * kTile;
+  const uint local = gl_LocalInvocationID.x;
+  const uint row = tile_row + local / kTile;  // the tile particle this invocation loads and stores
+  const uint col = tile_col + local % kTile;
+  const bool inside = row < constants.rows && col < constants.cols;
+  const uint p = row * constants.cols + col;
+  const uint n = constants.particle_count;
+  if (inside && constants.stage != 0u) {
+    for (uint k = 0u; k < 3u; ++k) tile_power[3u * local + k] = particle_power[k * n + p];
+  }
+  barrier();
+  for (uint j = 0u; j < constants.pass_stages; ++j) chained_stage(j, 2u * (constants.pass_stages - 1u - j));
+  if (inside) {
+    for (uint k = 0u; k < 3u; ++k) particle_power[k * n + p] = tile_power[3u * local + k];
+  }
+  if (constants.stage + constants.pass_stages != constants.stages) return;
 
   // 4. The trial state and its error (rk_solution's, the same bits), and the tile's largest error.
   Real ratio = Real(0.0);
