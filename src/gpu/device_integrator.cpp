@@ -56,11 +56,13 @@ std::uint32_t stage_tiles(std::size_t rows, std::size_t cols) {
 }
 
 // The checks before anything is allocated: the device, its precision and its memory.
-Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, Precision precision,
+Device& checked(Device& device, const ClothModel& model, IntegratorKind kind, const DeviceSelection& selection,
                 DeviceForcePath path) {
-  device.require_precision(precision);
-  device.require_memory(DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind, precision,
-                                                           path, model.colliders.size()),
+  device.require_precision(selection.precision);
+  const std::uint32_t chained =
+      DeviceIntegrator::chained_stages_for(device, selection.precision, selection.stage_passes, path);
+  device.require_memory(DeviceIntegrator::device_bytes_for(element_counts(model), model.anchors.size(), kind,
+                                                           selection.precision, path, model.colliders.size(), chained),
                         "the scene");
   return device;
 }
@@ -99,7 +101,8 @@ std::span<const std::byte> bytes_of(const std::vector<T>& values) {
 std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array_bytes(const LatticeCounts& counts,
                                                                                        int stages, Precision precision,
                                                                                        std::uint32_t anchor_capacity,
-                                                                                       std::size_t colliders) {
+                                                                                       std::size_t colliders,
+                                                                                       std::uint32_t chained_stages) {
   using A = DeviceIntegrator;
   const std::uint64_t real = real_size(precision);
   const std::uint64_t n = counts.particles;
@@ -109,7 +112,9 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   bytes[A::state_position] = bytes[A::state_velocity] = bytes[A::trial_position] = bytes[A::trial_velocity] =
       3 * n * real;
   bytes[A::state_position_low] = bytes[A::state_velocity_low] = splits_state(precision) ? 3 * n * real : real;
-  bytes[A::acceleration] = s * 3 * n * real;
+  // lattice_stage keeps the last stage's accelerations, and writes no springs' forces.
+  const bool chained = chained_stages != 0;
+  bytes[A::acceleration] = std::max<std::uint64_t>((chained ? s - 1 : s) * 3 * n * real, real);
   bytes[A::rows] = (s + 2) * kRowReals * real;
   bytes[A::control_real] = kControlReals * real;
   bytes[A::control_uint] = kControlUints * 4;
@@ -123,7 +128,7 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   bytes[A::particle_power] = 3 * n * real;
   bytes[A::block_work] = workgroups_of(std::max(n, elements)) * 3 * real;
   bytes[A::lattice_params] = n * kLatticeParams * real;
-  bytes[A::lattice_forces] = n * kLatticeForces * real;
+  bytes[A::lattice_forces] = chained ? real : n * kLatticeForces * real;
   bytes[A::event_params] = n * kEventParams * real;
   bytes[A::event_energy] = n * 2 * real;
   bytes[A::event_flags] = n * 4;
@@ -139,11 +144,23 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   return bytes;
 }
 
+std::uint32_t DeviceIntegrator::chained_stages_for(const Device& device, Precision precision,
+                                                   std::optional<StagePasses> passes, DeviceForcePath path) {
+  // Unset: a GPU chains; a CPU device (lavapipe) runs three passes a stage, which it runs faster
+  // (docs/gpu.md, "Stages chained in a pass").
+  const StagePasses chosen = passes.value_or(device.info().type == "cpu" ? StagePasses::split : StagePasses::chained);
+  if (path != DeviceForcePath::lattice || chosen == StagePasses::split) return 0;
+  if (chosen == StagePasses::fused) return 1;
+  return precision == Precision::float64 ? kMaxChainedStagesFloat64 : kMaxChainedStagesFloat32;
+}
+
 std::uint64_t DeviceIntegrator::device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
-                                                 Precision precision, DeviceForcePath path, std::size_t colliders) {
+                                                 Precision precision, DeviceForcePath path, std::size_t colliders,
+                                                 std::uint32_t chained_stages) {
   const int stages = tableau_for(kind).stages;
   std::uint64_t total = DeviceForces::bytes_for(counts, precision, static_cast<std::uint32_t>(stages), path);
-  for (std::uint64_t bytes : array_bytes(counts, stages, precision, anchor_row_capacity(anchors), colliders)) {
+  for (std::uint64_t bytes :
+       array_bytes(counts, stages, precision, anchor_row_capacity(anchors), colliders, chained_stages)) {
     total += bytes;
   }
   total += StateChecksPass::bytes_for(counts, path);
@@ -161,9 +178,8 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
       lattice_(force_path(model, options) == DeviceForcePath::lattice),
       precision_(selection.precision),
       device_(DeviceOptions{selection.index, selection.validation}),
-      forces_(checked(device_, model, settings.kind, selection.precision, force_path(model, options)), model,
-              selection.precision, options.terms, static_cast<std::uint32_t>(tableau_.stages),
-              force_path(model, options)),
+      forces_(checked(device_, model, settings.kind, selection, force_path(model, options)), model, selection.precision,
+              options.terms, static_cast<std::uint32_t>(tableau_.stages), force_path(model, options)),
       particles_(forces_.particle_count()),
       elements_(forces_.element_count()),
       anchor_capacity_(anchor_row_capacity(model.anchors.size())),
@@ -190,19 +206,14 @@ DeviceIntegrator::DeviceIntegrator(const ClothModel& model, const IntegratorSett
           shader_pipeline(device_, "obstacle_contacts", precision_, 17, sizeof(ObstaclePassConstants))),
       obstacle_energy_pass_(shader_pipeline(device_, "obstacle_energy", precision_, 15, sizeof(ObstaclePassConstants),
                                             kReduceWorkgroup)) {
-  const StagePasses passes =
-      selection.stage_passes.value_or(device_.info().type == "cpu" ? StagePasses::split : StagePasses::chained);
-  if (lattice_ && passes != StagePasses::split) {
-    const bool wide = passes == StagePasses::chained;
-    chained_stages_ =
-        wide ? (precision_ == Precision::float64 ? kMaxChainedStagesFloat64 : kMaxChainedStagesFloat32) : 1u;
-  }
+  chained_stages_ = chained_stages_for(device_, precision_, selection.stage_passes, force_path(model, options));
   if (!lattice_ && model.limits.changes_sheet()) {
     throw GpuError("tearing, permanent stretching and creasing run on the device on a lattice sheet only");
   }
   if (!lattice_ && !model.colliders.empty()) throw GpuError("obstacles run on the device on a lattice sheet only");
   // The obstacles' arrays as placeholders; prepare_obstacles() sizes them for the colliders.
-  const auto bytes = array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_, 0);
+  const auto bytes =
+      array_bytes(element_counts(model), tableau_.stages, precision_, anchor_capacity_, 0, chained_stages_);
   arrays_.reserve(array_count);
   for (std::uint32_t a = 0; a < array_count; ++a) arrays_.emplace_back(device_, bytes[a], Memory::device_local);
   upload(device_, arrays_[rows], real_bytes(nystrom_rows(tableau_), precision_));

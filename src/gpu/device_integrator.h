@@ -121,9 +121,14 @@ class DeviceIntegrator final : public Integrator {
   // arrays are counted on either path.
   // `colliders`: the model's obstacles, whose pass holds arrays per particle (their meshes' arrays,
   // read when the model is built, are checked then).
+  // `chained_stages`: chained_stages_for's (0, three passes a stage, holds the most).
   static std::uint64_t device_bytes_for(const LatticeCounts& counts, std::size_t anchors, IntegratorKind kind,
                                         Precision precision, DeviceForcePath path = DeviceForcePath::lattice,
-                                        std::size_t colliders = 0);
+                                        std::size_t colliders = 0, std::uint32_t chained_stages = 0);
+  // The stages lattice_stage chains in a pass on `device` for `passes` (unset: the device's
+  // choice, DeviceSelection::stage_passes) on force path `path`; 0: three passes a stage.
+  static std::uint32_t chained_stages_for(const Device& device, Precision precision, std::optional<StagePasses> passes,
+                                          DeviceForcePath path);
 
   // The device's arrays besides DeviceForces' (which holds the stage state, the model and the
   // element scratch).
@@ -171,10 +176,11 @@ class DeviceIntegrator final : public Integrator {
   };
 
   // Sizes of the integrator's own arrays, bytes, for a model of these counts with `colliders`
-  // obstacles (the obstacle arrays a placeholder each without; the meshes' arrays besides).
+  // obstacles (the obstacle arrays a placeholder each without; the meshes' arrays besides), its
+  // stages run as `chained_stages` says (the three passes' arrays a placeholder where they chain).
   static std::array<std::uint64_t, array_count> array_bytes(const LatticeCounts& counts, int stages,
                                                             Precision precision, std::uint32_t anchor_capacity,
-                                                            std::size_t colliders);
+                                                            std::size_t colliders, std::uint32_t chained_stages);
   // Advances by accepted steps to t_limit, or by max_accepted of them (0: no limit).
   StepOutcome run(ClothState& state, double t_limit, std::uint32_t max_accepted);
   // Its stages: the first attempt's step (as the CPU's integrators choose it), the control arrays

@@ -29,7 +29,8 @@ void DeviceIntegrator::prepare_obstacles() {
   // recorded again with the obstacle passes. (Colliders are never removed, and a mesh never
   // changes after it is read.)
   CLOTHSIM_ASSERT(lattice_ || count == 0, "obstacles run on the device's lattice path only");
-  const auto bytes = array_bytes(element_counts(model_), tableau_.stages, precision_, anchor_capacity_, count);
+  const auto bytes =
+      array_bytes(element_counts(model_), tableau_.stages, precision_, anchor_capacity_, count, chained_stages_);
   constexpr std::array<Array, 4> kSized = {colliders, contact_before, moved, block_obstacles};
   const MeshArrays meshes = mesh_arrays(model_.colliders);
   const std::uint64_t real = real_size(precision_);

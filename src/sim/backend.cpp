@@ -116,8 +116,10 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
         integrator.kind == IntegratorKind::implicit_euler
             ? gpu::DeviceImplicitEuler::device_bytes_for(counts, anchors, precision, colliders, integrator,
                                                          self_collision)
-            : gpu::DeviceIntegrator::device_bytes_for(counts, anchors, integrator.kind, precision,
-                                                      gpu::DeviceForcePath::lattice, colliders);
+            : gpu::DeviceIntegrator::device_bytes_for(
+                  counts, anchors, integrator.kind, precision, gpu::DeviceForcePath::lattice, colliders,
+                  gpu::DeviceIntegrator::chained_stages_for(device, precision, backend.stage_passes,
+                                                            gpu::DeviceForcePath::lattice));
     device.require_memory(bytes, "the scene");
   } catch (const gpu::GpuError& error) {
     throw BackendError(std::string("the vulkan backend cannot run: ") + error.what());
