@@ -3,6 +3,7 @@
 #pragma once
 
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <utility>
 #include <vector>
@@ -37,13 +38,41 @@ inline std::string refusal_of(const SceneSpec& spec) {
   return "no refusal";
 }
 
-// Where a run ended: the state, the energy balance and the integrator's statistics.
+// Where a run ended: the state, the energy balance and the integrator's statistics; the sheet's
+// events, the model's spring arrays the laws change and the work they released; the obstacles'
+// contacts.
 struct RunEnd {
   std::vector<Vec3> position, velocity;
   double balance_error = 0.0;
   double energy_scale = 0.0;
   IntegratorStats stats;
+  SpringEventCounts events;
+  ModelChanges changes;
+  std::vector<std::uint8_t> live;                           // the connectors'
+  std::vector<double> break_time, rest_length, rest_angle;  // the connectors', the radial springs'
+  double fracture_work = 0.0, plastic_work = 0.0;           // J
+  std::uint64_t contact_steps = 0;  // particles in contact with an obstacle, summed over the steps
 };
+
+// Where `simulation` stands now.
+inline RunEnd run_end(const Simulation& simulation) {
+  const ClothState& state = simulation.state();
+  const ClothModel& model = simulation.model();
+  return {state.position,
+          state.velocity,
+          simulation.energy_balance().error(),
+          simulation.energy_scale(),
+          simulation.integrator_stats(),
+          simulation.event_totals(),
+          simulation.model_changes(),
+          model.connector_live,
+          model.connector_break_time,
+          model.connector_rest_length,
+          model.radial_rest_angle,
+          state.fracture_work,
+          state.plastic_work,
+          simulation.contact_statistics().contact_steps};
+}
 
 // Runs `spec` (on its own thread count) frame by frame to `t`, expecting every frame to succeed.
 inline RunEnd run_scene_to(const SceneSpec& spec, double t) {
@@ -53,9 +82,7 @@ inline RunEnd run_scene_to(const SceneSpec& spec, double t) {
     EXPECT_TRUE(simulation.advance_to(static_cast<double>(k) / spec.output.fps))
         << spec.name << ": " << simulation.failure()->message;
   }
-  const ClothState& state = simulation.state();
-  return {state.position, state.velocity, simulation.energy_balance().error(), simulation.energy_scale(),
-          simulation.integrator_stats()};
+  return run_end(simulation);
 }
 
 // The largest |a_p - b_p| over the particles.

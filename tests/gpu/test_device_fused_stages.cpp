@@ -27,6 +27,8 @@ namespace clothsim {
 namespace {
 
 using testing::paper_lattice;
+using testing::run_scene_to;
+using testing::RunEnd;
 using testing::vulkan;
 
 BackendSettings device(Precision precision, StagePasses passes) {
@@ -62,43 +64,21 @@ SceneSpec changing_sheet(const BackendSettings& backend) {
   return spec;
 }
 
-struct RunResult {
-  ClothState state;
-  IntegratorStats stats;
-  SpringEventCounts events;
-  std::vector<std::uint8_t> live;
-  std::vector<double> rest_length, rest_angle;
-  double balance_error = 0.0;
-  std::uint64_t contact_steps = 0;  // particles in contact with an obstacle, summed over the steps
-};
-
-RunResult run(const SceneSpec& spec, double t) {
-  Simulation simulation = make_simulation(spec);
-  const int frames = static_cast<int>(std::lround(t * spec.output.fps));
-  for (int k = 1; k <= frames; ++k) {
-    EXPECT_TRUE(simulation.advance_to(static_cast<double>(k) / spec.output.fps)) << simulation.failure()->message;
-  }
-  const ClothModel& model = simulation.model();
-  return {simulation.state(),
-          simulation.integrator_stats(),
-          simulation.event_totals(),
-          model.connector_live,
-          model.connector_rest_length,
-          model.radial_rest_angle,
-          simulation.energy_balance().error(),
-          simulation.contact_statistics().contact_steps};
-}
-
 // The first particle whose position or velocity differs in any bit, or -1.
-long first_difference(const ClothState& a, const ClothState& b) {
-  for (std::size_t p = 0; p < a.position.size(); ++p) {
-    if (!(a.position[p] == b.position[p]) || !(a.velocity[p] == b.velocity[p])) return static_cast<long>(p);
+long first_difference(const std::vector<Vec3>& position_a, const std::vector<Vec3>& velocity_a,
+                      const std::vector<Vec3>& position_b, const std::vector<Vec3>& velocity_b) {
+  for (std::size_t p = 0; p < position_a.size(); ++p) {
+    if (!(position_a[p] == position_b[p]) || !(velocity_a[p] == velocity_b[p])) return static_cast<long>(p);
   }
   return -1;
 }
 
-void expect_same_run(const RunResult& fused, const RunResult& split, const char* what) {
-  EXPECT_EQ(first_difference(fused.state, split.state), -1) << what;
+long first_difference(const ClothState& a, const ClothState& b) {
+  return first_difference(a.position, a.velocity, b.position, b.velocity);
+}
+
+void expect_same_run(const RunEnd& fused, const RunEnd& split, const char* what) {
+  EXPECT_EQ(first_difference(fused.position, fused.velocity, split.position, split.velocity), -1) << what;
   EXPECT_EQ(fused.stats.accepted_steps, split.stats.accepted_steps) << what;
   EXPECT_EQ(fused.stats.rejected_steps, split.stats.rejected_steps) << what;
   EXPECT_EQ(fused.stats.force_evaluations, split.stats.force_evaluations) << what;
@@ -108,14 +88,14 @@ void expect_same_run(const RunResult& fused, const RunResult& split, const char*
   EXPECT_EQ(fused.live, split.live) << what;
   EXPECT_EQ(fused.rest_length, split.rest_length) << what;
   EXPECT_EQ(fused.rest_angle, split.rest_angle) << what;
-  EXPECT_EQ(fused.state.fracture_work, split.state.fracture_work) << what;
-  EXPECT_EQ(fused.state.plastic_work, split.state.plastic_work) << what;
+  EXPECT_EQ(fused.fracture_work, split.fracture_work) << what;
+  EXPECT_EQ(fused.plastic_work, split.plastic_work) << what;
   EXPECT_EQ(fused.balance_error, split.balance_error) << what;
 }
 
 TEST(DeviceFusedStages, ASheetThatTearsYieldsAndCreasesOnPathsRunsTheSameBits) {
   for (Precision precision : {Precision::float64, Precision::float32}) {
-    const RunResult split = run(changing_sheet(device(precision, StagePasses::split)), 0.3);
+    const RunEnd split = run_scene_to(changing_sheet(device(precision, StagePasses::split)), 0.3);
     std::printf("%s: %llu steps, %zu breaks, %zu yields, %zu creases\n", to_string(precision),
                 static_cast<unsigned long long>(split.stats.accepted_steps), split.events.breaks, split.events.yields,
                 split.events.creases);
@@ -123,7 +103,7 @@ TEST(DeviceFusedStages, ASheetThatTearsYieldsAndCreasesOnPathsRunsTheSameBits) {
     ASSERT_GT(split.events.yields, 0u) << "the sheet yields";
     ASSERT_GT(split.events.creases, 0u) << "the sheet creases";
     for (StagePasses passes : kOnePass) {
-      const RunResult one = run(changing_sheet(device(precision, passes)), 0.3);
+      const RunEnd one = run_scene_to(changing_sheet(device(precision, passes)), 0.3);
       expect_same_run(one, split, (std::string(to_string(precision)) + " " + to_string(passes)).c_str());
     }
   }
@@ -133,10 +113,11 @@ TEST(DeviceFusedStages, AUniformSheetRunsTheSameBits) {
   for (Precision precision : {Precision::float64, Precision::float32}) {
     SceneSpec spec = builtin_scene("paper-fig5");
     spec.backend = device(precision, StagePasses::split);
-    const RunResult split = run(spec, 0.25);
+    const RunEnd split = run_scene_to(spec, 0.25);
     for (StagePasses passes : kOnePass) {
       spec.backend = device(precision, passes);
-      expect_same_run(run(spec, 0.25), split, (std::string(to_string(precision)) + " " + to_string(passes)).c_str());
+      expect_same_run(run_scene_to(spec, 0.25), split,
+                      (std::string(to_string(precision)) + " " + to_string(passes)).c_str());
     }
   }
 }
@@ -151,11 +132,11 @@ TEST(DeviceFusedStages, ASheetOnAnObstacleRunsTheSameBits) {
     ball.collider = obstacle_fixtures::sphere({3.0, -2.5, 0.0}, 2.0);
     spec.colliders.push_back(ball);
     spec.backend = device(precision, StagePasses::split);
-    const RunResult split = run(spec, 0.5);
+    const RunEnd split = run_scene_to(spec, 0.5);
     ASSERT_GT(split.contact_steps, 0u) << "the sheet reaches the sphere";
     for (StagePasses passes : kOnePass) {
       spec.backend = device(precision, passes);
-      const RunResult one = run(spec, 0.5);
+      const RunEnd one = run_scene_to(spec, 0.5);
       const std::string what = std::string(to_string(precision)) + " " + to_string(passes);
       expect_same_run(one, split, what.c_str());
       EXPECT_EQ(one.contact_steps, split.contact_steps) << what;

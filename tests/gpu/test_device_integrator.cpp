@@ -282,32 +282,11 @@ SceneSpec tearing_sheet(const BackendSettings& backend) {
   return spec;
 }
 
-struct SheetEnd {
-  std::vector<std::uint8_t> live;
-  std::vector<double> break_time, rest_length, rest_angle;
-  double fracture_work = 0.0, plastic_work = 0.0;
-  SpringEventCounts events;
-  ModelChanges changes;
-  std::vector<Vec3> position;
-};
-
-SheetEnd run_sheet(const SceneSpec& spec, double t) {
-  Simulation simulation = make_simulation(spec);
-  const int frames = static_cast<int>(std::lround(t * spec.output.fps));
-  for (int k = 1; k <= frames; ++k) {
-    EXPECT_TRUE(simulation.advance_to(static_cast<double>(k) / spec.output.fps)) << simulation.failure()->message;
-  }
-  const ClothModel& m = simulation.model();
-  return {m.connector_live,          m.connector_break_time,           m.connector_rest_length,
-          m.radial_rest_angle,       simulation.state().fracture_work, simulation.state().plastic_work,
-          simulation.event_totals(), simulation.model_changes(),       simulation.state().position};
-}
-
 TEST(DeviceIntegrator, ATornSheetBreaksTheCpusConnectors) {
-  const SheetEnd cpu = run_sheet(tearing_sheet(BackendSettings{}), 0.6);
+  const RunEnd cpu = run_scene_to(tearing_sheet(BackendSettings{}), 0.6);
   ASSERT_GT(cpu.events.breaks, 5u) << "the scene tears";
   for (Precision precision : {Precision::float64, Precision::float32}) {
-    const SheetEnd device = run_sheet(tearing_sheet(vulkan(precision)), 0.6);
+    const RunEnd device = run_scene_to(tearing_sheet(vulkan(precision)), 0.6);
     std::printf("%s: %zu breaks (CPU %zu), fracture work %.6g J (CPU %.6g J)\n", to_string(precision),
                 device.events.breaks, cpu.events.breaks, device.fracture_work, cpu.fracture_work);
     EXPECT_EQ(device.live, cpu.live) << to_string(precision) << ": the same connectors broken";
@@ -342,11 +321,11 @@ TEST(DeviceIntegrator, APlasticSheetStretchesAndCreasesAsOnTheCpu) {
     validate_scene(spec, "test");
     return spec;
   };
-  const SheetEnd cpu = run_sheet(scene(BackendSettings{}), 0.6);
+  const RunEnd cpu = run_scene_to(scene(BackendSettings{}), 0.6);
   ASSERT_GT(cpu.events.yields, 10u);
   ASSERT_GT(cpu.events.creases, 10u);
   for (Precision precision : {Precision::float64, Precision::float32}) {
-    const SheetEnd device = run_sheet(scene(vulkan(precision)), 0.6);
+    const RunEnd device = run_scene_to(scene(vulkan(precision)), 0.6);
     const bool f64 = precision == Precision::float64;
     std::printf(
         "%s: plastic strain %.6g (CPU %.6g), rest angle change %.6g (CPU %.6g), plastic work %.6g J "
@@ -440,8 +419,7 @@ TEST(DeviceIntegrator, EditsBetweenFramesReachTheDevice) {
     environment.gravity = {1.0, -5.0, 0.0};
     simulation.set_environment(environment);
     EXPECT_TRUE(simulation.advance_to(0.35));
-    return RunEnd{simulation.state().position, simulation.state().velocity, simulation.energy_balance().error(),
-                  simulation.energy_scale(), simulation.integrator_stats()};
+    return testing::run_end(simulation);
   };
   const RunEnd cpu = run(BackendSettings{});
   const RunEnd device = run(vulkan(Precision::float64));
