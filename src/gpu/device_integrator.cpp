@@ -293,6 +293,11 @@ void DeviceIntegrator::bind_passes() {
 
 DeviceIntegrator::~DeviceIntegrator() = default;  // the command buffers go with the device's pool
 
+std::uint32_t DeviceIntegrator::rk_accept_items() const {
+  // The particles, and on the general path the elements, whose damping power it sums.
+  return std::max(particles_, lattice_ ? 0u : elements_);
+}
+
 std::uint32_t DeviceIntegrator::lattice_stage_invocations() const {
   // A workgroup of kStageTile x kStageTile invocations a tile (lattice_stage.comp, device_step.h).
   return stage_tiles(static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols)) * kStageTile *
@@ -344,18 +349,23 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
     solution_pass_.dispatch(commands, &solution, particles_);
   }
   const std::uint32_t obstacles = runs_obstacle_contacts() ? 1u : 0u;
-  const ReducePassConstants decide{particles_, error_blocks, 0, stages, obstacles};
+  const std::uint32_t element_items = lattice_ ? 0u : elements_;  // the lattice path's damping is per particle
+  const std::uint32_t accept_items = rk_accept_items();
+  // Without obstacles the decision first adds the work of the step accepted before (rk_control's
+  // phase 1, which then has no dispatch of its own; the submission's last step's, phase 3).
+  const std::uint32_t work_blocks = obstacles != 0u ? 0u : workgroups_of(accept_items);
+  const ReducePassConstants decide{particles_, error_blocks, 0, stages, obstacles, work_blocks};
   control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
   timer.mark(commands, StepStage::solution_and_error);
   if (obstacles != 0u) record_obstacle_passes(commands, timer);
-  const std::uint32_t element_items = lattice_ ? 0u : elements_;  // the lattice path's damping is per particle
-  const std::uint32_t accept_items = std::max(particles_, element_items);
   const AcceptPassConstants accept{particles_, element_items, stages, workgroups_of(accept_items), lattice_ ? 1u : 0u};
   accept_pass_.dispatch(commands, &accept, accept_items);
-  // Phase 1 reads rk_accept's blocks and the obstacle passes': one per kReduceWorkgroup particles
-  // both, on the lattice path, where obstacles run.
-  const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages, obstacles};
-  control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
+  if (obstacles != 0u) {
+    // Phase 1 reads rk_accept's blocks and the obstacle passes': one per kReduceWorkgroup
+    // particles both, on the lattice path, where obstacles run.
+    const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages, obstacles, 0};
+    control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
+  }
   timer.mark(commands, StepStage::solution_update);
   if (laws_ != 0) {
     // Tearing, stretching and creasing on the accepted state (events/spring_events.h), then their
@@ -364,7 +374,7 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
                                     static_cast<std::uint32_t>(model_.cols), laws_, workgroups_of(particles_)};
     events_connectors_pass_.dispatch(commands, &events, particles_);
     events_radial_pass_.dispatch(commands, &events, particles_);
-    const ReducePassConstants collect_events{particles_, workgroups_of(particles_), 2, stages, obstacles};
+    const ReducePassConstants collect_events{particles_, workgroups_of(particles_), 2, stages, obstacles, 0};
     control_pass_.dispatch(commands, &collect_events, kReduceWorkgroup);
     timer.mark(commands, StepStage::events);
   }
@@ -374,13 +384,21 @@ DeviceIntegrator::RecordedAttempts& DeviceIntegrator::attempts_buffer(std::uint3
   const auto found = recorded_.find(attempts);
   if (found != recorded_.end()) return found->second;
   // Marks per attempt: two per stage (its state, its forces), the decision, the obstacles, the
-  // acceptance, the events.
+  // acceptance, the events; and the last step's work.
   const auto marks_per_attempt = static_cast<std::uint32_t>(2 * tableau_.stages + 4);
   RecordedAttempts recorded;
-  recorded.timer = std::make_unique<PassTimer>(device_, attempts * marks_per_attempt);
+  recorded.timer = std::make_unique<PassTimer>(device_, attempts * marks_per_attempt + 1);
   recorded.commands = device_.record([&](VkCommandBuffer c) {
     recorded.timer->begin(c);
     for (std::uint32_t a = 0; a < attempts; ++a) record_attempt(c, *recorded.timer);
+    if (!runs_obstacle_contacts()) {
+      // The last accepted step's work, which no next decision adds (rk_control's phase 3).
+      const std::uint32_t accept_items = rk_accept_items();
+      const ReducePassConstants last{
+          particles_, workgroups_of(accept_items), 3, static_cast<std::uint32_t>(tableau_.stages), 0, 0};
+      control_pass_.dispatch(c, &last, kReduceWorkgroup);
+      recorded.timer->mark(c, StepStage::solution_update);
+    }
     record_readback(c, arrays_[control_real], control_real_readback_, control_real_readback_.bytes());
     record_readback(c, arrays_[control_uint], control_uint_readback_, control_uint_readback_.bytes());
   });

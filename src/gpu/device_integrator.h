@@ -16,9 +16,11 @@
 //                      connector, radial     the element forces into slots (DeviceForces, any sheet)
 //                      stage_acceleration    K_i: gathered force / mass, path accelerations; drag and anchor powers
 //   rk_solution        the trial state and, for RKF45, each workgroup's largest scaled error
-//   rk_control (0)     the largest error; accept or reject; the next step (PI controller), clipped to the target
+//   rk_control (0)     (without obstacles: first the work of the step accepted before, rk_control (1)'s)
+//                      the largest error; accept or reject; the next step (PI controller), clipped to the target
 //   rk_accept          on acceptance: state <- trial, and each workgroup's share of the step's work
-//   rk_control (1)     the step's work added to the advance's sums
+//   rk_control (1)     with obstacles: the step's work added to the advance's sums (without, rk_control (3)
+//                      adds the submission's last step's)
 // With colliders, the obstacle pass between the decision and the acceptance (device_obstacles.cpp):
 //   obstacle_contacts  each particle of the accepted trial state resolved against the colliders
 //   obstacle_energy    the pass's energy change and contacts, and the next impact ahead, per workgroup
@@ -212,6 +214,8 @@ class DeviceIntegrator final : public Integrator {
   void record_attempt(VkCommandBuffer commands, PassTimer& timer) const;
   // lattice_stage's invocations: the lattice's tiles, a workgroup each.
   std::uint32_t lattice_stage_invocations() const;
+  // rk_accept's invocations (and its workgroups' blocks of work, which rk_control adds).
+  std::uint32_t rk_accept_items() const;
   // Drops the recorded command buffers, to be recorded again (the passes or their arrays changed).
   void release_recorded();
   // Binds every pass's arrays (again after the anchor table grows).

@@ -188,9 +188,14 @@ struct EventPassConstants {
 struct ReducePassConstants {
   uint count;   // items reduced (particles, or elements)
   uint blocks;  // workgroups of the pass whose partial results are reduced
-  uint phase;   // rk_control: 0 decides on the attempt, 1 adds the accepted step's work, 2 the events' work
+  // rk_control: 0 decides on the attempt, 1 adds the accepted step's work, 2 the events' work, 3
+  // adds the last accepted step's work of a submission (phase 1's) and marks it added
+  uint phase;
   uint stages;
   uint obstacles;  // 1: the obstacle passes run; phase 1 adds their work and sets the next step
+  // Phase 0 without obstacles: rk_accept's workgroups, whose work for the step accepted before
+  // this attempt the decision adds first (phase 1's work, without a dispatch of its own); 0: none.
+  uint work_blocks;
 };
 
 struct ObstaclePassConstants {

@@ -14,8 +14,10 @@
 // Phase 1, after rk_accept: the accepted step's work (damping, drag, anchor), summed over
 // rk_accept's workgroups in a fixed order, added to the advance's compensated sums; with
 // obstacles, the obstacle passes' work, contacts and earliest arrival too, and only then the next
-// step, which the arrival limits. Phase 2, after lattice_events_radial: the events' fracture and
-// plastic work, the same way.
+// step, which the arrival limits. Without obstacles phase 1 has no dispatch of its own: the next
+// attempt's phase 0 adds the step's work before deciding, and phase 3, after a submission's last
+// attempt, adds the last step's and marks it added; the same sums in the same order. Phase 2,
+// after lattice_events_radial: the events' fracture and plastic work, the same way.
 #include "gpu/shaders/element_math.glsl"
 #include "gpu/shaders/device_step.h"
 #define StepFactor float
@@ -127,18 +129,19 @@ void add_compensated(uint slot, Real value) {
 
 #include "gpu/shaders/workgroup_sums.glsl"
 
-// Work k of block `block`: phase 1's three from rk_accept, phase 2's two from the events.
-Real block_value(uint block, uint k) {
-  return constants.phase == 1u ? block_work[3u * block + k] : block_events[2u * block + k];
+// Work k of block `block`: the step's three from rk_accept (phase 1), or the events' two (phase 2).
+Real block_value(uint phase, uint block, uint k) {
+  return phase == 1u ? block_work[3u * block + k] : block_events[2u * block + k];
 }
 
-void collect_work() {
+// Phase 1's or phase 2's work over `blocks` workgroups, into the advance's compensated sums.
+void collect_work(uint phase, uint blocks) {
   const uint i = gl_LocalInvocationID.x;
-  const uint count = constants.phase == 1u ? 3u : 2u;
-  const uint first = constants.phase == 1u ? 0u : 3u;  // damping, drag, anchor; then fracture, plastic
+  const uint count = phase == 1u ? 3u : 2u;
+  const uint first = phase == 1u ? 0u : 3u;  // damping, drag, anchor; then fracture, plastic
   Real sums[3] = Real[3](Real(0.0), Real(0.0), Real(0.0));
-  for (uint block = i; block < constants.blocks; block += kReduceWorkgroup) {
-    for (uint k = 0u; k < count; ++k) sums[k] += block_value(block, k);
+  for (uint block = i; block < blocks; block += kReduceWorkgroup) {
+    for (uint k = 0u; k < count; ++k) sums[k] += block_value(phase, block, k);
   }
   reduce_over_workgroup(sums, false);
   if (i == 0u) {
@@ -176,10 +179,15 @@ void collect_obstacles() {
 void main() {
   if (constants.phase != 0u) {
     if (control_uint[kAccepted] == 0u) return;  // the same for the whole workgroup
-    collect_work();
+    collect_work(constants.phase == 2u ? 2u : 1u, constants.blocks);
     if (constants.phase == 1u && constants.obstacles != 0u) collect_obstacles();
+    if (constants.phase == 3u && gl_LocalInvocationID.x == 0u) control_uint[kAccepted] = 0u;  // added
     return;
   }
+  // The step accepted before this attempt, whose work rk_accept left (phase 1's, without obstacles).
+  const bool pending = constants.work_blocks != 0u && control_uint[kAccepted] != 0u;
+  barrier();  // every invocation has read the flag before the decision rewrites it
+  if (pending) collect_work(1u, constants.work_blocks);
   if (control_uint[kActive] == 0u) {
     if (gl_LocalInvocationID.x == 0u) control_uint[kAccepted] = 0u;
     return;
