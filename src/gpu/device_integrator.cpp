@@ -144,6 +144,9 @@ std::array<std::uint64_t, DeviceIntegrator::array_count> DeviceIntegrator::array
   return bytes;
 }
 
+static_assert(kMaxChainedStagesFloat32 <= 3 && kMaxChainedStagesFloat64 <= 3,
+              "lattice_stage.comp sizes its shared arrays for at most three chained stages");
+
 std::uint32_t DeviceIntegrator::chained_stages_for(const Device& device, Precision precision,
                                                    std::optional<StagePasses> passes, DeviceForcePath path) {
   // Unset: a GPU chains; a CPU device (lavapipe) runs three passes a stage, which it runs faster
