@@ -333,7 +333,7 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
       lattice_stage_pass_.dispatch(commands, &lattice, lattice_stage_invocations());
       timer.mark(commands, StepStage::forces);
     }
-    error_blocks = lattice_stage_invocations() / (kStageTile * kStageTile);
+    error_blocks = stage_tiles(static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols));
   } else {
     for (std::uint32_t i = 0; i < stages; ++i) {
       const StagePassConstants stage{particles_, i, stages, 0, lattice_cols};

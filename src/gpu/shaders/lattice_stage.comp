@@ -102,13 +102,17 @@ uint chain_slot(uint j, uint row, uint col) {
 }
 
 #include "gpu/shaders/stage_accelerations.glsl"
-// K_l of particle p for a stage state: the pass's own earlier stages' from shared memory.
-Vec3 earlier_acceleration(uint l, uint p) {
+Vec3 last_acceleration;  // the attempt's last stage's K of this invocation's tile particle
+// K_l of particle p for a stage state or the trial state: the earlier passes' from the stages'
+// arrays, this pass's own from shared memory, the attempt's last stage's (which only the trial
+// state reads, for this invocation's particle) from the register.
+Vec3 formed_acceleration(uint l, uint p) {
   if (l < constants.stage) return stage_acceleration_of(l, p);
+  if (l + 1u == constants.stages) return last_acceleration;
   const uint at = chain_slot(l - constants.stage, p / constants.cols, p % constants.cols);
   return Vec3(chain_acceleration[at], chain_acceleration[at + 1u], chain_acceleration[at + 2u]);
 }
-#define CLOTHSIM_EARLIER_ACCELERATION earlier_acceleration
+#define CLOTHSIM_STAGE_ACCELERATION formed_acceleration
 #include "gpu/shaders/stage_state.glsl"
 
 #define CLOTHSIM_STAGE_COMPUTED
@@ -123,10 +127,6 @@ StagePoint stage_offset_point(uint q) {
 #include "gpu/shaders/lattice_spring_sums.glsl"
 #include "gpu/shaders/stage_acceleration.glsl"
 
-Vec3 last_acceleration;  // the attempt's last stage's K of this invocation's tile particle
-Vec3 trial_acceleration(uint l, uint p) {
-  return l + 1u == constants.stages ? last_acceleration : earlier_acceleration(l, p);
-}
 #define CLOTHSIM_REDUCE_SIZE kWorkgroupSize
 #include "gpu/shaders/rk_trial.glsl"
 

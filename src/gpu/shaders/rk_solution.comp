@@ -29,9 +29,6 @@ layout(std430, binding = 15) buffer TrialVelocityLow { Real trial_velocity_low[]
 
 layout(push_constant) uniform Constants { StagePassConstants constants; };  // stage: unused
 
-#include "gpu/shaders/stage_accelerations.glsl"
-Vec3 trial_acceleration(uint l, uint p) { return stage_acceleration_of(l, p); }
-
 #include "gpu/shaders/rk_trial.glsl"
 
 void main() {

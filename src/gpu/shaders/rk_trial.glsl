@@ -10,14 +10,14 @@
 //
 // The includer declares `rows`, `control_real`, `control_uint`, `particle_anchor`,
 // `anchor_paths`, `trial_position`, `trial_velocity` (float32: `trial_position_low`,
-// `trial_velocity_low`), the push constants `constants` with `stages`, and
-// `Vec3 trial_acceleration(uint l, uint p)`, K_l of particle p (stage_accelerations.glsl, or
-// where it is at hand).
+// `trial_velocity_low`), the stages' `acceleration` and the push constants `constants` with
+// `stages` and `particle_count`; K_l as stage_terms.glsl reads it.
 #ifndef CLOTHSIM_RK_TRIAL_GLSL
 #define CLOTHSIM_RK_TRIAL_GLSL
 
 #include "gpu/shaders/anchor_motion.glsl"
 #include "gpu/shaders/error_reduction.glsl"
+#include "gpu/shaders/stage_terms.glsl"
 #if CLOTHSIM_STAGE_OFFSETS
 #include "gpu/shaders/split_state.glsl"
 
@@ -45,16 +45,8 @@ Vec3 store_split_velocity(uint p, Vec3 high, Vec3 change) {
 
 // h sum_l w_l (V_l, K_l) of row `row` in Nystrom form, added to (x, v) (zero bases for the error).
 void combine(uint row, uint p, Real h, Vec3 v0, inout Vec3 x, inout Vec3 v) {
-  const uint base = row * kRowReals;
-  if (rows[base] != Real(0.0)) x += (h * rows[base]) * v0;
-  for (uint l = 0u; l < constants.stages; ++l) {
-    const Real position_weight = rows[base + 1u + l];
-    const Real velocity_weight = rows[base + 1u + kMaxDeviceStages + l];
-    if (position_weight == Real(0.0) && velocity_weight == Real(0.0)) continue;
-    const Vec3 k = trial_acceleration(l, p);
-    if (position_weight != Real(0.0)) x += (h * h * position_weight) * k;
-    if (velocity_weight != Real(0.0)) v += (h * velocity_weight) * k;
-  }
+  if (rows[row * kRowReals] != Real(0.0)) x += (h * rows[row * kRowReals]) * v0;
+  add_stage_terms(row, constants.stages, p, h, x, v);
 }
 
 Real component_ratio(Real error, Real before, Real after) {
@@ -85,7 +77,7 @@ void trial_state(uint p, Real h, bool symplectic, StepStart start, out Vec3 x1, 
     x1 = store_split_position(p, motion.position, Vec3(0.0));
     v1 = store_split_velocity(p, motion.velocity, Vec3(0.0));
   } else if (symplectic) {
-    v1 = store_split_velocity(p, start.v0, start.low_v0 + h * trial_acceleration(0u, p));
+    v1 = store_split_velocity(p, start.v0, start.low_v0 + h * CLOTHSIM_STAGE_ACCELERATION(0u, p));
     const Vec3 v1_low = Vec3(trial_velocity_low[3 * p], trial_velocity_low[3 * p + 1], trial_velocity_low[3 * p + 2]);
     x1 = store_split_position(p, start.x0, start.low_x0 + (h * v1 + h * v1_low));
   } else {
@@ -109,7 +101,7 @@ void trial_state(uint p, Real h, bool symplectic, StepStart start, out Vec3 x1, 
     x1 = motion.position;
     v1 = motion.velocity;
   } else if (symplectic) {
-    v1 = start.v0 + h * trial_acceleration(0u, p);
+    v1 = start.v0 + h * CLOTHSIM_STAGE_ACCELERATION(0u, p);
     x1 = start.x0 + h * v1;
   } else {
     combine(constants.stages, p, h, start.v0, x1, v1);

@@ -13,14 +13,7 @@
 #define CLOTHSIM_STAGE_STATE_GLSL
 
 #include "gpu/shaders/anchor_motion.glsl"
-#include "gpu/shaders/stage_accelerations.glsl"
-
-// Where the earlier stages' accelerations come from: the stages' arrays, unless the includer
-// defines CLOTHSIM_EARLIER_ACCELERATION(l, p) (lattice_stage: its own earlier stages' from shared
-// memory).
-#ifndef CLOTHSIM_EARLIER_ACCELERATION
-#define CLOTHSIM_EARLIER_ACCELERATION stage_acceleration_of
-#endif
+#include "gpu/shaders/stage_terms.glsl"  // the earlier stages' terms (CLOTHSIM_STAGE_ACCELERATION)
 #include "gpu/shaders/stage_point.glsl"
 
 Vec3 state_vector(uint array, uint p) {
@@ -63,14 +56,7 @@ StagePoint stage_state(uint p, uint stage) {
     v = v0;
     if (rows[row] != Real(0.0)) x += (h * rows[row]) * v0;
 #endif
-    for (uint l = 0u; l < stage; ++l) {
-      const Real position_weight = rows[row + 1u + l];
-      const Real velocity_weight = rows[row + 1u + kMaxDeviceStages + l];
-      if (position_weight == Real(0.0) && velocity_weight == Real(0.0)) continue;
-      const Vec3 k = CLOTHSIM_EARLIER_ACCELERATION(l, p);
-      if (position_weight != Real(0.0)) x += (h * h * position_weight) * k;
-      if (velocity_weight != Real(0.0)) v += (h * velocity_weight) * k;
-    }
+    add_stage_terms(stage, stage, p, h, x, v);
   }
   StagePoint point;
   point.position = x;
