@@ -303,7 +303,7 @@ template <typename Real, bool kUniform, bool kFade, std::size_t... kPair>
 }
 
 // The six radial springs centred at particle p, written as forces on its four neighbours; each
-// neighbour's sum and the power are accumulated in the springs' order (resolve_spring_row repeats
+// neighbour's sum and the power are accumulated in the springs' order (spring_row repeats
 // exactly these sums). Returns a positive number if one of the springs is singular.
 template <typename Real, bool kUniform, bool kFade>
 [[gnu::always_inline]] inline Real radial_particle(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t p,
@@ -334,13 +334,15 @@ template <typename Real, bool kUniform, bool kFade>
 // The to_<direction> x array of each direction.
 constexpr std::array<std::size_t, 4> kToArray = {kToEastX, kToSouthX, kToWestX, kToNorthX};
 
-// Recomputes spring kPair of every particle of a band with singular springs resolved, adding its
-// forces into the neighbours' sums in the order of radial_particle (a spring that is the first
-// term of a neighbour's sum starts it). One spring per loop keeps the body small enough for GCC to
-// if-convert and vectorise it; inlined, so it is compiled into each clone of radial_band.
-template <typename Real, bool kUniform, bool kFade, std::size_t kPair>
-[[gnu::always_inline]] inline void resolve_spring_row(const Arrays<Real>& s, const Coefficients<Real>& k,
-                                                      std::size_t begin, std::size_t end, std::size_t cols) {
+// Spring kPair of every particle of a band, added into the neighbours' sums in the order of
+// radial_particle (a spring that is the first term of a neighbour's sum starts it). kResolve:
+// singular springs resolved (their bending plane from the motion), which gives every other spring
+// the same values as without it; without, returns 1 if a spring was singular (its values then
+// meaningless). One spring per loop keeps the body small enough for GCC to if-convert and
+// vectorise it; inlined, so it is compiled into each clone of radial_band.
+template <typename Real, bool kUniform, bool kFade, bool kResolve, std::size_t kPair>
+[[gnu::always_inline]] inline int spring_row(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t begin,
+                                             std::size_t end, std::size_t cols) {
   constexpr int kB = kRadialArmB[kPair];
   constexpr int kC = kRadialArmC[kPair];
   constexpr bool kFirstB = arm_terms(kB)[0].pair == kPair;
@@ -353,9 +355,10 @@ template <typename Real, bool kUniform, bool kFade, std::size_t kPair>
   Real* __restrict cz = s[kToArray[kC] + 2];
   Real* __restrict power = s[kPower];
   const Real zero = 0;
+  int singular = 0;
 #pragma GCC ivdep
   for (std::size_t p = begin; p < end; ++p) {
-    const RadialResult<Real> r = spring_at<Real, kUniform, true, kFade, kPair>(s, k, p, cols);
+    const RadialResult<Real> r = spring_at<Real, kUniform, kResolve, kFade, kPair>(s, k, p, cols);
     bx[p] = (kFirstB ? zero : bx[p]) + r.on_b.x;
     by[p] = (kFirstB ? zero : by[p]) + r.on_b.y;
     bz[p] = (kFirstB ? zero : bz[p]) + r.on_b.z;
@@ -363,14 +366,41 @@ template <typename Real, bool kUniform, bool kFade, std::size_t kPair>
     cy[p] = (kFirstC ? zero : cy[p]) + r.on_c.y;
     cz[p] = (kFirstC ? zero : cz[p]) + r.on_c.z;
     power[p] += r.power;
+    if constexpr (!kResolve) singular |= r.singular > zero ? 1 : 0;
   }
+  return singular;
 }
 
-template <typename Real, bool kUniform, bool kFade, std::size_t... kPair>
-[[gnu::always_inline]] inline void resolve_springs(const Arrays<Real>& s, const Coefficients<Real>& k,
-                                                   std::size_t begin, std::size_t end, std::size_t cols,
-                                                   std::index_sequence<kPair...>) {
-  (resolve_spring_row<Real, kUniform, kFade, kPair>(s, k, begin, end, cols), ...);
+// Springs kPair... of every particle of a band, one pair after another; returns 1 if one was
+// singular (!kResolve).
+template <typename Real, bool kUniform, bool kFade, bool kResolve, std::size_t... kPair>
+[[gnu::always_inline]] inline int spring_rows(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t begin,
+                                              std::size_t end, std::size_t cols, std::index_sequence<kPair...>) {
+  return (spring_row<Real, kUniform, kFade, kResolve, kPair>(s, k, begin, end, cols) | ...);
+}
+
+// The radial springs of a band with a singular spring, spring by spring: the adjacent ones
+// (pairs 0 to 3, singular only where the sheet is folded flat) first without resolving, the
+// opposite ones (straight on every flat part of the sheet) resolved; the adjacent ones again,
+// resolved, if one was singular after all (each adjacent spring's first term of a sum starts it).
+template <typename Real, bool kUniform, bool kFade>
+[[gnu::always_inline]] inline void resolve_band(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t begin,
+                                                std::size_t end, std::size_t cols) {
+  static_assert(!radial_pair_is_opposite(0) && !radial_pair_is_opposite(3) && radial_pair_is_opposite(4) &&
+                    radial_pair_is_opposite(5) && kRadialsPerParticle == 6,
+                "the adjacent springs come first");
+  static_assert(
+      arm_terms(0)[0].pair < 4 && arm_terms(1)[0].pair < 4 && arm_terms(2)[0].pair < 4 && arm_terms(3)[0].pair < 4,
+      "an adjacent spring starts each arm's sum");
+  Real* __restrict power = s[kPower];
+  const Real* __restrict connector_power = s[kConnectorPower];
+  for (std::size_t p = begin; p < end; ++p) power[p] = connector_power[p];
+  constexpr auto kAdjacent = std::index_sequence<0, 1, 2, 3>();
+  if (spring_rows<Real, kUniform, kFade, false>(s, k, begin, end, cols, kAdjacent) != 0) {
+    for (std::size_t p = begin; p < end; ++p) power[p] = connector_power[p];
+    spring_rows<Real, kUniform, kFade, true>(s, k, begin, end, cols, kAdjacent);
+  }
+  spring_rows<Real, kUniform, kFade, true>(s, k, begin, end, cols, std::index_sequence<4, 5>());
 }
 
 // Whether an arm of a particle in [begin, end) is inside the fade: its east and south connectors,
@@ -386,24 +416,52 @@ template <typename Real>
   return fading != 0;
 }
 
+// Whether one of the opposite radial springs centred at the particles of [begin, end) is
+// singular (its arms' sin(theta) below SingularLimits::sine, as radial_spring tests it): a
+// straight spring, as on every flat part of a sheet. Only the two springs' cross products, a
+// twentieth of the springs' work. (An adjacent spring is singular only where the sheet is folded
+// flat at its particle; radial_band_with finds it in the springs' own test.)
+template <typename Real>
+[[gnu::always_inline]] inline bool band_is_straight(const Arrays<Real>& s, std::size_t begin, std::size_t end,
+                                                    std::size_t cols) {
+  using Limits = lattice_spring::SingularLimits<Real>;
+  const Real zero = 0;
+  const auto straight = [&](const Arm<Real>& b, const Arm<Real>& c) {
+    const Vector<Real> n = lattice_spring::cross(b.unit, c.unit);
+    const bool exists = std::min(b.inverse_length, c.inverse_length) > zero;
+    return exists && std::sqrt(dot(n, n)) < Limits::sine ? 1 : 0;
+  };
+  int singular = 0;
+#pragma GCC ivdep
+  for (std::size_t p = begin; p < end; ++p) {
+    singular |= straight(arm<Real, 0>(s, p, cols), arm<Real, 2>(s, p, cols)) |
+                straight(arm<Real, 1>(s, p, cols), arm<Real, 3>(s, p, cols));
+  }
+  return singular != 0;
+}
+
 template <typename Real, bool kUniform, bool kFade>
 [[gnu::always_inline]] inline void radial_band_with(const Arrays<Real>& s, const Coefficients<Real>& k,
                                                     std::size_t begin, std::size_t end, std::size_t cols) {
-  Real* __restrict singular = s[kSingular];
-  int any_singular = 0;
+  // A band whose first row has a straight spring goes to the springs one by one at once: flat
+  // parts of a sheet are straight throughout. Any other band finds its singular springs in the
+  // springs' own test. Either way a band with a singular spring takes resolve_band, whose
+  // values do not depend on the way it came.
+  int any_singular = band_is_straight(s, begin, std::min(end, begin + cols), cols) ? 1 : 0;
+  if (any_singular == 0) {
+    Real* __restrict singular = s[kSingular];
 #pragma GCC ivdep
-  for (std::size_t p = begin; p < end; ++p) {
-    singular[p] = radial_particle<Real, kUniform, kFade>(s, k, p, cols);
-    any_singular |= singular[p] > Real(0) ? 1 : 0;
+    for (std::size_t p = begin; p < end; ++p) {
+      singular[p] = radial_particle<Real, kUniform, kFade>(s, k, p, cols);
+      any_singular |= singular[p] > Real(0) ? 1 : 0;
+    }
   }
   if (any_singular != 0) {
     // A straight or folded spring in this band (a flat sheet, at the start of most runs; a
-    // symmetry line): redo the band spring by spring with the bending plane taken from the motion
-    // where it is undefined. Particles without a singular spring get the same values again.
-    Real* __restrict power = s[kPower];
-    for (std::size_t p = begin; p < end; ++p) power[p] = s[kConnectorPower][p];
-    resolve_springs<Real, kUniform, kFade>(s, k, begin, end, cols,
-                                           std::make_index_sequence<static_cast<std::size_t>(kRadialsPerParticle)>());
+    // symmetry line): the band spring by spring with the bending plane taken from the motion
+    // where it is undefined. Particles without a singular spring get the values radial_particle
+    // gives them.
+    resolve_band<Real, kUniform, kFade>(s, k, begin, end, cols);
   }
 }
 
