@@ -3,7 +3,8 @@
 // springs) and flat (every opposite spring singular: *Flat), for 1 and 2 threads. Counters: ns per particle and force
 // evaluations per second. *Torn: the issue-7 target case, the wavy sheet with 10 % of its
 // connectors broken (a fixed random choice) and every spring's rest value different, as a torn,
-// stretched and creased sheet has them; it must stay within 1.3 times Lattice.
+// stretched and creased sheet has them; it must stay within 1.3 times Lattice. *Float32: the
+// lattice kernel's springs in float (forces/lattice_kernel.h, "Precision").
 //
 //   build/bench/bench/clothsim_microbench --benchmark_filter=Lattice --benchmark_repetitions=5
 #include <benchmark/benchmark.h>
@@ -11,6 +12,7 @@
 #include <cmath>
 #include <vector>
 
+#include "core/precision.h"
 #include "forces/forces.h"
 #include "model/model_edits.h"
 
@@ -57,12 +59,14 @@ Sheet make_sheet(int n, bool flat, bool torn = false) {
   return sheet;
 }
 
-void force_evaluation(benchmark::State& state, ForceKernel kernel, bool flat, bool torn) {
+void force_evaluation(benchmark::State& state, ForceKernel kernel, bool flat, bool torn,
+                      Precision precision = Precision::float64) {
   const int n = static_cast<int>(state.range(0));
   const int threads = static_cast<int>(state.range(1));
   const Sheet sheet = make_sheet(n, flat, torn);
   ForceBuffers buffers;
   buffers.kernel = kernel;
+  buffers.precision = precision;
   buffers.resize(sheet.model);
   std::vector<Vec3> force(sheet.model.particle_count());
   for (auto _ : state) {
@@ -90,6 +94,10 @@ BENCHMARK_CAPTURE(force_evaluation, GeneralFlat, ForceKernel::general, true, fal
 BENCHMARK_CAPTURE(force_evaluation, LatticeFlat, ForceKernel::lattice, true, false)->Apply(sizes);
 BENCHMARK_CAPTURE(force_evaluation, GeneralTorn, ForceKernel::general, false, true)->Apply(sizes);
 BENCHMARK_CAPTURE(force_evaluation, LatticeTorn, ForceKernel::lattice, false, true)->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, LatticeFloat32, ForceKernel::lattice, false, false, Precision::float32)
+    ->Apply(sizes);
+BENCHMARK_CAPTURE(force_evaluation, LatticeFlatFloat32, ForceKernel::lattice, true, false, Precision::float32)
+    ->Apply(sizes);
 
 }  // namespace
 }  // namespace clothsim

@@ -259,8 +259,14 @@ std::size_t first_where(std::size_t count, int threads, Bad&& bad) {
   const std::size_t blocks = (count + kBlock - 1) / kBlock;
   std::vector<std::size_t> first(blocks, count);
   parallel_for(blocks, threads, [&](std::size_t block) {
-    const std::size_t end = std::min(count, (block + 1) * kBlock);
-    for (std::size_t i = block * kBlock; i < end; ++i) {
+    const std::size_t begin = block * kBlock;
+    const std::size_t end = std::min(count, begin + kBlock);
+    // Whether the block has one, in a loop without an exit (which the compiler may vectorise and
+    // the branch predictor never misses); only then where.
+    bool any = false;
+    for (std::size_t i = begin; i < end; ++i) any |= bad(i);
+    if (!any) return;
+    for (std::size_t i = begin; i < end; ++i) {
       if (bad(i)) {
         first[block] = i;
         return;
@@ -290,9 +296,14 @@ void Simulation::check_state() {
     const auto [a, b] = model.connector_particles[e];
     return norm(state_.position[b] - state_.position[a]) / model.connector_rest_length[e];
   };
-  // The ends of a broken connector may drift apart without limit: torn pieces fall away.
+  // The ends of a broken connector may drift apart without limit: torn pieces fall away. Squared,
+  // |x_b - x_a|^2 > (limit l0)^2, the test needs no root or division per connector (it runs after
+  // every step).
+  const double limit = settings_.explosion_stretch;
   const std::size_t e = first_where(model.connector_count(), threads_, [&](std::size_t c) {
-    return model.connector_live[c] != 0 && stretch(c) > settings_.explosion_stretch;
+    const auto [a, b] = model.connector_particles[c];
+    const double reach = limit * model.connector_rest_length[c];
+    return model.connector_live[c] != 0 && squared_norm(state_.position[b] - state_.position[a]) > reach * reach;
   });
   if (e < model.connector_count()) {
     const auto [a, b] = model.connector_particles[e];
