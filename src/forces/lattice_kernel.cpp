@@ -386,8 +386,9 @@ template <typename Real, bool kUniform, bool kFade, bool kResolve, std::size_t..
 template <typename Real, bool kUniform, bool kFade>
 [[gnu::always_inline]] inline void resolve_band(const Arrays<Real>& s, const Coefficients<Real>& k, std::size_t begin,
                                                 std::size_t end, std::size_t cols) {
-  static_assert(!radial_pair_is_opposite(0) && !radial_pair_is_opposite(3) && radial_pair_is_opposite(4) &&
-                    radial_pair_is_opposite(5) && kRadialsPerParticle == 6,
+  static_assert(!radial_pair_is_opposite(0) && !radial_pair_is_opposite(1) && !radial_pair_is_opposite(2) &&
+                    !radial_pair_is_opposite(3) && radial_pair_is_opposite(4) && radial_pair_is_opposite(5) &&
+                    kRadialsPerParticle == 6,
                 "the adjacent springs come first");
   static_assert(
       arm_terms(0)[0].pair < 4 && arm_terms(1)[0].pair < 4 && arm_terms(2)[0].pair < 4 && arm_terms(3)[0].pair < 4,
