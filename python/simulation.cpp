@@ -18,6 +18,7 @@
 #include "scene/parameters.h"
 #include "scene/scene_simulation.h"
 #include "scene/validate_scene.h"
+#include "sim/precision_choice.h"
 
 #if CLOTHSIM_HAVE_RENDER
 #include "render/image.h"
@@ -102,6 +103,7 @@ py::dict statistics(const Simulation& simulation) {
   add_fields(table, simulation.integrator_stats());
   add_fields(table, simulation.model_changes());
   add_fields(table, simulation.contact_statistics());
+  add_fields(table, simulation.precision_choice().stats());
   table["threads"] = simulation.threads();
   return table;
 }

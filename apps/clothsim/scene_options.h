@@ -57,9 +57,10 @@ inline constexpr std::array<FieldFlag, 17> kFieldFlags = {{
      "device's steps, imex on the cpu only: docs/gpu.md)"},
     {"--device", "device", "N", "the Vulkan device of --backend vulkan, as 'clothsim devices' lists them"},
     {"--precision", "precision", "float64|float32|auto",
-     "arithmetic of the forces: float64 (the cpu default), float32 (the vulkan default; on the cpu, float32 springs "
-     "with a float64 state, for rkf45, rk4 and symplectic-euler), or auto (float32 where rkf45's tolerances are both "
-     "1e-6 or looser, else float64: docs/performance.md)"},
+     "arithmetic of the forces: float64, float32 (the vulkan default; on the cpu, float32 springs with a float64 "
+     "state, for rkf45, rk4 and symplectic-euler), or auto (the cpu default: float32 where rkf45's tolerances are "
+     "both 1e-6 or looser, else float64, and on the cpu float32 only for the frames whose forces agree with "
+     "float64's to a quarter of atol: docs/performance.md)"},
 }};
 
 // Which of kFieldFlags a subcommand offers, by flag name, with optional help text replacing the

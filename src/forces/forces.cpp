@@ -15,7 +15,7 @@ constexpr std::size_t kReductionBlock = 1024;
 }  // namespace
 
 void ForceBuffers::resize(const ClothModel& model) {
-  const bool lattice_ready = kernel != ForceKernel::general && lattice.prepare(model, precision);
+  const bool lattice_ready = kernel != ForceKernel::general && lattice.prepare(model, precision, both_precisions);
   if (kernel == ForceKernel::general) lattice = LatticeKernel{};
   CLOTHSIM_ASSERT(kernel != ForceKernel::lattice || lattice_ready,
                   "ForceKernel::lattice needs a model with the lattice layout");
@@ -33,6 +33,12 @@ void ForceBuffers::resize(const ClothModel& model) {
   slot_force.assign(model.force_slot_count(), Vec3{});
   element_power.assign(model.connector_count() + model.radial_count(), 0.0);
   block_power.assign((element_power.size() + kReductionBlock - 1) / kReductionBlock, 0.0);
+}
+
+void ForceBuffers::set_precision(const ClothModel& model, Precision next) {
+  CLOTHSIM_ASSERT(uses_lattice_kernel(), "float32 forces are the lattice kernel's");
+  precision = next;
+  lattice.set_precision(model, next);
 }
 
 std::size_t ForceBuffers::bytes() const {

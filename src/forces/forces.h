@@ -56,6 +56,8 @@ struct ForceBuffers {
   // Set before resize(): float32 runs the lattice kernel's springs in float (lattice_kernel.h,
   // "Precision"); resize() fails an assertion if the model is not a lattice then.
   Precision precision = Precision::float64;
+  // Set before resize(): the lattice kernel's scratch in both precisions, for set_precision().
+  bool both_precisions = false;
   std::vector<Vec3> slot_force;       // general path: [model.force_slot_count()], N
   std::vector<double> element_power;  // general path: [connectors + radials], damping power per element, W
   std::vector<double> block_power;    // general path: partial sums over fixed blocks of element_power
@@ -63,6 +65,9 @@ struct ForceBuffers {
   LatticeKernel lattice;              // scratch of the structured kernel, when it is in use
   void resize(const ClothModel& model);
   bool uses_lattice_kernel() const { return lattice.active(); }
+  // Switches the springs' arithmetic after resize(), on the lattice kernel only
+  // (LatticeKernel::set_precision): `precision: auto`'s choice (sim/precision_choice.h).
+  void set_precision(const ClothModel& model, Precision next);
   // Bytes of scratch memory held.
   std::size_t bytes() const;
   // The bytes bytes() reports after resize() for the lattice build_lattice() makes with `counts`,

@@ -82,10 +82,17 @@ class LatticeKernel {
   // Sizes the scratch for `model` and copies its per-spring parameters, if the model has the
   // lattice layout (ClothModel::layout, recorded by build_lattice; torn, plastic and creased
   // sheets keep it); false (and no scratch) otherwise. `precision`: the arithmetic of the springs
-  // (see "Precision" at the top of this file).
-  bool prepare(const ClothModel& model, Precision precision = Precision::float64);
+  // (see "Precision" at the top of this file); `both_precisions`: the scratch of the other
+  // precision as well, for set_precision().
+  bool prepare(const ClothModel& model, Precision precision = Precision::float64, bool both_precisions = false);
   bool active() const { return active_; }
   Precision precision() const { return precision_; }
+  // Switches the springs' arithmetic of a prepared kernel (`precision: auto`'s choice, frame by
+  // frame: sim/precision_choice.h). The scratch of the new precision is prepare()'s with
+  // `both_precisions` (else allocated at the first switch and kept); each switch copies the
+  // parameters into the new precision's arrays (O(springs)). The forces in a precision do not
+  // depend on the switches before them.
+  void set_precision(const ClothModel& model, Precision precision);
   // True when the kernel reads one value per family instead of the parameter arrays: every
   // connector is intact, every spring has its family's stiffness, damping and rest value, and
   // the kernel holds no arrays (see the top of this file).
@@ -107,12 +114,16 @@ class LatticeKernel {
   // the top of this file), in `precision` (the memory estimate, sim/memory_estimate.h).
   static std::size_t bytes_for(const LatticeCounts& counts, bool parameter_arrays,
                                Precision precision = Precision::float64);
+  // The part of bytes_for() in the arrays of one precision: what set_precision() adds when it
+  // first switches to it.
+  static std::size_t array_bytes_for(const LatticeCounts& counts, bool parameter_arrays, Precision precision);
 
  private:
   template <typename Real>
   double evaluate_in(const ClothModel& model, std::span<const Vec3> position, std::span<const Vec3> velocity,
                      std::uint32_t terms, int threads, std::span<Vec3> force);
-  // The scratch of precision Real: scratch64_ or scratch32_ (the other stays empty).
+  // The scratch of precision Real: scratch64_ or scratch32_ (the other stays empty unless
+  // set_precision() has switched).
   template <typename Real>
   std::vector<Real>& scratch() {
     if constexpr (std::is_same_v<Real, double>) {
@@ -123,8 +134,10 @@ class LatticeKernel {
   }
   // Reals in the scratch of the current precision.
   std::size_t scratch_size() const { return precision_ == Precision::float64 ? scratch64_.size() : scratch32_.size(); }
-  // Resizes the scratch of the current precision to `arrays` arrays, new entries zero.
+  // Resizes the scratch of the current precision, or of `precision`, to `arrays` arrays, new
+  // entries zero.
   void resize_scratch(std::size_t arrays);
+  void resize_scratch(Precision precision, std::size_t arrays);
   template <typename Real>
   void copy_parameters(const ClothModel& model);
   // Takes the model's parameters: one value per family on a uniform sheet, else every spring's
@@ -159,7 +172,8 @@ class LatticeKernel {
   std::size_t stride_ = 0;      // Reals per array (padding + particles + padding, rounded up)
   std::uint64_t revision_ = 0;  // ClothModel::revision the parameters were copied at
   // kArrayCount arrays of stride_ Reals, the parameter arrays last and only while needed
-  // (lattice_kernel_layout.h): in double, or in float for float32 forces.
+  // (lattice_kernel_layout.h): in double, or in float for float32 forces (both once
+  // set_precision() has switched).
   std::vector<double> scratch64_;
   std::vector<float> scratch32_;
   std::vector<double> block_power_;

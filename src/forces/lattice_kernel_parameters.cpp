@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 
+#include "core/assert.h"
 #include "forces/element.h"
 #include "forces/forces.h"
 #include "forces/lattice_kernel.h"
@@ -13,7 +14,7 @@ namespace clothsim {
 
 using namespace lattice_layout;
 
-bool LatticeKernel::prepare(const ClothModel& model, Precision precision) {
+bool LatticeKernel::prepare(const ClothModel& model, Precision precision, bool both_precisions) {
   active_ = false;
   std::vector<double>().swap(scratch64_);
   std::vector<float>().swap(scratch32_);
@@ -49,20 +50,39 @@ bool LatticeKernel::prepare(const ClothModel& model, Precision precision) {
   // The parameter arrays only where the sheet is not uniform or a law can make it so.
   const bool arrays = !is_uniform(model) || model.limits.changes_sheet();
   resize_scratch(arrays ? kArrayCount : kUniformArrayCount);
+  if (both_precisions) {
+    const Precision other = precision == Precision::float64 ? Precision::float32 : Precision::float64;
+    resize_scratch(other, arrays ? kArrayCount : kUniformArrayCount);
+  }
   block_power_.assign(deterministic_sum_blocks(n), 0.0);
   active_ = true;
   refresh(model);
   return true;
 }
 
+void LatticeKernel::set_precision(const ClothModel& model, Precision precision) {
+  CLOTHSIM_ASSERT(active_, "set_precision() switches a prepared kernel");
+  if (precision == precision_) return;
+  const std::size_t arrays = scratch_size() / stride_;
+  precision_ = precision;
+  resize_scratch(arrays);
+  refresh(model);
+}
+
 std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays, Precision precision) {
-  const std::size_t arrays = parameter_arrays ? kArrayCount : kUniformArrayCount;
-  return arrays * stride(counts.particles, counts.cols) * real_size(precision) +
+  return array_bytes_for(counts, parameter_arrays, precision) +
          deterministic_sum_blocks(counts.particles) * sizeof(double);
 }
 
-void LatticeKernel::resize_scratch(std::size_t arrays) {
-  if (precision_ == Precision::float64) {
+std::size_t LatticeKernel::array_bytes_for(const LatticeCounts& counts, bool parameter_arrays, Precision precision) {
+  const std::size_t arrays = parameter_arrays ? kArrayCount : kUniformArrayCount;
+  return arrays * stride(counts.particles, counts.cols) * real_size(precision);
+}
+
+void LatticeKernel::resize_scratch(std::size_t arrays) { resize_scratch(precision_, arrays); }
+
+void LatticeKernel::resize_scratch(Precision precision, std::size_t arrays) {
+  if (precision == Precision::float64) {
     scratch64_.resize(arrays * stride_, 0.0);
   } else {
     scratch32_.resize(arrays * stride_, 0.0f);

@@ -1,5 +1,9 @@
 #include "integrators/dynamics.h"
 
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
 #include "core/parallel.h"
 #include "core/timer.h"
 #include "integrators/step_control.h"
@@ -11,7 +15,31 @@ void StateDerivative::resize(std::size_t particles) { velocity_rate.assign(parti
 ClothDynamics::ClothDynamics(const ClothModel& model, const ForceOptions& options) : model_(model), options_(options) {
   buffers_.kernel = options.kernel;
   buffers_.precision = options.precision;
+  buffers_.both_precisions = options.both_precisions;
   buffers_.resize(model);
+}
+
+void ClothDynamics::set_precision(Precision precision) {
+  buffers_.set_precision(model_, precision);
+  options_.precision = precision;
+}
+
+double ClothDynamics::float32_rounding(double time, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                                       StateDerivative& exact, StateDerivative& rounded) {
+  const Precision kept = precision();
+  set_precision(Precision::float64);
+  evaluate(time, position, velocity, exact);
+  set_precision(Precision::float32);
+  evaluate(time, position, velocity, rounded);
+  set_precision(kept);
+  // An anchored particle's acceleration is its path's in both.
+  double largest = 0.0;
+  for (std::size_t p = 0; p < exact.velocity_rate.size(); ++p) {
+    const double difference = norm(rounded.velocity_rate[p] - exact.velocity_rate[p]);
+    if (!std::isfinite(difference)) return std::numeric_limits<double>::infinity();
+    largest = std::max(largest, difference);
+  }
+  return largest;
 }
 
 void ClothDynamics::constrain(double time, std::span<Vec3> position, std::span<Vec3> velocity) const {

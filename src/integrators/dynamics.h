@@ -43,6 +43,20 @@ class ClothDynamics {
 
   const ClothModel& model() const { return model_; }
   int threads() const { return options_.threads; }
+  // The springs' arithmetic (ForceOptions::precision), and whether it can be float32: on the
+  // lattice kernel only. set_precision() switches it for the evaluations after it (ForceBuffers::
+  // set_precision): `precision: auto`'s choice, frame by frame (sim/precision_choice.h).
+  Precision precision() const { return options_.precision; }
+  bool runs_float32() const { return buffers_.uses_lattice_kernel(); }
+  void set_precision(Precision precision);
+  // How far float32 forces are from float64's at (time, position, velocity): evaluates them in
+  // float64 into `exact` and in float32 into `rounded` (two evaluations; the precision is then as
+  // before), and returns the largest difference of a particle's acceleration, m/s^2 (infinity
+  // where one is not finite): their rounding, and where a spring is within float's singular
+  // threshold of straight (forces/lattice_spring.h, SingularLimits), float32's other one-sided
+  // limit (sim/precision_choice.h).
+  double float32_rounding(double time, std::span<const Vec3> position, std::span<const Vec3> velocity,
+                          StateDerivative& exact, StateDerivative& rounded);
   std::uint64_t evaluations() const { return evaluations_; }
   double seconds() const { return seconds_; }
   // Bytes of scratch memory held (the force buffers).

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <vector>
@@ -243,6 +244,19 @@ void ExplicitRungeKutta::combine_solution(const ClothState& state, double h, con
     trial_work_.drag += hb * rate.drag_power;
     trial_work_.anchor += hb * rate.anchor_power;
   }
+}
+
+std::optional<double> ExplicitRungeKutta::float32_acceleration_error(const ClothState& state) {
+  if (!dynamics_.runs_float32()) return std::nullopt;
+  const double rounding =
+      dynamics_.float32_rounding(state.time, state.position, state.velocity, stage_rate_[0], stage_rate_[1]);
+  count_evaluations(dynamics_.evaluations());
+  profile_.set(StepStage::forces, dynamics_.seconds());
+  return rounding;
+}
+
+void ExplicitRungeKutta::set_force_precision(Precision precision) {
+  if (dynamics_.runs_float32()) dynamics_.set_precision(precision);
 }
 
 std::size_t ExplicitRungeKutta::workspace_bytes() const {

@@ -53,6 +53,9 @@ class ExplicitRungeKutta : public Integrator {
                      const ButcherTableau& tableau);
   const ButcherTableau& tableau() const { return tableau_; }
   std::size_t workspace_bytes() const override;
+  // Both evaluations in the first two stage arrays, which every step writes before it reads.
+  std::optional<double> float32_acceleration_error(const ClothState& state) override;
+  void set_force_precision(Precision precision) override;
   // The bytes workspace_bytes() reports for a method of `stages` stages and `particles`
   // particles, besides the force buffers (ForceBuffers::bytes_for) (sim/memory_estimate.h).
   static std::size_t workspace_bytes_for(int stages, std::size_t particles);

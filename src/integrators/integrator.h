@@ -166,6 +166,9 @@ struct ForceOptions {
   // The arithmetic of the springs: float32 is the lattice kernel's (forces/lattice_kernel.h),
   // for the explicit methods; the state and the integration stay float64 either way.
   Precision precision = Precision::float64;
+  // The lattice kernel's scratch in both precisions, for `precision: auto`'s choice frame by frame
+  // (sim/precision_choice.h; ForceBuffers::both_precisions).
+  bool both_precisions = false;
 };
 
 class Integrator {
@@ -219,6 +222,14 @@ class Integrator {
   virtual std::optional<StateChecks> check_state(const ClothState& /*state*/, double /*explosion_stretch*/) {
     return std::nullopt;
   }
+  // `precision: auto` on the CPU, frame by frame (sim/precision_choice.h). The largest difference
+  // over the particles between the accelerations that float32 and float64 forces give at `state`
+  // (m/s^2; two force evaluations, counted as the integrator's), where the integrator can run
+  // float32 forces (the explicit methods, on the lattice kernel); nullopt (the default) elsewhere.
+  virtual std::optional<double> float32_acceleration_error(const ClothState& /*state*/) { return std::nullopt; }
+  // The precision of the forces from the next step on, where float32_acceleration_error() has a
+  // value; nothing elsewhere.
+  virtual void set_force_precision(Precision /*precision*/) {}
   // The particles resting on obstacles, which the collision stage refreshes before each step: an
   // integrator that can hold them on their surface within a step reads them and writes the
   // impulses it needed (model/surface_contacts.h). Null (the default): none.

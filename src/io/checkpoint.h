@@ -38,7 +38,8 @@ namespace clothsim {
 
 // 2: the records' fields from their one list (core/record_fields.h): every IntegratorStats field of
 // the replaced integrators, the energies in the balance's order, the contact counters' names.
-inline constexpr std::uint32_t kCheckpointVersion = 2;
+// 3: the precision choice's statistics (sim/precision_choice.h).
+inline constexpr std::uint32_t kCheckpointVersion = 3;
 
 // A checkpoint that cannot be read: missing, truncated, damaged, of another version, or not
 // fitting the simulation it is applied to. The message names the file and what is wrong.

@@ -61,13 +61,19 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
 
   if (options.backend.kind == Backend::vulkan) {
     // The device's rate is not the CPU kernel's: no FLOP count, no share of the CPU's peak.
-    result.kernel = std::string("vulkan-") + to_string(options.backend.resolved_precision(spec.integrator));
+    result.kernel = std::string("vulkan-") + to_string(options.backend.resolved_precision(spec.integrator, true));
     if (options.backend.stage_passes) result.kernel += std::string("-") + to_string(*options.backend.stage_passes);
   } else {
     ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
     probe.resize(simulation.model());
     result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";
-    if (options.backend.resolved_precision(spec.integrator) == Precision::float32) result.kernel += "-float32";
+    // float32 throughout, or `auto`'s choice frame by frame (sim/precision_choice.h).
+    const bool lattice = probe.uses_lattice_kernel();
+    if (options.backend.chooses_by_frame(spec.integrator, lattice)) {
+      result.kernel += "-auto";
+    } else if (options.backend.resolved_precision(spec.integrator, lattice) == Precision::float32) {
+      result.kernel += "-float32";
+    }
     result.flops_per_particle = probe.uses_lattice_kernel() ? kLatticeKernelFlopsPerParticle : 0.0;
   }
   result.threads = simulation.threads();
@@ -120,7 +126,7 @@ std::vector<BenchResult> run_bench_suite(const BenchOptions& options,
   // roofline).
   // In the precision of the case's forces: float32 has twice the lanes.
   const auto precision_of = [&](int size, IntegratorKind kind) {
-    return options.backend.resolved_precision(bench_case_scene(size, kind, options).integrator);
+    return options.backend.resolved_precision(bench_case_scene(size, kind, options).integrator, true);
   };
   std::map<std::pair<int, Precision>, double> peak_gflops;
   for (std::size_t i = 0; i < options.sizes.size(); ++i) {

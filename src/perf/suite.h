@@ -48,7 +48,10 @@ struct BenchResult {
   int size = 0;  // N
   std::size_t particles = 0;
   IntegratorKind integrator = IntegratorKind::rkf45;
-  std::string kernel;  // force kernel in use: "lattice", "lattice-float32" or "general" on the CPU; "vulkan-float32" or "vulkan-float64"
+  // Force kernel in use: "lattice" (float64), "lattice-float32", "lattice-auto" (`auto`'s choice
+  // frame by frame, sim/precision_choice.h) or "general" on the CPU; "vulkan-float32" or
+  // "vulkan-float64".
+  std::string kernel;
   int threads = 1;
   double time_step = 0.0;  // s; the fixed step, or 0 for adaptive
   std::string status;      // "ok", or the failure diagnosis

@@ -24,18 +24,44 @@ ordered_json lattice_json(const ClothModel& model) {
                       {"anchors", model.anchor_count()}};
 }
 
+// The precision of the forces, `auto` resolved (sim/backend.h): "float64" or "float32", or where
+// the run chose frame by frame (sim/precision_choice.h), the one of every window, or "mixed" (its
+// steps at rest, float64, not counted).
+std::string precision_json(const Simulation& simulation) {
+  const bool lattice = lattice_forces(simulation.model(), simulation.settings().kernel);
+  const PrecisionChoice& choice = simulation.precision_choice();
+  if (choice.active()) {
+    const PrecisionChoiceStats& windows = choice.stats();
+    if (windows.float64_windows == 0) return to_string(Precision::float32);
+    return windows.float32_windows == 0 ? to_string(Precision::float64) : "mixed";
+  }
+  return to_string(simulation.settings().backend.resolved_precision(simulation.settings().integrator, lattice));
+}
+
+// `auto`'s choice frame by frame: its windows, the largest drift measured and the limit; null
+// where the run did not choose.
+ordered_json precision_choice_json(const Simulation& simulation) {
+  const PrecisionChoice& choice = simulation.precision_choice();
+  if (!choice.active()) return nullptr;
+  ordered_json json = ordered_json::object();
+  add_record_json(json, choice.stats());
+  json["drift_limit"] = choice.drift_limit();
+  json["window"] = kPrecisionWindow;
+  return json;
+}
+
 // The settings of the method, then its statistics, then two rates derived from them.
 ordered_json integrator_json(const Simulation& simulation, double simulated_time) {
   const IntegratorSettings& settings = simulation.settings().integrator;
   const IntegratorStats stats = simulation.integrator_stats();
   ordered_json integrator{{"method", std::string(to_string(settings.kind))},
-                          // The precision of the forces, `auto` resolved (sim/backend.h).
-                          {"precision", to_string(simulation.settings().backend.resolved_precision(settings))},
+                          {"precision", precision_json(simulation)},
                           {"relative_tolerance", settings.relative_tolerance},
                           {"absolute_tolerance", settings.absolute_tolerance},
                           {"time_step", settings.time_step},
                           {"cg_tolerance", settings.cg_tolerance},
-                          {"cg_max_iterations", settings.cg_max_iterations}};
+                          {"cg_max_iterations", settings.cg_max_iterations},
+                          {"precision_choice", precision_choice_json(simulation)}};
   add_record_json(integrator, stats);
   if (stats.accepted_steps == 0) {
     // No step taken: the step sizes are not 0 (or infinite), they are not there.

@@ -11,7 +11,11 @@ SimulationShape simulation_shape(const SceneSpec& spec) {
                                 static_cast<std::size_t>(std::max(spec.lattice.cols, 0)));
   shape.anchors = spec.anchors.size();
   shape.integrator = spec.integrator;
-  if (spec.backend.kind == Backend::cpu) shape.precision = spec.backend.resolved_precision(spec.integrator);
+  if (spec.backend.kind == Backend::cpu) {
+    // Every scene's sheet is a lattice.
+    shape.precision = spec.backend.resolved_precision(spec.integrator, true);
+    shape.precision_by_frame = spec.backend.chooses_by_frame(spec.integrator, true);
+  }
   // build_model() gives every spring its family's values; only cuts break connectors before the run.
   shape.uniform = spec.cuts.empty();
   shape.sheet_changes = spec.lattice.limits.changes_sheet();

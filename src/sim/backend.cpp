@@ -48,28 +48,39 @@ BackendFeatures features_of(IntegratorKind kind) {
   return features;
 }
 
+bool lattice_forces(const ClothModel& model, ForceKernel kernel) {
+  return model.layout == ModelLayout::lattice && kernel != ForceKernel::general;
+}
+
 Precision automatic_precision(const IntegratorSettings& integrator) {
   const bool loose = integrator.relative_tolerance >= kAutomaticFloat32Tolerance &&
                      integrator.absolute_tolerance >= kAutomaticFloat32Tolerance;
   return integrator.kind == IntegratorKind::rkf45 && loose ? Precision::float32 : Precision::float64;
 }
 
-Precision BackendSettings::resolved_precision(const IntegratorSettings& integrator) const {
+Precision BackendSettings::resolved_precision(const IntegratorSettings& integrator, bool lattice) const {
   // The device's default is float32 for the explicit methods; implicit Euler runs float64 on both.
-  if (!precision) {
-    const bool float64 = kind == Backend::cpu || integrator.kind == IntegratorKind::implicit_euler;
-    return float64 ? Precision::float64 : Precision::float32;
+  if (!precision && kind == Backend::vulkan) {
+    return integrator.kind == IntegratorKind::implicit_euler ? Precision::float64 : Precision::float32;
   }
-  switch (*precision) {
+  // The CPU's default is `auto`, checked frame by frame (sim/precision_choice.h).
+  switch (precision.value_or(PrecisionRequest::automatic)) {
     case PrecisionRequest::float64: return Precision::float64;
     case PrecisionRequest::float32: return Precision::float32;
-    case PrecisionRequest::automatic: return automatic_precision(integrator);
+    case PrecisionRequest::automatic:
+      // The CPU's float32 forces are the lattice kernel's.
+      return kind == Backend::cpu && !lattice ? Precision::float64 : automatic_precision(integrator);
   }
   return Precision::float64;
 }
 
+bool BackendSettings::chooses_by_frame(const IntegratorSettings& integrator, bool lattice) const {
+  const bool automatic = precision.value_or(PrecisionRequest::automatic) == PrecisionRequest::automatic;
+  return kind == Backend::cpu && automatic && resolved_precision(integrator, lattice) == Precision::float32;
+}
+
 std::string unsupported_by_backend(const BackendFeatures& features, const BackendSettings& backend) {
-  const bool float32 = backend.resolved_precision(features.integrator) == Precision::float32;
+  const bool float32 = backend.resolved_precision(features.integrator, features.lattice) == Precision::float32;
   const bool implicit_euler = features.integrator.kind == IntegratorKind::implicit_euler;
   if (float32 && implicit_euler) {
     return "float32 (precision) with implicit-euler (integrator.method), whose Newton solve needs float64 forces; "
@@ -109,7 +120,7 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
   if (backend.kind == Backend::cpu) return;
 #if CLOTHSIM_HAVE_VULKAN
   try {
-    const Precision precision = backend.resolved_precision(integrator);
+    const Precision precision = backend.resolved_precision(integrator, true);
     const gpu::Device device(gpu::DeviceOptions{backend.device, false});
     device.require_precision(precision);
     const std::uint64_t bytes =
@@ -136,12 +147,15 @@ void check_backend_fits(const LatticeCounts& counts, std::size_t anchors, const 
 
 std::unique_ptr<Integrator> make_backend_integrator(const ClothModel& model, const IntegratorSettings& integrator,
                                                     const ForceOptions& options, const BackendSettings& backend) {
-  const std::string unsupported = unsupported_by_backend(features_of(model, integrator), backend);
+  BackendFeatures features = features_of(model, integrator);
+  if (backend.kind == Backend::cpu) features.lattice = lattice_forces(model, options.kernel);
+  const std::string unsupported = unsupported_by_backend(features, backend);
   if (!unsupported.empty()) throw BackendError(backend_refusal(unsupported, backend));
-  const Precision precision = backend.resolved_precision(integrator);
+  const Precision precision = backend.resolved_precision(integrator, features.lattice);
   if (backend.kind == Backend::cpu) {
     ForceOptions cpu = options;
     cpu.precision = precision;
+    cpu.both_precisions = backend.chooses_by_frame(integrator, features.lattice);
     return make_integrator(model, integrator, cpu);
   }
 #if CLOTHSIM_HAVE_VULKAN

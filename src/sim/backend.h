@@ -33,23 +33,34 @@ struct BackendSettings {
   // chained in a pass (core/stage_passes.h), the same bits; unset, the device's choice
   // (gpu::DeviceSelection::stage_passes).
   std::optional<StagePasses> stage_passes = std::nullopt;
-  // The precision the backend computes in for `integrator`: the one asked for; for `auto`,
-  // automatic_precision's choice; unset, float64 on the CPU and float32 on a device (twice the
-  // throughput there, and every device has it), but float64 for implicit Euler on either.
-  Precision resolved_precision(const IntegratorSettings& integrator) const;
+  // The precision the backend computes in for `integrator` on a sheet that is a lattice or not
+  // (the CPU's float32 forces are the lattice kernel's): the one asked for; for `auto`,
+  // automatic_precision's choice (float64 on the CPU for a sheet that is not a lattice); unset,
+  // `auto` on the CPU and float32 on a device (twice the throughput there, and every device has
+  // it), but float64 for implicit Euler on either. Where the CPU resolves `auto` to float32, that
+  // is the precision it starts in: it then chooses frame by frame (chooses_by_frame).
+  Precision resolved_precision(const IntegratorSettings& integrator, bool lattice) const;
+  // Whether the run chooses its forces' precision frame by frame (sim/precision_choice.h): on the
+  // CPU, where `auto` (asked for, or the default) resolves to float32.
+  bool chooses_by_frame(const IntegratorSettings& integrator, bool lattice) const;
   bool operator==(const BackendSettings&) const = default;
 };
 
 // `auto`'s rule: float32 where RKF45's requested tolerances are loose enough that float32 forces
 // cannot spoil them, float64 everywhere else (fixed-step methods ask for no accuracy to check
 // against, and implicit Euler runs float64 only). docs/performance.md, "Mixed precision", has
-// the measurements behind the threshold.
+// the measurements behind the threshold. On the CPU a run that starts in float32 then checks
+// each frame's forces (sim/precision_choice.h).
 Precision automatic_precision(const IntegratorSettings& integrator);
 // The tightest tolerances (relative and absolute, each) at which `auto` picks float32: RKF45's
 // default. There float32 forces keep a paper scene as close to the exact motion as float64 ones
 // and take no more steps; at 1e-7 their rounding is four times the float64 run's error and costs
 // 14 % more evaluations (docs/performance.md, "Mixed precision").
 inline constexpr double kAutomaticFloat32Tolerance = 1e-6;
+
+// Whether the CPU computes the forces of `model` with the lattice kernel, whose forces alone can
+// be float32 (forces/lattice_kernel.h): the lattice layout, and `kernel` not the general one.
+bool lattice_forces(const ClothModel& model, ForceKernel kernel);
 
 // Whether this build has the Vulkan backend (CLOTHSIM_BUILD_VULKAN).
 bool vulkan_backend_built();

@@ -52,6 +52,9 @@ MemoryEstimate estimate_simulation_memory(const SimulationShape& shape) {
   estimate.add("state", 2 * counts.particles * sizeof(Vec3));
   const bool parameter_arrays = !shape.uniform || shape.sheet_changes;
   estimate.add("force scratch", ForceBuffers::bytes_for(counts, shape.kernel, parameter_arrays, shape.precision));
+  if (shape.precision_by_frame) {
+    estimate.add("float64 force scratch", LatticeKernel::array_bytes_for(counts, parameter_arrays, Precision::float64));
+  }
   std::size_t workspace = 0;
   switch (shape.integrator.kind) {
     case IntegratorKind::rkf45:

@@ -54,6 +54,9 @@ struct SimulationShape {
   IntegratorSettings integrator;
   ForceKernel kernel = ForceKernel::automatic;
   Precision precision = Precision::float64;  // of the CPU's forces (ForceOptions::precision)
+  // `precision: auto` frame by frame (sim/precision_choice.h): the lattice kernel's arrays in
+  // float64 as well, for the windows that need it and for the measurement at each window's start.
+  bool precision_by_frame = false;
   // Every connector intact and every spring with its family's values at the start (no cuts):
   // the lattice kernel then keeps no parameter arrays (forces/lattice_kernel.h).
   bool uniform = true;

@@ -39,10 +39,13 @@ Simulation::Simulation(ClothModel model, ClothState initial, const SimulationSet
   check_state();
 }
 
-std::unique_ptr<Integrator> Simulation::new_integrator() const {
+std::unique_ptr<Integrator> Simulation::new_integrator() {
   std::unique_ptr<Integrator> integrator = make_backend_integrator(
       *model_, settings_.integrator, ForceOptions{settings_.terms, threads_, settings_.kernel}, settings_.backend);
   integrator->set_surface_contacts(&collision_stage_->surface_contacts());
+  const bool lattice = lattice_forces(*model_, settings_.kernel);
+  precision_choice_.configure(settings_.backend.chooses_by_frame(settings_.integrator, lattice),
+                              settings_.integrator.absolute_tolerance);
   return integrator;
 }
 
@@ -50,6 +53,7 @@ bool Simulation::advance_to(double time) {
   if (failure_) return false;
   checked_energy_.reset();
   CLOTHSIM_ASSERT(time >= state_.time, "advance_to() cannot go back in time");
+  precision_choice_.begin_advance();
   while (state_.time < time) {
     // The collision stage's swept tests start from the positions before the step, and an
     // approaching impact limits the step (collision/obstacle_contacts.h); an integrator that
@@ -139,6 +143,7 @@ bool Simulation::host_works_between_steps() const {
 bool Simulation::integrate(double time) {
   // The whole of the integrator's work; profile() takes its forces out of it.
   StageTimer timer(profile_, StepStage::integration);
+  precision_choice_.before_step(*integrator_, state_);
   // Anchor events (a driven anchor arriving, an anchor letting go) are never crossed by a step.
   // One step on the CPU; on a device, every step up to the limit, unless the host has work between
   // steps that the device does not do (host_works_between_steps).

@@ -4,7 +4,8 @@
 // its StepStage (core/step_profile.h):
 //   while the state is before t:
 //     integrate: one accepted step (adaptive, never past t, an anchor event  -> forces, integration
-//                or an approaching impact)
+//                or an approaching impact); on `precision: auto`, the forces'
+//                precision chosen first at each window's start (sim/precision_choice.h)
 //     collide:   between steps, on the accepted state: particles out of the   -> collisions
 //                obstacles, then the sheet out of itself, velocities corrected
 //                (collision/collision_stage.h)
@@ -54,6 +55,7 @@
 #include "model/cloth_model.h"
 #include "model/spring_limits.h"
 #include "sim/backend.h"
+#include "sim/precision_choice.h"
 #include "sim/statistics.h"
 
 namespace clothsim {
@@ -113,6 +115,9 @@ class Simulation {
   const SpringEventCounts& event_totals() const { return event_totals_; }
   // Contacts with obstacles so far.
   const ContactStatistics& contact_statistics() const { return contact_statistics_; }
+  // `precision: auto` frame by frame on the CPU (sim/precision_choice.h): whether the run chooses,
+  // and what it chose so far.
+  const PrecisionChoice& precision_choice() const { return precision_choice_; }
 
   // Checkpoints (io/checkpoint.h): saves the simulation into a saving archive, or restores it
   // from a loading one, between advance_to() calls. Saved: the state, the model's changes since
@@ -184,8 +189,9 @@ class Simulation {
   bool check_energy_balance();
   void fail(std::string element, const std::string& message);
   // A new integrator for the current model on the run's backend and settings (the constructor's,
-  // a restored checkpoint's, a restart's), pointed at the collision stage's surface contacts.
-  std::unique_ptr<Integrator> new_integrator() const;
+  // a restored checkpoint's, a restart's), pointed at the collision stage's surface contacts; the
+  // precision choice configured for it (its statistics kept).
+  std::unique_ptr<Integrator> new_integrator();
   // Replaces the integrator with a new one for the current model and settings_.integrator,
   // keeping the statistics of the old one.
   void restart_integrator();
@@ -211,8 +217,9 @@ class Simulation {
   SimulationSettings settings_;
   int threads_ = 1;
   std::unique_ptr<Integrator> integrator_;
-  IntegratorStats retired_stats_;  // summed over integrators replaced by set_integrator()
-  StepProfile retired_profile_;    // their stages' times
+  PrecisionChoice precision_choice_;  // configured with each new integrator
+  IntegratorStats retired_stats_;     // summed over integrators replaced by set_integrator()
+  StepProfile retired_profile_;       // their stages' times
   double initial_energy_ = 0.0;
   // The blow-up check: the energies at the start, and the largest energy scale seen (J).
   EnergyReport initial_report_;

@@ -35,6 +35,7 @@ void Simulation::transfer_state(StateArchive& archive) {
   }
   integrator_->transfer_state(archive);
   transfer_fields(archive, "retired", retired_stats_);
+  precision_choice_.transfer_state(archive);
 
   // The energy balance's reference and the blow-up check's scale.
   archive.value("initial_energy", initial_energy_);

@@ -39,7 +39,8 @@ class BackendTest : public cli_harness::ToolTest {
 };
 
 // Float32 forces on the CPU (tests/sim/test_mixed_precision.cpp holds their accuracy): the scene
-// records what was asked, the summary what ran, with `auto` resolved from the tolerances.
+// records what was asked, the summary what ran, with `auto` resolved from the tolerances and, where
+// it starts in float32, its choice frame by frame.
 TEST_F(BackendTest, TheCpuRunsFloat32ForcesAndAutoResolvesThem) {
   for (const auto& [asked, tolerance, ran] : std::vector<std::array<std::string, 3>>{
            {"float32", "1e-6", "float32"}, {"auto", "1e-6", "float32"}, {"auto", "1e-8", "float64"}}) {
@@ -51,6 +52,17 @@ TEST_F(BackendTest, TheCpuRunsFloat32ForcesAndAutoResolvesThem) {
     EXPECT_EQ(scene["precision"], asked);
     const nlohmann::json summary = nlohmann::json::parse(read_text(work_ / out / "summary.json"));
     EXPECT_EQ(summary["integrator"]["precision"], ran) << out;
+    // `auto` that starts in float32 chooses frame by frame (sim/precision_choice.h) and says how.
+    const nlohmann::json& choice = summary["integrator"]["precision_choice"];
+    if (asked == "auto" && ran == "float32") {
+      EXPECT_EQ(choice["float32_windows"], 3) << out;  // 0.05 s: a window a frame
+      EXPECT_EQ(choice["float64_windows"], 0) << out;
+      EXPECT_GE(choice["rest_steps"], 1) << out;
+      EXPECT_GT(choice["largest_drift"], 0.0) << out;
+      EXPECT_DOUBLE_EQ(choice["drift_limit"], 0.25e-6) << out;
+    } else {
+      EXPECT_TRUE(choice.is_null()) << out;
+    }
   }
 }
 

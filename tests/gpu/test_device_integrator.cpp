@@ -283,7 +283,8 @@ SceneSpec tearing_sheet(const BackendSettings& backend) {
 }
 
 TEST(DeviceIntegrator, ATornSheetBreaksTheCpusConnectors) {
-  const RunEnd cpu = run_scene_to(tearing_sheet(BackendSettings{}), 0.6);
+  // The CPU in float64 (its default, `auto`, may take float32 forces).
+  const RunEnd cpu = run_scene_to(tearing_sheet(BackendSettings{Backend::cpu, 0, PrecisionRequest::float64}), 0.6);
   ASSERT_GT(cpu.events.breaks, 5u) << "the scene tears";
   for (Precision precision : {Precision::float64, Precision::float32}) {
     const RunEnd device = run_scene_to(tearing_sheet(vulkan(precision)), 0.6);

@@ -75,7 +75,8 @@ TEST(DeviceObstacles, SheetDroppedOnEachShapeStaysOutsideAsOnTheCpu) {
       SCOPED_TRACE(std::string(c.name) + (moves ? ", moving" : ", still"));
       const Collider collider = still_or_moving(c, moves);
       const DropResult device = drop(soft_sheet(c.height, {collider}), 0.6, loose(vulkan(Precision::float64)));
-      const DropResult cpu = drop(soft_sheet(c.height, {collider}), 0.6, loose(BackendSettings{}));
+      const DropResult cpu = drop(soft_sheet(c.height, {collider}), 0.6,
+                                  loose(BackendSettings{Backend::cpu, 0, PrecisionRequest::float64}));
       EXPECT_GT(device.contact_steps, 0u) << "the sheet reached the collider";
       EXPECT_LE(device.deepest, kDepthTolerance);
       // At 1e-4 the balance is RKF45's error, about 0.2 J of the drop's few hundred: the device's
@@ -127,7 +128,7 @@ TEST(DeviceObstacles, ImplicitEulerFrictionFollowsCoulombsLaw) {
   const BackendSettings device = vulkan(Precision::float64);
   const double below = 20.0 * std::numbers::pi / 180.0;  // tan = 0.36 < 0.5
   EXPECT_LT(slide_on_slope(below, 0.5, IntegratorKind::implicit_euler, device, kSoftDamping), 1e-6);
-  const double above = 35.0 * std::numbers::pi / 180.0;  // tan = 0.70 > 0.5
+  const double above = 35.0 * std::numbers::pi / 180.0;                                   // tan = 0.70 > 0.5
   const double expected = 0.5 * 9.81 * (std::sin(above) - 0.5 * std::cos(above)) * 0.25;  // 0.5 s
   EXPECT_NEAR(slide_on_slope(above, 0.5, IntegratorKind::implicit_euler, device, kSoftDamping), expected,
               0.05 * expected);
@@ -202,7 +203,7 @@ TEST(DeviceObstacles, FrictionFollowsCoulombsLaw) {
   const double below = 20.0 * std::numbers::pi / 180.0;  // tan = 0.36 < 0.5
   const BackendSettings device = vulkan(Precision::float64);
   EXPECT_LT(slide_on_slope(below, 0.5, IntegratorKind::rkf45, device, kSoftDamping), 1e-6);
-  const double above = 35.0 * std::numbers::pi / 180.0;  // tan = 0.70 > 0.5
+  const double above = 35.0 * std::numbers::pi / 180.0;                                   // tan = 0.70 > 0.5
   const double expected = 0.5 * 9.81 * (std::sin(above) - 0.5 * std::cos(above)) * 0.25;  // 0.5 s
   EXPECT_NEAR(slide_on_slope(above, 0.5, IntegratorKind::rkf45, device, kSoftDamping), expected, 0.05 * expected);
 }

@@ -35,7 +35,7 @@ TEST(DeviceSelfCollision, AFoldedSheetLandsOnItselfAsOnTheCpu) {
   // 1.2e-9 m).
   const BackendSettings vulkan{Backend::vulkan, 0, request(Precision::float64)};
   Simulation device = testing::folded_sheet(IntegratorKind::rkf45, 2e-4, 1, vulkan);
-  Simulation cpu = testing::folded_sheet(IntegratorKind::rkf45, 2e-4, 1);
+  Simulation cpu = testing::folded_sheet(IntegratorKind::rkf45, 2e-4, 1, {Backend::cpu, 0, PrecisionRequest::float64});
   for (int frame = 1; frame <= 15; ++frame) {
     ASSERT_TRUE(device.advance_to(0.01 * frame)) << device.failure()->message;
     ASSERT_TRUE(cpu.advance_to(0.01 * frame)) << cpu.failure()->message;

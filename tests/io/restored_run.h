@@ -42,6 +42,9 @@ inline ContactStatistics expect_restored_run_matches(const SceneSpec& spec, doub
   EXPECT_EQ(restored.model_changes().max_plastic_strain, original.model_changes().max_plastic_strain);
   EXPECT_EQ(restored.event_totals().breaks, original.event_totals().breaks);
   EXPECT_EQ(restored.contact_statistics().contact_steps, original.contact_statistics().contact_steps);
+  EXPECT_EQ(restored.precision_choice().stats().float32_windows, original.precision_choice().stats().float32_windows);
+  EXPECT_EQ(restored.precision_choice().stats().float64_windows, original.precision_choice().stats().float64_windows);
+  EXPECT_EQ(restored.precision_choice().stats().rest_steps, original.precision_choice().stats().rest_steps);
   return original.contact_statistics();
 }
 

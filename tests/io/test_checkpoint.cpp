@@ -195,6 +195,15 @@ TEST(SimulationCheckpoint, Float32SpringsGoOnInFloat32BitForBit) {
   expect_restored_run_matches(spec, 0.3, 0.6, 6);
 }
 
+TEST(SimulationCheckpoint, AutoPrecisionChoosesAsTheSavedRunBitForBit) {
+  // `auto` frame by frame (sim/precision_choice.h) on the paper's material 30 times stiffer, which
+  // changes precision back and forth: the restored run chooses from the state as the saved one
+  // does, window by window, and its counts of windows go on from the saved ones.
+  SceneSpec spec = scene_from_paper_args("16,16,1,120,1,42000,200,2400,5,1", "test");
+  spec.backend.precision = PrecisionRequest::automatic;
+  expect_restored_run_matches(spec, 0.25, 0.5, 15);
+}
+
 TEST(SimulationCheckpoint, TornAndYieldedSheetGoesOnBitForBit) {
   // tear-pull has broken connectors and yielded rest lengths by 0.6 s, and keeps tearing after.
   const SceneSpec spec = builtin_scene("tear-pull");

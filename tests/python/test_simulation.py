@@ -67,6 +67,24 @@ def test_an_undamped_sheet_keeps_its_energy():
     assert abs(energy["total"] - energy["initial_total"]) < 1e-5 * swing
 
 
+def test_auto_precision_reports_its_windows_and_goes_on_as_the_command_does(run_command, tmp_path):
+    # `precision: auto` on the CPU chooses float32 or float64 frame by frame (sim/precision_choice.h):
+    # the paper's Figure 5 runs every frame in float32 once it moves, as `clothsim run` does.
+    run_command("run", "paper-fig5", "--set", "output.duration=0.5", "--precision", "auto", "--render", "none",
+                "--out", "run", "--quiet")
+    positions = numpy.load(tmp_path / "run" / "positions.npy")
+    scene = short_scene("paper-fig5", 0.5, precision="auto")
+    simulation = clothsim.Simulation(scene)
+    for k in range(1, scene.frames):
+        simulation.advance_to(k / scene.fps)
+    assert numpy.array_equal(simulation.positions, positions[-1])
+    statistics = simulation.statistics()
+    assert statistics["float32_windows"] == scene.frames - 1
+    assert statistics["float64_windows"] == 0
+    assert statistics["rest_steps"] >= 1
+    assert 0 < statistics["largest_drift"] <= 0.25 * 1e-6
+
+
 def test_live_edits_change_the_run_and_book_their_energy():
     scene = short_scene("paper-fig5", 1.0)
     plain = clothsim.Simulation(scene)

@@ -38,6 +38,9 @@ SimulationShape shape_of(const SceneSpec& spec) {
       lattice_counts(static_cast<std::size_t>(spec.lattice.rows), static_cast<std::size_t>(spec.lattice.cols));
   shape.anchors = spec.anchors.size();
   shape.integrator = spec.integrator;
+  // On `auto` (the CPU's default), RKF45 holds float32 forces with the float64 arrays beside them.
+  shape.precision = spec.backend.resolved_precision(spec.integrator, true);
+  shape.precision_by_frame = spec.backend.chooses_by_frame(spec.integrator, true);
   shape.uniform = spec.cuts.empty();
   shape.sheet_changes = spec.lattice.limits.changes_sheet();
   shape.obstacles = !spec.colliders.empty();
@@ -101,10 +104,14 @@ TEST(MemoryEstimate, CountsTheArraysOfSheetsThatChange) {
   uniform.sheet_changes = false;
   SimulationShape cut = uniform;
   cut.uniform = false;
-  // The 26 parameter arrays of the lattice kernel, a double per particle each (and padding).
-  EXPECT_GE(item(estimate_simulation_memory(cut), "force scratch") -
-                item(estimate_simulation_memory(uniform), "force scratch"),
-            26 * sizeof(double) * shape.counts.particles);
+  // The 26 parameter arrays of the lattice kernel, a float and a double per particle each (and
+  // padding): RKF45 on `auto`, the default, holds the float32 and the float64 arrays.
+  const auto force_scratch = [&](const SimulationShape& of) {
+    const MemoryEstimate of_shape = estimate_simulation_memory(of);
+    return item(of_shape, "force scratch") + item(of_shape, "float64 force scratch");
+  };
+  EXPECT_GE(force_scratch(cut) - force_scratch(uniform),
+            26 * (sizeof(float) + sizeof(double)) * shape.counts.particles);
 }
 
 // The collision stage holds what depends on the sheet's motion (candidate pairs, grid entries):

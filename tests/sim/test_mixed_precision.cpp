@@ -54,26 +54,40 @@ TEST(MixedPrecision, PaperScenesInFloat32StayWithTheFloat64Runs) {
 }
 
 // `auto`: float32 for RKF45 at tolerances of 1e-6 or looser (both), float64 otherwise and for the
-// methods that ask for no accuracy; an unset precision is the backend's default.
+// methods that ask for no accuracy, and on the CPU for a sheet that is not a lattice; an unset
+// precision is `auto` on the CPU and float32 on a device. The CPU's float32 under `auto` is
+// chosen frame by frame; an explicit float32 is not.
 TEST(MixedPrecision, AutoPicksFloat32OnlyWhereTheTolerancesAllowIt) {
   IntegratorSettings settings;  // rkf45, rtol = atol = 1e-6
   const BackendSettings automatic{Backend::cpu, 0, PrecisionRequest::automatic};
-  EXPECT_EQ(automatic.resolved_precision(settings), Precision::float32);
+  EXPECT_EQ(automatic.resolved_precision(settings, true), Precision::float32);
+  EXPECT_TRUE(automatic.chooses_by_frame(settings, true));
+  EXPECT_EQ(automatic.resolved_precision(settings, false), Precision::float64);
+  EXPECT_FALSE(automatic.chooses_by_frame(settings, false));
   settings.relative_tolerance = 1e-4;
-  EXPECT_EQ(automatic.resolved_precision(settings), Precision::float32);
+  EXPECT_EQ(automatic.resolved_precision(settings, true), Precision::float32);
   settings.absolute_tolerance = 1e-7;
-  EXPECT_EQ(automatic.resolved_precision(settings), Precision::float64);
+  EXPECT_EQ(automatic.resolved_precision(settings, true), Precision::float64);
+  EXPECT_FALSE(automatic.chooses_by_frame(settings, true));
   settings.absolute_tolerance = 1e-3;
   settings.relative_tolerance = 1e-8;
-  EXPECT_EQ(automatic.resolved_precision(settings), Precision::float64);
-  for (IntegratorKind kind : {IntegratorKind::rk4, IntegratorKind::symplectic_euler, IntegratorKind::implicit_euler}) {
+  EXPECT_EQ(automatic.resolved_precision(settings, true), Precision::float64);
+  for (IntegratorKind kind :
+       {IntegratorKind::rk4, IntegratorKind::symplectic_euler, IntegratorKind::implicit_euler, IntegratorKind::imex}) {
     IntegratorSettings fixed;
     fixed.kind = kind;
-    EXPECT_EQ(automatic.resolved_precision(fixed), Precision::float64) << to_string(kind);
+    EXPECT_EQ(automatic.resolved_precision(fixed, true), Precision::float64) << to_string(kind);
+    EXPECT_FALSE(automatic.chooses_by_frame(fixed, true)) << to_string(kind);
   }
-  EXPECT_EQ(BackendSettings{}.resolved_precision(IntegratorSettings{}), Precision::float64);
-  EXPECT_EQ((BackendSettings{Backend::vulkan, 0, std::nullopt}.resolved_precision(IntegratorSettings{})),
-            Precision::float32);
+  EXPECT_EQ(BackendSettings{}.resolved_precision(IntegratorSettings{}, true), Precision::float32);
+  EXPECT_TRUE(BackendSettings{}.chooses_by_frame(IntegratorSettings{}, true));
+  EXPECT_EQ(BackendSettings{}.resolved_precision(IntegratorSettings{}, false), Precision::float64);
+  const BackendSettings float32{Backend::cpu, 0, PrecisionRequest::float32};
+  EXPECT_EQ(float32.resolved_precision(IntegratorSettings{}, true), Precision::float32);
+  EXPECT_FALSE(float32.chooses_by_frame(IntegratorSettings{}, true));
+  const BackendSettings device{Backend::vulkan, 0, std::nullopt};
+  EXPECT_EQ(device.resolved_precision(IntegratorSettings{}, true), Precision::float32);
+  EXPECT_FALSE(device.chooses_by_frame(IntegratorSettings{}, true));
 }
 
 // A run asked for float32 uses float32 forces; implicit Euler and sheets that are not lattices
@@ -93,8 +107,8 @@ TEST(MixedPrecision, Float32IsTheExplicitMethodsOnALattice) {
       unsupported_by_backend(BackendFeatures{spec.integrator, {}, false, false, true}, spec.backend);
   EXPECT_NE(refused.find("float32 (precision) with implicit-euler (integrator.method)"), std::string::npos) << refused;
   EXPECT_THROW(testing::one_thread_simulation(spec), BackendError);
-  const std::string not_lattice = unsupported_by_backend(
-      BackendFeatures{IntegratorSettings{}, {}, false, false, false}, spec.backend);
+  const std::string not_lattice =
+      unsupported_by_backend(BackendFeatures{IntegratorSettings{}, {}, false, false, false}, spec.backend);
   EXPECT_NE(not_lattice.find("not a lattice"), std::string::npos) << not_lattice;
   spec.backend.precision = PrecisionRequest::automatic;
   EXPECT_NO_THROW(testing::one_thread_simulation(spec));

@@ -93,7 +93,7 @@ TEST(Session, AScriptPlaysOnTheVulkanBackendAsOnTheCpu) {
     play(session, player, 45);
     return session.simulation().state();
   };
-  const ClothState cpu = run(BackendSettings{});
+  const ClothState cpu = run(BackendSettings{Backend::cpu, 0, PrecisionRequest::float64});
   const ClothState device = run(BackendSettings{Backend::vulkan, 0, PrecisionRequest::float64});
   EXPECT_EQ(device.time, cpu.time);
   for (std::size_t p = 0; p < cpu.position.size(); ++p) {
