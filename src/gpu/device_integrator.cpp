@@ -301,6 +301,8 @@ std::uint32_t DeviceIntegrator::rk_accept_items() const {
   return std::max(particles_, lattice_ ? 0u : elements_);
 }
 
+std::uint32_t DeviceIntegrator::rk_accept_blocks() const { return workgroups_of(rk_accept_items()); }
+
 std::uint32_t DeviceIntegrator::lattice_stage_invocations() const {
   // A workgroup of kStageTile x kStageTile invocations a tile (lattice_stage.comp, device_step.h).
   return stage_tiles(static_cast<std::size_t>(model_.rows), static_cast<std::size_t>(model_.cols)) * kStageTile *
@@ -353,20 +355,20 @@ void DeviceIntegrator::record_attempt(VkCommandBuffer commands, PassTimer& timer
   }
   const std::uint32_t obstacles = runs_obstacle_contacts() ? 1u : 0u;
   const std::uint32_t element_items = lattice_ ? 0u : elements_;  // the lattice path's damping is per particle
-  const std::uint32_t accept_items = rk_accept_items();
+  const std::uint32_t accept_blocks = rk_accept_blocks();
   // Without obstacles the decision first adds the work of the step accepted before (rk_control's
   // phase 1, which then has no dispatch of its own; the submission's last step's, phase 3).
-  const std::uint32_t work_blocks = obstacles != 0u ? 0u : workgroups_of(accept_items);
+  const std::uint32_t work_blocks = obstacles != 0u ? 0u : accept_blocks;
   const ReducePassConstants decide{particles_, error_blocks, 0, stages, obstacles, work_blocks};
   control_pass_.dispatch(commands, &decide, kReduceWorkgroup);
   timer.mark(commands, StepStage::solution_and_error);
   if (obstacles != 0u) record_obstacle_passes(commands, timer);
-  const AcceptPassConstants accept{particles_, element_items, stages, workgroups_of(accept_items), lattice_ ? 1u : 0u};
-  accept_pass_.dispatch(commands, &accept, accept_items);
+  const AcceptPassConstants accept{particles_, element_items, stages, accept_blocks, lattice_ ? 1u : 0u};
+  accept_pass_.dispatch(commands, &accept, rk_accept_items());
   if (obstacles != 0u) {
     // Phase 1 reads rk_accept's blocks and the obstacle passes': one per kReduceWorkgroup
     // particles both, on the lattice path, where obstacles run.
-    const ReducePassConstants collect{particles_, workgroups_of(accept_items), 1, stages, obstacles, 0};
+    const ReducePassConstants collect{particles_, accept_blocks, 1, stages, obstacles, 0};
     control_pass_.dispatch(commands, &collect, kReduceWorkgroup);
   }
   timer.mark(commands, StepStage::solution_update);
@@ -396,9 +398,8 @@ DeviceIntegrator::RecordedAttempts& DeviceIntegrator::attempts_buffer(std::uint3
     for (std::uint32_t a = 0; a < attempts; ++a) record_attempt(c, *recorded.timer);
     if (!runs_obstacle_contacts()) {
       // The last accepted step's work, which no next decision adds (rk_control's phase 3).
-      const std::uint32_t accept_items = rk_accept_items();
-      const ReducePassConstants last{
-          particles_, workgroups_of(accept_items), 3, static_cast<std::uint32_t>(tableau_.stages), 0, 0};
+      const ReducePassConstants last{particles_, rk_accept_blocks(), 3, static_cast<std::uint32_t>(tableau_.stages), 0,
+                                     0};
       control_pass_.dispatch(c, &last, kReduceWorkgroup);
       recorded.timer->mark(c, StepStage::solution_update);
     }

@@ -214,8 +214,10 @@ class DeviceIntegrator final : public Integrator {
   void record_attempt(VkCommandBuffer commands, PassTimer& timer) const;
   // lattice_stage's invocations: the lattice's tiles, a workgroup each.
   std::uint32_t lattice_stage_invocations() const;
-  // rk_accept's invocations (and its workgroups' blocks of work, which rk_control adds).
+  // rk_accept's invocations, and its workgroups: the blocks of work that rk_control's phases 1 and
+  // 3 add.
   std::uint32_t rk_accept_items() const;
+  std::uint32_t rk_accept_blocks() const;
   // Drops the recorded command buffers, to be recorded again (the passes or their arrays changed).
   void release_recorded();
   // Binds every pass's arrays (again after the anchor table grows).

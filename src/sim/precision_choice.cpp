@@ -20,11 +20,11 @@ void PrecisionChoice::before_step(Integrator& integrator, const ClothState& stat
   const bool measured = *delta > 0.0;
   window_end_ = measured ? state.time + kPrecisionWindow : state.time;
   const double drift = 0.5 * *delta * kPrecisionWindow * kPrecisionWindow;
-  // A non-finite drift fails the comparison: float64.
+  // Non-finite forces give an infinite drift: float64 (and the step's checks diagnose them).
   const bool float32 = measured && drift <= limit_;
   integrator.set_force_precision(float32 ? Precision::float32 : Precision::float64);
   ++(!measured ? stats_.rest_steps : float32 ? stats_.float32_windows : stats_.float64_windows);
-  stats_.largest_drift = std::max(stats_.largest_drift, drift);  // a NaN drift is left out
+  stats_.largest_drift = std::max(stats_.largest_drift, drift);
 }
 
 void PrecisionChoice::transfer_state(StateArchive& archive) { transfer_fields(archive, "precision_choice", stats_); }
