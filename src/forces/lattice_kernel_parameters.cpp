@@ -48,11 +48,10 @@ bool LatticeKernel::prepare(const ClothModel& model, Precision precision, bool b
   padding_ = padding(cols);
   stride_ = stride(n, cols);
   // The parameter arrays only where the sheet is not uniform or a law can make it so.
-  const bool arrays = !is_uniform(model) || model.limits.changes_sheet();
-  resize_scratch(arrays ? kArrayCount : kUniformArrayCount);
+  const std::size_t arrays = !is_uniform(model) || model.limits.changes_sheet() ? kArrayCount : kUniformArrayCount;
+  resize_scratch(arrays);
   if (both_precisions) {
-    const Precision other = precision == Precision::float64 ? Precision::float32 : Precision::float64;
-    resize_scratch(other, arrays ? kArrayCount : kUniformArrayCount);
+    resize_scratch(precision == Precision::float64 ? Precision::float32 : Precision::float64, arrays);
   }
   block_power_.assign(deterministic_sum_blocks(n), 0.0);
   active_ = true;
@@ -66,7 +65,9 @@ void LatticeKernel::set_precision(const ClothModel& model, Precision precision) 
   const std::size_t arrays = scratch_size() / stride_;
   precision_ = precision;
   resize_scratch(arrays);
-  refresh(model);
+  // A uniform sheet's family values are doubles in either precision (and evaluate() takes them
+  // again when the revision moves); only the parameter arrays need their copy in this precision.
+  if (!uniform_) refresh(model);
 }
 
 std::size_t LatticeKernel::bytes_for(const LatticeCounts& counts, bool parameter_arrays, Precision precision) {

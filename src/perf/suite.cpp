@@ -66,15 +66,15 @@ BenchResult run_bench_case(int size, IntegratorKind integrator, const BenchOptio
   } else {
     ForceBuffers probe;  // which kernel evaluate_forces() takes for this model
     probe.resize(simulation.model());
-    result.kernel = probe.uses_lattice_kernel() ? "lattice" : "general";
-    // float32 throughout, or `auto`'s choice frame by frame (sim/precision_choice.h).
     const bool lattice = probe.uses_lattice_kernel();
+    result.kernel = lattice ? "lattice" : "general";
+    // float32 throughout, or `auto`'s choice frame by frame (sim/precision_choice.h).
     if (options.backend.chooses_by_frame(spec.integrator, lattice)) {
       result.kernel += "-auto";
     } else if (options.backend.resolved_precision(spec.integrator, lattice) == Precision::float32) {
       result.kernel += "-float32";
     }
-    result.flops_per_particle = probe.uses_lattice_kernel() ? kLatticeKernelFlopsPerParticle : 0.0;
+    result.flops_per_particle = lattice ? kLatticeKernelFlopsPerParticle : 0.0;
   }
   result.threads = simulation.threads();
 
